@@ -1,0 +1,35 @@
+# Two commands do all the set-up: `make demo` and `make test`.
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+
+.PHONY: demo test bench clean
+
+$(STAMP): pyproject.toml
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet --config-settings editable_mode=compat -e '.[dev]'
+	touch $(STAMP)
+
+demo: $(STAMP)
+	@echo "== armtool lint on a clean arm (URDF + SRDF + kinematics.yaml): expect no findings"
+	$(BIN)/armtool lint fixtures/robots/clean_arm
+	@echo
+	@echo "== armtool lint on a broken arm: expect findings and exit code 1"
+	-$(BIN)/armtool lint fixtures/robots/broken_arm fixtures/robots/clean_arm/config_broken
+	@echo
+	@echo "== armtool lint on a xacro arm: findings point into the .xacro sources"
+	-$(BIN)/armtool lint fixtures/robots/xacro_arm
+	@echo
+	@echo "== armtool rules U301"
+	$(BIN)/armtool rules U301
+
+test: $(STAMP)
+	$(BIN)/python -m pytest -q
+
+bench: $(STAMP)
+	$(BIN)/python benchmarks/lint_bench.py
+
+clean:
+	rm -rf $(VENV) build *.egg-info

@@ -1,0 +1,3 @@
+from armtool.cli import main
+
+main()

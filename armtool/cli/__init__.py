@@ -1,0 +1,79 @@
+"""The `armtool` command: one Typer app, one module per subcommand, one error path."""
+
+from __future__ import annotations
+
+import os
+import sys
+from typing import Optional
+
+import typer
+
+from armtool import __version__
+from armtool.cli import lint as lint_cmd
+from armtool.cli import rules as rules_cmd
+from armtool.errors import ArmtoolError, ExitCode
+
+app = typer.Typer(
+    name="armtool",
+    help="Toolkit for people who build and debug robot arms.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+app.command("lint", help="Find silent mistakes in URDF, xacro, SRDF and MoveIt kinematics.yaml files.")(lint_cmd.lint)
+app.command("lint-urdf", help="Alias of `armtool lint`.")(lint_cmd.lint)
+app.command("rules", help="List the lint rules, or show one rule's documentation.")(rules_cmd.rules)
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"armtool {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Show the version and exit."),
+    verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="More log output on stderr (-vv for debug)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Only errors on stderr."),
+) -> None:
+    if verbose or quiet:  # logging costs start-up time; the default (warnings) needs no set-up
+        import logging
+
+        level = logging.ERROR if quiet else (logging.INFO, logging.DEBUG)[min(verbose, 2) - 1]
+        logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)
+
+
+def report_error(exc: ArmtoolError) -> None:
+    from rich.markup import escape
+
+    from armtool.console import stderr
+
+    where = f" ({escape(exc.where)})" if exc.where else ""
+    stderr().print(f"[bold red]error:[/bold red] {escape(exc.what)}{where}")
+    if exc.hint:
+        stderr().print(f"  [dim]hint:[/dim] {escape(exc.hint)}")
+
+
+def main() -> None:
+    """Entry point: user errors print what/where/hint and exit 2; tracebacks only with ARMTOOL_DEBUG=1."""
+    debug = os.environ.get("ARMTOOL_DEBUG") == "1"
+    try:
+        app(standalone_mode=True)
+    except ArmtoolError as exc:
+        if debug:
+            raise
+        report_error(exc)
+        sys.exit(ExitCode.ERROR)
+    except KeyboardInterrupt:
+        sys.stderr.write("interrupted\n")
+        sys.exit(130)
+    except Exception as exc:  # a bug in armtool: say so plainly
+        if debug:
+            raise
+        sys.stderr.write(
+            f"error: internal error: {type(exc).__name__}: {exc}\n"
+            "  hint: rerun with ARMTOOL_DEBUG=1 for the traceback, and report it\n"
+        )
+        sys.exit(ExitCode.ERROR)

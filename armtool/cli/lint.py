@@ -1,0 +1,94 @@
+"""`armtool lint PATH...`: arguments in, findings out, exit code 0 / 1 / 2."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from armtool.errors import ArmtoolError, ExitCode
+from armtool.lint.finding import Severity
+from armtool.output.registry import OutputFormat
+
+
+def _parse_xacro_args(items: list[str]) -> dict[str, str]:
+    out = {}
+    for item in items:
+        name, sep, value = item.partition(":=")
+        if not sep or not name:
+            raise typer.BadParameter(f"'{item}' is not NAME:=VALUE", param_hint="--xacro-arg")
+        out[name] = value
+    return out
+
+
+def lint(
+    paths: List[Path] = typer.Argument(..., help="URDF, xacro, SRDF or kinematics.yaml files, or directories to search."),
+    output_format: Optional[OutputFormat] = typer.Option(
+        None, "--format", help="Output format (default: text; github inside GitHub Actions)."
+    ),
+    fail_on: Optional[Severity] = typer.Option(None, "--fail-on", help="Lowest severity that makes the exit code 1 [default: error]."),
+    exit_zero: bool = typer.Option(False, "--exit-zero", help="Exit 0 even when problems are found."),
+    fix: bool = typer.Option(False, "--fix", help="Apply safe fixes in place (text edits; comments and layout kept)."),
+    diff: bool = typer.Option(False, "--diff", help="Show the safe fixes as a unified diff; write nothing."),
+    select: Optional[str] = typer.Option(None, "--select", help="Comma-separated codes or prefixes to check (e.g. U3,S101)."),
+    ignore: Optional[str] = typer.Option(None, "--ignore", help="Comma-separated codes or prefixes to skip."),
+    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: List[Path] = typer.Option(
+        [], "--package-path", help="Directory holding ROS packages, for package:// and $(find) (repeatable)."
+    ),
+    urdf: Optional[Path] = typer.Option(None, "--urdf", help="URDF (or xacro) that SRDF files describe."),
+    srdf: Optional[Path] = typer.Option(None, "--srdf", help="SRDF that kinematics.yaml files refer to."),
+    config: Optional[Path] = typer.Option(None, "--config", help="pyproject.toml with [tool.armtool.lint] (default: nearest one)."),
+) -> None:
+    from armtool.console import stderr, write_stdout
+    from armtool.lint.config import load_config
+    from armtool.lint.engine import LintOptions, lint_paths
+    from armtool.lint.fix import fixed_texts, safe_edits, unified_diff, write_atomic
+    from armtool.lint.locate import display_path
+    from armtool.output.base import LintReport
+    from armtool.output.registry import formatter
+
+    for given, flag in ((urdf, "--urdf"), (srdf, "--srdf"), (config, "--config")):
+        if given is not None and not given.is_file():
+            raise ArmtoolError(f"{flag}: no such file", str(given))
+    cfg = load_config(config)
+    if select:
+        cfg.select = [s.strip() for s in select.split(",") if s.strip()]
+    if ignore:
+        cfg.ignore += [s.strip() for s in ignore.split(",") if s.strip()]
+    if fail_on is not None:
+        cfg.fail_on = fail_on
+    options = LintOptions(
+        xacro_args=_parse_xacro_args(xacro_arg), package_paths=list(package_path), urdf=urdf, srdf=srdf, config=cfg
+    )
+    result = lint_paths(paths, options)
+    findings = result.findings
+    pairs = safe_edits(findings)
+
+    if diff:
+        changes = fixed_texts(pairs)
+        for path, (old, new, _) in sorted(changes.items()):
+            write_stdout(unified_diff(path, old, new, display_path(path)))
+        count = sum(len(applied) for _, _, applied in changes.values())
+        stderr().print(f"{count} fix(es) in {len(changes)} file(s) would be applied; nothing written.")
+        raise typer.Exit(ExitCode.FINDINGS if changes and not exit_zero else ExitCode.OK)
+
+    if fix and pairs:
+        changes = fixed_texts(pairs)
+        fixed = set()
+        for path, (_old, new, applied) in changes.items():
+            write_atomic(path, new)
+            fixed.update(id(f) for f in applied)
+        findings = [f for f in findings if id(f) not in fixed]
+        stderr().print(f"Fixed {len(fixed)} problem(s) in {len(changes)} file(s).")
+
+    fmt = output_format
+    if fmt is None:
+        fmt = OutputFormat.GITHUB if os.environ.get("GITHUB_ACTIONS") == "true" else OutputFormat.TEXT
+    report = LintReport(findings, len(result.files), fixable=sum(1 for f in findings if f.edit is not None and not fix))
+    write_stdout(formatter(fmt).render(report, color=sys.stdout.isatty() and "NO_COLOR" not in os.environ))
+    failing = any(f.severity.rank >= cfg.fail_on.rank for f in findings)
+    raise typer.Exit(ExitCode.FINDINGS if failing and not exit_zero else ExitCode.OK)

@@ -1,0 +1,1 @@
+"""`armtool lint`: find the silent mistakes in robot descriptions that parsers accept."""

@@ -1,0 +1,192 @@
+"""What rules see of a URDF: links, joints and the tree, plus `finding()` to report at the right place."""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+from dataclasses import dataclass
+from pathlib import Path
+
+from lxml import etree
+
+from armtool.lint.finding import Finding
+from armtool.lint.locate import Locator, display_path, local_tag
+from armtool.lint.numbers import parse_floats
+from armtool.lint.rule import Rule, Target
+from armtool.model.packages import PackageResolver
+
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+
+
+
+
+@dataclass(frozen=True)
+class JointView:
+    el: etree._Element
+    name: str | None
+    type: str | None
+    parent: str | None
+    child: str | None
+
+    @property
+    def moves(self) -> bool:
+        return self.type in JOINT_TYPES and self.type != "fixed"
+
+    def limit(self) -> etree._Element | None:
+        return self.el.find("limit")
+
+
+class FileContext:
+    """Shared by every file kind: the file, where elements are, and how to build a Finding."""
+
+    target: Target
+
+    def __init__(self, path: Path, locator: Locator) -> None:
+        self.path = path
+        self.locator = locator
+
+    def finding(
+        self,
+        rule: Rule | type[Rule],
+        el: etree._Element,
+        message: str,
+        *,
+        attr: str | None = None,
+        hint: str | None = None,
+        fix_value: str | None = None,
+    ) -> Finding:
+        place = self.locator.place(el, attr)
+        if place.note:
+            message = f"{message} ({place.note})"
+        edit = self.locator.edit(el, attr, fix_value) if (attr and fix_value is not None) else None
+        return Finding(
+            path=display_path(place.path),
+            line=place.line,
+            column=place.column,
+            code=rule.code,
+            name=rule.name,
+            severity=rule.severity,
+            message=message,
+            hint=hint,
+            edit=edit,
+            related=tuple((display_path(s.path), s.line) for s in place.related),
+        )
+
+
+    def finding_at(
+        self, rule: Rule | type[Rule], line: int, column: int, message: str, *, hint: str | None = None
+    ) -> Finding:
+        """A finding at a known line and column of this file (for YAML, which has no elements)."""
+        return Finding(
+            path=display_path(self.path),
+            line=line,
+            column=column,
+            code=rule.code,
+            name=rule.name,
+            severity=rule.severity,
+            message=message,
+            hint=hint,
+        )
+
+
+class UrdfContext(FileContext):
+    target = Target.URDF
+
+    def __init__(
+        self,
+        path: Path,
+        root: etree._Element,
+        locator: Locator,
+        resolver: PackageResolver,
+        *,
+        from_xacro: bool = False,
+    ) -> None:
+        super().__init__(path, locator)
+        self.root = root
+        self.resolver = resolver
+        self.from_xacro = from_xacro
+        self.links: list[etree._Element] = [c for c in root if local_tag(c) == "link"]
+        self.joints: list[JointView] = []
+        for el in root:
+            if local_tag(el) != "joint":
+                continue
+            parent, child = el.find("parent"), el.find("child")
+            self.joints.append(
+                JointView(
+                    el,
+                    el.get("name"),
+                    el.get("type"),
+                    parent.get("link") if parent is not None else None,
+                    child.get("link") if child is not None else None,
+                )
+            )
+        self._link_by_name: dict[str, etree._Element] = {}
+        for el in self.links:
+            self._link_by_name.setdefault(el.get("name") or "", el)
+        self._joint_by_name: dict[str, JointView] = {}
+        for j in self.joints:
+            self._joint_by_name.setdefault(j.name or "", j)
+        self.link_names = {n for n in self._link_by_name if n}
+        self.joint_names = {n for n in self._joint_by_name if n}
+        self.joints_by_child: dict[str, list[JointView]] = defaultdict(list)
+        self.joints_by_parent: dict[str, list[JointView]] = defaultdict(list)
+        for j in self.joints:
+            if j.child is not None:
+                self.joints_by_child[j.child].append(j)
+            if j.parent is not None:
+                self.joints_by_parent[j.parent].append(j)
+
+    @property
+    def base_dir(self) -> Path:
+        return self.path.parent
+
+    def link(self, name: str) -> etree._Element | None:
+        """The first link of that name."""
+        return self._link_by_name.get(name)
+
+    def joint(self, name: str) -> JointView | None:
+        """The first joint of that name."""
+        return self._joint_by_name.get(name)
+
+    def root_links(self) -> list[str]:
+        """Links that are nobody's child, in file order."""
+        roots: dict[str, None] = {}
+        for el in self.links:
+            name = el.get("name")
+            if name is not None and name not in self.joints_by_child:
+                roots[name] = None
+        return list(roots)
+
+    def is_moved(self, link_name: str) -> bool:
+        """True if a non-fixed joint moves this link relative to its parent."""
+        return any(j.moves for j in self.joints_by_child.get(link_name, ()))
+
+    def limits_of(self, joint_name: str) -> tuple[float, float] | None:
+        """(lower, upper) in the joint's units, or None when unbounded or unknown."""
+        j = self.joint(joint_name)
+        if j is None:
+            return None
+        if j.type == "continuous":
+            return None
+        limit = j.limit()
+        if limit is None:
+            return None
+        lo, hi = parse_floats(limit.get("lower", "0")), parse_floats(limit.get("upper", "0"))
+        if not lo or not hi or len(lo) != 1 or len(hi) != 1:
+            return None
+        if not (math.isfinite(lo[0]) and math.isfinite(hi[0])):
+            return None
+        return lo[0], hi[0]
+
+    def ancestors(self, link_name: str) -> list[str]:
+        """Links from `link_name`'s parent up to the root (stops on loops)."""
+        out: list[str] = []
+        seen = {link_name}
+        current = link_name
+        while True:
+            parents = self.joints_by_child.get(current)
+            if not parents or parents[0].parent is None or parents[0].parent in seen:
+                return out
+            current = parents[0].parent
+            seen.add(current)
+            out.append(current)

@@ -1,0 +1,75 @@
+"""Apply safe fixes as text edits, so comments and formatting stay as the author wrote them."""
+
+from __future__ import annotations
+
+import os
+from collections import defaultdict
+from collections.abc import Iterable
+from pathlib import Path
+
+from armtool.lint.finding import Edit, Finding, FixSafety
+from armtool.lint.registry import BY_CODE
+
+
+def safe_edits(findings: Iterable[Finding]) -> list[tuple[Finding, Edit]]:
+    out = []
+    for f in findings:
+        rule = BY_CODE.get(f.code)
+        if f.edit is not None and rule is not None and rule.fix_safety is FixSafety.SAFE:
+            out.append((f, f.edit))
+    return out
+
+
+def fixed_texts(pairs: list[tuple[Finding, Edit]]) -> dict[Path, tuple[str, str, list[Finding]]]:
+    """path -> (old text, new text, findings fixed). Overlapping edits: the first one wins."""
+    by_path: dict[Path, list[tuple[Finding, Edit]]] = defaultdict(list)
+    for finding, edit in pairs:
+        by_path[edit.path].append((finding, edit))
+    out: dict[Path, tuple[str, str, list[Finding]]] = {}
+    for path, items in by_path.items():
+        old = path.read_bytes().decode("utf-8")
+        new = old
+        applied: list[Finding] = []
+        last_start = len(old) + 1
+        seen: set[tuple[int, int]] = set()
+        for finding, edit in sorted(items, key=lambda fe: fe[1].start, reverse=True):
+            if (edit.start, edit.end) in seen:
+                applied.append(finding)
+                continue
+            if edit.end > last_start:
+                continue
+            new = new[: edit.start] + edit.replacement + new[edit.end :]
+            last_start = edit.start
+            seen.add((edit.start, edit.end))
+            applied.append(finding)
+        if new != old:
+            out[path] = (old, new, applied)
+    return out
+
+
+def unified_diff(path: Path, old: str, new: str, shown: str) -> str:
+    import difflib
+
+    return "".join(
+        difflib.unified_diff(old.splitlines(keepends=True), new.splitlines(keepends=True), f"a/{shown}", f"b/{shown}")
+    )
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write to a temporary file beside `path`, then rename over it (keeps the file's mode)."""
+    import tempfile
+
+    mode = path.stat().st_mode
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
+            handle.write(text)
+        os.chmod(tmp, mode & 0o7777)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+__all__ = ["safe_edits", "fixed_texts", "unified_diff", "write_atomic", "FixSafety"]

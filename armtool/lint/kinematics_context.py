@@ -1,0 +1,74 @@
+"""What kinematics.yaml rules see: each group's settings with line numbers, and the SRDF."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from armtool.lint.context import FileContext
+from armtool.lint.locate import Locator
+from armtool.lint.rule import Target
+from armtool.lint.srdf_context import SrdfContext
+
+
+@dataclass(frozen=True)
+class YamlValue:
+    value: Any
+    line: int
+    column: int
+
+
+@dataclass
+class GroupSettings:
+    name: str
+    line: int
+    column: int
+    settings: dict[str, YamlValue] = field(default_factory=dict)
+
+
+class KinematicsContext(FileContext):
+    target = Target.KINEMATICS
+
+    def __init__(self, path: Path, groups: list[GroupSettings], srdf: SrdfContext | None) -> None:
+        super().__init__(path, Locator(path))
+        self.groups = groups
+        self.srdf = srdf
+
+
+def _plain(node: Any) -> Any:
+    import yaml
+
+    if isinstance(node, yaml.ScalarNode):
+        return yaml.safe_load(yaml.serialize(node))
+    if isinstance(node, yaml.SequenceNode):
+        return [_plain(n) for n in node.value]
+    if isinstance(node, yaml.MappingNode):
+        return {_plain(k): _plain(v) for k, v in node.value}
+    return None
+
+
+def read_groups(text: str) -> list[GroupSettings]:
+    """Groups from a MoveIt kinematics.yaml, ROS 1 (`arm: {...}`) or ROS 2 (`/**: ros__parameters:
+    robot_description_kinematics: arm: {...}`) layout. Raises yaml.YAMLError."""
+    import yaml
+
+    node = yaml.compose(text, Loader=yaml.SafeLoader)
+    if node is None:
+        return []
+    for wrapper in ("/**", "ros__parameters", "robot_description_kinematics"):
+        if isinstance(node, yaml.MappingNode):
+            for key, value in node.value:
+                if isinstance(key, yaml.ScalarNode) and key.value == wrapper:
+                    node = value
+                    break
+    if not isinstance(node, yaml.MappingNode):
+        return []
+    groups = []
+    for key, value in node.value:
+        group = GroupSettings(str(key.value), key.start_mark.line + 1, key.start_mark.column + 1)
+        if isinstance(value, yaml.MappingNode):
+            for skey, sval in value.value:
+                group.settings[str(skey.value)] = YamlValue(_plain(sval), sval.start_mark.line + 1, sval.start_mark.column + 1)
+        groups.append(group)
+    return groups

@@ -1,0 +1,1 @@
+"""One module per rule; `armtool.lint.registry` lists them."""

@@ -1,0 +1,42 @@
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from armtool.lint.context import UrdfContext
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.rule import Rule, Target
+
+
+class MissingRequired(Rule):
+    """
+    What it does:
+    Reports a link or joint without a name, and a joint without <parent link> or <child link>.
+
+    Why is this bad?
+    urdfdom rejects the model; nothing else can refer to an unnamed element.
+
+    Example:
+    <joint name="j1" type="fixed"><parent link="base"/></joint>
+
+    Use instead:
+    <joint name="j1" type="fixed"><parent link="base"/><child link="tool"/></joint>
+    """
+
+    code, name, severity, target = "U107", "missing-required", Severity.ERROR, Target.URDF
+
+    def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        for link in ctx.links:
+            if not link.get("name"):
+                yield ctx.finding(self, link, "<link> has no name", hint="add name=\"...\"")
+        for joint in ctx.joints:
+            if not joint.name:
+                yield ctx.finding(self, joint.el, "<joint> has no name", hint="add name=\"...\"")
+            for role in ("parent", "child"):
+                el = joint.el.find(role)
+                if el is None or not el.get("link"):
+                    yield ctx.finding(
+                        self,
+                        joint.el if el is None else el,
+                        f"joint '{joint.name}' has no <{role} link=\"...\"/>",
+                        hint=f"add <{role} link=\"LINK\"/>",
+                    )

@@ -1,0 +1,42 @@
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from armtool.lint.context import UrdfContext
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.numbers import parse_floats
+from armtool.lint.rule import Rule, Target
+
+
+class NonPositiveEffort(Rule):
+    """
+    What it does:
+    Reports a joint limit with effort="0" or a negative effort.
+
+    Why is this bad?
+    Controllers and simulators clamp the commanded torque or force to the effort limit:
+    with 0 the joint cannot move in Gazebo or under ros2_control effort interfaces.
+
+    Example:
+    <limit lower="0" upper="0.04" effort="0" velocity="0.2"/>
+
+    Use instead:
+    <limit lower="0" upper="0.04" effort="20" velocity="0.2"/>
+    """
+
+    code, name, severity, target = "U204", "non-positive-effort", Severity.ERROR, Target.URDF
+
+    def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        for joint in ctx.joints:
+            limit = joint.limit()
+            if limit is None or not joint.moves:
+                continue
+            value = parse_floats(limit.get("effort"))
+            if value and len(value) == 1 and value[0] <= 0:
+                yield ctx.finding(
+                    self,
+                    limit,
+                    f"joint '{joint.name}': effort limit is {limit.get('effort')}",
+                    attr="effort",
+                    hint="set the actuator's rated torque (N·m) or force (N), e.g. effort=\"30\"",
+                )

@@ -1,0 +1,76 @@
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+
+from lxml import etree
+
+from armtool.lint.context import UrdfContext
+from armtool.lint.finding import Finding, FixSafety, Severity
+from armtool.lint.numbers import fmt, parse_floats
+from armtool.lint.rule import Rule, Target
+
+# Real files write pi as 3.1416 or 3.14159265359: allow a little over pi.
+TOLERANCE_RAD = 1e-3
+_COMMON_DEGREES = {15, 30, 45, 60, 75, 90, 105, 120, 135, 150, 165, 180, 270, 360}
+
+
+def wrap(angle: float) -> float:
+    """The same rotation angle in (-pi, pi]."""
+    wrapped = math.remainder(angle, 2.0 * math.pi)
+    return math.pi if wrapped <= -math.pi else wrapped
+
+
+def looks_like_degrees(values: list[float]) -> bool:
+    out = [abs(v) for v in values if abs(v) > math.pi + TOLERANCE_RAD]
+    return bool(out) and all(v > 2 * math.pi or (v == int(v) and int(v) in _COMMON_DEGREES) for v in out)
+
+
+class RpyOutOfRange(Rule):
+    """
+    What it does:
+    Reports an <origin rpy="..."> with an angle outside [-π, π] (plus 1e-3 rad, since
+    real files write π as 3.1416).
+
+    Why is this bad?
+    The rotation is still valid (angles are periodic), but the value is almost always
+    degrees typed where URDF expects radians: rpy="0 0 90" turns 90 rad = 5157°, which is
+    ≈ 116.6° off from the intended quarter turn.
+
+    Example:
+    <origin xyz="0 0 0.1" rpy="0 0 90"/>
+
+    Use instead:
+    <origin xyz="0 0 0.1" rpy="0 0 1.5707963"/>
+
+    Fix:
+    Safe: wraps each angle to (-π, π], which keeps the same rotation. If the values were
+    degrees, convert them by hand instead.
+    """
+
+    code, name, severity, target = "U301", "rpy-out-of-range", Severity.WARNING, Target.URDF
+    fix_safety = FixSafety.SAFE
+
+    def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        for top in [*ctx.links, *(j.el for j in ctx.joints)]:
+            for origin in top.iter("origin"):
+                yield from self._check_origin(ctx, top, origin)
+
+    def _check_origin(self, ctx: UrdfContext, top: etree._Element, origin: etree._Element) -> Iterator[Finding]:
+        raw = origin.get("rpy")
+        values = parse_floats(raw)
+        if raw is None or values is None or len(values) != 3 or not all(math.isfinite(v) for v in values):
+            return
+        if all(abs(v) <= math.pi + TOLERANCE_RAD for v in values):
+            return
+        tokens = raw.split()
+        wrapped = [fmt(wrap(v)) if abs(v) > math.pi + TOLERANCE_RAD else tok for v, tok in zip(values, tokens)]
+        owner = f"{top.tag} '{top.get('name')}'"
+        if looks_like_degrees(values):
+            radians = " ".join(fmt(math.radians(v)) for v in values)
+            message = f"{owner}: rpy=\"{raw}\" is outside [-π, π] and looks like degrees"
+            hint = f"URDF angles are radians: rpy=\"{radians}\" if degrees were meant"
+        else:
+            message = f"{owner}: rpy=\"{raw}\" is outside [-π, π]"
+            hint = f"write the same rotation as rpy=\"{' '.join(wrapped)}\""
+        yield ctx.finding(self, origin, message, attr="rpy", hint=hint, fix_value=" ".join(wrapped))

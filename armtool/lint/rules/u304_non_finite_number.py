@@ -1,0 +1,43 @@
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+
+from armtool.lint.context import UrdfContext
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.locate import local_tag
+from armtool.lint.numbers import numeric_attributes, parse_floats
+from armtool.lint.rule import Rule, Target
+
+
+class NonFiniteNumber(Rule):
+    """
+    What it does:
+    Reports NaN or Inf in a numeric attribute (origins, axes, limits, masses, inertias,
+    geometry sizes).
+
+    Why is this bad?
+    NaN spreads through every transform computed after it: forward kinematics, collision
+    checking and IK all return NaN without saying where it came from.
+
+    Example:
+    <origin xyz="0 nan 0.1"/>
+
+    Use instead:
+    <origin xyz="0 0 0.1"/>
+    Unbounded joints are type="continuous", not upper="inf".
+    """
+
+    code, name, severity, target = "U304", "non-finite-number", Severity.ERROR, Target.URDF
+
+    def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        for el, attr, raw, _count in numeric_attributes(ctx.root):
+            values = parse_floats(raw)
+            if values and not all(math.isfinite(v) for v in values):
+                yield ctx.finding(
+                    self,
+                    el,
+                    f"<{local_tag(el)} {attr}=\"{raw}\"> contains a non-finite number",
+                    attr=attr,
+                    hint="write a finite value",
+                )

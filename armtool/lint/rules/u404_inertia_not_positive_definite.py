@@ -1,0 +1,76 @@
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+
+from armtool.lint.context import UrdfContext
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.inertia import principal_moments
+from armtool.lint.numbers import fmt, parse_floats
+from armtool.lint.rule import Rule, Target
+
+_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
+RELATIVE_TOLERANCE = 1e-6
+# Below this (kg·m²) a tensor is a zero placeholder written with float noise (e.g. 1e-20).
+ZERO_INERTIA = 1e-12
+
+
+def read_inertia(el: object) -> tuple[float, ...] | None:
+    values = []
+    for key in _KEYS:
+        parsed = parse_floats(el.get(key, "0"))  # type: ignore[attr-defined]
+        if not parsed or len(parsed) != 1 or not math.isfinite(parsed[0]):
+            return None
+        values.append(parsed[0])
+    return tuple(values)
+
+
+class InertiaNotPositiveDefinite(Rule):
+    """
+    What it does:
+    Reports an inertia tensor with a negative principal moment (not positive
+    semi-definite). A singular but semi-definite tensor with non-zero mass on a moving
+    link (a point mass, a rod) is reported at info level; all-zero placeholders are quiet.
+
+    Why is this bad?
+    A negative moment of inertia is physically impossible: simulators reject the link or
+    accelerate it the wrong way, and dynamics algorithms lose their guarantees.
+
+    Example:
+    <inertia ixx="-0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>
+
+    Use instead:
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>
+    Often a sign error in a product of inertia exported from CAD (URDF wants +Ixy, not -Ixy).
+    """
+
+    code, name, severity, target = "U404", "inertia-not-positive-definite", Severity.ERROR, Target.URDF
+
+    def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        for link in ctx.links:
+            inertia = link.find("inertial/inertia")
+            if inertia is None:
+                continue
+            values = read_inertia(inertia)
+            if values is None:
+                continue
+            moments = principal_moments(*values)
+            scale = max(abs(m) for m in moments)
+            if scale < ZERO_INERTIA:
+                continue
+            name = link.get("name")
+            shown = ", ".join(fmt(m) for m in moments)
+            if moments[0] < -RELATIVE_TOLERANCE * scale:
+                yield ctx.finding(
+                    self,
+                    inertia,
+                    f"link '{name}': inertia is not positive definite (principal moments {shown})",
+                    hint="recompute the tensor from CAD; check the signs of ixy, ixz, iyz",
+                )
+            elif moments[0] <= RELATIVE_TOLERANCE * scale and name is not None and ctx.is_moved(name):
+                yield ctx.finding(
+                    self,
+                    inertia,
+                    f"link '{name}': inertia is singular (principal moments {shown}); some simulators reject it",
+                    hint="give the smallest moment a small positive value",
+                ).with_severity(Severity.INFO)

@@ -1,0 +1,52 @@
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from armtool.lint.context import UrdfContext
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.inertia import principal_moments
+from armtool.lint.numbers import fmt
+from armtool.lint.rule import Rule, Target
+from armtool.lint.rules.u404_inertia_not_positive_definite import ZERO_INERTIA, read_inertia
+
+RELATIVE_TOLERANCE = 1e-3
+
+
+class InertiaTriangleInequality(Rule):
+    """
+    What it does:
+    Reports an inertia tensor whose principal moments break the triangle inequality
+    (the largest exceeds the sum of the other two by more than 0.1 %).
+
+    Why is this bad?
+    No rigid body of positive mass has such moments: the tensor is a typo or a unit mix-up
+    (g·mm² beside kg·m²). Gazebo/DART reject it; dynamics go wrong silently elsewhere.
+
+    Example:
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.05"/>
+
+    Use instead:
+    <inertia ixx="0.03" ixy="0" ixz="0" iyy="0.03" iyz="0" izz="0.05"/>
+    """
+
+    code, name, severity, target = "U405", "inertia-triangle-inequality", Severity.ERROR, Target.URDF
+
+    def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        for link in ctx.links:
+            inertia = link.find("inertial/inertia")
+            if inertia is None:
+                continue
+            values = read_inertia(inertia)
+            if values is None:
+                continue
+            a, b, c = principal_moments(*values)
+            if a < 0 or c < ZERO_INERTIA:
+                continue  # negative moments are U404's; zero placeholders are fine
+            if c > (a + b) * (1 + RELATIVE_TOLERANCE):
+                yield ctx.finding(
+                    self,
+                    inertia,
+                    f"link '{link.get('name')}': principal moments {fmt(a)}, {fmt(b)}, {fmt(c)} break the "
+                    f"triangle inequality ({fmt(c)} > {fmt(a)} + {fmt(b)})",
+                    hint="recompute the tensor; check units (kg·m²) and that every moment is about the centre of mass",
+                )

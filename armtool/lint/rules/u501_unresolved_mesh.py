@@ -1,0 +1,56 @@
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from armtool.lint.context import UrdfContext
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.rule import Rule, Target
+
+
+class UnresolvedMesh(Rule):
+    """
+    What it does:
+    Reports a <mesh filename> that points to no file: a relative or absolute path that
+    does not exist, or a `package://pkg/...` path whose package was found but whose file
+    was not. Packages are looked up in --package-path, ROS_PACKAGE_PATH,
+    AMENT_PREFIX_PATH and the directories around the file.
+
+    Why is this bad?
+    RViz shows nothing, collision checking uses no geometry for the link (so the planner
+    happily drives through it), and Gazebo refuses to spawn the model.
+
+    Example:
+    <mesh filename="package://arm_description/meshes/Forearm.STL"/>   (file is forearm.stl)
+
+    Use instead:
+    <mesh filename="package://arm_description/meshes/forearm.stl"/>
+    """
+
+    code, name, severity, target = "U501", "unresolved-mesh", Severity.ERROR, Target.URDF
+
+    def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        for link in ctx.links:
+            for mesh in link.iterfind("*/geometry/mesh"):
+                uri = mesh.get("filename")
+                if not uri:
+                    yield ctx.finding(self, mesh, f"link '{link.get('name')}': <mesh> has no filename", hint="add filename=\"package://...\"")
+                    continue
+                path, missing_package = ctx.resolver.resolve(uri, ctx.base_dir)
+                if missing_package == "":
+                    yield ctx.finding(
+                        self,
+                        mesh,
+                        f"link '{link.get('name')}': mesh '{uri}' names no package (three slashes after package:)",
+                        attr="filename",
+                        hint="write package://PACKAGE/path; ROS's resource_retriever cannot resolve package:///",
+                    )
+                    continue
+                if path is None or missing_package is not None or path.is_file():
+                    continue
+                yield ctx.finding(
+                    self,
+                    mesh,
+                    f"link '{link.get('name')}': mesh '{uri}' not found (looked for {path})",
+                    attr="filename",
+                    hint="fix the path; file names are case-sensitive",
+                )

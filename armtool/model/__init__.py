@@ -1,0 +1,1 @@
+"""Loading robot descriptions: package paths, xacro expansion with source lines."""

@@ -1,0 +1,149 @@
+"""Read XML safely (no entity ever resolved from disk or network) and find places in its text.
+
+lxml gives each element's line; columns, attribute positions and fix offsets come from the text.
+"""
+
+from __future__ import annotations
+
+import re
+from bisect import bisect_right
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from lxml import etree
+
+MAX_FILE_BYTES = 64 * 1024 * 1024
+
+
+def secure_parser() -> etree.XMLParser:
+    # resolve_entities=False: entity references stay unexpanded (billion laughs, XXE);
+    # no_network / load_dtd=False: nothing is fetched; huge_tree=False keeps libxml2's limits.
+    return etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        dtd_validation=False,
+        huge_tree=False,
+        remove_comments=False,
+        remove_pis=True,
+    )
+
+
+class XmlSyntaxProblem(Exception):
+    def __init__(self, message: str, line: int, column: int) -> None:
+        super().__init__(message)
+        self.message = message
+        self.line = line
+        self.column = column
+
+
+def parse_xml(data: bytes) -> etree._Element:
+    """Parse bytes into an element tree, raising XmlSyntaxProblem with a line for any malformation."""
+    if not data.strip():
+        raise XmlSyntaxProblem("file is empty", 1, 1)
+    if b"\x00" in data[:8192]:
+        raise XmlSyntaxProblem("file is binary, not XML", 1, 1)
+    try:
+        root = etree.fromstring(data, parser=secure_parser())
+    except etree.XMLSyntaxError as exc:
+        line, col = exc.position if exc.position else (1, 1)
+        msg = exc.msg or str(exc)
+        msg = re.sub(r",? line \d+, column \d+\s*(\(<string>, line \d+\))?$", "", msg).strip()
+        raise XmlSyntaxProblem(msg, max(line, 1), max(col, 1)) from None
+    except ValueError as exc:  # e.g. unicode strings with encoding declaration
+        raise XmlSyntaxProblem(str(exc), 1, 1) from None
+    if root is None:
+        raise XmlSyntaxProblem("no root element", 1, 1)
+    return root
+
+
+def declares_entities(root: etree._Element) -> bool:
+    dtd = root.getroottree().docinfo.internalDTD
+    return dtd is not None and any(True for _ in dtd.iterentities())
+
+
+_ATTR_RE_CACHE: dict[str, re.Pattern[str]] = {}
+
+
+def _attr_re(attr: str) -> re.Pattern[str]:
+    pat = _ATTR_RE_CACHE.get(attr)
+    if pat is None:
+        pat = re.compile(r"(?<![\w:.-])" + re.escape(attr) + r"\s*=\s*(\"([^\"]*)\"|'([^']*)')")
+        _ATTR_RE_CACHE[attr] = pat
+    return pat
+
+
+@dataclass
+class SourceText:
+    """The text of one file with line offsets, to turn lxml's lines into columns and edit spans."""
+
+    path: Path
+    text: str
+    _starts: list[int] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        starts = [0]
+        for m in re.finditer("\n", self.text):
+            starts.append(m.end())
+        self._starts = starts
+
+    @classmethod
+    def read(cls, path: Path) -> SourceText:
+        data = path.read_bytes()
+        return cls(path, data.decode("utf-8", errors="replace"))
+
+    def line_offset(self, line: int) -> int:
+        idx = min(max(line, 1), len(self._starts)) - 1
+        return self._starts[idx]
+
+    def position(self, offset: int) -> tuple[int, int]:
+        """1-based (line, column) of a character offset."""
+        idx = bisect_right(self._starts, offset) - 1
+        return idx + 1, offset - self._starts[idx] + 1
+
+    def start_tag_span(self, line: int, tag: str | None) -> tuple[int, int] | None:
+        """Offsets of the start tag `<tag ...>` that begins on `line` (the first '<' if tag is None)."""
+        begin = self.line_offset(line)
+        end_of_line = self.text.find("\n", begin)
+        end_of_line = len(self.text) if end_of_line < 0 else end_of_line
+        if tag is None:
+            m = re.compile(r"<(?![!?/])").search(self.text, begin, end_of_line)
+        else:
+            m = re.compile("<" + re.escape(tag) + r"(?=[\s/>])").search(self.text, begin, end_of_line)
+        if m is None:
+            return None
+        pos = m.start()
+        quote: str | None = None
+        for i in range(m.end(), len(self.text)):
+            ch = self.text[i]
+            if quote:
+                if ch == quote:
+                    quote = None
+            elif ch in "\"'":
+                quote = ch
+            elif ch == ">":
+                return pos, i + 1
+        return pos, len(self.text)
+
+    def attr_value_span(self, line: int, tag: str | None, attr: str) -> tuple[int, int] | None:
+        """Offsets of the value (inside the quotes) of `attr` in the start tag on `line`."""
+        span = self.start_tag_span(line, tag)
+        if span is None:
+            return None
+        m = _attr_re(attr).search(self.text, span[0], span[1])
+        if m is None:
+            return None
+        group = 2 if m.group(2) is not None else 3
+        return m.start(group), m.end(group)
+
+    def locate(self, line: int, tag: str | None, attr: str | None = None) -> tuple[int, int]:
+        """Best (line, column) for an element, or for one of its attributes."""
+        if attr is not None:
+            span = self.attr_value_span(line, tag, attr)
+            if span is not None:
+                m_start = self.text.rfind(attr, self.line_offset(1), span[0])
+                return self.position(m_start if m_start >= 0 else span[0])
+        tag_span = self.start_tag_span(line, tag)
+        if tag_span is not None:
+            return self.position(tag_span[0])
+        return line, 1

@@ -1,0 +1,1 @@
+"""Output formats for lint findings; `armtool.output.registry` lists them."""
