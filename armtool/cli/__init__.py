@@ -9,6 +9,7 @@ from typing import Optional
 import typer
 
 from armtool import __version__
+from armtool.cli import ik_bench as ik_bench_cmd
 from armtool.cli import lint as lint_cmd
 from armtool.cli import rules as rules_cmd
 from armtool.errors import ArmtoolError, ExitCode
@@ -24,6 +25,7 @@ app = typer.Typer(
 app.command("lint", help="Find silent mistakes in URDF, xacro, SRDF and MoveIt kinematics.yaml files.")(lint_cmd.lint)
 app.command("lint-urdf", help="Alias of `armtool lint`.")(lint_cmd.lint)
 app.command("rules", help="List the lint rules, or show one rule's documentation.")(rules_cmd.rules)
+app.command("ik-bench", help="Compare IK solvers on your robot: success, speed, accuracy, repeatability.")(ik_bench_cmd.ik_bench)
 
 
 def _version(value: bool) -> None:

@@ -1,0 +1,26 @@
+"""Inverse kinematics: chains from URDF, solvers, and the benchmark behind `armtool ik-bench`.
+
+    from armtool.ik import load_chain, make_solver
+    chain = load_chain("panda.urdf", base="panda_link0", tip="panda_hand")
+    solver = make_solver("lm", chain, timeout=0.005, tolerance=1e-5)
+    result = solver.solve(target_4x4, seed)
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["load_chain", "make_solver", "solver_names"]
+
+
+def __getattr__(name: str) -> Any:
+    # Lazy: `import armtool.ik` must not import numpy/pinocchio until used.
+    if name == "load_chain":
+        from armtool.ik.chain import load_chain
+
+        return load_chain
+    if name in ("make_solver", "solver_names"):
+        from armtool.ik import registry
+
+        return getattr(registry, name)
+    raise AttributeError(name)

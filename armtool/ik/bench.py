@@ -1,0 +1,179 @@
+"""The benchmark behind `armtool ik-bench`: TRAC-IK's protocol, every answer re-verified by FK.
+
+Protocol (TRAC-IK's ik_tests, MoveIt's ik_benchmarking): N configurations uniform within the
+limits → FK → targets; each solve starts from the nominal seed (mid-range), or a random one,
+or one near the answer; a timeout per solve; success only if our own FK of the returned q
+is within the tolerance and q is within the limits.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from enum import Enum
+
+import numpy as np
+
+from armtool.ik.chain import Chain
+from armtool.ik.solver import Array, IKResult, Solver, verify_batch
+
+
+class SeedMode(str, Enum):
+    MID = "mid"
+    RANDOM = "random"
+    NEAR = "near"
+
+
+@dataclass(frozen=True)
+class BenchConfig:
+    samples: int = 1000
+    rng_seed: int = 0
+    seed_mode: SeedMode = SeedMode.MID
+    timeout: float = 0.005
+    tolerance: float = 1e-5
+    repeat: int = 100  # targets solved a second time to check repeatability
+    near_radius: float = 0.1  # rad (or m) of noise around the answer for seed_mode near
+
+
+@dataclass
+class Targets:
+    q_true: Array  # (N, n)
+    poses: Array  # (N, 4, 4)
+    seeds: Array  # (N, n)
+
+
+def make_targets(chain: Chain, config: BenchConfig) -> Targets:
+    rng = np.random.default_rng(config.rng_seed)
+    q_true = chain.random(rng, config.samples)
+    poses = chain.fk_batch(q_true)
+    if config.seed_mode is SeedMode.RANDOM:
+        seeds = chain.random(rng, config.samples)
+    elif config.seed_mode is SeedMode.NEAR:
+        seeds = chain.clamp(q_true + rng.uniform(-config.near_radius, config.near_radius, q_true.shape))
+    else:
+        seeds = np.tile(chain.mid(), (config.samples, 1))
+    return Targets(q_true, poses, seeds)
+
+
+def _summary(values: Array) -> dict[str, float]:
+    if values.size == 0:
+        return {"median": float("nan"), "p95": float("nan"), "max": float("nan")}
+    return {"median": float(np.median(values)), "p95": float(np.percentile(values, 95)), "max": float(values.max())}
+
+
+@dataclass
+class SolverReport:
+    solver: str
+    mode: str  # "single" (one solve() per target) or "batch" (one solve_batch() call)
+    samples: int
+    success_rate: float
+    wall_us: dict[str, float]
+    cpu_us: dict[str, float]
+    solves_per_s: float
+    position_error_m: dict[str, float]
+    orientation_error_rad: dict[str, float]
+    seed_distance: dict[str, float]
+    repeatability: float | None
+    mean_solutions: float | None
+    failed_condition_numbers: dict[str, float]
+    failures: int
+    claimed_but_wrong: int  # the solver said success, our FK disagreed
+    wall_times_us: list[float] = field(default_factory=list, repr=False)  # every solve, in target order
+    solved: list[bool] = field(default_factory=list, repr=False)  # our FK verdict per target
+
+
+def _joint_distance(chain: Chain, a: Array, b: Array) -> Array:
+    d = a - b
+    d = np.where(chain.continuous, (d + np.pi) % (2 * np.pi) - np.pi, d)
+    return np.linalg.norm(d, axis=-1)
+
+
+def run_solver(
+    chain: Chain,
+    solver: Solver,
+    targets: Targets,
+    config: BenchConfig,
+    *,
+    batch: bool = False,
+    progress: Callable[[int], None] | None = None,
+) -> SolverReport:
+    N = targets.poses.shape[0]
+    wall = np.zeros(N)
+    cpu = np.zeros(N)
+    results: list[IKResult]
+    warm = chain.fk(chain.mid())  # first calls build models and tables: keep them out of the timings
+    solver.solve(warm, chain.mid())
+    if batch:
+        w0, c0 = time.perf_counter(), time.process_time()
+        results = solver.solve_batch(targets.poses, targets.seeds)
+        total_wall, total_cpu = time.perf_counter() - w0, time.process_time() - c0
+        wall[:] = total_wall / N
+        cpu[:] = total_cpu / N
+        if progress:
+            progress(N)
+    else:
+        results = []
+        for i in range(N):
+            w0, c0 = time.perf_counter(), time.process_time()
+            res = solver.solve(targets.poses[i], targets.seeds[i])
+            wall[i], cpu[i] = time.perf_counter() - w0, time.process_time() - c0
+            results.append(res)
+            if progress:
+                progress(1)
+        total_wall = float(wall.sum())
+    Q = np.array([np.asarray(r.q, dtype=float).reshape(chain.n) for r in results])
+    ok, pos, rot = verify_batch(chain, Q, targets.poses, config.tolerance)
+    claimed = np.array([r.success for r in results])
+    repeat = None
+    if config.repeat > 0 and not batch:
+        m = min(config.repeat, N)
+        again = [solver.solve(targets.poses[i], targets.seeds[i]) for i in range(m)]
+        Q2 = np.array([np.asarray(r.q, dtype=float) for r in again])
+        ok2, _, _ = verify_batch(chain, Q2, targets.poses[:m], config.tolerance)
+        both = ok[:m] & ok2
+        same = both & (_joint_distance(chain, Q[:m], Q2) < 1e-6)
+        repeat = float(same.sum() / max(both.sum(), 1))
+    solutions = None
+    if any(r.solutions for r in results):
+        solutions = float(np.mean([len(r.solutions) for r in results]))
+    conds = []
+    for i in np.flatnonzero(~ok)[:200]:
+        s = np.linalg.svd(chain.jacobian(targets.q_true[i]), compute_uv=False)
+        conds.append(float(s[0] / s[-1]) if s[-1] > 0 else float("inf"))
+    return SolverReport(
+        solver=solver.name,
+        mode="batch" if batch else "single",
+        samples=N,
+        success_rate=float(ok.mean()),
+        wall_us=_summary(wall * 1e6),
+        cpu_us=_summary(cpu * 1e6),
+        solves_per_s=float(N / total_wall) if total_wall > 0 else float("inf"),
+        position_error_m=_summary(pos[ok]),
+        orientation_error_rad=_summary(rot[ok]),
+        seed_distance=_summary(_joint_distance(chain, Q[ok], targets.seeds[ok])),
+        repeatability=repeat,
+        mean_solutions=solutions,
+        failed_condition_numbers=_summary(np.array(conds)),
+        failures=int((~ok).sum()),
+        claimed_but_wrong=int((claimed & ~ok).sum()),
+        wall_times_us=list(wall * 1e6),
+        solved=[bool(x) for x in ok],
+    )
+
+
+def run_bench(
+    chain: Chain,
+    solvers: Sequence[Solver],
+    config: BenchConfig,
+    *,
+    batch: Sequence[Solver] = (),
+    progress: Callable[[str, int], None] | None = None,
+) -> list[SolverReport]:
+    targets = make_targets(chain, config)
+    reports = []
+    for solver in solvers:
+        reports.append(run_solver(chain, solver, targets, config, progress=(lambda k, s=solver: progress(s.name, k)) if progress else None))
+    for solver in batch:
+        reports.append(run_solver(chain, solver, targets, config, batch=True, progress=(lambda k, s=solver: progress(s.name + " (batch)", k)) if progress else None))
+    return reports

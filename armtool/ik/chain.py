@@ -1,0 +1,347 @@
+"""A serial chain base → tip read from a URDF: joint origins, axes, limits; kinematics from Pinocchio.
+
+The chain is T(q) = Π_i (origin_i · motion_i(q_i)) · tip_offset, where origin_i folds in every
+fixed joint since the previous moving joint. Pinocchio evaluates it (FK, frame Jacobian);
+`fk_batch` evaluates the same product with numpy over many configurations at once.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from lxml import etree
+from numpy.typing import NDArray
+
+from armtool.errors import ArmtoolError
+from armtool.lint.suggest import did_you_mean
+
+Array = NDArray[np.float64]
+JointKind = Literal["revolute", "prismatic", "continuous"]
+
+
+def _floats(text: str | None, n: int, default: Sequence[float]) -> list[float]:
+    if text is None:
+        return list(default)
+    try:
+        values = [float(v) for v in text.split()]
+    except ValueError:
+        values = []
+    if len(values) != n or not all(math.isfinite(v) for v in values):
+        raise ArmtoolError(f"bad numbers '{text}'", hint="run `armtool lint` on the URDF")
+    return values
+
+
+def rpy_matrix(roll: float, pitch: float, yaw: float) -> Array:
+    """URDF rpy: fixed-axis X, then Y, then Z: R = Rz(yaw) Ry(pitch) Rx(roll)."""
+    cr, sr, cp, sp, cy, sy = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch), math.cos(yaw), math.sin(yaw)
+    return np.array(
+        [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+    )
+
+
+def origin_matrix(el: etree._Element | None) -> Array:
+    T = np.eye(4)
+    if el is not None:
+        T[:3, :3] = rpy_matrix(*_floats(el.get("rpy"), 3, (0, 0, 0)))
+        T[:3, 3] = _floats(el.get("xyz"), 3, (0, 0, 0))
+    return T
+
+
+@dataclass(frozen=True)
+class ChainJoint:
+    name: str
+    kind: JointKind
+    origin: Array  # 4x4, from the previous moving joint's frame (or the base) to this joint's frame
+    axis: Array  # unit vector in this joint's frame
+    lower: float
+    upper: float
+
+
+@dataclass(frozen=True)
+class _UrdfJoint:
+    name: str
+    type: str
+    parent: str
+    child: str
+    el: etree._Element
+
+
+def _urdf_joints(root: etree._Element) -> dict[str, _UrdfJoint]:
+    """child link -> joint"""
+    out: dict[str, _UrdfJoint] = {}
+    for el in root.findall("joint"):
+        parent, child = el.find("parent"), el.find("child")
+        if parent is None or child is None:
+            continue
+        j = _UrdfJoint(el.get("name", ""), el.get("type", ""), parent.get("link", ""), child.get("link", ""), el)
+        out[j.child] = j
+    return out
+
+
+def _longest_chain(links: list[str], by_child: Mapping[str, _UrdfJoint]) -> tuple[str, str]:
+    """Root link and the leaf reached through the most moving joints (ties: more links, then file order)."""
+    roots = [name for name in links if name not in by_child]
+    if not roots:
+        raise ArmtoolError("the URDF has no root link", hint="run `armtool lint` on it")
+    best: tuple[int, int, int] = (-1, -1, 0)
+    best_tip = roots[0]
+    for order, link in enumerate(links):
+        moving, depth, cur = 0, 0, link
+        while cur in by_child and depth <= len(links):
+            moving += by_child[cur].type not in ("fixed",)
+            depth += 1
+            cur = by_child[cur].parent
+        key = (moving, depth, -order)
+        if cur == roots[0] and key > best:
+            best, best_tip = key, link
+    return roots[0], best_tip
+
+
+class Chain:
+    """A serial chain with n moving joints; q is a vector of n joint values (rad or m)."""
+
+    def __init__(self, name: str, base: str, tip: str, joints: list[ChainJoint], tip_offset: Array) -> None:
+        if not joints:
+            raise ArmtoolError(f"no moving joint between '{base}' and '{tip}'", hint="choose another --base/--tip")
+        self.name = name
+        self.base = base
+        self.tip = tip
+        self.joints = joints
+        self.tip_offset = tip_offset
+        self.n = len(joints)
+        self.joint_names = [j.name for j in joints]
+        self.lower = np.array([j.lower for j in joints])
+        self.upper = np.array([j.upper for j in joints])
+        self.continuous = np.array([j.kind == "continuous" for j in joints])
+        self.revolute = np.array([j.kind != "prismatic" for j in joints])
+        self._origins = np.stack([j.origin for j in joints])
+        self._axes = np.stack([j.axis for j in joints])
+        self._pin: Any = None
+        self._plan: list[tuple[Array, Array, int, float, Array | None]] | None = None
+
+    # ---- Pinocchio model ----------------------------------------------------------
+    def _model(self) -> Any:
+        if self._pin is None:
+            import pinocchio as pin
+
+            model = pin.Model()
+            model.name = self.name
+            parent = 0
+            for j in self.joints:
+                placement = pin.SE3(j.origin[:3, :3].copy(), j.origin[:3, 3].copy())
+                parent = model.addJoint(parent, _joint_model(pin, j), placement, j.name)
+            tip = pin.SE3(self.tip_offset[:3, :3].copy(), self.tip_offset[:3, 3].copy())
+            frame = model.addFrame(pin.Frame(self.tip, parent, tip, pin.FrameType.OP_FRAME))
+            model.lowerPositionLimit = self.lower.copy()
+            model.upperPositionLimit = self.upper.copy()
+            self._pin = (pin, model, model.createData(), frame)
+        return self._pin
+
+    def fk(self, q: Array) -> Array:
+        """4x4 pose of the tip in the base frame."""
+        pin, model, data, frame = self._model()
+        pin.framesForwardKinematics(model, data, q)
+        return data.oMf[frame].homogeneous  # type: ignore[no-any-return]
+
+    def fk_jacobian(self, q: Array) -> tuple[Array, Array]:
+        """Tip pose and its 6xn Jacobian [v; w] in the base frame at the tip origin."""
+        pin, model, data, frame = self._model()
+        J = pin.computeFrameJacobian(model, data, q, frame, pin.LOCAL_WORLD_ALIGNED)
+        pin.updateFramePlacement(model, data, frame)
+        return data.oMf[frame].homogeneous, J
+
+    def jacobian(self, q: Array) -> Array:
+        return self.fk_jacobian(q)[1]
+
+    # ---- numpy, many configurations at once ---------------------------------------------------
+    def fk_batch(self, Q: Array) -> Array:
+        """(N, 4, 4) tip poses for (N, n) configurations, without Pinocchio."""
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        N = Q.shape[0]
+        T = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
+        for i, joint in enumerate(self.joints):
+            T = T @ joint.origin
+            M = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
+            if joint.kind == "prismatic":
+                M[:, :3, 3] = Q[:, i : i + 1] * joint.axis
+            else:
+                M[:, :3, :3] = axis_angle_batch(joint.axis, Q[:, i])
+            T = T @ M
+        return T @ self.tip_offset
+
+    def fk_jacobian_batch(self, Q: Array, jacobian: bool = True) -> tuple[Array, Array | None]:
+        """(N,4,4) tip poses and (N,6,n) Jacobians [v; w] (base frame, at the tip) for (N,n) configurations.
+
+        Rotations are kept as (N,3,3) and joint motions applied column-wise, so every step is
+        one small GEMM or an element-wise update over all N configurations.
+        """
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        N, n = Q.shape[0], self.n
+        R = np.broadcast_to(np.eye(3), (N, 3, 3)).copy()
+        p = np.zeros((N, 3))
+        axes = np.empty((N, n, 3))
+        points = np.empty((N, n, 3))
+        for i, (o_R, o_p, axis_col, sign, frame) in enumerate(self._batch_plan()):
+            p += (R.reshape(-1, 3) @ o_p).reshape(N, 3)
+            R = (R.reshape(-1, 3) @ o_R).reshape(N, 3, 3)  # o_R also holds the basis change of unaligned axes
+            axes[:, i] = R[:, :, axis_col] * sign
+            points[:, i] = p
+            qi = Q[:, i] * sign
+            if self.joints[i].kind == "prismatic":
+                p += qi[:, None] * axes[:, i] * sign
+            else:
+                a, b = (axis_col + 1) % 3, (axis_col + 2) % 3
+                c, s_ = np.cos(qi)[:, None], np.sin(qi)[:, None]
+                col_a, col_b = R[:, :, a].copy(), R[:, :, b]
+                R[:, :, a] = c * col_a + s_ * col_b
+                R[:, :, b] = c * col_b - s_ * col_a
+            if frame is not None:
+                R = (R.reshape(-1, 3) @ frame).reshape(N, 3, 3)
+        T = np.zeros((N, 4, 4))
+        T[:, :3, :3] = (R.reshape(-1, 3) @ self.tip_offset[:3, :3]).reshape(N, 3, 3)
+        T[:, :3, 3] = p + (R.reshape(-1, 3) @ self.tip_offset[:3, 3]).reshape(N, 3)
+        T[:, 3, 3] = 1.0
+        if not jacobian:
+            return T, None
+        J = np.zeros((N, 6, n))
+        rev = self.revolute
+        J[:, :3, rev] = np.cross(axes[:, rev], T[:, None, :3, 3] - points[:, rev]).transpose(0, 2, 1)
+        J[:, 3:, rev] = axes[:, rev].transpose(0, 2, 1)
+        J[:, :3, ~rev] = axes[:, ~rev].transpose(0, 2, 1)
+        return T, J
+
+    def _batch_plan(self) -> list[tuple[Array, Array, int, float, Array | None]]:
+        """Per joint: origin rotation (times a basis change for unaligned axes), origin translation,
+        the column the axis lies on, its sign, and the basis change to undo after the motion."""
+        if self._plan is None:
+            plan = []
+            for j in self.joints:
+                o_R, o_p = j.origin[:3, :3].copy(), j.origin[:3, 3].copy()
+                col = int(np.argmax(np.abs(j.axis)))
+                if abs(abs(j.axis[col]) - 1.0) < 1e-12:
+                    plan.append((o_R, o_p, col, float(np.sign(j.axis[col])), None))
+                    continue
+                # Unaligned axis: a basis B with B[:, 2] = axis; rotate about its z column, then undo.
+                B = _basis_with_z(j.axis)
+                plan.append((o_R @ B, o_p, 2, 1.0, B.T.copy()))
+            self._plan = plan
+        return self._plan  # type: ignore[no-any-return]
+
+    # ---- helpers -----------------------------------------------------------------------------
+    def within_limits(self, q: Array, tol: float = 1e-9) -> bool:
+        ok = (q >= self.lower - tol) & (q <= self.upper + tol)
+        return bool(np.all(ok | self.continuous))
+
+    def clamp(self, q: Array) -> Array:
+        return np.where(self.continuous, q, np.clip(q, self.lower, self.upper))
+
+    def mid(self) -> Array:
+        return (self.lower + self.upper) / 2.0
+
+    def random(self, rng: np.random.Generator, count: int | None = None) -> Array:
+        shape = (self.n,) if count is None else (count, self.n)
+        return rng.uniform(self.lower, self.upper, size=shape)
+
+
+def _basis_with_z(axis: Array) -> Array:
+    """A rotation whose third column is `axis`."""
+    helper = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, axis)
+    x /= np.linalg.norm(x)
+    y = np.cross(axis, x)
+    return np.column_stack([x, y, axis])
+
+
+def axis_angle_batch(axis: Array, angles: Array) -> Array:
+    """Rodrigues' rotation about a fixed unit axis for many angles: (N, 3, 3)."""
+    x, y, z = axis
+    K = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+    s, c = np.sin(angles)[:, None, None], np.cos(angles)[:, None, None]
+    return np.eye(3) + s * K + (1 - c) * (K @ K)
+
+
+def _joint_model(pin: Any, j: ChainJoint) -> Any:
+    aligned = {0: "X", 1: "Y", 2: "Z"}
+    idx = int(np.argmax(np.abs(j.axis)))
+    if abs(j.axis[idx]) == 1.0 and j.axis[idx] > 0:
+        return getattr(pin, ("JointModelP" if j.kind == "prismatic" else "JointModelR") + aligned[idx])()
+    if j.kind == "prismatic":
+        return pin.JointModelPrismaticUnaligned(j.axis.copy())
+    return pin.JointModelRevoluteUnaligned(j.axis.copy())
+
+
+def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | None = None, source: str = "URDF") -> Chain:
+    links = [el.get("name", "") for el in root.findall("link")]
+    by_child = _urdf_joints(root)
+    if base is None or tip is None:
+        default_base, default_tip = _longest_chain(links, by_child)
+        base = base or default_base
+        tip = tip or default_tip
+    for role, name in (("base", base), ("tip", tip)):
+        if name not in links:
+            raise ArmtoolError(
+                f"{role} link '{name}' is not in {source}{did_you_mean(name, links)}",
+                hint="links: " + ", ".join(links[:30]) + (" …" if len(links) > 30 else ""),
+            )
+    path: list[_UrdfJoint] = []
+    cur = tip
+    while cur != base:
+        joint = by_child.get(cur)
+        if joint is None:
+            raise ArmtoolError(f"tip '{tip}' is not below base '{base}' in {source}", hint="swap them, or pick links on one branch")
+        path.append(joint)
+        cur = joint.parent
+        if len(path) > len(links):
+            raise ArmtoolError(f"{source} has a kinematic loop", hint="run `armtool lint` on it")
+    path.reverse()
+    joints: list[ChainJoint] = []
+    pending = np.eye(4)
+    for uj in path:
+        origin = pending @ origin_matrix(uj.el.find("origin"))
+        if uj.type == "fixed":
+            pending = origin
+            continue
+        if uj.type not in ("revolute", "prismatic", "continuous"):
+            raise ArmtoolError(f"joint '{uj.name}' has type '{uj.type}', which a serial IK chain cannot use", hint="choose a chain of revolute/prismatic/continuous joints")
+        if uj.el.find("mimic") is not None:
+            raise ArmtoolError(f"joint '{uj.name}' is a mimic joint", hint="IK chains cannot contain mimic joints; choose another --tip")
+        axis = np.array(_floats((uj.el.find("axis").get("xyz") if uj.el.find("axis") is not None else None), 3, (1, 0, 0)))
+        norm = float(np.linalg.norm(axis))
+        if norm < 1e-12:
+            raise ArmtoolError(f"joint '{uj.name}' has a zero axis", hint="run `armtool lint` on the URDF")
+        if uj.type == "continuous":
+            lower, upper = -math.pi, math.pi
+        else:
+            limit = uj.el.find("limit")
+            lower = _floats(limit.get("lower") if limit is not None else None, 1, (0.0,))[0]
+            upper = _floats(limit.get("upper") if limit is not None else None, 1, (0.0,))[0]
+            if not lower < upper:
+                raise ArmtoolError(f"joint '{uj.name}' has limits [{lower}, {upper}], no room to move", hint="fix <limit lower upper>")
+        joints.append(ChainJoint(uj.name, uj.type, origin, axis / norm, lower, upper))  # type: ignore[arg-type]
+        pending = np.eye(4)
+    return Chain(root.get("name", "robot"), base, tip, joints, pending)
+
+
+def load_chain(
+    urdf_path: str | Path,
+    base: str | None = None,
+    tip: str | None = None,
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    package_paths: Sequence[Path] = (),
+) -> Chain:
+    """The chain base → tip of a URDF or xacro (default: the longest chain from the root)."""
+    from armtool.model.load import load_robot_xml
+
+    path = Path(urdf_path)
+    root = load_robot_xml(path, xacro_args, package_paths)
+    return chain_from_xml(root, base, tip, source=path.name)

@@ -1,0 +1,96 @@
+"""ik-bench results as a rich table (humans), JSON (scripts, `schema_version`) or CSV (spreadsheets)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from dataclasses import asdict
+
+from armtool.ik.bench import BenchConfig, SolverReport
+from armtool.ik.chain import Chain
+
+SCHEMA_VERSION = 1
+
+
+def _us(value: float) -> str:
+    if math.isnan(value):
+        return "-"
+    return f"{value:,.0f}" if value >= 100 else f"{value:.1f}"
+
+
+def _sci(value: float) -> str:
+    return "-" if math.isnan(value) else f"{value:.1e}"
+
+
+def render_table(chain: Chain, config: BenchConfig, reports: list[SolverReport]) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=f"{chain.name} {chain.base} → {chain.tip} ({chain.n} joints), {config.samples} targets, "
+                  f"seed {config.seed_mode.value}, timeout {config.timeout * 1e3:g} ms")
+    for col in ("solver", "success %", "median µs", "p95 µs", "max µs", "solves/s", "pos err m", "rot err rad",
+                "seed dist", "repeatable %", "solutions", "cond@fail"):
+        table.add_column(col, justify="left" if col == "solver" else "right")
+    for r in reports:
+        table.add_row(
+            r.solver + (" (batch)" if r.mode == "batch" else ""),
+            f"{100 * r.success_rate:.1f}",
+            _us(r.wall_us["median"]),
+            _us(r.wall_us["p95"]) if r.mode == "single" else "-",
+            _us(r.wall_us["max"]) if r.mode == "single" else "-",
+            f"{r.solves_per_s:,.0f}",
+            _sci(r.position_error_m["max"]),
+            _sci(r.orientation_error_rad["max"]),
+            "-" if math.isnan(r.seed_distance["median"]) else f"{r.seed_distance['median']:.2f}",
+            "-" if r.repeatability is None else f"{100 * r.repeatability:.0f}",
+            "-" if r.mean_solutions is None else f"{r.mean_solutions:.1f}",
+            "-" if r.failures == 0 else _sci(r.failed_condition_numbers["median"]),
+        )
+    import sys
+
+    Console(highlight=False, width=None if sys.stdout.isatty() else 200).print(table)
+    wrong = [r for r in reports if r.claimed_but_wrong]
+    for r in wrong:
+        Console(stderr=True).print(f"[yellow]{r.solver}: {r.claimed_but_wrong} answers claimed success but failed our FK check[/yellow]")
+
+
+def render_json(chain: Chain, config: BenchConfig, reports: list[SolverReport]) -> str:
+    doc = {
+        "schema_version": SCHEMA_VERSION,
+        "robot": chain.name,
+        "base": chain.base,
+        "tip": chain.tip,
+        "joints": chain.joint_names,
+        "config": {"samples": config.samples, "rng_seed": config.rng_seed, "seed_mode": config.seed_mode.value,
+                   "timeout_s": config.timeout, "tolerance": config.tolerance},
+        "solvers": [{k: v for k, v in asdict(r).items() if k not in ("wall_times_us", "solved")} for r in reports],
+    }
+    return json.dumps(_clean(doc), indent=2, allow_nan=False)
+
+
+def _clean(value: object) -> object:
+    """NaN/inf → null: JSON has no NaN."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _clean(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_clean(v) for v in value]
+    return value
+
+
+def render_csv(reports: list[SolverReport]) -> str:
+    buf = io.StringIO()
+    writer = csv.writer(buf)
+    writer.writerow(["solver", "mode", "samples", "success_rate", "median_us", "p95_us", "max_us", "cpu_median_us",
+                     "solves_per_s", "max_position_error_m", "max_orientation_error_rad", "median_seed_distance",
+                     "repeatability", "mean_solutions", "failures", "claimed_but_wrong"])
+    for r in reports:
+        writer.writerow([r.solver, r.mode, r.samples, f"{r.success_rate:.4f}", f"{r.wall_us['median']:.1f}",
+                         f"{r.wall_us['p95']:.1f}", f"{r.wall_us['max']:.1f}", f"{r.cpu_us['median']:.1f}",
+                         f"{r.solves_per_s:.0f}", r.position_error_m["max"], r.orientation_error_rad["max"],
+                         r.seed_distance["median"], "" if r.repeatability is None else r.repeatability,
+                         "" if r.mean_solutions is None else r.mean_solutions, r.failures, r.claimed_but_wrong])
+    return buf.getvalue()

@@ -1,0 +1,141 @@
+"""What every IK solver offers: `solve(target, seed) -> IKResult`, `solve_batch(targets, seeds)`.
+
+Targets are 4x4 homogeneous poses of the chain's tip in its base frame; seeds are joint vectors.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armtool.errors import ArmtoolError
+from armtool.ik.chain import Chain
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class IKResult:
+    success: bool
+    q: Array
+    position_error_m: float
+    orientation_error_rad: float
+    iterations: int
+    reason: str = ""
+    # Every solution found (closed-form solvers return all of them; q is the first).
+    solutions: tuple[Array, ...] = field(default=())
+
+
+def rotation_error(R: Array, R_target: Array) -> Array:
+    """Rotation vector (base frame) that turns R into R_target: log(R_target Rᵀ)."""
+    M = R_target @ R.T
+    cos = max(-1.0, min(1.0, (M[0, 0] + M[1, 1] + M[2, 2] - 1.0) / 2.0))
+    v = np.array([M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]])
+    angle = math.acos(cos)
+    if angle < 1e-6:
+        return 0.5 * v
+    if math.pi - angle > 1e-6:
+        return v * (angle / (2.0 * math.sin(angle)))
+    # angle ≈ π: axis from the diagonal of (M + I)/2 = a aᵀ
+    diag = np.clip((np.diag(M) + 1.0) / 2.0, 0.0, None)
+    k = int(np.argmax(diag))
+    axis = (M[:, k] + np.eye(3)[:, k]) / 2.0 / math.sqrt(diag[k])
+    axis /= np.linalg.norm(axis)
+    if np.dot(axis, v) < 0:
+        axis = -axis
+    return axis * angle
+
+
+def rotation_error_batch(R: Array, R_target: Array) -> Array:
+    """rotation_error for (N,3,3) stacks: (N,3) rotation vectors log(R_target Rᵀ)."""
+    M = R_target @ R.transpose(0, 2, 1)
+    v = 0.5 * np.stack([M[:, 2, 1] - M[:, 1, 2], M[:, 0, 2] - M[:, 2, 0], M[:, 1, 0] - M[:, 0, 1]], axis=1)
+    cos = np.clip((M[:, 0, 0] + M[:, 1, 1] + M[:, 2, 2] - 1.0) / 2.0, -1.0, 1.0)
+    sin = np.linalg.norm(v, axis=1)
+    angle = np.arctan2(sin, cos)
+    scale = np.where(sin > 1e-9, angle / np.maximum(sin, 1e-300), 1.0)
+    out = v * scale[:, None]
+    near_pi = (sin <= 1e-9) & (cos < 0)
+    for i in np.flatnonzero(near_pi):
+        out[i] = rotation_error(R[i], R_target[i])
+    return out
+
+
+def pose_error_batch(T: Array, targets: Array) -> Array:
+    """(N,6) pose errors [dp; dw] for (N,4,4) poses and targets."""
+    return np.concatenate([targets[:, :3, 3] - T[:, :3, 3], rotation_error_batch(T[:, :3, :3], targets[:, :3, :3])], axis=1)
+
+
+def pose_error(T: Array, target: Array) -> Array:
+    """6-vector [dp; dw] in the base frame from pose T to the target (dw = log(R_target Rᵀ))."""
+    import pinocchio as pin
+
+    e = np.empty(6)
+    e[:3] = target[:3, 3] - T[:3, 3]
+    e[3:] = pin.log3(target[:3, :3] @ T[:3, :3].T)
+    return e
+
+
+def verify_batch(chain: Chain, Q: Array, targets: Array, tolerance: float) -> tuple[Array, Array, Array]:
+    """verify() for many answers at once, with numpy FK: (success mask, position errors, orientation errors)."""
+    T, _ = chain.fk_jacobian_batch(Q, jacobian=False)
+    e = pose_error_batch(T, targets)
+    pos, rot = np.linalg.norm(e[:, :3], axis=1), np.linalg.norm(e[:, 3:], axis=1)
+    within = np.all((Q >= chain.lower - 1e-9) & (Q <= chain.upper + 1e-9) | chain.continuous, axis=1)
+    ok = np.all(np.isfinite(Q), axis=1) & (pos <= tolerance) & (rot <= tolerance) & within
+    return ok, pos, rot
+
+
+def verify(chain: Chain, q: Array, target: Array, tolerance: float) -> tuple[bool, float, float]:
+    """Recompute FK: (success, position error m, orientation error rad). Never trust a solver's flag."""
+    T = chain.fk(q)
+    e = np.concatenate([target[:3, 3] - T[:3, 3], rotation_error(T[:3, :3], target[:3, :3])])
+    pos, rot = float(np.linalg.norm(e[:3])), float(np.linalg.norm(e[3:]))
+    finite = bool(np.all(np.isfinite(q)))
+    return finite and pos <= tolerance and rot <= tolerance and chain.within_limits(q), pos, rot
+
+
+class Solver:
+    """Base class: options, timing, and a looping solve_batch. Subclasses implement `solve`."""
+
+    name: ClassVar[str]
+    summary: ClassVar[str]
+    options: ClassVar[dict[str, Any]] = {}
+
+    def __init__(self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
+        if not timeout > 0:
+            raise ArmtoolError(f"timeout must be > 0 s, got {timeout}", hint="e.g. --timeout 0.005 (5 ms)")
+        if not tolerance > 0:
+            raise ArmtoolError(f"tolerance must be > 0, got {tolerance}")
+        unknown = set(options) - set(self.options)
+        if unknown:
+            known = ", ".join(f"{k} (default {v!r})" for k, v in self.options.items()) or "none"
+            raise ArmtoolError(f"solver '{self.name}' has no option(s) {', '.join(sorted(unknown))}", hint=f"options: {known}")
+        self.chain = chain
+        self.timeout = float(timeout)
+        self.tolerance = float(tolerance)
+        self.rng = np.random.default_rng(seed)
+        self.opts = {**self.options, **options}
+
+    def solve(self, target: Array, seed: Array) -> IKResult:
+        raise NotImplementedError
+
+    def solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
+        targets = np.asarray(targets, dtype=float)
+        seeds = np.asarray(seeds, dtype=float)
+        if targets.ndim != 3 or targets.shape[1:] != (4, 4) or seeds.shape != (targets.shape[0], self.chain.n):
+            raise ArmtoolError(f"expected (N,4,4) targets and (N,{self.chain.n}) seeds, got {targets.shape} and {seeds.shape}")
+        return [self.solve(t, s) for t, s in zip(targets, seeds)]
+
+    def _result(self, q: Array, target: Array, iterations: int, reason: str = "") -> IKResult:
+        ok, pos, rot = verify(self.chain, q, target, self.tolerance)
+        return IKResult(ok, q, pos, rot, iterations, "" if ok else (reason or "did not converge"))
+
+    @staticmethod
+    def clock() -> float:
+        return time.perf_counter()

@@ -1,0 +1,1 @@
+"""One module per IK solver; `armtool.ik.registry` lists them."""

@@ -1,0 +1,178 @@
+"""`lm`: Levenberg–Marquardt with joint limits, error-scaled damping and random restarts.
+
+Damping follows Sugihara (2011): λ = μ·(k·E + λ̄) with E = ‖e‖² the squared pose error, so
+steps approach Gauss–Newton near a solution and shrink where the error is large or the
+arm is near a singularity; a rejected step multiplies μ by 10. Limits are enforced by
+projection (continuous joints wrap). A try that stalls ends early and the solver restarts
+from a random configuration, until the time budget is spent. Most targets are reached in the first try
+from the seed; for the rest, restarts first take the configurations of a table of random
+poses (built once per solver) nearest to the target, then uniform random ones: near-pose
+seeds land in the right basin far more often than blind ones, which matters next to limits.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from armtool.ik.solver import Array, IKResult, Solver, pose_error, pose_error_batch, verify_batch
+
+
+class LevenbergMarquardt(Solver):
+    name = "lm"
+    summary = "Levenberg–Marquardt with joint limits, error-scaled damping and random restarts (armtool's best)"
+    options: dict[str, Any] = {"error_damping": 0.1, "damping_bias": 1e-6, "max_iterations_per_try": 25}
+    SCALAR_TAIL = 16
+    TABLE_SIZE = 4096
+    TABLE_SEEDS = 8
+    _table: tuple[Array, Array, Array] | None = None
+
+    def _restart_seeds(self, target: Array) -> list[Array]:
+        """Configurations whose tip pose is nearest the target (position + 0.2 m per unit of rotation)."""
+        if self._table is None:
+            Q = self.chain.random(self.rng, self.TABLE_SIZE)
+            T, _ = self.chain.fk_jacobian_batch(Q, jacobian=False)
+            self._table = (Q, T[:, :3, 3].copy(), T[:, :3, :3].reshape(-1, 9).copy())
+        Q, P, R = self._table
+        d = np.linalg.norm(P - target[:3, 3], axis=1) + 0.2 * np.linalg.norm(R - target[:3, :3].reshape(9), axis=1)
+        nearest = np.argpartition(d, self.TABLE_SEEDS)[: self.TABLE_SEEDS]
+        return list(Q[nearest[np.argsort(d[nearest])]])
+
+    def solve(self, target: Array, seed: Array) -> IKResult:
+        chain = self.chain
+        deadline = self.clock() + self.timeout
+        k = float(self.opts["error_damping"])
+        bias = float(self.opts["damping_bias"])
+        per_try = int(self.opts["max_iterations_per_try"])
+        lower, upper, cont = chain.lower, chain.upper, chain.continuous
+        wrap_any = bool(cont.any())
+        eye = np.eye(chain.n)
+        goal = (self.tolerance * 0.5) ** 2
+        fk_jacobian = chain.fk_jacobian
+        q = chain.clamp(np.asarray(seed, dtype=float).copy())
+        iterations = 0
+        best_q, best_err = q, math.inf
+        restarts: list[Array] | None = None
+        while True:
+            T, J = fk_jacobian(q)
+            e = pose_error(T, target)
+            err = float(e @ e)
+            mu = 1.0
+            rejected = 0
+            for _ in range(per_try):
+                if err < goal:
+                    return self._result(q, target, iterations)
+                iterations += 1
+                A = J.T @ J
+                A += (mu * (k * err + bias)) * eye
+                g = J.T @ e
+                dq = np.linalg.solve(A, g)
+                blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
+                if blocked.any():
+                    # Joints held at a limit leave the step; the others re-plan without them.
+                    A[blocked, :] = 0.0
+                    A[:, blocked] = 0.0
+                    A[blocked, blocked] = 1.0
+                    g[blocked] = 0.0
+                    dq = np.linalg.solve(A, g)
+                q_new = q + dq
+                if wrap_any:
+                    q_new = np.where(cont, (q_new + math.pi) % (2 * math.pi) - math.pi, np.clip(q_new, lower, upper))
+                else:
+                    q_new = np.clip(q_new, lower, upper)
+                T_new, J_new = fk_jacobian(q_new)
+                e_new = pose_error(T_new, target)
+                err_new = float(e_new @ e_new)
+                if err_new < err:
+                    progress = err_new < 0.5 * err
+                    q, J, e, err, mu = q_new, J_new, e_new, err_new, 1.0
+                    rejected = 0 if progress else rejected + 1
+                else:
+                    mu *= 10.0
+                    rejected += 1
+                if rejected >= 4:
+                    break  # stuck in a local minimum or against a limit
+            if err < best_err:
+                best_q, best_err = q, err
+            if err < goal:
+                return self._result(q, target, iterations)
+            if self.clock() > deadline:
+                return self._result(best_q, target, iterations, "timeout")
+            if restarts is None:
+                restarts = self._restart_seeds(target)
+            q = restarts.pop(0) if restarts else self.rng.uniform(lower, upper)
+
+    def solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
+        """All targets at once: the same algorithm with numpy over every unsolved target per step.
+
+        Each target keeps its own damping, stall counter and restarts; the whole call stops when
+        every target is solved or after `timeout` seconds per target.
+        """
+        targets = np.asarray(targets, dtype=float)
+        seeds = np.asarray(seeds, dtype=float)
+        chain = self.chain
+        N, n = seeds.shape
+        if targets.shape != (N, 4, 4) or n != chain.n:
+            return super().solve_batch(targets, seeds)
+        deadline = self.clock() + self.timeout * N
+        k = float(self.opts["error_damping"])
+        bias = float(self.opts["damping_bias"])
+        per_try = int(self.opts["max_iterations_per_try"])
+        goal = (self.tolerance * 0.5) ** 2
+        lower, upper, cont = chain.lower, chain.upper, chain.continuous
+        eye = np.eye(n)
+
+        def project(Q: Array) -> Array:
+            wrapped = (Q + math.pi) % (2 * math.pi) - math.pi
+            return np.where(cont, wrapped, np.clip(Q, lower, upper))
+
+        Q = project(seeds.copy())
+        iterations = np.zeros(N, dtype=int)
+        solved = np.zeros(N, dtype=bool)
+        idx = np.arange(N)  # unsolved targets
+        T, J = chain.fk_jacobian_batch(Q)
+        E = pose_error_batch(T, targets)
+        err = np.einsum("ij,ij->i", E, E)
+        mu = np.ones(N)
+        rejected = np.zeros(N, dtype=int)
+        tries = np.zeros(N, dtype=int)
+        while idx.size and self.clock() < deadline:
+            done = err < goal
+            solved[idx[done]] = True
+            keep = ~done
+            idx, J, E, err, mu, rejected, tries = idx[keep], J[keep], E[keep], err[keep], mu[keep], rejected[keep], tries[keep]
+            if idx.size <= self.SCALAR_TAIL:
+                break  # a few stubborn targets: numpy's per-call overhead makes the scalar loop faster
+            iterations[idx] += 1
+            tries += 1
+            A = J.transpose(0, 2, 1) @ J + ((mu * (k * err + bias))[:, None, None] * eye)
+            g = np.einsum("mji,mj->mi", J, E)
+            Q_new = project(Q[idx] + np.linalg.solve(A, g[..., None])[..., 0])
+            T_new, J_new = chain.fk_jacobian_batch(Q_new)
+            E_new = pose_error_batch(T_new, targets[idx])
+            err_new = np.einsum("ij,ij->i", E_new, E_new)
+            better = err_new < err
+            progress = better & (err_new < 0.5 * err)
+            Q[idx[better]] = Q_new[better]
+            J[better], E[better], err[better] = J_new[better], E_new[better], err_new[better]
+            mu = np.where(better, 1.0, mu * 10.0)
+            rejected = np.where(progress, 0, rejected + 1)
+            restart = ((rejected >= 4) | (tries >= per_try)) & (err >= goal)
+            if restart.any():
+                r = idx[restart]
+                Q[r] = self.rng.uniform(lower, upper, size=(r.size, n))
+                T_r, J_r = chain.fk_jacobian_batch(Q[r])
+                J[restart], E[restart] = J_r, pose_error_batch(T_r, targets[r])
+                err[restart] = np.einsum("ij,ij->i", E[restart], E[restart])
+                mu[restart], rejected[restart], tries[restart] = 1.0, 0, 0
+        for i in idx:
+            tail = self.solve(targets[i], Q[i])
+            Q[i] = tail.q
+            iterations[i] += tail.iterations
+        ok, pos, rot = verify_batch(chain, Q, targets, self.tolerance)
+        return [
+            IKResult(bool(ok[i]), Q[i].copy(), float(pos[i]), float(rot[i]), int(iterations[i]), "" if ok[i] else "timeout")
+            for i in range(N)
+        ]

@@ -1,0 +1,41 @@
+"""Read a URDF or xacro into an lxml tree, with errors that say which file and how to fix it."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+from lxml import etree
+
+from armtool.errors import ArmtoolError
+from armtool.model.packages import PackageResolver
+from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml
+
+
+def load_robot_xml(
+    path: Path, xacro_args: Mapping[str, str] | None = None, package_paths: Sequence[Path] = ()
+) -> etree._Element:
+    """The <robot> element of a .urdf, or of a .xacro after expansion."""
+    if not path.is_file():
+        raise ArmtoolError("no such file", str(path), "check the path to the URDF or xacro")
+    if path.name.lower().endswith(".xacro"):
+        from armtool.model.xacro_source import XacroFailure, expand
+
+        try:
+            root = expand(path, xacro_args or {}, PackageResolver(package_paths)).root
+        except XacroFailure as exc:
+            raise ArmtoolError(
+                f"xacro failed: {exc.message}", f"{exc.path}:{exc.line}", "pass --xacro-arg NAME:=VALUE or fix the xacro"
+            ) from None
+    else:
+        try:
+            root = parse_xml(path.read_bytes())
+        except XmlSyntaxProblem as exc:
+            raise ArmtoolError(
+                f"not well-formed XML: {exc.message}", f"{path}:{exc.line}:{exc.column}", f"run `armtool lint {path}`"
+            ) from None
+        except OSError as exc:
+            raise ArmtoolError(f"cannot read: {exc.strerror}", str(path)) from None
+    if root.tag != "robot":
+        raise ArmtoolError(f"root element is <{root.tag}>, not <robot>", str(path), "pass a URDF file")
+    return root

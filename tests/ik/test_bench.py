@@ -1,0 +1,57 @@
+"""The benchmark harness: targets by the protocol, verdicts from our own FK, never the solver's flag."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armtool.ik import load_chain
+from armtool.ik.bench import BenchConfig, SeedMode, make_targets, run_solver
+from armtool.ik.solver import IKResult, Solver
+from tests.ik.robots import ARMS, erd
+
+
+class Liar(Solver):
+    """Claims success with the seed: the harness must not believe it."""
+
+    name = "liar"
+    summary = "test double"
+
+    def solve(self, target, seed):  # type: ignore[no-untyped-def]
+        return IKResult(True, np.asarray(seed, dtype=float), 0.0, 0.0, 1)
+
+
+def test_targets_follow_the_protocol() -> None:
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    config = BenchConfig(samples=50, rng_seed=4)
+    t = make_targets(chain, config)
+    assert np.allclose(t.seeds, chain.mid()) and t.poses.shape == (50, 4, 4)
+    assert np.all((t.q_true >= chain.lower) & (t.q_true <= chain.upper))
+    assert np.allclose(t.poses, chain.fk_batch(t.q_true))
+    again = make_targets(chain, config)
+    assert np.array_equal(t.q_true, again.q_true)
+    near = make_targets(chain, BenchConfig(samples=50, rng_seed=4, seed_mode=SeedMode.NEAR))
+    assert np.abs(near.seeds - near.q_true).max() <= 0.1 + 1e-12
+
+
+def test_solver_flags_are_never_trusted() -> None:
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    config = BenchConfig(samples=20, repeat=5)
+    report = run_solver(chain, Liar(chain), make_targets(chain, config), config)
+    assert report.success_rate == 0.0 and report.claimed_but_wrong == 20 and report.failures == 20
+
+
+def test_lm_report_fields() -> None:
+    from armtool.ik import make_solver
+
+    relative, base, tip = ARMS["panda"]
+    chain = load_chain(erd(relative), base, tip)
+    config = BenchConfig(samples=30, repeat=10, timeout=0.02)
+    targets = make_targets(chain, config)
+    single = run_solver(chain, make_solver("lm", chain, timeout=0.02), targets, config)
+    batch = run_solver(chain, make_solver("lm", chain, timeout=0.02), targets, config, batch=True)
+    for r in (single, batch):
+        assert r.success_rate >= 29 / 30 and r.claimed_but_wrong == 0
+        assert r.position_error_m["max"] <= 1e-5 and r.orientation_error_rad["max"] <= 1e-5
+        assert r.wall_us["median"] > 0 and r.solves_per_s > 0
+    assert single.repeatability is not None and 0.0 <= single.repeatability <= 1.0
+    assert batch.mode == "batch" and batch.repeatability is None

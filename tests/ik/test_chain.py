@@ -1,0 +1,120 @@
+"""Chains from URDF: FK against Pinocchio's own URDF parser and a hand computation; Jacobians vs
+finite differences; the errors users hit (unknown links, no chain, mimic joints)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from armtool.errors import ArmtoolError
+from armtool.ik.chain import load_chain, rpy_matrix
+from tests.ik.robots import ARMS, PLANAR_2R, erd
+
+
+def test_rpy_is_fixed_axis_xyz() -> None:
+    r, p, y = 0.3, -0.2, 1.1
+    Rx = np.array([[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]])
+    Ry = np.array([[math.cos(p), 0, math.sin(p)], [0, 1, 0], [-math.sin(p), 0, math.cos(p)]])
+    Rz = np.array([[math.cos(y), -math.sin(y), 0], [math.sin(y), math.cos(y), 0], [0, 0, 1]])
+    assert np.allclose(rpy_matrix(r, p, y), Rz @ Ry @ Rx)
+
+
+def test_planar_fk_by_hand(tmp_path: Path) -> None:
+    path = tmp_path / "planar.urdf"
+    path.write_text(PLANAR_2R)
+    chain = load_chain(path)
+    assert (chain.base, chain.tip, chain.joint_names) == ("base", "tool", ["j1", "j2"])
+    q = np.array([0.4, -1.1])
+    x = 0.5 * math.cos(q[0]) + 0.3 * math.cos(q[0] + q[1])
+    y = 0.5 * math.sin(q[0]) + 0.3 * math.sin(q[0] + q[1])
+    for T in (chain.fk(q), chain.fk_batch(q[None])[0], chain.fk_jacobian_batch(q[None])[0][0]):
+        assert np.allclose(T[:3, 3], [x, y, 0.1])
+        assert math.isclose(math.atan2(T[1, 0], T[0, 0]), q.sum())
+
+
+@pytest.mark.parametrize("arm", sorted(ARMS))
+def test_fk_matches_pinocchio_urdf_parser(arm: str) -> None:
+    import pinocchio as pin
+
+    relative, base, tip = ARMS[arm]
+    path = erd(relative)
+    chain = load_chain(path, base, tip)
+    model = pin.buildModelFromUrdf(str(path))
+    data = model.createData()
+    f_base, f_tip = model.getFrameId(chain.base), model.getFrameId(chain.tip)
+    rng = np.random.default_rng(3)
+    Q = chain.random(rng, 30)
+    batch = chain.fk_batch(Q)
+    batch_j, _ = chain.fk_jacobian_batch(Q)
+    for q, Tb, Tj in zip(Q, batch, batch_j):
+        full = pin.neutral(model)
+        for value, name in zip(q, chain.joint_names):
+            jid = model.getJointId(name)
+            idx = model.idx_qs[jid]
+            if model.nqs[jid] == 2:  # continuous joints: (cos, sin)
+                full[idx : idx + 2] = [math.cos(value), math.sin(value)]
+            else:
+                full[idx] = value
+        pin.framesForwardKinematics(model, data, full)
+        expected = (data.oMf[f_base].inverse() * data.oMf[f_tip]).homogeneous
+        assert np.allclose(chain.fk(q), expected, atol=1e-12)
+        assert np.allclose(Tb, expected, atol=1e-12)
+        assert np.allclose(Tj, expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("arm", sorted(ARMS))
+def test_jacobians_match_finite_differences(arm: str) -> None:
+    relative, base, tip = ARMS[arm]
+    chain = load_chain(erd(relative), base, tip)
+    rng = np.random.default_rng(7)
+    for q in chain.random(rng, 5):
+        T, J = chain.fk_jacobian(q)
+        _, Jb = chain.fk_jacobian_batch(q[None])
+        assert np.allclose(J, Jb[0], atol=1e-12)
+        h = 1e-6
+        for i in range(chain.n):
+            dq = np.zeros(chain.n)
+            dq[i] = h
+            Tp, Tm = chain.fk(q + dq), chain.fk(q - dq)
+            v = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
+            dR = (Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ T[:3, :3].T  # = skew(w)
+            w = np.array([dR[2, 1], dR[0, 2], dR[1, 0]])
+            assert np.allclose(J[:3, i], v, atol=1e-6) and np.allclose(J[3:, i], w, atol=1e-6)
+
+
+def test_continuous_joints_are_unbounded_and_wrap() -> None:
+    chain = load_chain(erd("kinova_description/robots/kinova.urdf"))
+    assert chain.continuous.any()
+    q = chain.mid()
+    q[np.flatnonzero(chain.continuous)[0]] = 7.0
+    assert chain.within_limits(q)
+
+
+def test_unknown_links_list_what_exists(tmp_path: Path) -> None:
+    path = tmp_path / "planar.urdf"
+    path.write_text(PLANAR_2R)
+    with pytest.raises(ArmtoolError) as err:
+        load_chain(path, tip="tol")
+    assert "did you mean 'tool'" in err.value.what and "base, l1, l2, tool" in (err.value.hint or "")
+    with pytest.raises(ArmtoolError, match="not below"):
+        load_chain(path, base="tool", tip="base")
+    with pytest.raises(ArmtoolError, match="no moving joint"):
+        load_chain(path, base="l2", tip="tool")
+
+
+def test_mimic_joint_in_chain_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "mimic.urdf"
+    path.write_text(PLANAR_2R.replace('<origin xyz="0.5 0 0"/>', '<origin xyz="0.5 0 0"/><mimic joint="j1"/>'))
+    with pytest.raises(ArmtoolError, match="mimic"):
+        load_chain(path)
+
+
+def test_unparseable_urdf_is_a_clear_error(tmp_path: Path) -> None:
+    path = tmp_path / "bad.urdf"
+    path.write_text("<robot name='x'><link name='a'></robot>")
+    with pytest.raises(ArmtoolError) as err:
+        load_chain(path)
+    assert "not well-formed" in err.value.what and "bad.urdf:1" in (err.value.where or "")
