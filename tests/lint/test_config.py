@@ -1,0 +1,71 @@
+"""[tool.armtool.lint] in pyproject.toml, --select/--ignore, and inline ignore comments."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from armtool.cli import app
+from armtool.errors import ArmtoolError
+from armtool.lint.config import load_config
+from armtool.lint.engine import LintOptions, lint_paths
+from tests.lint.helpers import LINK, revolute, robot
+
+DEGREES = robot(
+    '<link name="base"/>\n' + LINK.format(name="l1") + "\n"
+    + revolute("j1", "base", "l1", limit='lower="-1" upper="1" effort="10" velocity="0"', extra='<origin rpy="0 0 90"/>')
+)
+
+
+def lint_with(tmp_path: Path, toml: str, text: str = DEGREES) -> list[tuple[str, str]]:
+    (tmp_path / "pyproject.toml").write_text(toml)
+    (tmp_path / "urdf").mkdir(exist_ok=True)
+    path = tmp_path / "urdf" / "r.urdf"
+    path.write_text(text)
+    cfg = load_config(tmp_path / "pyproject.toml")
+    return [(f.code, f.severity.value) for f in lint_paths([path], LintOptions(config=cfg)).findings]
+
+
+def test_default_reports_both(tmp_path: Path) -> None:
+    assert sorted(lint_with(tmp_path, "")) == [("U203", "error"), ("U301", "warning")]
+
+
+def test_select_ignore_severity_and_per_file(tmp_path: Path) -> None:
+    assert lint_with(tmp_path, '[tool.armtool.lint]\nselect = ["U3"]\n') == [("U301", "warning")]
+    assert lint_with(tmp_path, '[tool.armtool.lint]\nignore = ["non-positive-velocity"]\n') == [("U301", "warning")]
+    assert sorted(lint_with(tmp_path, '[tool.armtool.lint]\nseverity = { U301 = "error" }\n')) == [
+        ("U203", "error"), ("U301", "error")]
+    assert lint_with(tmp_path, '[tool.armtool.lint]\nper-file-ignores = { "urdf/*.urdf" = ["U203"] }\n') == [
+        ("U301", "warning")]
+
+
+@pytest.mark.parametrize("toml", [
+    '[tool.armtool.lint]\nselect = ["Q999"]\n',
+    '[tool.armtool.lint]\nselekt = ["U"]\n',
+    '[tool.armtool.lint]\nseverity = { U301 = "fatal" }\n',
+    "[tool.armtool.lint\n",
+])
+def test_bad_config_is_a_clear_error(tmp_path: Path, toml: str) -> None:
+    (tmp_path / "pyproject.toml").write_text(toml)
+    with pytest.raises(ArmtoolError) as err:
+        load_config(tmp_path / "pyproject.toml")
+    assert "pyproject.toml" in (err.value.where or "")
+
+
+def test_inline_ignore_comment_silences_next_element(tmp_path: Path) -> None:
+    text = DEGREES.replace("<joint", "<!-- armtool: ignore[U301] -->\n<joint")
+    assert lint_with(tmp_path, "", text) == [("U203", "error")]
+    everything = DEGREES.replace("<joint", "<!-- armtool: ignore -->\n<joint")
+    assert lint_with(tmp_path, "", everything) == []
+
+
+def test_cli_select_fail_on_and_exit_zero(tmp_path: Path) -> None:
+    path = tmp_path / "r.urdf"
+    path.write_text(DEGREES)
+    runner = CliRunner()
+    assert runner.invoke(app, ["lint", str(path)]).exit_code == 1
+    assert runner.invoke(app, ["lint", "--select", "U301", str(path)]).exit_code == 0
+    assert runner.invoke(app, ["lint", "--select", "U301", "--fail-on", "warning", str(path)]).exit_code == 1
+    assert runner.invoke(app, ["lint", "--exit-zero", str(path)]).exit_code == 0

@@ -1,0 +1,55 @@
+"""--fix edits text in place (comments, layout kept); --diff writes nothing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from armtool.cli import app
+
+BROKEN = """<?xml version="1.0"?>
+<!-- keep this comment -->
+<robot name="r">
+  <link name="base"/>
+  <link name="l1"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+  <joint name="j1"   type="revolute">
+    <parent link="base"/> <child link="l1"/>
+    <origin xyz="0 0 0.1"   rpy="0 0 -270"/>  <!-- degrees -->
+    <axis xyz="0 0 2"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+</robot>
+"""
+
+
+def test_diff_shows_fixes_and_writes_nothing(tmp_path: Path) -> None:
+    path = tmp_path / "r.urdf"
+    path.write_text(BROKEN)
+    result = CliRunner().invoke(app, ["lint", "--diff", str(path)])
+    assert result.exit_code == 1
+    assert '-    <origin xyz="0 0 0.1"   rpy="0 0 -270"/>  <!-- degrees -->' in result.stdout
+    assert '+    <axis xyz="0 0 1"/>' in result.stdout
+    assert path.read_text() == BROKEN
+
+
+def test_fix_applies_safe_edits_and_keeps_everything_else(tmp_path: Path) -> None:
+    path = tmp_path / "r.urdf"
+    path.write_text(BROKEN)
+    result = CliRunner().invoke(app, ["lint", "--fix", str(path)])
+    assert result.exit_code == 0, result.stdout
+    fixed = path.read_text()
+    # -270 rad wrapped keeps the same rotation: -270 + 43 * 2π = 0.1769682087 (not the degrees reading).
+    assert fixed == BROKEN.replace('rpy="0 0 -270"', 'rpy="0 0 0.1769682087"').replace('xyz="0 0 2"', 'xyz="0 0 1"')
+    assert "All checks passed" in result.stdout
+    again = CliRunner().invoke(app, ["lint", str(path)])
+    assert again.exit_code == 0
+
+
+def test_fix_keeps_file_mode(tmp_path: Path) -> None:
+    path = tmp_path / "r.urdf"
+    path.write_text(BROKEN)
+    path.chmod(0o640)
+    CliRunner().invoke(app, ["lint", "--fix", str(path)])
+    assert path.stat().st_mode & 0o777 == 0o640
+    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]

@@ -1,0 +1,37 @@
+"""Every rule: unique code and name, code format, documented sections, a matching module."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from armtool.lint.rule import DOC_SECTIONS
+from armtool.lint.registry import RULES
+
+RULES_DIR = Path(__file__).resolve().parents[2] / "armtool" / "lint" / "rules"
+
+
+def test_codes_and_names_are_unique_and_well_formed() -> None:
+    codes = [r.code for r in RULES]
+    names = [r.name for r in RULES]
+    assert len(set(codes)) == len(codes) and len(set(names)) == len(names)
+    for rule in RULES:
+        assert re.fullmatch(r"[UXSK]\d{3}", rule.code), rule.code
+        assert re.fullmatch(r"[a-z0-9]+(-[a-z0-9]+)*", rule.name), rule.name
+        assert rule.target.value == {"U": "urdf", "X": "urdf", "S": "srdf", "K": "kinematics"}[rule.code[0]]
+
+
+def test_every_rule_is_documented() -> None:
+    for rule in RULES:
+        doc = rule.documentation()
+        for section in DOC_SECTIONS:
+            assert f"{section}:" in doc or section in doc, f"{rule.code} lacks '{section}'"
+        assert rule.summary() and len(rule.summary()) > 20
+
+
+def test_every_rule_module_is_registered() -> None:
+    modules = {p.stem for p in RULES_DIR.glob("[a-z][0-9][0-9][0-9]_*.py")}
+    registered = {r.__module__.rsplit(".", 1)[-1] for r in RULES}
+    assert modules == registered
+    for rule in RULES:
+        assert rule.__module__.rsplit(".", 1)[-1].startswith(rule.code.lower() + "_")

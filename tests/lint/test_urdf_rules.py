@@ -1,0 +1,221 @@
+"""Each URDF rule on a minimal bad and good robot: (code, line), severity and message."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from armtool.lint.finding import Severity
+from tests.lint.helpers import LINK, codes, lint_text, revolute, robot
+
+BASE = '<link name="base"/>'
+
+
+def two_links(joint: str, child_link: str = LINK.format(name="l1")) -> str:
+    return robot(f"{BASE}\n{child_link}\n{joint}")
+
+
+def only(findings, code):  # type: ignore[no-untyped-def]
+    return [f for f in findings if f.code == code]
+
+
+def test_sound_robot_has_no_findings(tmp_path: Path) -> None:
+    assert lint_text(tmp_path, two_links(revolute("j1", "base", "l1"))) == []
+
+
+def test_u101_unknown_link_suggests_closest(tmp_path: Path) -> None:
+    found = lint_text(tmp_path, two_links(revolute("j1", "base", "lnk1"), LINK.format(name="link1")))
+    (f,) = only(found, "U101")
+    assert f.line == 4 and "'lnk1' does not exist" in f.message and "did you mean 'link1'" in f.message
+    assert f.severity is Severity.ERROR
+
+
+def test_u102_duplicate_link(tmp_path: Path) -> None:
+    text = robot(f"{BASE}\n{LINK.format(name='l1')}\n{LINK.format(name='l1')}\n{revolute('j1', 'base', 'l1')}")
+    assert ("U102", 4) in codes(lint_text(tmp_path, text))
+
+
+def test_u103_second_root(tmp_path: Path) -> None:
+    text = robot(f"{BASE}\n{LINK.format(name='l1')}\n{LINK.format(name='camera')}\n{revolute('j1', 'base', 'l1')}")
+    (f,) = only(lint_text(tmp_path, text), "U103")
+    assert f.line == 4 and "'camera'" in f.message
+
+
+def test_u104_two_parents(tmp_path: Path) -> None:
+    text = robot(
+        f"{BASE}\n{LINK.format(name='l1')}\n{LINK.format(name='l2')}\n"
+        f"{revolute('j1', 'base', 'l1')}\n{revolute('j2', 'base', 'l2')}\n{revolute('j3', 'l1', 'l2')}"
+    )
+    assert codes(only(lint_text(tmp_path, text), "U104")) == [("U104", 7)]
+
+
+def test_u105_unknown_joint_type(tmp_path: Path) -> None:
+    joint = '<joint name="j1" type="revolve"><parent link="base"/><child link="l1"/></joint>'
+    (f,) = only(lint_text(tmp_path, two_links(joint)), "U105")
+    assert "did you mean 'revolute'" in f.message
+
+
+def test_u106_mimic_unknown_joint(tmp_path: Path) -> None:
+    joint = revolute("j1", "base", "l1", extra='<mimic joint="j0"/>')
+    assert codes(only(lint_text(tmp_path, two_links(joint)), "U106")) == [("U106", 4)]
+
+
+def test_u107_joint_without_child(tmp_path: Path) -> None:
+    joint = '<joint name="j1" type="fixed"><parent link="base"/></joint>'
+    assert ("U107", 4) in codes(lint_text(tmp_path, two_links(joint)))
+
+
+def test_u201_revolute_without_limit(tmp_path: Path) -> None:
+    joint = '<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/></joint>'
+    assert codes(lint_text(tmp_path, two_links(joint))) == [("U201", 4)]
+
+
+def test_u202_limit_without_effort_and_velocity(tmp_path: Path) -> None:
+    (f,) = lint_text(tmp_path, two_links(revolute("j1", "base", "l1", limit='lower="-1" upper="1"')))
+    assert f.code == "U202" and "effort and velocity" in f.message
+
+
+@pytest.mark.parametrize(("limit", "code"), [
+    ('lower="-1" upper="1" effort="10" velocity="0"', "U203"),
+    ('lower="-1" upper="1" effort="0" velocity="1"', "U204"),
+    ('lower="1" upper="-1" effort="10" velocity="1"', "U205"),
+])
+def test_limit_values(tmp_path: Path, limit: str, code: str) -> None:
+    assert codes(lint_text(tmp_path, two_links(revolute("j1", "base", "l1", limit=limit)))) == [(code, 4)]
+
+
+def test_u206_continuous_with_limits_but_not_zero_placeholders(tmp_path: Path) -> None:
+    joint = '<joint name="j1" type="continuous"><parent link="base"/><child link="l1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>'
+    assert codes(lint_text(tmp_path, two_links(joint))) == [("U206", 4)]
+    placeholder = joint.replace('lower="-3" upper="3"', 'lower="0" upper="0"')
+    assert lint_text(tmp_path, two_links(placeholder)) == []
+
+
+def test_u301_degrees_are_flagged_and_pi_is_not(tmp_path: Path) -> None:
+    joint = revolute("j1", "base", "l1", extra='<origin xyz="0 0 0.1" rpy="0 0 90"/>')
+    (f,) = lint_text(tmp_path, two_links(joint))
+    assert f.code == "U301" and "looks like degrees" in f.message and "1.570796327" in (f.hint or "")
+    assert f.edit is not None
+    for pi in ("3.1416", "3.14159265359", "-3.1416"):
+        ok = revolute("j1", "base", "l1", extra=f'<origin xyz="0 0 0.1" rpy="{pi} 0 0"/>')
+        assert lint_text(tmp_path, two_links(ok)) == [], pi
+
+
+def test_u301_wraps_to_same_rotation(tmp_path: Path) -> None:
+    from armtool.lint.rules.u301_rpy_out_of_range import wrap
+
+    assert wrap(4.0) == pytest.approx(4.0 - 2 * 3.141592653589793)
+    assert wrap(-3.141592653589793) == pytest.approx(3.141592653589793)
+
+
+@pytest.mark.parametrize(("axis", "code"), [("0 0 0", "U302"), ("0 0 2", "U303")])
+def test_axis(tmp_path: Path, axis: str, code: str) -> None:
+    joint = revolute("j1", "base", "l1").replace('<axis xyz="0 0 1"/>', f'<axis xyz="{axis}"/>')
+    assert codes(lint_text(tmp_path, two_links(joint))) == [(code, 4)]
+
+
+def test_u304_nan_and_u305_wrong_count(tmp_path: Path) -> None:
+    joint = revolute("j1", "base", "l1", extra='<origin xyz="0 nan 0.1" rpy="0 0"/>')
+    assert sorted(codes(lint_text(tmp_path, two_links(joint)))) == [("U304", 4), ("U305", 4)]
+
+
+def test_u401_missing_inertial_on_moving_body(tmp_path: Path) -> None:
+    body = '<link name="l1"><visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>'
+    (f,) = lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), body))
+    assert (f.code, f.severity) == ("U401", Severity.WARNING)
+
+
+def test_u401_quiet_for_fixed_frames_and_info_for_virtual_links(tmp_path: Path) -> None:
+    fixed = '<joint name="j1" type="fixed"><parent link="base"/><child link="l1"/></joint>'
+    assert lint_text(tmp_path, two_links(fixed, '<link name="l1"/>')) == []
+    virtual = robot(
+        f"{BASE}\n<link name='v'/>\n{LINK.format(name='l2')}\n{revolute('j1', 'base', 'v')}\n{revolute('j2', 'v', 'l2')}"
+    )
+    (f,) = lint_text(tmp_path, virtual)
+    assert (f.code, f.severity) == ("U401", Severity.INFO)
+
+
+def test_u401_mass_on_welded_child_counts(tmp_path: Path) -> None:
+    text = robot(
+        f"{BASE}\n<link name='l1'><visual><geometry><box size='1 1 1'/></geometry></visual></link>\n{LINK.format(name='shell')}\n"
+        f"{revolute('j1', 'base', 'l1')}\n"
+        "<joint name='weld' type='fixed'><parent link='l1'/><child link='shell'/></joint>"
+    )
+    assert lint_text(tmp_path, text) == []
+
+
+def test_u402_root_inertia_is_info(tmp_path: Path) -> None:
+    text = robot(f"{LINK.format(name='base')}\n{LINK.format(name='l1')}\n{revolute('j1', 'base', 'l1')}")
+    (f,) = lint_text(tmp_path, text)
+    assert (f.code, f.severity) == ("U402", Severity.INFO)
+
+
+@pytest.mark.parametrize(("inertial", "code", "severity"), [
+    ('<mass value="-1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>', "U403", Severity.ERROR),
+    ('<mass value="0"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>', "U403", Severity.WARNING),
+    ('<mass value="1"/><inertia ixx="-0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>', "U404", Severity.ERROR),
+    ('<mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.05"/>', "U405", Severity.ERROR),
+    ('<mass value="1"/>', "U406", Severity.ERROR),
+])
+def test_inertial_values(tmp_path: Path, inertial: str, code: str, severity: Severity) -> None:
+    link = f'<link name="l1"><inertial>{inertial}</inertial></link>'
+    (f,) = lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link))
+    assert (f.code, f.line, f.severity) == (code, 3, severity)
+
+
+def test_inertia_products_are_used(tmp_path: Path) -> None:
+    # Diagonal 1,1,1 with ixy=2 has principal moments -1, 1, 3: not positive definite.
+    link = '<link name="l1"><inertial><mass value="1"/><inertia ixx="1" ixy="2" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>'
+    assert [f.code for f in lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link))] == ["U404"]
+
+
+def test_float_noise_inertia_is_quiet(tmp_path: Path) -> None:
+    link = '<link name="l1"><inertial><mass value="1"/><inertia ixx="1e-20" ixy="-2e-20" ixz="0" iyy="1e-20" iyz="0" izz="0"/></inertial></link>'
+    assert lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link)) == []
+
+
+def test_meshes_resolve_relative_package_and_missing(tmp_path: Path) -> None:
+    pkg = tmp_path / "my_robot"
+    (pkg / "meshes").mkdir(parents=True)
+    (pkg / "urdf").mkdir()
+    (pkg / "package.xml").write_text("<package><name>my_robot</name></package>")
+    (pkg / "meshes" / "a.stl").write_text("solid a\nendsolid a\n")
+    link = (
+        '<link name="l1"><visual><geometry><mesh filename="package://my_robot/meshes/a.stl"/></geometry></visual>'
+        '<collision><geometry><mesh filename="package://my_robot/meshes/b.stl"/></geometry></collision>'
+        '<visual><geometry><mesh filename="package://other_pkg/x.stl"/></geometry></visual>'
+        '<visual><geometry><mesh filename="../meshes/a.stl"/></geometry></visual></link>'
+    )
+    link = link.replace('<link name="l1">', '<link name="l1"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')
+    found = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), link))
+    assert sorted(f.code for f in found) == ["U501", "U502"]
+    assert "b.stl" in only(found, "U501")[0].message and "other_pkg" in only(found, "U502")[0].message
+
+
+def test_package_path_option(tmp_path: Path) -> None:
+    (tmp_path / "pkgs" / "meshes_pkg").mkdir(parents=True)
+    (tmp_path / "pkgs" / "meshes_pkg" / "package.xml").write_text("<package><name>meshes_pkg</name></package>")
+    (tmp_path / "pkgs" / "meshes_pkg" / "m.stl").write_text("solid\nendsolid\n")
+    (tmp_path / "robot").mkdir()
+    link = '<link name="l1"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial><visual><geometry><mesh filename="package://meshes_pkg/m.stl"/></geometry></visual></link>'
+    text = two_links(revolute("j1", "base", "l1"), link)
+    assert [f.code for f in lint_text(tmp_path / "robot", text)] == ["U502"]
+    assert lint_text(tmp_path / "robot", text, package_paths=[tmp_path / "pkgs"]) == []
+
+
+def test_transmissions(tmp_path: Path) -> None:
+    trans = (
+        '<transmission name="t1"><type>transmission_interface/SimpleTransmission</type>'
+        '<joint name="j9"><hardwareInterface>PositionJointInterface</hardwareInterface></joint>'
+        '<actuator name="m1"><mechanicalReduction>0</mechanicalReduction></actuator></transmission>'
+    )
+    text = robot(f"{BASE}\n{LINK.format(name='l1')}\n{revolute('j1', 'base', 'l1')}\n{trans}")
+    assert sorted(codes(lint_text(tmp_path, text))) == [("U503", 5), ("U504", 5)]
+
+
+def test_columns_point_at_the_attribute(tmp_path: Path) -> None:
+    joint = revolute("j1", "base", "l1", limit='lower="-1" upper="1" effort="10" velocity="0"')
+    (f,) = lint_text(tmp_path, two_links(joint))
+    line = two_links(joint).splitlines()[f.line - 1]
+    assert line[f.column - 1 :].startswith('velocity="0"')
