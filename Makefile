@@ -14,9 +14,9 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	@echo "== armtool lint on a clean arm (URDF + SRDF + kinematics.yaml): expect no findings"
-	$(BIN)/armtool lint fixtures/robots/clean_arm
+	$(BIN)/armtool lint fixtures/robots/clean_arm/urdf fixtures/robots/clean_arm/config
 	@echo
-	@echo "== armtool lint on a broken arm: expect findings and exit code 1"
+	@echo "== armtool lint on a broken arm and a broken MoveIt config: expect findings (exit code 1)"
 	-$(BIN)/armtool lint fixtures/robots/broken_arm fixtures/robots/clean_arm/config_broken
 	@echo
 	@echo "== armtool lint on a xacro arm: findings point into the .xacro sources"

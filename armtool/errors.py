@@ -22,6 +22,10 @@ class ArmtoolError(Exception):
         self.where = where
         self.hint = hint
 
+    def __reduce__(self) -> tuple[type[ArmtoolError], tuple[str, str | None, str | None]]:
+        # Keep where/hint when the error crosses a process boundary (parallel lint workers).
+        return (type(self), (self.what, self.where, self.hint))
+
     def __str__(self) -> str:
         text = self.what if self.where is None else f"{self.what} ({self.where})"
         return text if self.hint is None else f"{text}\n  hint: {self.hint}"

@@ -4,21 +4,20 @@ from __future__ import annotations
 
 import fnmatch
 import os
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from armtool.errors import ArmtoolError
 from armtool.lint.finding import Finding, Severity
-from armtool.lint.registry import BY_CODE, BY_NAME, RULES
+from armtool.lint.registry import CODES, NAMES
 
 _KEYS = {"select", "ignore", "per-file-ignores", "severity", "fail-on"}
 
 
 def _valid_selector(sel: str) -> bool:
-    if sel.upper() == "ALL" or sel.lower() in BY_NAME:
+    if sel.upper() == "ALL" or sel.lower() in NAMES:
         return True
-    return any(code.startswith(sel.upper()) for code in BY_CODE)
+    return any(code.startswith(sel.upper()) for code in CODES)
 
 
 def selector_matches(sel: str, finding: Finding) -> bool:
@@ -27,21 +26,23 @@ def selector_matches(sel: str, finding: Finding) -> bool:
     return finding.code.startswith(sel.upper()) or finding.name == sel.lower()
 
 
-@dataclass
 class LintConfig:
-    select: list[str] = field(default_factory=lambda: ["ALL"])
-    ignore: list[str] = field(default_factory=list)
-    per_file_ignores: dict[str, list[str]] = field(default_factory=dict)
-    severity: dict[str, Severity] = field(default_factory=dict)
-    fail_on: Severity = Severity.ERROR
-    root: Path = field(default_factory=Path.cwd)
-    source: Path | None = None
+    def __init__(self, root: Path | None = None, source: Path | None = None) -> None:
+        self.select: list[str] = ["ALL"]
+        self.ignore: list[str] = []
+        self.per_file_ignores: dict[str, list[str]] = {}
+        self.severity: dict[str, Severity] = {}
+        self.fail_on = Severity.ERROR
+        self.root = root if root is not None else Path.cwd()
+        self.source = source
 
     def keeps(self, finding: Finding) -> bool:
         if not any(selector_matches(s, finding) for s in self.select):
             return False
         if any(selector_matches(s, finding) for s in self.ignore):
             return False
+        if not self.per_file_ignores:
+            return True
         rel = _relative(Path(finding.path), self.root)
         for pattern, selectors in self.per_file_ignores.items():
             if fnmatch.fnmatch(rel, pattern) or fnmatch.fnmatch(Path(rel).name, pattern):
@@ -98,9 +99,13 @@ def load_config(path: Path | None = None) -> LintConfig:
         if path is None:
             return LintConfig()
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise ArmtoolError(f"cannot read config: {exc.strerror}", str(path)) from None
+    if "armtool" not in text:
+        return LintConfig(root=path.parent, source=path)  # not ours: skip the TOML parser's start-up cost
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ArmtoolError(f"invalid TOML: {exc}", str(path)) from None
     section = data.get("tool", {}).get("armtool", {}).get("lint")
@@ -132,4 +137,4 @@ def load_config(path: Path | None = None) -> LintConfig:
     return cfg
 
 
-__all__ = ["LintConfig", "load_config", "RULES"]
+__all__ = ["LintConfig", "load_config"]

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
-from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 from lxml import etree
 
 from armtool.lint.finding import Finding
 from armtool.lint.locate import Locator, display_path, local_tag
-from armtool.lint.numbers import parse_floats
+from armtool.lint.numbers import numeric_attributes, parse_floats
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
 
@@ -20,8 +20,7 @@ JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "plan
 
 
 
-@dataclass(frozen=True)
-class JointView:
+class JointView(NamedTuple):
     el: etree._Element
     name: str | None
     type: str | None
@@ -100,9 +99,11 @@ class UrdfContext(FileContext):
         resolver: PackageResolver,
         *,
         from_xacro: bool = False,
+        raw: bytes | None = None,
     ) -> None:
         super().__init__(path, locator)
         self.root = root
+        self.raw = raw  # the file's bytes, for whole-text prechecks (None after xacro)
         self.resolver = resolver
         self.from_xacro = from_xacro
         self.links: list[etree._Element] = [c for c in root if local_tag(c) == "link"]
@@ -128,6 +129,7 @@ class UrdfContext(FileContext):
             self._joint_by_name.setdefault(j.name or "", j)
         self.link_names = {n for n in self._link_by_name if n}
         self.joint_names = {n for n in self._joint_by_name if n}
+        self._numbers: list[tuple[etree._Element, str, str, int, list[float] | None]] | None = None
         self.joints_by_child: dict[str, list[JointView]] = defaultdict(list)
         self.joints_by_parent: dict[str, list[JointView]] = defaultdict(list)
         for j in self.joints:
@@ -135,6 +137,12 @@ class UrdfContext(FileContext):
                 self.joints_by_child[j.child].append(j)
             if j.parent is not None:
                 self.joints_by_parent[j.parent].append(j)
+
+    def numeric_values(self) -> list[tuple[etree._Element, str, str, int, list[float] | None]]:
+        """(element, attribute, raw text, expected count, parsed values or None), read once per file."""
+        if self._numbers is None:
+            self._numbers = [(el, attr, raw, n, parse_floats(raw)) for el, attr, raw, n in numeric_attributes(self.root)]
+        return self._numbers
 
     @property
     def base_dir(self) -> Path:

@@ -2,17 +2,18 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Iterator, Sequence
-from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
+from typing import NamedTuple
 
 from armtool.errors import ArmtoolError
 from armtool.lint.config import LintConfig
 from armtool.lint.context import FileContext, UrdfContext
 from armtool.lint.finding import Finding
 from armtool.lint.locate import Locator, display_path, local_tag
-from armtool.lint.registry import BY_CODE, RULES
+from armtool.lint.registry import rule_class
 from armtool.lint.rule import Rule, Target
 from armtool.lint.suppress import SuppressionIndex
 from armtool.model.packages import PackageResolver
@@ -80,27 +81,35 @@ def _walk(directory: Path) -> Iterator[Path]:
             yield entry
 
 
-@dataclass
 class LintOptions:
-    xacro_args: dict[str, str] = field(default_factory=dict)
-    package_paths: list[Path] = field(default_factory=list)
-    urdf: Path | None = None
-    srdf: Path | None = None
-    config: LintConfig = field(default_factory=LintConfig)
+    def __init__(
+        self,
+        xacro_args: dict[str, str] | None = None,
+        package_paths: Sequence[Path] = (),
+        urdf: Path | None = None,
+        srdf: Path | None = None,
+        config: LintConfig | None = None,
+    ) -> None:
+        self.xacro_args = dict(xacro_args or {})
+        self.package_paths = list(package_paths)
+        self.urdf = urdf
+        self.srdf = srdf
+        self.config = config if config is not None else LintConfig()
 
 
-@dataclass
-class LintResult:
+class LintResult(NamedTuple):
     findings: list[Finding]
     files: list[Path]
 
 
 def rules_for(target: Target) -> list[Rule]:
-    return [rule() for rule in RULES if rule.target is target]
+    from armtool.lint.registry import rules_for as registered
+
+    return [rule() for rule in registered(target)]
 
 
 def _file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:
-    rule = BY_CODE[code]
+    rule = rule_class(code)
     return Finding(display_path(path), line, column, rule.code, rule.name, rule.severity, message, hint)
 
 
@@ -143,7 +152,7 @@ class Linter:
                               "a URDF file holds one <robot name=\"...\"> element")
             )
             return None, findings
-        return UrdfContext(path, root, Locator(path), self.resolver), findings
+        return UrdfContext(path, root, Locator(path), self.resolver, raw=data), findings
 
     def _load_xacro(self, path: Path) -> tuple[UrdfContext | None, list[Finding]]:
         from armtool.model.xacro_source import XacroFailure, expand
@@ -184,10 +193,20 @@ class Linter:
                 candidates += sorted(p for p in place.iterdir() if p.is_file() and file_kind(p) in (FileKind.URDF, FileKind.XACRO))
             except OSError:
                 continue
-        stems = [robot_name, srdf.name.split(".")[0]]
-        for stem in stems:
+        # The SRDF's own file name is the strongest hint (anymal-kinova.srdf says robot "anymal"),
+        # then a file named like its robot, then a URDF that declares that robot name.
+        for stem in (srdf.name.split(".")[0], robot_name):
             for cand in candidates:
                 if stem and cand.name.split(".")[0] == stem:
+                    return cand
+        if robot_name:
+            pattern = re.compile(rb"<robot[^>]*\sname\s*=\s*[\"']" + re.escape(robot_name.encode()) + rb"[\"']")
+            for cand in candidates:
+                try:
+                    head = cand.read_bytes()[:4096]
+                except OSError:
+                    continue
+                if pattern.search(head):
                     return cand
         same_dir = [c for c in candidates if c.parent == here and file_kind(c) is FileKind.URDF]
         return same_dir[0] if len(same_dir) == 1 else None
@@ -271,14 +290,43 @@ class Linter:
         return self.lint_urdf(path)
 
 
+# Many files are linted by worker processes (forked, so they share the imported rules): a
+# repository-wide pre-commit run or `armtool lint src/` then uses every core, as ruff does.
+PARALLEL_MIN_FILES = 16
+_worker_linter: Linter | None = None
+
+
+def _lint_in_worker(path: Path) -> list[Finding]:
+    assert _worker_linter is not None
+    return _worker_linter.lint_file(path)
+
+
+def _lint_all(files: list[Path], options: LintOptions) -> Iterator[list[Finding]]:
+    global _worker_linter
+    import multiprocessing
+    import os
+
+    workers = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 8)
+    linter = Linter(options)
+    if len(files) < PARALLEL_MIN_FILES or workers < 2 or "fork" not in multiprocessing.get_all_start_methods():
+        for path in files:
+            yield linter.lint_file(path)
+        return
+    _worker_linter = linter
+    try:
+        with multiprocessing.get_context("fork").Pool(workers) as pool:
+            yield from pool.imap(_lint_in_worker, files, chunksize=max(1, len(files) // (workers * 4)))
+    finally:
+        _worker_linter = None
+
+
 def lint_paths(paths: Iterable[Path], options: LintOptions) -> LintResult:
     files = collect_files(list(paths))
-    linter = Linter(options)
     suppressions = SuppressionIndex()
     config = options.config
     findings: list[Finding] = []
-    for path in files:
-        for finding in linter.lint_file(path):
+    for file_findings in _lint_all(files, options):
+        for finding in file_findings:
             if not config.keeps(finding) or suppressions.silenced(finding):
                 continue
             findings.append(config.adjust(finding))

@@ -8,14 +8,13 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from armtool.lint.finding import Edit, Finding, FixSafety
-from armtool.lint.registry import BY_CODE
+from armtool.lint.registry import rule_class
 
 
 def safe_edits(findings: Iterable[Finding]) -> list[tuple[Finding, Edit]]:
     out = []
     for f in findings:
-        rule = BY_CODE.get(f.code)
-        if f.edit is not None and rule is not None and rule.fix_safety is FixSafety.SAFE:
+        if f.edit is not None and rule_class(f.code).fix_safety is FixSafety.SAFE:
             out.append((f, f.edit))
     return out
 

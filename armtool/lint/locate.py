@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 from lxml import etree
 
@@ -22,8 +22,7 @@ def display_path(path: Path) -> str:
     return str(path) if rel.startswith("..") else rel
 
 
-@dataclass(frozen=True)
-class Place:
+class Place(NamedTuple):
     path: Path
     line: int
     column: int
@@ -38,7 +37,9 @@ def escape(text: str) -> str:
 
 def local_tag(el: etree._Element) -> str:
     tag = el.tag
-    return tag.rsplit("}", 1)[-1] if isinstance(tag, str) else ""
+    if not isinstance(tag, str):
+        return ""
+    return tag if tag[:1] != "{" else tag.rsplit("}", 1)[-1]
 
 
 class Locator:

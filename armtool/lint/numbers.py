@@ -31,7 +31,7 @@ def parse_floats(text: str | None) -> list[float] | None:
     if text is None:
         return None
     try:
-        return [float(tok) for tok in text.split()]
+        return list(map(float, text.split()))
     except ValueError:
         return None
 
@@ -47,10 +47,8 @@ def numeric_attributes(root: etree._Element) -> Iterator[tuple[etree._Element, s
     for top in root:
         if local_tag(top) not in ("link", "joint"):
             continue
-        for el in top.iter(etree.Element):
-            spec = NUMERIC_ATTRS.get(local_tag(el))
-            if not spec:
-                continue
+        for el in top.iter(*NUMERIC_ATTRS):  # lxml filters by tag in C
+            spec = NUMERIC_ATTRS[local_tag(el)]
             for attr, count in spec.items():
                 raw = el.get(attr)
                 if raw is not None:

@@ -1,87 +1,107 @@
-"""Every lint rule, in code order. A new rule is one module plus one line here."""
+"""Every lint rule, in code order. A new rule is one module plus one line here.
+
+Rule modules are imported on use, per file kind: `armtool lint robot.urdf` loads only the URDF
+rules, which keeps pre-commit start-up short. The table repeats each rule's code and name so that
+configuration can be checked without importing anything (a test keeps them in step).
+"""
 
 from __future__ import annotations
 
-from armtool.lint.rule import Rule
-from armtool.lint.rules.u001_invalid_xml import InvalidXml
-from armtool.lint.rules.u002_not_a_robot import NotARobot
-from armtool.lint.rules.u003_entity_declaration import EntityDeclaration
-from armtool.lint.rules.u101_unknown_link import UnknownLink
-from armtool.lint.rules.u102_duplicate_name import DuplicateName
-from armtool.lint.rules.u103_multiple_roots import MultipleRoots
-from armtool.lint.rules.u104_multiple_parents import MultipleParents
-from armtool.lint.rules.u105_unknown_joint_type import UnknownJointType
-from armtool.lint.rules.u106_mimic_unknown_joint import MimicUnknownJoint
-from armtool.lint.rules.u107_missing_name import MissingRequired
-from armtool.lint.rules.u201_missing_limit import MissingLimit
-from armtool.lint.rules.u202_limit_missing_attribute import LimitMissingAttribute
-from armtool.lint.rules.u203_non_positive_velocity import NonPositiveVelocity
-from armtool.lint.rules.u204_non_positive_effort import NonPositiveEffort
-from armtool.lint.rules.u205_lower_above_upper import LowerAboveUpper
-from armtool.lint.rules.u206_continuous_with_limits import ContinuousWithLimits
-from armtool.lint.rules.u301_rpy_out_of_range import RpyOutOfRange
-from armtool.lint.rules.u302_zero_axis import ZeroAxis
-from armtool.lint.rules.u303_non_unit_axis import NonUnitAxis
-from armtool.lint.rules.u304_non_finite_number import NonFiniteNumber
-from armtool.lint.rules.u305_malformed_number import MalformedNumber
-from armtool.lint.rules.u401_missing_inertial import MissingInertial
-from armtool.lint.rules.u402_root_inertia import RootInertia
-from armtool.lint.rules.u403_non_positive_mass import NonPositiveMass
-from armtool.lint.rules.u404_inertia_not_positive_definite import InertiaNotPositiveDefinite
-from armtool.lint.rules.u405_inertia_triangle_inequality import InertiaTriangleInequality
-from armtool.lint.rules.u406_incomplete_inertial import IncompleteInertial
-from armtool.lint.rules.u501_unresolved_mesh import UnresolvedMesh
-from armtool.lint.rules.u502_unknown_package import UnknownPackage
-from armtool.lint.rules.u503_transmission_unknown_joint import TransmissionUnknownJoint
-from armtool.lint.rules.u504_non_positive_reduction import NonPositiveReduction
-from armtool.lint.rules.x001_xacro_error import XacroError
-from armtool.lint.rules.s001_invalid_srdf import InvalidSrdf
-from armtool.lint.rules.s002_urdf_not_found import UrdfNotFound
-from armtool.lint.rules.k001_invalid_yaml import InvalidYaml
-from armtool.lint.rules.k002_srdf_not_found import SrdfNotFound
+import importlib
+from typing import Any
 
-RULES: tuple[type[Rule], ...] = (
-    InvalidXml,
-    NotARobot,
-    EntityDeclaration,
-    UnknownLink,
-    DuplicateName,
-    MultipleRoots,
-    MultipleParents,
-    UnknownJointType,
-    MimicUnknownJoint,
-    MissingRequired,
-    MissingLimit,
-    LimitMissingAttribute,
-    NonPositiveVelocity,
-    NonPositiveEffort,
-    LowerAboveUpper,
-    ContinuousWithLimits,
-    RpyOutOfRange,
-    ZeroAxis,
-    NonUnitAxis,
-    NonFiniteNumber,
-    MalformedNumber,
-    MissingInertial,
-    RootInertia,
-    NonPositiveMass,
-    InertiaNotPositiveDefinite,
-    InertiaTriangleInequality,
-    IncompleteInertial,
-    UnresolvedMesh,
-    UnknownPackage,
-    TransmissionUnknownJoint,
-    NonPositiveReduction,
-    XacroError,
-    InvalidSrdf,
-    UrdfNotFound,
-    InvalidYaml,
-    SrdfNotFound,
+from armtool.lint.rule import Rule, Target
+
+# (code, name, "module:Class" in armtool.lint.rules)
+RULE_TABLE: tuple[tuple[str, str, str], ...] = (
+    ("U001", "invalid-xml", "u001_invalid_xml:InvalidXml"),
+    ("U002", "not-a-robot", "u002_not_a_robot:NotARobot"),
+    ("U003", "entity-declaration", "u003_entity_declaration:EntityDeclaration"),
+    ("U101", "unknown-link", "u101_unknown_link:UnknownLink"),
+    ("U102", "duplicate-name", "u102_duplicate_name:DuplicateName"),
+    ("U103", "multiple-roots", "u103_multiple_roots:MultipleRoots"),
+    ("U104", "multiple-parents", "u104_multiple_parents:MultipleParents"),
+    ("U105", "unknown-joint-type", "u105_unknown_joint_type:UnknownJointType"),
+    ("U106", "mimic-unknown-joint", "u106_mimic_unknown_joint:MimicUnknownJoint"),
+    ("U107", "missing-required", "u107_missing_name:MissingRequired"),
+    ("U201", "missing-limit", "u201_missing_limit:MissingLimit"),
+    ("U202", "limit-missing-attribute", "u202_limit_missing_attribute:LimitMissingAttribute"),
+    ("U203", "non-positive-velocity", "u203_non_positive_velocity:NonPositiveVelocity"),
+    ("U204", "non-positive-effort", "u204_non_positive_effort:NonPositiveEffort"),
+    ("U205", "lower-above-upper", "u205_lower_above_upper:LowerAboveUpper"),
+    ("U206", "continuous-with-limits", "u206_continuous_with_limits:ContinuousWithLimits"),
+    ("U301", "rpy-out-of-range", "u301_rpy_out_of_range:RpyOutOfRange"),
+    ("U302", "zero-axis", "u302_zero_axis:ZeroAxis"),
+    ("U303", "non-unit-axis", "u303_non_unit_axis:NonUnitAxis"),
+    ("U304", "non-finite-number", "u304_non_finite_number:NonFiniteNumber"),
+    ("U305", "malformed-number", "u305_malformed_number:MalformedNumber"),
+    ("U401", "missing-inertial", "u401_missing_inertial:MissingInertial"),
+    ("U402", "root-inertia", "u402_root_inertia:RootInertia"),
+    ("U403", "non-positive-mass", "u403_non_positive_mass:NonPositiveMass"),
+    ("U404", "inertia-not-positive-definite", "u404_inertia_not_positive_definite:InertiaNotPositiveDefinite"),
+    ("U405", "inertia-triangle-inequality", "u405_inertia_triangle_inequality:InertiaTriangleInequality"),
+    ("U406", "incomplete-inertial", "u406_incomplete_inertial:IncompleteInertial"),
+    ("U501", "unresolved-mesh", "u501_unresolved_mesh:UnresolvedMesh"),
+    ("U502", "unknown-package", "u502_unknown_package:UnknownPackage"),
+    ("U503", "transmission-unknown-joint", "u503_transmission_unknown_joint:TransmissionUnknownJoint"),
+    ("U504", "non-positive-reduction", "u504_non_positive_reduction:NonPositiveReduction"),
+    ("X001", "xacro-error", "x001_xacro_error:XacroError"),
+    ("S001", "invalid-srdf", "s001_invalid_srdf:InvalidSrdf"),
+    ("S002", "urdf-not-found", "s002_urdf_not_found:UrdfNotFound"),
+    ("K001", "invalid-yaml", "k001_invalid_yaml:InvalidYaml"),
+    ("K002", "srdf-not-found", "k002_srdf_not_found:SrdfNotFound"),
+    ("S101", "srdf-unknown-joint", "s101_srdf_unknown_joint:SrdfUnknownJoint"),
+    ("S102", "srdf-unknown-link", "s102_srdf_unknown_link:SrdfUnknownLink"),
+    ("S103", "unknown-group", "s103_unknown_group:UnknownGroup"),
+    ("S104", "chain-tip-not-below-base", "s104_chain_tip_not_below_base:ChainTipNotBelowBase"),
+    ("S105", "end-effector-parent-link", "s105_end_effector_parent_link:EndEffectorParentLink"),
+    ("S106", "group-state-out-of-limits", "s106_group_state_out_of_limits:GroupStateOutOfLimits"),
+    ("S107", "group-state-missing-joint", "s107_group_state_missing_joint:GroupStateMissingJoint"),
+    ("S108", "disable-collisions-unknown-link", "s108_disable_collisions_unknown_link:DisableCollisionsUnknownLink"),
+    ("S109", "gripper-joint-in-arm-group", "s109_gripper_joint_in_arm_group:GripperJointInArmGroup"),
+    ("K101", "kinematics-unknown-group", "k101_kinematics_unknown_group:KinematicsUnknownGroup"),
+    ("K102", "unknown-solver-plugin", "k102_unknown_solver_plugin:UnknownSolverPlugin"),
+    ("K103", "non-positive-timeout", "k103_non_positive_timeout:NonPositiveTimeout"),
+    ("K104", "timeout-below-1ms", "k104_timeout_below_1ms:TimeoutBelow1ms"),
+    ("K105", "non-positive-search-resolution", "k105_non_positive_search_resolution:NonPositiveSearchResolution"),
 )
 
-BY_CODE: dict[str, type[Rule]] = {r.code: r for r in RULES}
-BY_NAME: dict[str, type[Rule]] = {r.name: r for r in RULES}
+CODES: dict[str, str] = {code: name for code, name, _ in RULE_TABLE}
+NAMES: dict[str, str] = {name: code for code, name, _ in RULE_TABLE}
+_TARGET_OF_LETTER = {"U": Target.URDF, "X": Target.URDF, "S": Target.SRDF, "K": Target.KINEMATICS}
+_loaded: dict[str, type[Rule]] = {}
+
+
+def rule_class(code: str) -> type[Rule]:
+    """The rule with this code (imports its module)."""
+    rule = _loaded.get(code)
+    if rule is None:
+        target = next(t for c, _, t in RULE_TABLE if c == code)
+        module, _, cls = target.partition(":")
+        rule = getattr(importlib.import_module(f"armtool.lint.rules.{module}"), cls)
+        _loaded[code] = rule
+    return rule
+
+
+def rules_for(target: Target) -> list[type[Rule]]:
+    return [rule_class(code) for code, _, _ in RULE_TABLE if _TARGET_OF_LETTER[code[0]] is target]
+
+
+def all_rules() -> tuple[type[Rule], ...]:
+    return tuple(rule_class(code) for code, _, _ in RULE_TABLE)
 
 
 def find_rule(code_or_name: str) -> type[Rule] | None:
-    return BY_CODE.get(code_or_name.upper()) or BY_NAME.get(code_or_name.lower())
+    code = code_or_name.upper() if code_or_name.upper() in CODES else NAMES.get(code_or_name.lower())
+    return rule_class(code) if code else None
+
+
+def __getattr__(name: str) -> Any:
+    # RULES, BY_CODE, BY_NAME: the full registry for listings, docs and SARIF (imports every rule).
+    if name == "RULES":
+        return all_rules()
+    if name == "BY_CODE":
+        return {r.code: r for r in all_rules()}
+    if name == "BY_NAME":
+        return {r.name: r for r in all_rules()}
+    raise AttributeError(name)

@@ -4,8 +4,8 @@ in YAML, `# armtool: ignore[K104]` silences its own line, or the block that foll
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 from lxml import etree
 
@@ -15,8 +15,7 @@ from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml
 _DIRECTIVE = re.compile(r"armtool:\s*ignore(?:\[([A-Za-z0-9_,\s-]*)\])?")
 
 
-@dataclass(frozen=True)
-class Suppression:
+class Suppression(NamedTuple):
     codes: frozenset[str] | None  # None: every rule
     first_line: int
     last_line: int
@@ -53,7 +52,8 @@ def xml_suppressions(data: bytes) -> list[Suppression]:
         if nxt is None:
             continue
         last = max((el.sourceline or 0) for el in nxt.iter())
-        out.append(Suppression(_codes(match), nxt.sourceline or 0, max(last, nxt.sourceline or 0)))
+        # From the comment on: libxml2 numbers a multi-line start tag by its last line.
+        out.append(Suppression(_codes(match), comment.sourceline or 0, max(last, nxt.sourceline or 0)))
     return out
 
 

@@ -34,6 +34,8 @@ class PackageResolver:
         self._ament = [p / "share" for p in _env_paths("AMENT_PREFIX_PATH")]
         self._index: dict[str, Path] | None = None
         self._cache: dict[tuple[str, Path | None], Path | None] = {}
+        self._resolved: dict[tuple[str, Path], tuple[Path | None, str | None]] = {}
+        self._files: dict[Path, bool] = {}
 
     def _build_index(self) -> dict[str, Path]:
         index: dict[str, Path] = {}
@@ -87,6 +89,18 @@ class PackageResolver:
         return None
 
     def resolve(self, uri: str, base_dir: Path) -> tuple[Path | None, str | None]:
+        key = (uri, base_dir)
+        if key not in self._resolved:
+            self._resolved[key] = self._resolve(uri, base_dir)
+        return self._resolved[key]
+
+    def is_file(self, path: Path) -> bool:
+        """Path.is_file, remembered: the same mesh is named by visual and collision, file after file."""
+        if path not in self._files:
+            self._files[path] = path.is_file()
+        return self._files[path]
+
+    def _resolve(self, uri: str, base_dir: Path) -> tuple[Path | None, str | None]:
         """Resolve a mesh filename. Returns (path or None, name of a package that could not be found;
         "" when the URI names no package at all)."""
         if uri.startswith("package://"):

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import re
 from bisect import bisect_right
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from lxml import etree
@@ -73,17 +72,14 @@ def _attr_re(attr: str) -> re.Pattern[str]:
     return pat
 
 
-@dataclass
 class SourceText:
     """The text of one file with line offsets, to turn lxml's lines into columns and edit spans."""
 
-    path: Path
-    text: str
-    _starts: list[int] = field(default_factory=list)
-
-    def __post_init__(self) -> None:
+    def __init__(self, path: Path, text: str) -> None:
+        self.path = path
+        self.text = text
         starts = [0]
-        for m in re.finditer("\n", self.text):
+        for m in re.finditer("\n", text):
             starts.append(m.end())
         self._starts = starts
 
@@ -102,14 +98,20 @@ class SourceText:
         return idx + 1, offset - self._starts[idx] + 1
 
     def start_tag_span(self, line: int, tag: str | None) -> tuple[int, int] | None:
-        """Offsets of the start tag `<tag ...>` that begins on `line` (the first '<' if tag is None)."""
+        """Offsets of the start tag `<tag ...>` that covers `line` (any element's if tag is None).
+
+        libxml2 numbers an element by the line where its start tag ends, so a tag written over
+        several lines is found by looking back from the end of that line.
+        """
         begin = self.line_offset(line)
         end_of_line = self.text.find("\n", begin)
         end_of_line = len(self.text) if end_of_line < 0 else end_of_line
-        if tag is None:
-            m = re.compile(r"<(?![!?/])").search(self.text, begin, end_of_line)
-        else:
-            m = re.compile("<" + re.escape(tag) + r"(?=[\s/>])").search(self.text, begin, end_of_line)
+        pattern = re.compile(r"<(?![!?/])") if tag is None else re.compile("<" + re.escape(tag) + r"(?=[\s/>])")
+        m = pattern.search(self.text, begin, end_of_line)
+        if m is None:
+            window = max(0, begin - 20_000)
+            starts = [hit for hit in pattern.finditer(self.text, window, end_of_line)]
+            m = starts[-1] if starts else None
         if m is None:
             return None
         pos = m.start()
@@ -122,7 +124,7 @@ class SourceText:
             elif ch in "\"'":
                 quote = ch
             elif ch == ">":
-                return pos, i + 1
+                return (pos, i + 1) if i + 1 >= begin else None
         return pos, len(self.text)
 
     def attr_value_span(self, line: int, tag: str | None, attr: str) -> tuple[int, int] | None:

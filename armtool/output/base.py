@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Protocol
+from typing import NamedTuple, Protocol
 
 from armtool.lint.finding import Finding, Severity
 
 
-@dataclass(frozen=True)
-class LintReport:
+class LintReport(NamedTuple):
     findings: list[Finding]
     files_checked: int
     fixable: int = 0

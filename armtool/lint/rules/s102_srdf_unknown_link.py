@@ -53,11 +53,29 @@ class SrdfUnknownLink(Rule):
             if name is None or name in known:
                 continue
             match = closest(name, known)
+            if match:
+                hint = f'use an existing link name, e.g. {attr}="{match}"'
+            else:
+                hint = _hint(ctx, el.get("tip_link"), attr, known)
             yield ctx.finding(
                 self,
                 el,
                 f"{what} '{name}' is not in {urdf_name}" + (f" (did you mean '{match}'?)" if match else ""),
                 attr=attr,
-                hint=f'use an existing link name, e.g. {attr}="{match}"' if match else
-                "fix the name, or add the link to the URDF",
+                hint=hint,
             )
+
+
+def _hint(ctx: SrdfContext, tip: str | None, attr: str, known: set[str]) -> str:
+    """For an unknown chain base, the links above the tip are the candidates; for a virtual joint, the root."""
+    assert ctx.urdf is not None
+    if attr == "base_link" and tip is not None and tip in known:
+        up = ctx.urdf.ancestors(tip)
+        if up:
+            shown = ", ".join(up[-3:][::-1]) if len(up) > 3 else ", ".join(reversed(up))
+            return f"base_link must be a link above tip_link '{tip}', e.g. {shown}"
+    if attr == "child_link":
+        roots = ctx.urdf.root_links()
+        if roots:
+            return f"the virtual joint attaches the URDF's root link: child_link=\"{roots[0]}\""
+    return "fix the name, or add the link to the URDF"

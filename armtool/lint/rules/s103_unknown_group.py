@@ -48,6 +48,10 @@ class UnknownGroup(Rule):
             if name is None or name in known:
                 continue
             match = closest(name, known)
+            if match is None:
+                # "lf" for "lf_leg": a unique group that starts with the name
+                starts = [g for g in known if g.startswith(name) and g[len(name) : len(name) + 1] in ("_", "-")]
+                match = starts[0] if len(starts) == 1 else None
             if match:
                 hint = f'use an existing group name, e.g. {attr}="{match}"'
             elif known:

@@ -40,7 +40,7 @@ class MimicUnknownJoint(Rule):
                 yield ctx.finding(
                     self,
                     mimic,
-                    f"joint '{joint.name}' mimics unknown joint '{target}'{did_you_mean(target, ctx.joint_names)}",
+                    f"joint '{joint.name}' mimics unknown joint '{target}'{did_you_mean(target, ctx.joint_names - {joint.name})}",
                     attr="joint",
                     hint="name an existing joint",
                 )

@@ -5,7 +5,6 @@ from collections.abc import Iterator
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.locate import local_tag
-from armtool.lint.numbers import numeric_attributes, parse_floats
 from armtool.lint.rule import Rule, Target
 
 
@@ -29,8 +28,7 @@ class MalformedNumber(Rule):
     code, name, severity, target = "U305", "malformed-number", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        for el, attr, raw, count in numeric_attributes(ctx.root):
-            values = parse_floats(raw)
+        for el, attr, raw, count, values in ctx.numeric_values():
             if values is None:
                 problem = "is not a number" if count == 1 else "contains something that is not a number"
             elif len(values) != count:

@@ -45,7 +45,7 @@ class UnresolvedMesh(Rule):
                         hint="write package://PACKAGE/path; ROS's resource_retriever cannot resolve package:///",
                     )
                     continue
-                if path is None or missing_package is not None or path.is_file():
+                if path is None or missing_package is not None or ctx.resolver.is_file(path):
                     continue
                 yield ctx.finding(
                     self,

@@ -1,0 +1,53 @@
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.kinematics_context import KinematicsContext
+from armtool.lint.rule import Rule, Target
+from armtool.lint.suggest import closest
+
+
+class KinematicsUnknownGroup(Rule):
+    """
+    What it does:
+    Reports a group in kinematics.yaml that the SRDF does not define.
+
+    Why is this bad?
+    MoveIt loads solver settings per SRDF group name; a group it does not know is skipped
+    without a word, and the real group gets no IK solver at all ("No kinematics solver
+    instantiated for group 'arm'") or falls back to defaults.
+
+    Example:
+    manipulater:
+      kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin
+
+    Use instead:
+    manipulator:
+      kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin
+    """
+
+    code, name, severity, target = "K101", "kinematics-unknown-group", Severity.ERROR, Target.KINEMATICS
+
+    def check(self, ctx: KinematicsContext) -> Iterator[Finding]:
+        if ctx.srdf is None:
+            return
+        known = set(ctx.srdf.groups)
+        srdf_name = ctx.srdf.path.name
+        for group in ctx.groups:
+            if group.name in known:
+                continue
+            match = closest(group.name, known)
+            if match:
+                hint = f"rename the key to '{match}'"
+            elif known:
+                hint = f"groups in {srdf_name}: " + ", ".join(sorted(known))
+            else:
+                hint = f"{srdf_name} defines no groups; add the group there"
+            yield ctx.finding_at(
+                self,
+                group.line,
+                group.column,
+                f"group '{group.name}' is not defined in {srdf_name}" + (f" (did you mean '{match}'?)" if match else ""),
+                hint=hint,
+            )
