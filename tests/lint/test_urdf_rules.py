@@ -66,6 +66,11 @@ def test_u107_joint_without_child(tmp_path: Path) -> None:
     assert ("U107", 4) in codes(lint_text(tmp_path, two_links(joint)))
 
 
+def test_u107_robot_without_name(tmp_path: Path) -> None:
+    text = two_links(revolute("j1", "base", "l1")).replace('<robot name="arm">', "<robot>")
+    assert codes(lint_text(tmp_path, text)) == [("U107", 1)]
+
+
 def test_u201_revolute_without_limit(tmp_path: Path) -> None:
     joint = '<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/></joint>'
     assert codes(lint_text(tmp_path, two_links(joint))) == [("U201", 4)]

@@ -13,7 +13,7 @@ seeds land in the right basin far more often than blind ones, which matters next
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -23,20 +23,39 @@ from armtool.ik.solver import Array, IKResult, Solver, pose_error, pose_error_ba
 class LevenbergMarquardt(Solver):
     name = "lm"
     summary = "Levenberg–Marquardt with joint limits, error-scaled damping and random restarts (armtool's best)"
-    options: dict[str, Any] = {"error_damping": 0.1, "damping_bias": 1e-6, "max_iterations_per_try": 25}
+    options: ClassVar[dict[str, Any]] = {"error_damping": 0.1, "damping_bias": 1e-6, "max_iterations_per_try": 25}
     SCALAR_TAIL = 16
     TABLE_SIZE = 4096
     TABLE_SEEDS = 8
-    _table: tuple[Array, Array, Array] | None = None
+    BATCH_TABLE_SIZE = 1024  # restarts of many targets at once search a smaller table
+    _table: tuple[Array, Array, Array] | None = None  # per instance, built on first restart
+
+    def __init__(self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
+        super().__init__(chain, timeout, tolerance, seed, **options)
+        self._restart_seeds(np.eye(4))  # build the pose table now, not inside a timed solve
+
+    def _batch_restart_seeds(self, targets: Array, count: Array) -> Array:
+        """For each target, its count-th nearest table configuration (random once those run out)."""
+        assert self._table is not None
+        Qt, F, F2 = (a[: self.BATCH_TABLE_SIZE] for a in self._table)
+        f = _pose_features(targets)
+        d = F2[None, :] - 2.0 * (f @ F.T)  # squared distance up to |f|², which does not change the order
+        order = np.argpartition(d, self.TABLE_SEEDS, axis=1)[:, : self.TABLE_SEEDS]
+        order = np.take_along_axis(order, np.argsort(np.take_along_axis(d, order, axis=1), axis=1), axis=1)
+        out = self.rng.uniform(self.chain.lower, self.chain.upper, size=(len(targets), self.chain.n))
+        use = count < self.TABLE_SEEDS
+        out[use] = Qt[order[use, count[use]]]
+        return out
 
     def _restart_seeds(self, target: Array) -> list[Array]:
-        """Configurations whose tip pose is nearest the target (position + 0.2 m per unit of rotation)."""
+        """Configurations whose tip pose is nearest the target (position, plus 0.2 m per unit of rotation)."""
         if self._table is None:
             Q = self.chain.random(self.rng, self.TABLE_SIZE)
             T, _ = self.chain.fk_jacobian_batch(Q, jacobian=False)
-            self._table = (Q, T[:, :3, 3].copy(), T[:, :3, :3].reshape(-1, 9).copy())
-        Q, P, R = self._table
-        d = np.linalg.norm(P - target[:3, 3], axis=1) + 0.2 * np.linalg.norm(R - target[:3, :3].reshape(9), axis=1)
+            F = _pose_features(T)
+            self._table = (Q, F, np.einsum("ij,ij->i", F, F))
+        Q, F, F2 = self._table
+        d = F2 - 2.0 * (F @ _pose_features(target[None])[0])
         nearest = np.argpartition(d, self.TABLE_SEEDS)[: self.TABLE_SEEDS]
         return list(Q[nearest[np.argsort(d[nearest])]])
 
@@ -108,8 +127,15 @@ class LevenbergMarquardt(Solver):
         """All targets at once: the same algorithm with numpy over every unsolved target per step.
 
         Each target keeps its own damping, stall counter and restarts; the whole call stops when
-        every target is solved or after `timeout` seconds per target.
+        every target is solved or after `timeout` seconds per target. BLAS runs single-threaded
+        here: its matrices are tiny, and OpenBLAS threads only add overhead (10x on a busy machine).
         """
+        from threadpoolctl import threadpool_limits
+
+        with threadpool_limits(limits=1, user_api="blas"):
+            return self._solve_batch(targets, seeds)
+
+    def _solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
         targets = np.asarray(targets, dtype=float)
         seeds = np.asarray(seeds, dtype=float)
         chain = self.chain
@@ -138,6 +164,7 @@ class LevenbergMarquardt(Solver):
         mu = np.ones(N)
         rejected = np.zeros(N, dtype=int)
         tries = np.zeros(N, dtype=int)
+        restarts = np.zeros(N, dtype=int)  # per target: which table seed comes next
         while idx.size and self.clock() < deadline:
             done = err < goal
             solved[idx[done]] = True
@@ -149,7 +176,15 @@ class LevenbergMarquardt(Solver):
             tries += 1
             A = J.transpose(0, 2, 1) @ J + ((mu * (k * err + bias))[:, None, None] * eye)
             g = np.einsum("mji,mj->mi", J, E)
-            Q_new = project(Q[idx] + np.linalg.solve(A, g[..., None])[..., 0])
+            q = Q[idx]
+            dq = np.linalg.solve(A, g[..., None])[..., 0]
+            blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
+            rows = blocked.any(axis=1)
+            if rows.any():  # joints held at a limit leave the step, as in solve()
+                free = ~blocked[rows]
+                A_b = A[rows] * (free[:, :, None] & free[:, None, :]) + blocked[rows][:, :, None] * eye
+                dq[rows] = np.linalg.solve(A_b, (g[rows] * free)[..., None])[..., 0]
+            Q_new = project(q + dq)
             T_new, J_new = chain.fk_jacobian_batch(Q_new)
             E_new = pose_error_batch(T_new, targets[idx])
             err_new = np.einsum("ij,ij->i", E_new, E_new)
@@ -162,7 +197,8 @@ class LevenbergMarquardt(Solver):
             restart = ((rejected >= 4) | (tries >= per_try)) & (err >= goal)
             if restart.any():
                 r = idx[restart]
-                Q[r] = self.rng.uniform(lower, upper, size=(r.size, n))
+                Q[r] = self._batch_restart_seeds(targets[r], restarts[r])
+                restarts[r] += 1
                 T_r, J_r = chain.fk_jacobian_batch(Q[r])
                 J[restart], E[restart] = J_r, pose_error_batch(T_r, targets[r])
                 err[restart] = np.einsum("ij,ij->i", E[restart], E[restart])
@@ -176,3 +212,8 @@ class LevenbergMarquardt(Solver):
             IKResult(bool(ok[i]), Q[i].copy(), float(pos[i]), float(rot[i]), int(iterations[i]), "" if ok[i] else "timeout")
             for i in range(N)
         ]
+
+
+def _pose_features(T: Array) -> Array:
+    """(N, 12) vectors whose distances compare poses: position in m, rotation matrix entries × 0.2 m."""
+    return np.concatenate([T[:, :3, 3], 0.2 * T[:, :3, :3].reshape(-1, 9)], axis=1)

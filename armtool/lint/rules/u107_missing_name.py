@@ -10,7 +10,7 @@ from armtool.lint.rule import Rule, Target
 class MissingRequired(Rule):
     """
     What it does:
-    Reports a link or joint without a name, and a joint without <parent link> or <child link>.
+    Reports a <robot>, link or joint without a name, and a joint without <parent link> or <child link>.
 
     Why is this bad?
     urdfdom rejects the model; nothing else can refer to an unnamed element.
@@ -25,6 +25,8 @@ class MissingRequired(Rule):
     code, name, severity, target = "U107", "missing-required", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        if not ctx.root.get("name"):
+            yield ctx.finding(self, ctx.root, "<robot> has no name (urdfdom rejects it)", hint='add name="..." to <robot>')
         for link in ctx.links:
             if not link.get("name"):
                 yield ctx.finding(self, link, "<link> has no name", hint="add name=\"...\"")
