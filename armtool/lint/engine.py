@@ -68,15 +68,21 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
     return list(unique)
 
 
-def _walk(directory: Path) -> Iterator[Path]:
+def _walk(directory: Path, seen: set[tuple[int, int]] | None = None) -> Iterator[Path]:
+    """Robot files below a directory; each directory once, so symlink loops end."""
+    seen = set() if seen is None else seen
     try:
+        st = directory.stat()
         entries = sorted(directory.iterdir())
     except OSError:
         return
+    if (st.st_dev, st.st_ino) in seen:
+        return
+    seen.add((st.st_dev, st.st_ino))
     for entry in entries:
         if entry.is_dir():
             if entry.name not in SKIP_DIRS and not entry.name.startswith("."):
-                yield from _walk(entry)
+                yield from _walk(entry, seen)
         elif file_kind(entry) is not None:
             yield entry
 

@@ -37,14 +37,16 @@ class KinematicsContext(FileContext):
 
 
 def _plain(node: Any) -> Any:
+    """A setting's value. Settings are scalars; lists and maps are not expanded (YAML aliases
+    could make a 1 kB file expand to billions of values)."""
     import yaml
 
     if isinstance(node, yaml.ScalarNode):
         return yaml.safe_load(yaml.serialize(node))
     if isinstance(node, yaml.SequenceNode):
-        return [_plain(n) for n in node.value]
+        return "<list>"
     if isinstance(node, yaml.MappingNode):
-        return {_plain(k): _plain(v) for k, v in node.value}
+        return "<mapping>"
     return None
 
 

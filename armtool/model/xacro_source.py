@@ -46,14 +46,24 @@ class Expansion:
     files: list[Path]
 
 
-def _annotate(doc: Any, path: Path, files: list[Path]) -> None:
-    data = path.read_bytes()
+def _checked_source(path: Path) -> tuple[Path, etree._Element] | None:
+    """Read a file with armtool's safe parser before xacro's parser sees it: entities are refused here.
+    None when it cannot be read: xacro then reports the missing include itself, at the including file."""
+    try:
+        data = path.read_bytes()
+    except OSError:
+        return None
     try:
         root = parse_xml(data)
     except XmlSyntaxProblem as exc:
         raise XacroFailure(f"not well-formed XML: {exc.message}", path, exc.line) from None
     if declares_entities(root):
         raise XacroFailure("DOCTYPE declares entities; armtool does not expand them", path, 1)
+    return path, root
+
+
+def _annotate(doc: Any, source: tuple[Path, etree._Element], files: list[Path]) -> None:
+    path, root = source
     lx_elements = list(root.iter(etree.Element))
     dom_elements = doc.getElementsByTagName("*")
     if len(lx_elements) != len(dom_elements):
@@ -74,10 +84,11 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     orig_call = xacro.handle_macro_call
     orig_find = substitution_args._eval_find
 
-    def parse(inp: Any, filename: str | None = None) -> Any:
+    def parse(inp: Any, filename: str | None = None) -> Any:  # noqa: ANN401
+        source = _checked_source(Path(filename).resolve()) if inp is None and filename else None
         doc = orig_parse(inp, filename)
-        if inp is None and filename:
-            _annotate(doc, Path(filename).resolve(), files)
+        if source is not None:
+            _annotate(doc, source, files)
         return doc
 
     def handle_macro_call(node: Any, macros: Any, symbols: Any) -> Any:

@@ -40,7 +40,7 @@ def parse_xml(data: bytes) -> etree._Element:
     """Parse bytes into an element tree, raising XmlSyntaxProblem with a line for any malformation."""
     if not data.strip():
         raise XmlSyntaxProblem("file is empty", 1, 1)
-    if b"\x00" in data[:8192]:
+    if b"\x00" in data[:8192] and not data.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16 has NULs
         raise XmlSyntaxProblem("file is binary, not XML", 1, 1)
     try:
         root = etree.fromstring(data, parser=secure_parser())
