@@ -23,6 +23,7 @@ import platform
 import shutil
 import statistics
 import subprocess
+import tempfile
 import sys
 import time
 from collections.abc import Mapping, Sequence
@@ -106,16 +107,21 @@ def find_check_urdf(given: str | None) -> str | None:
     return None
 
 
+# Every command runs in an empty directory, as in a robot repository without [tool.armtool]
+# (run from this checkout, armtool would find and parse this project's pyproject.toml).
+NEUTRAL_CWD = tempfile.mkdtemp(prefix="armtool-bench-")
+
+
 def run_once(cmd: Sequence[str], env: dict[str, str]) -> float:
     start = time.perf_counter()
-    subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, check=False)
+    subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, check=False, cwd=NEUTRAL_CWD)
     return time.perf_counter() - start
 
 
 def run_loop(cmds: Sequence[Sequence[str]], env: dict[str, str]) -> float:
     start = time.perf_counter()
     for cmd in cmds:
-        subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, check=False)
+        subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, check=False, cwd=NEUTRAL_CWD)
     return time.perf_counter() - start
 
 

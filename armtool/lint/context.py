@@ -130,6 +130,8 @@ class UrdfContext(FileContext):
         self.link_names = {n for n in self._link_by_name if n}
         self.joint_names = {n for n in self._joint_by_name if n}
         self._numbers: list[tuple[etree._Element, str, str, int, list[float] | None]] | None = None
+        self._meshes: list[tuple[etree._Element, etree._Element, str, Path | None, str | None]] | None = None
+        self._inertias: list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]] | None = None
         self.joints_by_child: dict[str, list[JointView]] = defaultdict(list)
         self.joints_by_parent: dict[str, list[JointView]] = defaultdict(list)
         for j in self.joints:
@@ -143,6 +145,35 @@ class UrdfContext(FileContext):
         if self._numbers is None:
             self._numbers = [(el, attr, raw, n, parse_floats(raw)) for el, attr, raw, n in numeric_attributes(self.root)]
         return self._numbers
+
+    def meshes(self) -> list[tuple[etree._Element, etree._Element, str, Path | None, str | None]]:
+        """(link, <mesh>, filename, resolved path or None, package that was not found) per mesh, once per file."""
+        if self._meshes is None:
+            base = self.base_dir
+            out = []
+            for link in self.links:
+                for mesh in link.iterfind("*/geometry/mesh"):
+                    uri = mesh.get("filename") or ""
+                    path, missing = self.resolver.resolve(uri, base) if uri else (None, None)
+                    out.append((link, mesh, uri, path, missing))
+            self._meshes = out
+        return self._meshes
+
+    def inertias(self) -> list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]]:
+        """(link, <inertia>, (ixx, iyy, izz, ixy, ixz, iyz), principal moments ascending), once per file."""
+        if self._inertias is None:
+            from armtool.lint.inertia import principal_moments, read_inertia
+
+            out = []
+            for link in self.links:
+                inertia = link.find("inertial/inertia")
+                if inertia is None:
+                    continue
+                values = read_inertia(inertia)
+                if values is not None:
+                    out.append((link, inertia, values, principal_moments(*values)))
+            self._inertias = out
+        return self._inertias
 
     @property
     def base_dir(self) -> Path:

@@ -309,12 +309,17 @@ def _lint_in_worker(path: Path) -> list[Finding]:
 
 def _lint_all(files: list[Path], options: LintOptions) -> Iterator[list[Finding]]:
     global _worker_linter
-    import multiprocessing
     import os
 
     workers = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 8)
     linter = Linter(options)
-    if len(files) < PARALLEL_MIN_FILES or workers < 2 or "fork" not in multiprocessing.get_all_start_methods():
+    if len(files) < PARALLEL_MIN_FILES or workers < 2:
+        for path in files:
+            yield linter.lint_file(path)
+        return
+    import multiprocessing  # only now: its import costs a few ms of start-up
+
+    if "fork" not in multiprocessing.get_all_start_methods():
         for path in files:
             yield linter.lint_file(path)
         return

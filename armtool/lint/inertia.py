@@ -3,6 +3,11 @@
 from __future__ import annotations
 
 import math
+from typing import Any
+
+from armtool.lint.numbers import parse_floats
+
+_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
 
 
 def principal_moments(ixx: float, iyy: float, izz: float, ixy: float, ixz: float, iyz: float) -> tuple[float, float, float]:
@@ -25,3 +30,13 @@ def principal_moments(ixx: float, iyy: float, izz: float, ixy: float, ixz: float
     e_min = q + 2.0 * p * math.cos(phi + 2.0 * math.pi / 3.0)
     e_mid = 3.0 * q - e_max - e_min
     return tuple(sorted((e_min, e_mid, e_max)))  # type: ignore[return-value]
+
+
+def read_inertia(el: Any) -> tuple[float, ...] | None:
+    values = []
+    for key in _KEYS:
+        parsed = parse_floats(el.get(key, "0"))
+        if not parsed or len(parsed) != 1 or not math.isfinite(parsed[0]):
+            return None
+        values.append(parsed[0])
+    return tuple(values)

@@ -5,6 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from armtool.lint.finding import Severity
 from tests.lint.helpers import LINK, codes, lint_text, revolute, robot
@@ -224,3 +226,14 @@ def test_columns_point_at_the_attribute(tmp_path: Path) -> None:
     (f,) = lint_text(tmp_path, two_links(joint))
     line = two_links(joint).splitlines()[f.line - 1]
     assert line[f.column - 1 :].startswith('velocity="0"')
+
+
+@given(st.floats(min_value=-1e4, max_value=1e4, allow_nan=False), st.sampled_from(["{:.0f}", "{:.3f}", "{:.12f}", "{:g}", "{!r}", "{:e}", "{:.4E}"]))
+def test_u301_text_precheck_never_misses_a_large_angle(value: float, style: str) -> None:
+    import math
+
+    from armtool.lint.rules.u301_rpy_out_of_range import _MAYBE_LARGE_RPY, TOLERANCE_RAD
+
+    text = style.format(value)
+    if abs(float(text)) > math.pi + TOLERANCE_RAD:
+        assert _MAYBE_LARGE_RPY.search(f'<origin rpy="0 {text} 0"/>'.encode())

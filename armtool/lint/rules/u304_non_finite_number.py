@@ -1,15 +1,12 @@
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterator
 
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.locate import local_tag
 from armtool.lint.rule import Rule, Target
-
-_MAYBE_NON_FINITE = re.compile(rb"(?i)(?<![a-z_])(nan|inf(inity)?)(?![a-z_])")
 
 
 class NonFiniteNumber(Rule):
@@ -33,8 +30,10 @@ class NonFiniteNumber(Rule):
     code, name, severity, target = "U304", "non-finite-number", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        if ctx.raw is not None and not _MAYBE_NON_FINITE.search(ctx.raw):
-            return  # no "nan" or "inf" anywhere in the file: nothing to parse
+        if ctx.raw is not None:
+            lowered = ctx.raw.lower()
+            if b"nan" not in lowered and b"inf" not in lowered:
+                return  # no "nan" or "inf" anywhere in the file: nothing to parse
         for el, attr, raw, _count, values in ctx.numeric_values():
             if values and not all(map(math.isfinite, values)):
                 yield ctx.finding(

@@ -1,28 +1,15 @@
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
-from armtool.lint.inertia import principal_moments
-from armtool.lint.numbers import fmt, parse_floats
+from armtool.lint.numbers import fmt
 from armtool.lint.rule import Rule, Target
 
-_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
 RELATIVE_TOLERANCE = 1e-6
 # Below this (kg·m²) a tensor is a zero placeholder written with float noise (e.g. 1e-20).
 ZERO_INERTIA = 1e-12
-
-
-def read_inertia(el: object) -> tuple[float, ...] | None:
-    values = []
-    for key in _KEYS:
-        parsed = parse_floats(el.get(key, "0"))  # type: ignore[attr-defined]
-        if not parsed or len(parsed) != 1 or not math.isfinite(parsed[0]):
-            return None
-        values.append(parsed[0])
-    return tuple(values)
 
 
 class InertiaNotPositiveDefinite(Rule):
@@ -47,14 +34,7 @@ class InertiaNotPositiveDefinite(Rule):
     code, name, severity, target = "U404", "inertia-not-positive-definite", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        for link in ctx.links:
-            inertia = link.find("inertial/inertia")
-            if inertia is None:
-                continue
-            values = read_inertia(inertia)
-            if values is None:
-                continue
-            moments = principal_moments(*values)
+        for link, inertia, _values, moments in ctx.inertias():
             scale = max(abs(m) for m in moments)
             if scale < ZERO_INERTIA:
                 continue

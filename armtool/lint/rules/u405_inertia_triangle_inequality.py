@@ -4,10 +4,9 @@ from collections.abc import Iterator
 
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
-from armtool.lint.inertia import principal_moments
 from armtool.lint.numbers import fmt
 from armtool.lint.rule import Rule, Target
-from armtool.lint.rules.u404_inertia_not_positive_definite import ZERO_INERTIA, read_inertia
+from armtool.lint.rules.u404_inertia_not_positive_definite import ZERO_INERTIA
 
 RELATIVE_TOLERANCE = 1e-3
 
@@ -32,14 +31,7 @@ class InertiaTriangleInequality(Rule):
     code, name, severity, target = "U405", "inertia-triangle-inequality", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        for link in ctx.links:
-            inertia = link.find("inertial/inertia")
-            if inertia is None:
-                continue
-            values = read_inertia(inertia)
-            if values is None:
-                continue
-            a, b, c = principal_moments(*values)
+        for link, inertia, _values, (a, b, c) in ctx.inertias():
             if a < 0 or c < ZERO_INERTIA:
                 continue  # negative moments are U404's; zero placeholders are fine
             if c > (a + b) * (1 + RELATIVE_TOLERANCE):

@@ -29,28 +29,25 @@ class UnresolvedMesh(Rule):
     code, name, severity, target = "U501", "unresolved-mesh", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        for link in ctx.links:
-            for mesh in link.iterfind("*/geometry/mesh"):
-                uri = mesh.get("filename")
-                if not uri:
-                    yield ctx.finding(self, mesh, f"link '{link.get('name')}': <mesh> has no filename", hint="add filename=\"package://...\"")
-                    continue
-                path, missing_package = ctx.resolver.resolve(uri, ctx.base_dir)
-                if missing_package == "":
-                    yield ctx.finding(
-                        self,
-                        mesh,
-                        f"link '{link.get('name')}': mesh '{uri}' names no package (three slashes after package:)",
-                        attr="filename",
-                        hint="write package://PACKAGE/path; ROS's resource_retriever cannot resolve package:///",
-                    )
-                    continue
-                if path is None or missing_package is not None or ctx.resolver.is_file(path):
-                    continue
+        for link, mesh, uri, path, missing_package in ctx.meshes():
+            if not uri:
+                yield ctx.finding(self, mesh, f"link '{link.get('name')}': <mesh> has no filename", hint="add filename=\"package://...\"")
+                continue
+            if missing_package == "":
                 yield ctx.finding(
                     self,
                     mesh,
-                    f"link '{link.get('name')}': mesh '{uri}' not found (looked for {path})",
+                    f"link '{link.get('name')}': mesh '{uri}' names no package (three slashes after package:)",
                     attr="filename",
-                    hint="fix the path; file names are case-sensitive",
+                    hint="write package://PACKAGE/path; ROS's resource_retriever cannot resolve package:///",
                 )
+                continue
+            if path is None or missing_package is not None or ctx.resolver.is_file(path):
+                continue
+            yield ctx.finding(
+                self,
+                mesh,
+                f"link '{link.get('name')}': mesh '{uri}' not found (looked for {path})",
+                attr="filename",
+                hint="fix the path; file names are case-sensitive",
+            )

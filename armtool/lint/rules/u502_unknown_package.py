@@ -30,17 +30,14 @@ class UnknownPackage(Rule):
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         reported: set[str] = set()
-        for link in ctx.links:
-            for mesh in link.iterfind("*/geometry/mesh"):
-                uri = mesh.get("filename") or ""
-                _path, missing = ctx.resolver.resolve(uri, ctx.base_dir)
-                if not missing or missing in reported:
-                    continue
-                reported.add(missing)
-                yield ctx.finding(
-                    self,
-                    mesh,
-                    f"cannot find package '{missing}' for '{uri}'",
-                    attr="filename",
-                    hint=f"pass --package-path DIR (the directory holding {missing}/package.xml) or set ROS_PACKAGE_PATH",
-                )
+        for _link, mesh, uri, _path, missing in ctx.meshes():
+            if not missing or missing in reported:
+                continue
+            reported.add(missing)
+            yield ctx.finding(
+                self,
+                mesh,
+                f"cannot find package '{missing}' for '{uri}'",
+                attr="filename",
+                hint=f"pass --package-path DIR (the directory holding {missing}/package.xml) or set ROS_PACKAGE_PATH",
+            )
