@@ -9,23 +9,11 @@ from typing import Optional
 import typer
 
 from armtool import __version__
-from armtool.cli import ik_bench as ik_bench_cmd
 from armtool.cli import lint as lint_cmd
-from armtool.cli import rules as rules_cmd
 from armtool.errors import ArmtoolError, ExitCode
 
-app = typer.Typer(
-    name="armtool",
-    help="Toolkit for people who build and debug robot arms.",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-    context_settings={"help_option_names": ["-h", "--help"]},
-)
-app.command("lint", help="Find silent mistakes in URDF, xacro, SRDF and MoveIt kinematics.yaml files.")(lint_cmd.lint)
-app.command("lint-urdf", help="Alias of `armtool lint`.")(lint_cmd.lint)
-app.command("rules", help="List the lint rules, or show one rule's documentation.")(rules_cmd.rules)
-app.command("ik-bench", help="Compare IK solvers on your robot: success, speed, accuracy, repeatability.")(ik_bench_cmd.ik_bench)
+LINT_HELP = "Find silent mistakes in URDF, xacro, SRDF and MoveIt kinematics.yaml files."
+_CONTEXT = {"help_option_names": ["-h", "--help"]}
 
 
 def _version(value: bool) -> None:
@@ -34,7 +22,6 @@ def _version(value: bool) -> None:
         raise typer.Exit()
 
 
-@app.callback()
 def _root(
     version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Show the version and exit."),
     verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="More log output on stderr (-vv for debug)."),
@@ -58,11 +45,57 @@ def report_error(exc: ArmtoolError) -> None:
         stderr().print(f"  [dim]hint:[/dim] {escape(exc.hint)}")
 
 
+def build_app() -> typer.Typer:
+    """The full command: every subcommand, one module each."""
+    from armtool.cli import ik_bench as ik_bench_cmd
+    from armtool.cli import rules as rules_cmd
+
+    full = typer.Typer(
+        name="armtool",
+        help="Toolkit for people who build and debug robot arms.",
+        no_args_is_help=True,
+        add_completion=False,
+        pretty_exceptions_enable=False,
+        context_settings=_CONTEXT,
+    )
+    full.callback()(_root)
+    full.command("lint", help=LINT_HELP)(lint_cmd.lint)
+    full.command("lint-urdf", help="Alias of `armtool lint`.")(lint_cmd.lint)
+    full.command("rules", help="List the lint rules, or show one rule's documentation.")(rules_cmd.rules)
+    full.command("ik-bench", help="Compare IK solvers on your robot: success, speed, accuracy, repeatability.")(ik_bench_cmd.ik_bench)
+    return full
+
+
+def _lint_only_app() -> typer.Typer:
+    """`armtool lint` alone: pre-commit runs it on every commit, and importing and building the
+    parsers of every other subcommand first would add ~10 ms to each run."""
+    single = typer.Typer(add_completion=False, pretty_exceptions_enable=False, context_settings=_CONTEXT)
+    single.command(help=LINT_HELP)(lint_cmd.lint)
+    return single
+
+
+_app: typer.Typer | None = None
+
+
+def __getattr__(name: str) -> typer.Typer:
+    # `from armtool.cli import app` (tests, embedding): built on first use.
+    global _app
+    if name == "app":
+        if _app is None:
+            _app = build_app()
+        return _app
+    raise AttributeError(name)
+
+
 def main() -> None:
     """Entry point: user errors print what/where/hint and exit 2; tracebacks only with ARMTOOL_DEBUG=1."""
     debug = os.environ.get("ARMTOOL_DEBUG") == "1"
+    argv = sys.argv[1:]
     try:
-        app(standalone_mode=True)
+        if argv[:1] in (["lint"], ["lint-urdf"]):
+            _lint_only_app()(args=argv[1:], prog_name=f"armtool {argv[0]}", standalone_mode=True)
+        else:
+            build_app()(standalone_mode=True)
     except ArmtoolError as exc:
         if debug:
             raise

@@ -92,8 +92,6 @@ def _severity(value: Any, where: str) -> Severity:
 
 def load_config(path: Path | None = None) -> LintConfig:
     """Read the config from `path`, or from the nearest pyproject.toml above the working directory."""
-    import tomllib
-
     if path is None:
         path = find_pyproject(Path.cwd())
         if path is None:
@@ -104,6 +102,8 @@ def load_config(path: Path | None = None) -> LintConfig:
         raise ArmtoolError(f"cannot read config: {exc.strerror}", str(path)) from None
     if "armtool" not in text:
         return LintConfig(root=path.parent, source=path)  # not ours: skip the TOML parser's start-up cost
+    import tomllib
+
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

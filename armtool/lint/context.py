@@ -11,7 +11,7 @@ from lxml import etree
 
 from armtool.lint.finding import Finding
 from armtool.lint.locate import Locator, display_path, local_tag
-from armtool.lint.numbers import numeric_attributes, parse_floats
+from armtool.lint.numbers import numeric_values, parse_floats
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
 
@@ -143,7 +143,7 @@ class UrdfContext(FileContext):
     def numeric_values(self) -> list[tuple[etree._Element, str, str, int, list[float] | None]]:
         """(element, attribute, raw text, expected count, parsed values or None), read once per file."""
         if self._numbers is None:
-            self._numbers = [(el, attr, raw, n, parse_floats(raw)) for el, attr, raw, n in numeric_attributes(self.root)]
+            self._numbers = numeric_values(self.root)
         return self._numbers
 
     def meshes(self) -> list[tuple[etree._Element, etree._Element, str, Path | None, str | None]]:

@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from lxml import etree
 
 from armtool.lint.finding import Edit
-from armtool.model.origin import Origin, SourceLine
 from armtool.model.xmlsource import SourceText
+
+if TYPE_CHECKING:  # the origin types are only named here; importing them costs lint start-up
+    from armtool.model.origin import Origin, SourceLine
 
 
 def display_path(path: Path) -> str:

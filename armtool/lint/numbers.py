@@ -42,14 +42,17 @@ def fmt(value: float) -> str:
     return "0" if text == "-0" else text
 
 
-def numeric_attributes(root: etree._Element) -> Iterator[tuple[etree._Element, str, str, int]]:
-    """(element, attribute, raw value, expected count) for every numeric attribute under links and joints."""
-    for top in root:
-        if local_tag(top) not in ("link", "joint"):
-            continue
+def numeric_values(root: etree._Element) -> list[tuple[etree._Element, str, str, int, list[float] | None]]:
+    """(element, attribute, raw text, expected count, parsed values or None) for every numeric
+    attribute under links and joints. Texts repeat a lot ("0 0 0"), so each is parsed once."""
+    parsed: dict[str, list[float] | None] = {}
+    out = []
+    for top in root.iterchildren("link", "joint"):
         for el in top.iter(*NUMERIC_ATTRS):  # lxml filters by tag in C
-            spec = NUMERIC_ATTRS[local_tag(el)]
-            for attr, count in spec.items():
-                raw = el.get(attr)
+            attrib = el.attrib
+            for attr, count in NUMERIC_ATTRS[el.tag].items():  # type: ignore[index]
+                raw = attrib.get(attr)
                 if raw is not None:
-                    yield el, attr, raw, count
+                    values = parsed[raw] if raw in parsed else parsed.setdefault(raw, parse_floats(raw))
+                    out.append((el, attr, raw, count, values))
+    return out
