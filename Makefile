@@ -24,6 +24,9 @@ demo: $(STAMP)
 	@echo
 	@echo "== armtool rules U301"
 	$(BIN)/armtool rules U301
+	@echo
+	@echo "== armtool ik-bench on the clean arm: every built-in solver, 200 targets, TRAC-IK protocol"
+	$(BIN)/armtool ik-bench fixtures/robots/clean_arm/urdf/clean_arm.urdf --base base_link --tip tool0 --samples 200
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q

@@ -133,7 +133,7 @@ def run_solver(
         ok2, _, _ = verify_batch(chain, Q2, targets.poses[:m], config.tolerance)
         both = ok[:m] & ok2
         same = both & (_joint_distance(chain, Q[:m], Q2) < 1e-6)
-        repeat = float(same.sum() / max(both.sum(), 1))
+        repeat = float(same.sum() / both.sum()) if both.any() else None  # nothing to compare
     solutions = None
     if any(r.solutions for r in results):
         solutions = float(np.mean([len(r.solutions) for r in results]))

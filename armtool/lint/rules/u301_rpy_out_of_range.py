@@ -42,8 +42,8 @@ class RpyOutOfRange(Rule):
 
     Why is this bad?
     The rotation is still valid (angles are periodic), but the value is almost always
-    degrees typed where URDF expects radians: rpy="0 0 90" turns 90 rad = 5157°, which is
-    ≈ 116.6° off from the intended quarter turn.
+    degrees typed where URDF expects radians: rpy="0 0 90" turns 90 rad, the same rotation as
+    116.6°, not the quarter turn that was meant.
 
     Example:
     <origin xyz="0 0 0.1" rpy="0 0 90"/>
