@@ -17,7 +17,11 @@ from armtool.ik.chain import Chain
 from armtool.ik.solver import Solver
 
 # name -> ("module:Class", python module it needs, how to install it)
-PEERS: dict[str, tuple[str, str, str]] = {}
+PEERS: dict[str, tuple[str, str, str]] = {
+    "pytracik": ("armtool.ik.peers.pytracik_peer:PyTracIK", "pytracik", "pip install 'armtool[peers]' (or pip install pytracik)"),
+    "rtb-lm": ("armtool.ik.peers.rtb_lm:RtbLM", "roboticstoolbox", "pip install 'armtool[peers]' (or pip install roboticstoolbox-python)"),
+    "ikpy": ("armtool.ik.peers.ikpy_peer:IkPy", "ikpy", "pip install 'armtool[peers]' (or pip install ikpy)"),
+}
 
 
 def peer_names() -> list[str]:
