@@ -22,6 +22,8 @@ class PyTracIK(Solver):
         self._pytracik: Any = pytracik
         self._solver = pytracik.TRAC_IK(chain.base, chain.tip, etree.tostring(root).decode(), timeout, tolerance,
                                         pytracik.SolveType.Speed)
+        # pytracik 0.0.3 reads some URDFs' limits as all zero (Panda): hand it the URDF's limits.
+        pytracik.set_joint_limits(self._solver, chain.lower.copy(), chain.upper.copy())
 
     def solve(self, target: Array, seed: Array) -> IKResult:
         import pinocchio as pin
