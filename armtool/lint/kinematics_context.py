@@ -74,3 +74,26 @@ def read_groups(text: str) -> list[GroupSettings]:
                 group.settings[str(skey.value)] = YamlValue(_plain(sval), sval.start_mark.line + 1, sval.start_mark.column + 1)
         groups.append(group)
     return groups
+
+
+def as_number(value: object) -> float | None:
+    """A YAML value as a finite float, or None (strings, booleans, lists, NaN and infinities are not numbers)."""
+    import math
+
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    number = float(value)
+    return number if math.isfinite(number) else None
+
+
+def not_positive(ctx: KinematicsContext, key: str) -> list[tuple[GroupSettings, YamlValue, str]]:
+    """(group, setting, "is 0" / "is 'x', not a number") for each group whose `key` is not a positive number."""
+    out = []
+    for group in ctx.groups:
+        item = group.settings.get(key)
+        if item is None:
+            continue
+        number = as_number(item.value)
+        if number is None or number <= 0:
+            out.append((group, item, f"is {item.value!r}, not a number" if number is None else f"is {item.value}"))
+    return out

@@ -1,19 +1,11 @@
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 
 from armtool.lint.finding import Finding, Severity
-from armtool.lint.kinematics_context import KinematicsContext
+from armtool.lint.kinematics_context import KinematicsContext, not_positive
 from armtool.lint.rule import Rule, Target
 
-
-def as_number(value: object) -> float | None:
-    """A YAML value as a finite float, or None (strings, booleans, lists, NaN and infinities are not numbers)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return None
-    number = float(value)
-    return number if math.isfinite(number) else None
 
 
 class NonPositiveTimeout(Rule):
@@ -38,14 +30,7 @@ class NonPositiveTimeout(Rule):
     code, name, severity, target = "K103", "non-positive-timeout", Severity.ERROR, Target.KINEMATICS
 
     def check(self, ctx: KinematicsContext) -> Iterator[Finding]:
-        for group in ctx.groups:
-            item = group.settings.get("kinematics_solver_timeout")
-            if item is None:
-                continue
-            number = as_number(item.value)
-            if number is not None and number > 0:
-                continue
-            what = f"is {item.value!r}, not a number" if number is None else f"is {item.value}"
+        for group, item, what in not_positive(ctx, "kinematics_solver_timeout"):
             yield ctx.finding_at(
                 self,
                 item.line,

@@ -3,10 +3,10 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from armtool.lint.finding import Finding, Severity
-from armtool.lint.kinematics_context import KinematicsContext
+from armtool.lint.kinematics_context import KinematicsContext, as_number
 from armtool.lint.numbers import fmt
 from armtool.lint.rule import Rule, Target
-from armtool.lint.rules.k103_non_positive_timeout import as_number
+
 
 ONE_MS = 0.001
 

@@ -3,9 +3,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from armtool.lint.finding import Finding, Severity
-from armtool.lint.kinematics_context import KinematicsContext
+from armtool.lint.kinematics_context import KinematicsContext, not_positive
 from armtool.lint.rule import Rule, Target
-from armtool.lint.rules.k103_non_positive_timeout import as_number
 
 
 class NonPositiveSearchResolution(Rule):
@@ -30,14 +29,7 @@ class NonPositiveSearchResolution(Rule):
     code, name, severity, target = "K105", "non-positive-search-resolution", Severity.ERROR, Target.KINEMATICS
 
     def check(self, ctx: KinematicsContext) -> Iterator[Finding]:
-        for group in ctx.groups:
-            item = group.settings.get("kinematics_solver_search_resolution")
-            if item is None:
-                continue
-            number = as_number(item.value)
-            if number is not None and number > 0:
-                continue
-            what = f"is {item.value!r}, not a number" if number is None else f"is {item.value}"
+        for group, item, what in not_positive(ctx, "kinematics_solver_search_resolution"):
             yield ctx.finding_at(
                 self,
                 item.line,
