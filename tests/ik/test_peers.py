@@ -1,49 +1,162 @@
-"""Peer adapters: a missing peer is reported with its install command; present ones solve in chain order."""
+"""Peer adapters: a missing peer is reported with its install command; present ones solve in chain order.
+
+The solving tests skip (importorskip) when a peer's library is absent; `pip install 'armtool[peers]'`
+brings pytracik, roboticstoolbox-python and ikpy; PyKDL comes from apt (python3-pykdl).
+"""
 
 from __future__ import annotations
 
+import importlib
 import importlib.util
+from functools import lru_cache
+from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 import pytest
+from lxml import etree
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import chain_from_xml
-from armtool.ik.peers import PEERS, make_peer, peer_names
+from armtool.ik.chain import Chain, chain_from_xml
+from armtool.ik.peers import PEERS, make_peer, path_urdf, peer_names
+from armtool.ik.solver import Solver
 from armtool.model.load import load_robot_xml
-from tests.ik.robots import ARMS, erd
+from tests.ik.robots import ARMS, PLANAR_2R, erd
 
 
-def ur5():  # type: ignore[no-untyped-def]
-    root = load_robot_xml(erd(ARMS["ur5"][0]))
+@lru_cache(maxsize=None)
+def _arm(name: str) -> tuple[Chain, etree._Element]:
+    relative, base, tip = ARMS[name]
+    root = load_robot_xml(erd(relative))
+    return chain_from_xml(root, base, tip), root
+
+
+def arm(name: str) -> tuple[Chain, etree._Element]:
+    erd(ARMS[name][0])  # skip (not cached) when example-robot-data is absent
+    return _arm(name)
+
+
+def planar() -> tuple[Chain, etree._Element]:
+    root = etree.fromstring(PLANAR_2R)
     return chain_from_xml(root), root
 
 
-def test_missing_peer_names_the_install_command(monkeypatch: pytest.MonkeyPatch) -> None:
-    chain, root = ur5()
-    real = importlib.util.find_spec
-    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "pytracik" else real(name, *a))
-    reason = make_peer("pytracik", chain, root, timeout=0.005, tolerance=1e-5)
-    assert isinstance(reason, str) and "pip install" in reason and "armtool[peers]" in reason
+def peer(name: str, robot: str, timeout: float = 0.05) -> Solver:
+    pytest.importorskip(PEERS[name][1])
+    chain, root = arm(robot)
+    solver = make_peer(name, chain, root, timeout=timeout, tolerance=1e-5)
+    assert isinstance(solver, Solver), solver
+    return solver
 
 
-def test_unknown_peer_lists_the_known_ones() -> None:
-    chain, root = ur5()
-    with pytest.raises(ArmtoolError, match="unknown peer 'pytrac'.*did you mean 'pytracik'"):
-        make_peer("pytrac", chain, root, timeout=0.005, tolerance=1e-5)
-    assert set(peer_names()) == set(PEERS)
+# ---- without any peer installed -------------------------------------------------------------------
 
 
 @pytest.mark.parametrize("name", sorted(PEERS))
-def test_installed_peer_solves_in_chain_order(name: str) -> None:
-    pytest.importorskip(PEERS[name][1])
-    chain, root = ur5()
-    peer = make_peer(name, chain, root, timeout=0.05, tolerance=1e-5)
-    assert not isinstance(peer, str)
+def test_missing_peer_returns_its_install_command(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    chain, root = planar()
+    _, needs, install = PEERS[name]
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda mod, *a, **k: None if mod == needs else real(mod, *a, **k))
+    assert make_peer(name, chain, root, timeout=0.005, tolerance=1e-5) == f"{needs} is not installed: {install}"
+
+
+def test_install_commands() -> None:
+    for name in ("pytracik", "rtb-lm", "ikpy"):
+        assert "pip install 'armtool[peers]'" in PEERS[name][2]
+    assert PEERS["pykdl"][1:] == ("PyKDL", "apt install python3-pykdl (ROS)")
+
+
+def test_unknown_peer_lists_the_known_ones() -> None:
+    chain, root = planar()
+    with pytest.raises(ArmtoolError, match="unknown peer 'pytrac'.*did you mean 'pytracik'"):
+        make_peer("pytrac", chain, root, timeout=0.005, tolerance=1e-5)
+    assert peer_names() == list(PEERS)
+
+
+@pytest.mark.parametrize("name", sorted(PEERS))
+def test_registry_names_solver_classes_importable_without_the_peer(name: str) -> None:
+    module, _, cls = PEERS[name][0].partition(":")
+    peer_cls = getattr(importlib.import_module(module), cls)  # the peer library is imported only when built
+    assert issubclass(peer_cls, Solver) and peer_cls.name == name and peer_cls.summary
+
+
+def test_path_urdf_keeps_only_the_chain() -> None:
+    chain, root = planar()
+    path = path_urdf(root, chain)
+    assert [j.get("name") for j in path.findall("joint")] == ["j1", "j2", "tool_joint"]
+    again = chain_from_xml(path, chain.base, chain.tip)
+    q = np.array([0.3, -0.7])
+    np.testing.assert_allclose(again.fk(q), chain.fk(q), atol=1e-15)
+
+
+def test_path_urdf_of_a_chain_that_starts_below_the_root() -> None:
+    full, root = arm("ur5")
+    chain = chain_from_xml(root, "shoulder_link", "wrist_3_link")
+    path = path_urdf(root, chain)
+    assert [j.get("name") for j in path.findall("joint")] == full.joint_names[1:]
+    assert [lk.get("name") for lk in path.findall("link")][0] == "shoulder_link"
+    assert path.find("link/visual") is None
+    again = chain_from_xml(path, chain.base, chain.tip)
+    q = chain.mid() + 0.1
+    np.testing.assert_allclose(again.fk(q), chain.fk(q), atol=1e-15)
+
+
+# ---- with the peer installed ----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("robot", ["ur5", "panda"])
+@pytest.mark.parametrize("name", sorted(PEERS))
+def test_peer_solves_fk_targets_in_chain_order(name: str, robot: str) -> None:
+    solver = peer(name, robot)
+    chain = solver.chain
     rng = np.random.default_rng(3)
+    q_true = chain.random(rng, 5)
+    seeds = chain.clamp(q_true + rng.uniform(-0.05, 0.05, q_true.shape))
     solved = 0
-    for q in chain.random(rng, 5):
-        result = peer.solve(chain.fk(q), np.clip(q + 0.1, chain.lower, chain.upper))
-        solved += result.success
-        assert result.q.shape == (chain.n,)
+    for q, seed in zip(q_true, seeds):
+        target = chain.fk(q)
+        result = solver.solve(target, seed)
+        assert isinstance(result.q, np.ndarray) and result.q.shape == (chain.n,)
+        if result.success:
+            solved += 1
+            np.testing.assert_allclose(chain.fk(result.q), target, atol=2e-5)  # our FK, our joint order
+            assert np.abs(result.q - q).max() < 0.5  # near the configuration it came from, not a permutation
+        else:
+            assert result.reason
     assert solved >= 4
+
+
+@pytest.mark.parametrize("name", sorted(PEERS))
+def test_unreachable_target_is_a_failure_with_a_reason(name: str) -> None:
+    solver = peer(name, "ur5", timeout=0.005)
+    target = solver.chain.fk(solver.chain.mid())
+    target[:3, 3] += 10.0  # 10 m away
+    result = solver.solve(target, solver.chain.mid())
+    assert not result.success and result.reason and result.q.shape == (solver.chain.n,)
+
+
+def test_pytracik_claiming_a_wrong_answer_is_not_trusted() -> None:
+    solver: Any = peer("pytracik", "ur5")
+    wrong = solver.chain.mid()
+    solver._ik = lambda *args: np.concatenate([[1.0], wrong])  # rc 1: "found"
+    result = solver.solve(solver.chain.fk(wrong + 0.3), wrong)
+    assert not result.success and "our FK check rejects" in result.reason
+
+
+def test_rtb_claiming_a_wrong_answer_is_not_trusted() -> None:
+    solver: Any = peer("rtb-lm", "ur5")
+    wrong = solver.chain.mid()
+    solver._ets = SimpleNamespace(ik_LM=lambda *a, **k: SimpleNamespace(q=wrong, success=True, iterations=1, searches=1))
+    result = solver.solve(solver.chain.fk(wrong + 0.3), wrong)
+    assert not result.success and "our FK check rejects" in result.reason
+
+
+def test_peer_rejects_a_chain_it_reads_differently() -> None:
+    pytest.importorskip("pytracik")
+    chain, root = arm("ur5")
+    shifted = etree.fromstring(etree.tostring(root))
+    origin = shifted.find("joint[@name='elbow_joint']/origin")
+    origin.set("xyz", "0 -0.2 0.425")  # what the peer reads (from the URDF) is no longer our chain
+    with pytest.raises(ArmtoolError, match="reads world → ee_link differently"):
+        make_peer("pytracik", chain, shifted, timeout=0.005, tolerance=1e-5)

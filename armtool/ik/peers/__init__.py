@@ -1,26 +1,31 @@
 """Peer IK solvers (optional extra `armtool[peers]`), run in the same process on the same targets.
 
 Each adapter is one module with a Solver subclass; PEERS maps its name to the module and
-to the pip command that installs what it needs.
+to the command that installs what it needs. Adapters import their peer library only when
+built, take q in the chain's joint order, and never trust the peer's own success flag:
+`Solver._result` re-verifies every answer with our FK.
 """
 
 from __future__ import annotations
 
 import importlib
 import importlib.util
+from collections.abc import Callable
 from typing import Any
 
+import numpy as np
 from lxml import etree
 
 from armtool.errors import ArmtoolError
 from armtool.ik.chain import Chain
-from armtool.ik.solver import Solver
+from armtool.ik.solver import Array, Solver
 
 # name -> ("module:Class", python module it needs, how to install it)
 PEERS: dict[str, tuple[str, str, str]] = {
     "pytracik": ("armtool.ik.peers.pytracik_peer:PyTracIK", "pytracik", "pip install 'armtool[peers]' (or pip install pytracik)"),
     "rtb-lm": ("armtool.ik.peers.rtb_lm:RtbLM", "roboticstoolbox", "pip install 'armtool[peers]' (or pip install roboticstoolbox-python)"),
     "ikpy": ("armtool.ik.peers.ikpy_peer:IkPy", "ikpy", "pip install 'armtool[peers]' (or pip install ikpy)"),
+    "pykdl": ("armtool.ik.peers.pykdl_peer:PyKdlNrJl", "PyKDL", "apt install python3-pykdl (ROS)"),
 }
 
 
@@ -40,3 +45,41 @@ def make_peer(name: str, chain: Chain, root: etree._Element, *, timeout: float, 
     module, _, cls = target.partition(":")
     peer_cls: Any = getattr(importlib.import_module(module), cls)
     return peer_cls(chain, root, timeout=timeout, tolerance=tolerance)  # type: ignore[no-any-return]
+
+
+def path_urdf(root: etree._Element, chain: Chain) -> etree._Element:
+    """A kinematics-only URDF of the chain: the links and joints from chain.base to chain.tip.
+
+    Peers parse it with their own URDF readers. Handing them only the path keeps them on our
+    chain (ikpy follows the tree past the last element it is given; rtb's `ets(start=link)`
+    includes that link's own joint unless the link is the root) and keeps out what they trip on
+    (rtb resolves `package://` mesh paths; KDL prints a warning on stdout when the root link has
+    an <inertial>). Joints are copied whole: origin, axis, limits.
+    """
+    by_child = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}  # type: ignore[union-attr]
+    joints: list[etree._Element] = []
+    link = chain.tip
+    while link != chain.base:
+        joint = by_child[link]
+        joints.append(joint)
+        link = joint.find("parent").get("link", "")  # type: ignore[union-attr]
+    out = etree.Element("robot", name=root.get("name", "robot"))
+    etree.SubElement(out, "link", name=chain.base)
+    for joint in reversed(joints):
+        etree.SubElement(out, "link", name=joint.find("child").get("link", ""))  # type: ignore[union-attr]
+    for joint in reversed(joints):
+        out.append(etree.fromstring(etree.tostring(joint)))
+    return out
+
+
+def check_fk(name: str, chain: Chain, fk: Callable[[Array], Array]) -> None:
+    """Raise if the peer's FK (q in chain order → 4x4 tip pose in the base frame) disagrees with ours."""
+    rng = np.random.default_rng(0)
+    worst = 0.0
+    for q in [chain.mid(), *chain.random(rng, 3)]:
+        worst = max(worst, float(np.abs(np.asarray(fk(q), dtype=float) - chain.fk(q)).max()))
+    if not worst < 1e-9:
+        raise ArmtoolError(
+            f"peer '{name}' reads {chain.base} → {chain.tip} differently from armtool (FK differs by {worst:.3g})",
+            hint="its answers could not be compared; please report this with the URDF",
+        )

@@ -1,58 +1,67 @@
-"""Peer `ikpy`: ikpy's scipy-based inverse_kinematics_frame (full pose), chain built from the URDF."""
+"""Peer `ikpy`: ikpy's `Chain.inverse_kinematics_frame` (scipy least squares on the full pose).
+
+Configuration: `ikpy.chain.Chain.from_urdf_file(file, base_elements=[base], active_links_mask)`
+on the chain's path only (`path_urdf`, written to a temporary file once: ikpy reads files, and
+on the whole URDF it follows the tree past our tip, e.g. into a finger), then
+`inverse_kinematics_frame(target, initial_position=full, orientation_mode="all")` with ikpy's
+defaults otherwise (optimizer "least_squares", scipy's tolerances, symbolic FK).
+
+ikpy's q vector has one entry per ikpy link: an origin link first, then one per URDF joint on
+the path, fixed ones included; only the moving joints are active (the mask), and our q is
+scattered into / gathered from those entries. ikpy has no timeout, no restarts and no success
+flag: one local solve from the seed, judged by our FK.
+"""
 
 from __future__ import annotations
 
 import os
 import tempfile
+import warnings
 from typing import Any
 
 import numpy as np
 from lxml import etree
 
+from armtool.errors import ArmtoolError
 from armtool.ik.chain import Chain
+from armtool.ik.peers import check_fk, path_urdf
 from armtool.ik.solver import Array, IKResult, Solver
 
 
 class IkPy(Solver):
     name = "ikpy"
-    summary = "ikpy inverse_kinematics_frame (scipy least squares), orientation mode 'all'"
+    summary = "ikpy inverse_kinematics_frame (scipy least squares, orientation 'all'); no timeout, no restarts"
 
     def __init__(self, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> None:
-        super().__init__(chain, timeout=timeout, tolerance=tolerance)
+        Solver.__init__(self, chain, timeout=timeout, tolerance=tolerance)
         from ikpy.chain import Chain as IkpyChain
 
+        urdf = path_urdf(root, chain)
+        mask = [False] + [j.get("type") != "fixed" for j in urdf.findall("joint")]  # origin link, then one per joint
         fd, path = tempfile.mkstemp(suffix=".urdf")
         try:
             with os.fdopen(fd, "wb") as handle:
-                handle.write(etree.tostring(root))
-            import warnings
-
+                handle.write(etree.tostring(urdf))
             with warnings.catch_warnings():
-                warnings.simplefilter("ignore")  # ikpy warns about fixed links in its default mask
-                # ikpy follows the chain named by base_elements: base link, joint, link, ... down to our tip.
-                elements = _path_elements(root, chain.base, chain.tip)
-                probe = IkpyChain.from_urdf_file(path, base_elements=elements)
-                names = [link.name for link in probe.links]
-                # ikpy keeps following the tree past the last element: cut at the joint into our tip.
-                names = names[: names.index(elements[-2]) + 1] if len(elements) > 1 else names
-                mask = [name in chain.joint_names for name in names]
-                self._chain: Any = IkpyChain(probe.links[: len(names)], active_links_mask=mask, name=chain.name)
+                warnings.simplefilter("ignore")  # ikpy warns about the fixed links it reads
+                self._chain: Any = IkpyChain.from_urdf_file(path, base_elements=[chain.base], active_links_mask=mask, name=chain.name)
         finally:
             os.unlink(path)
-        self._index = [names.index(j) for j in chain.joint_names]  # ikpy's vector has one entry per link
+        names = [link.name for link in self._chain.links]
+        if len(names) != len(mask) or [n for n, m in zip(names, mask) if m] != chain.joint_names:
+            raise ArmtoolError(f"ikpy reads the joints of '{chain.base}' → '{chain.tip}' as {names[1:]}", hint=f"expected {chain.joint_names}")
+        self._mask = np.array(mask)
+        self._full = np.zeros(len(mask))
+
+        def fk(q: Array) -> Array:
+            full = self._full.copy()
+            full[self._mask] = q
+            return np.asarray(self._chain.forward_kinematics(full), dtype=float)
+
+        check_fk(self.name, chain, fk)
 
     def solve(self, target: Array, seed: Array) -> IKResult:
-        full = np.zeros(len(self._chain.links))
-        full[self._index] = seed
+        full = self._full.copy()
+        full[self._mask] = seed
         out = self._chain.inverse_kinematics_frame(target, initial_position=full, orientation_mode="all")
-        return self._result(np.asarray(out, dtype=float)[self._index], target, 0, "ikpy did not converge")
-
-
-def _path_elements(root: etree._Element, base: str, tip: str) -> list[str]:
-    """[base, joint, link, joint, ..., tip] along the URDF tree."""
-    by_child = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}
-    out = [tip]
-    while out[-1] != base:
-        joint = by_child[out[-1]]
-        out += [joint.get("name", ""), joint.find("parent").get("link", "")]  # type: ignore[union-attr]
-    return list(reversed(out))
+        return self._result(np.asarray(out, dtype=float)[self._mask], target, 0, "ikpy's local solve did not reach the target")

@@ -1,34 +1,59 @@
-"""Peer `pytracik`: TRAC-IK's own C++ (pytracik bindings), Speed solve type, same timeout and epsilon."""
+"""Peer `pytracik`: TRAC-IK's own C++ through the pytracik 0.0.3 bindings, solve type Speed.
+
+Configuration: `pytracik.TRAC_IK(base, tip, urdf, timeout, epsilon, SolveType.Speed)` with our
+timeout, then `pytracik.ik(solver, seed, x, y, z, qx, qy, qz, qw)` → [rc, q...] (rc >= 0: found).
+
+- epsilon = tolerance / √3. TRAC-IK races two solvers that test convergence differently: its KDL
+  Newton thread tests every component of diff(FK, target) in the base frame (as we do), its SQP
+  thread every component of diffRelative(target, FK), i.e. in the target's frame. A twist whose
+  target-frame components are within eps has base-frame components within √3·eps, so with
+  eps = tolerance/√3 every answer TRAC-IK accepts also passes our base-frame test (with eps =
+  tolerance, 1-5 % of its answers fail our check on xArm7/Kinova).
+- Joint limits: pytracik 0.0.3 reads the limits of joints that have a <safety_controller> as
+  [0, min(upper, 0)] (all of Panda's), and stores the others as float32, which rounds some
+  limits outward by 2e-7 rad. We set the URDF's limits as doubles (`set_joint_limits`), leaving
+  continuous joints unbounded as TRAC-IK reads them.
+- The URDF is the chain's path only (`path_urdf`): with the whole file, KDL prints a warning on
+  stdout when the root link has an <inertial> (Panda, Kinova).
+- TRAC-IK reports no iteration count: `iterations` is 0.
+"""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
+import pinocchio as pin
 from lxml import etree
 
+from armtool.errors import ArmtoolError
 from armtool.ik.chain import Chain
+from armtool.ik.peers import check_fk, path_urdf
 from armtool.ik.solver import Array, IKResult, Solver
 
 
 class PyTracIK(Solver):
     name = "pytracik"
-    summary = "TRAC-IK (C++) through pytracik, solve type Speed"
+    summary = "TRAC-IK (C++, pytracik): KDL Newton with random restarts racing an NLopt SQP, solve type Speed"
 
     def __init__(self, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> None:
-        super().__init__(chain, timeout=timeout, tolerance=tolerance)
+        Solver.__init__(self, chain, timeout=timeout, tolerance=tolerance)
         import pytracik
 
-        self._pytracik: Any = pytracik
-        self._solver = pytracik.TRAC_IK(chain.base, chain.tip, etree.tostring(root).decode(), timeout, tolerance,
-                                        pytracik.SolveType.Speed)
-        # pytracik 0.0.3 reads some URDFs' limits as all zero (Panda): hand it the URDF's limits.
-        pytracik.set_joint_limits(self._solver, chain.lower.copy(), chain.upper.copy())
+        urdf = etree.tostring(path_urdf(root, chain), encoding="unicode")
+        self._solver: Any = pytracik.TRAC_IK(chain.base, chain.tip, urdf, self.timeout, self.tolerance / math.sqrt(3.0), pytracik.SolveType.Speed)
+        n = pytracik.get_num_joints(self._solver)
+        if n != chain.n:
+            raise ArmtoolError(f"TRAC-IK sees {n} moving joints between '{chain.base}' and '{chain.tip}', armtool {chain.n}")
+        lower = np.where(chain.continuous, pytracik.get_joint_lower_bounds(self._solver), chain.lower)
+        upper = np.where(chain.continuous, pytracik.get_joint_upper_bounds(self._solver), chain.upper)
+        pytracik.set_joint_limits(self._solver, lower.tolist(), upper.tolist())
+        self._ik = pytracik.ik
+        check_fk(self.name, chain, lambda q: pytracik.fk(self._solver, q))
 
     def solve(self, target: Array, seed: Array) -> IKResult:
-        import pinocchio as pin
-
-        x, y, z, w = pin.Quaternion(target[:3, :3]).coeffs()  # pytracik takes x y z, qx qy qz qw
-        out = np.asarray(self._pytracik.ik(self._solver, np.asarray(seed, dtype=float), *target[:3, 3], x, y, z, w))
-        q = out[1:] if out.size == self.chain.n + 1 else np.asarray(seed, dtype=float)
-        return self._result(q, target, 0, "TRAC-IK found no solution" if out[0] <= 0 else "")
+        x, y, z, w = pin.Quaternion(target[:3, :3]).coeffs()
+        out = np.asarray(self._ik(self._solver, seed, target[0, 3], target[1, 3], target[2, 3], x, y, z, w), dtype=float)
+        reason = f"TRAC-IK found no solution (rc {out[0]:g})" if out[0] < 0 else "TRAC-IK reported a solution that our FK check rejects"
+        return self._result(out[1:], target, 0, reason)

@@ -1,39 +1,56 @@
-"""Peer `rtb-lm`: roboticstoolbox-python's C++ `ik_LM` (Levenberg–Marquardt with restarts).
+"""Peer `rtb-lm`: roboticstoolbox-python's C++ `ETS.ik_LM` (Levenberg–Marquardt with random restarts).
 
-Configured as shipped (Chan's damping, 30 iterations × 100 searches, joint limits on), except
-`tol`: rtb's tol bounds E = ½eᵀe, and its default 1e-6 accepts errors near 1e-3; 1e-12 asks for
-the same 1e-5 precision as every other solver in the table. The URDF is handed over without
-<visual>/<collision> (rtb would try to resolve their mesh packages; kinematics do not need them).
+Configuration, as shipped except `tol`:
+- `ik_LM(Tep, q0=seed, ilimit=30, slimit=100, tol=tolerance²/2, joint_limits=True,
+  method="chan", k=1.0)`: its defaults are 30 iterations per search × 100 searches, each
+  search after the first from a random configuration within the limits (std::rand).
+- `tol`: rtb accepts when E = ½‖e‖² < tol, e = [p_target − p; angle-axis of R_target Rᵀ] in the
+  base frame (our error). Its default 1e-6 accepts ‖e‖ up to 1.4e-3; tolerance²/2 accepts
+  ‖e‖ < tolerance, so every component is within the tolerance, like every other solver here.
+- No timeout: ik_LM has none, so a failing solve runs all 100 searches (it may take longer than
+  the protocol's timeout; benchmarks/ik_bench.py counts those).
+- The robot is read with rtb's own URDF reader (`URDF_file`) from the chain's path only
+  (`path_urdf`): no meshes to resolve, and the base is the root, so `robot.ets(start=base,
+  end=tip)` holds exactly the chain's joints in chain order (checked by FK at construction).
 """
 
 from __future__ import annotations
 
+import io
 from typing import Any
 
 import numpy as np
 from lxml import etree
 
+from armtool.errors import ArmtoolError
 from armtool.ik.chain import Chain
+from armtool.ik.peers import check_fk, path_urdf
 from armtool.ik.solver import Array, IKResult, Solver
 
 
 class RtbLM(Solver):
     name = "rtb-lm"
-    summary = "roboticstoolbox-python ik_LM (C++), joint limits on, tol 1e-12"
+    summary = "roboticstoolbox-python ik_LM (C++, Chan damping), 30 iterations × 100 searches, joint limits on"
+
+    ILIMIT = 30  # rtb's default iterations per search
+    SLIMIT = 100  # rtb's default number of searches
 
     def __init__(self, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> None:
-        super().__init__(chain, timeout=timeout, tolerance=tolerance)
-        import copy
-
+        Solver.__init__(self, chain, timeout=timeout, tolerance=tolerance)
         import roboticstoolbox as rtb
-        from roboticstoolbox.models.URDF.URDFRobot import _parse_urdf
+        from roboticstoolbox.models.URDF.URDFRobot import URDF_file
 
-        bare = copy.deepcopy(root)
-        for el in bare.xpath("//visual|//collision"):
-            el.getparent().remove(el)
-        links, name = _parse_urdf(etree.tostring(bare).decode(), source=chain.name)
+        text = etree.tostring(path_urdf(root, chain), encoding="unicode")
+        links, name, _ = URDF_file(io.StringIO(text))
         self._ets: Any = rtb.Robot(links, name=name).ets(start=chain.base, end=chain.tip)
+        if self._ets.n != chain.n:
+            raise ArmtoolError(f"rtb sees {self._ets.n} moving joints between '{chain.base}' and '{chain.tip}', armtool {chain.n}")
+        self._tol = 0.5 * self.tolerance**2
+        check_fk(self.name, chain, lambda q: self._ets.fkine(q).A)
 
     def solve(self, target: Array, seed: Array) -> IKResult:
-        sol = self._ets.ik_LM(target, q0=np.asarray(seed, dtype=float), joint_limits=True, tol=1e-12)
-        return self._result(np.asarray(sol.q, dtype=float), target, int(sol.iterations), "ik_LM found no solution")
+        sol = self._ets.ik_LM(target, q0=seed, ilimit=self.ILIMIT, slimit=self.SLIMIT, tol=self._tol, joint_limits=True)
+        reason = (
+            f"ik_LM found no solution in {sol.searches} searches" if not sol.success else "ik_LM reported a solution that our FK check rejects"
+        )
+        return self._result(np.asarray(sol.q, dtype=float), target, int(sol.iterations), reason)
