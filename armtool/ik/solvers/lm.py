@@ -32,7 +32,16 @@ class LevenbergMarquardt(Solver):
 
     def __init__(self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
         super().__init__(chain, timeout, tolerance, seed, **options)
+        from scipy.linalg import lapack
+
+        self._lapack_dposv = lapack.dposv
         self._restart_seeds(np.eye(4))  # build the pose table now, not inside a timed solve
+
+    def _dposv(self, A: Array, g: Array) -> Array:
+        """Solve the damped normal equations (symmetric positive definite) with LAPACK's Cholesky
+        directly: a quarter of np.linalg.solve's cost at this size."""
+        _, x, info = self._lapack_dposv(A, g)
+        return x if info == 0 else np.linalg.solve(A, g)
 
     def _batch_restart_seeds(self, targets: Array, count: Array) -> Array:
         """For each target, its count-th nearest table configuration (random once those run out)."""
@@ -70,6 +79,7 @@ class LevenbergMarquardt(Solver):
         eye = np.eye(chain.n)
         goal = (self.tolerance * 0.5) ** 2
         fk_jacobian = chain.fk_jacobian
+        dposv = self._dposv
         q = chain.clamp(np.asarray(seed, dtype=float).copy())
         iterations = 0
         best_q, best_err = q, math.inf
@@ -80,6 +90,7 @@ class LevenbergMarquardt(Solver):
             err = float(e @ e)
             mu = 1.0
             rejected = 0
+            touching = bool((q <= lower).any() or (q >= upper).any())  # some joint held at a limit
             for _ in range(per_try):
                 if err < goal:
                     return self._result(q, target, iterations)
@@ -87,26 +98,28 @@ class LevenbergMarquardt(Solver):
                 A = J.T @ J
                 A += (mu * (k * err + bias)) * eye
                 g = J.T @ e
-                dq = np.linalg.solve(A, g)
-                blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
-                if blocked.any():
-                    # Joints held at a limit leave the step; the others re-plan without them.
-                    A[blocked, :] = 0.0
-                    A[:, blocked] = 0.0
-                    A[blocked, blocked] = 1.0
-                    g[blocked] = 0.0
-                    dq = np.linalg.solve(A, g)
-                q_new = q + dq
+                dq = dposv(A, g)
+                if touching:
+                    blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
+                    if blocked.any():
+                        # Joints held at a limit leave the step; the others re-plan without them.
+                        A[blocked, :] = 0.0
+                        A[:, blocked] = 0.0
+                        A[blocked, blocked] = 1.0
+                        g[blocked] = 0.0
+                        dq = dposv(A, g)
+                q_raw = q + dq
+                q_new = np.minimum(np.maximum(q_raw, lower), upper)
                 if wrap_any:
-                    q_new = np.where(cont, (q_new + math.pi) % (2 * math.pi) - math.pi, np.clip(q_new, lower, upper))
-                else:
-                    q_new = np.clip(q_new, lower, upper)
+                    q_new = np.where(cont, (q_raw + math.pi) % (2 * math.pi) - math.pi, q_new)
+                clipped = bool((q_raw - q_new).any())
                 T_new, J_new = fk_jacobian(q_new)
                 e_new = pose_error(T_new, target)
                 err_new = float(e_new @ e_new)
                 if err_new < err:
                     progress = err_new < 0.5 * err
                     q, J, e, err, mu = q_new, J_new, e_new, err_new, 1.0
+                    touching = clipped or (touching and bool((q <= lower).any() or (q >= upper).any()))
                     rejected = 0 if progress else rejected + 1
                 else:
                     mu *= 10.0
