@@ -33,6 +33,8 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/lint_bench.py
+	$(BIN)/python -m pip install --quiet --config-settings editable_mode=compat -e '.[dev,peers]'
+	$(BIN)/python benchmarks/ik_bench.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info
