@@ -23,7 +23,11 @@ from armtool.ik.solver import Array, IKResult, Solver, pose_error, pose_error_ba
 class LevenbergMarquardt(Solver):
     name = "lm"
     summary = "Levenberg–Marquardt with joint limits, error-scaled damping and random restarts (armtool's best)"
-    options: ClassVar[dict[str, Any]] = {"error_damping": 0.1, "damping_bias": 1e-6, "max_iterations_per_try": 25}
+    options: ClassVar[dict[str, Any]] = {
+        "error_damping": 0.1,
+        "damping_bias": 1e-6,
+        "max_iterations_per_try": 25,
+    }
     SCALAR_TAIL = 16
     TABLE_SIZE = 4096
     TABLE_SEEDS = 8
@@ -59,7 +63,7 @@ class LevenbergMarquardt(Solver):
     def _restart_seeds(self, target: Array) -> list[Array]:
         """Configurations whose tip pose is nearest the target (position, plus 0.2 m per unit of rotation)."""
         if self._table is None:
-            Q = self.chain.random(self.rng, self.TABLE_SIZE)
+            Q = self.chain.random(self.rng, self.TABLE_SIZE)  # self.rng is independent of any target stream
             T, _ = self.chain.fk_jacobian_batch(Q, jacobian=False)
             F = _pose_features(T)
             self._table = (Q, F, np.einsum("ij,ij->i", F, F))
@@ -84,8 +88,8 @@ class LevenbergMarquardt(Solver):
         iterations = 0
         best_q, best_err = q, math.inf
         restarts: list[Array] | None = None
+        T, J = fk_jacobian(q)
         while True:
-            T, J = fk_jacobian(q)
             e = pose_error(T, target)
             err = float(e @ e)
             mu = 1.0
@@ -135,6 +139,7 @@ class LevenbergMarquardt(Solver):
             if restarts is None:
                 restarts = self._restart_seeds(target)
             q = restarts.pop(0) if restarts else self.rng.uniform(lower, upper)
+            T, J = fk_jacobian(q)
 
     def solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
         """All targets at once: the same algorithm with numpy over every unsolved target per step.
