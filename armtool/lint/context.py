@@ -130,7 +130,7 @@ class UrdfContext(FileContext):
         self.link_names = {n for n in self._link_by_name if n}
         self.joint_names = {n for n in self._joint_by_name if n}
         self._numbers: list[tuple[etree._Element, str, str, int, list[float] | None]] | None = None
-        self._meshes: list[tuple[etree._Element, etree._Element, str, Path | None, str | None]] | None = None
+        self._meshes: list[tuple[etree._Element, etree._Element, str, str | None, str | None]] | None = None
         self._inertias: list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]] | None = None
         self.joints_by_child: dict[str, list[JointView]] = defaultdict(list)
         self.joints_by_parent: dict[str, list[JointView]] = defaultdict(list)
@@ -146,16 +146,16 @@ class UrdfContext(FileContext):
             self._numbers = numeric_values(self.root)
         return self._numbers
 
-    def meshes(self) -> list[tuple[etree._Element, etree._Element, str, Path | None, str | None]]:
+    def meshes(self) -> list[tuple[etree._Element, etree._Element, str, str | None, str | None]]:
         """(link, <mesh>, filename, resolved path or None, package that was not found) per mesh, once per file."""
         if self._meshes is None:
             base = self.base_dir
             out = []
-            for link in self.links:
-                for mesh in link.iterfind("*/geometry/mesh"):
-                    uri = mesh.get("filename") or ""
-                    path, missing = self.resolver.resolve(uri, base) if uri else (None, None)
-                    out.append((link, mesh, uri, path, missing))
+            for mesh in self.root.iterfind("link/*/geometry/mesh"):  # one path search for the file
+                link = mesh.getparent().getparent().getparent()  # type: ignore[union-attr]
+                uri = mesh.get("filename") or ""
+                path, missing = self.resolver.resolve(uri, base) if uri else (None, None)
+                out.append((link, mesh, uri, path, missing))
             self._meshes = out
         return self._meshes
 
@@ -165,10 +165,12 @@ class UrdfContext(FileContext):
             from armtool.lint.inertia import principal_moments, read_inertia
 
             out = []
-            for link in self.links:
-                inertia = link.find("inertial/inertia")
-                if inertia is None:
-                    continue
+            seen: set[etree._Element] = set()
+            for inertia in self.root.iterfind("link/inertial/inertia"):
+                link = inertia.getparent().getparent()  # type: ignore[union-attr]
+                if link in seen:
+                    continue  # the first <inertial> of a link counts, as link.find() would
+                seen.add(link)
                 values = read_inertia(inertia)
                 if values is not None:
                     out.append((link, inertia, values, principal_moments(*values)))

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from armtool.lint.numbers import parse_floats
 
 _KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
 
@@ -33,10 +32,10 @@ def principal_moments(ixx: float, iyy: float, izz: float, ixy: float, ixz: float
 
 
 def read_inertia(el: Any) -> tuple[float, ...] | None:
-    values = []
-    for key in _KEYS:
-        parsed = parse_floats(el.get(key, "0"))
-        if not parsed or len(parsed) != 1 or not math.isfinite(parsed[0]):
-            return None
-        values.append(parsed[0])
-    return tuple(values)
+    """(ixx, iyy, izz, ixy, ixz, iyz), or None when one is missing-but-malformed or not finite."""
+    get = el.get
+    try:
+        values = tuple(float(get(key, "0")) for key in _KEYS)
+    except ValueError:
+        return None
+    return values if all(map(math.isfinite, values)) else None

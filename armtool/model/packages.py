@@ -34,8 +34,8 @@ class PackageResolver:
         self._ament = [p / "share" for p in _env_paths("AMENT_PREFIX_PATH")]
         self._index: dict[str, Path] | None = None
         self._cache: dict[tuple[str, Path | None], Path | None] = {}
-        self._resolved: dict[tuple[str, Path], tuple[Path | None, str | None]] = {}
-        self._files: dict[Path, bool] = {}
+        self._resolved: dict[tuple[str, Path], tuple[str | None, str | None]] = {}
+        self._files: dict[str, bool] = {}
 
     def _build_index(self) -> dict[str, Path]:
         index: dict[str, Path] = {}
@@ -88,21 +88,24 @@ class PackageResolver:
                     return candidate
         return None
 
-    def resolve(self, uri: str, base_dir: Path) -> tuple[Path | None, str | None]:
-        key = (uri, base_dir)
-        if key not in self._resolved:
-            self._resolved[key] = self._resolve(uri, base_dir)
-        return self._resolved[key]
-
-    def is_file(self, path: Path) -> bool:
-        """Path.is_file, remembered: the same mesh is named by visual and collision, file after file."""
-        if path not in self._files:
-            self._files[path] = path.is_file()
-        return self._files[path]
-
-    def _resolve(self, uri: str, base_dir: Path) -> tuple[Path | None, str | None]:
+    def resolve(self, uri: str, base_dir: Path) -> tuple[str | None, str | None]:
         """Resolve a mesh filename. Returns (path or None, name of a package that could not be found;
-        "" when the URI names no package at all)."""
+        "" when the URI names no package at all). Paths are strings: thousands of meshes are resolved
+        per repository run, and pathlib objects cost several times more than os.path."""
+        key = (uri, base_dir)
+        found = self._resolved.get(key)
+        if found is None:
+            found = self._resolved[key] = self._resolve(uri, base_dir)
+        return found
+
+    def is_file(self, path: str) -> bool:
+        """os.path.isfile, remembered: the same mesh is named by visual and collision, file after file."""
+        known = self._files.get(path)
+        if known is None:
+            known = self._files[path] = os.path.isfile(path)
+        return known
+
+    def _resolve(self, uri: str, base_dir: Path) -> tuple[str | None, str | None]:
         if uri.startswith("package://"):
             rest = uri[len("package://") :]
             name, _, relative = rest.partition("/")
@@ -111,11 +114,10 @@ class PackageResolver:
             pkg = self.find(name, base_dir)
             if pkg is None:
                 return None, name
-            return pkg / relative, None
+            return os.path.join(pkg, relative), None
         if uri.startswith("file://"):
-            return Path(uri[len("file://") :]), None
-        path = Path(uri)
-        return (path if path.is_absolute() else base_dir / path), None
+            return uri[len("file://") :], None
+        return os.path.join(base_dir, uri), None  # an absolute uri stays as it is
 
     @property
     def searched(self) -> Iterable[Path]:
