@@ -165,8 +165,7 @@ class LutTable:
             "approach": self.approach,
             "method": self.method.value,
             "valid_range_deg": list(self.valid_range_deg),
-            "knots": {"angle_deg": [round(v, 6) for v in self.knots_deg],
-                      "command_ticks": [round(v, 6) for v in self.knots_ticks]},
+            "knots": {"angle_deg": list(self.knots_deg), "command_ticks": list(self.knots_ticks)},
             "poly": None if self.poly_coef is None else {
                 "degree": self.poly_degree, "domain_deg": list(self.poly_domain or ()), "coef": list(self.poly_coef),
                 "note": "numpy.polynomial.Polynomial(coef, domain=domain_deg, window=[-1, 1])"},
