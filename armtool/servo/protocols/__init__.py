@@ -1,0 +1,1 @@
+"""One module per bus protocol; armtool/servo/registry.py names them."""

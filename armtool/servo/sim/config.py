@@ -1,0 +1,157 @@
+"""The simulator's YAML: which servos, their mechanical stops, the bus, the faults to inject.
+
+    protocol: dxl1            # dxl1 | dxl2 | feetech
+    baud: 1000000
+    return_delay: 0           # optional: override every servo's Return Delay Time (2 us units)
+    overload_time_s: 1.0      # seconds pushing at the torque cap before the overload alarm
+    seed: 0
+    joints:                   # also readable by `armtool limits --arm` (sim-only keys are ignored there)
+      - {name: shoulder, id: 1, model: AX-12A, zero_ticks: 512, direction: 1,
+         stops: [92, 914], start: 512}      # stops/start in nominal ticks of the TRUE angle
+    encoder: {noise_deg: 0.05}             # external reference (second pty, always on); noise 1-sigma
+    faults: {missing_ids: [3], drop_next: 0, p_drop: 0.0, corrupt_next: 0, p_corrupt: 0.0,
+             echo: false, delay_s: 0.0}
+    person: {start_s: 0.3, speed_deg_s: 90, dwell_s: 0.6}   # moves torque-off joints to both stops
+
+`stops_deg: [lo, hi]` may replace `stops` (true servo-frame degrees). For the AX-12A the
+potentiometer is non-linear near both ends (`nonlinearity`, default 0.010 of the range, ~3°):
+the servo reports and regulates the pot reading, so only the encoder sees the true angle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+from armtool.errors import ArmtoolError
+from armtool.servo.models import ServoModel, by_name
+
+
+@dataclass
+class Faults:
+    """Injected faults; counters (`*_next`) are consumed one per reply. Mutable from tests."""
+
+    missing_ids: set[int] = field(default_factory=set)
+    drop_next: int = 0
+    p_drop: float = 0.0
+    corrupt_next: int = 0
+    p_corrupt: float = 0.0
+    echo: bool = False
+    delay_s: float = 0.0
+
+
+@dataclass
+class ServoSpec:
+    id: int
+    model: ServoModel
+    stop_lo_deg: float
+    stop_hi_deg: float
+    start_deg: float
+    nonlinearity: float = 0.0
+    name: str | None = None
+
+
+@dataclass
+class PersonSpec:
+    start_s: float = 0.3
+    speed_deg_s: float = 90.0
+    dwell_s: float = 0.6
+    overshoot_deg: float = 10.0
+    ids: list[int] | None = None
+
+
+@dataclass
+class SimConfig:
+    protocol: str
+    servos: list[ServoSpec]
+    baud: int = 1_000_000
+    return_delay: int | None = 0
+    overload_time_s: float = 1.0
+    seed: int = 0
+    encoder_noise_deg: float = 0.0
+    faults: Faults = field(default_factory=Faults)
+    person: PersonSpec | None = None
+    source: str = "<config>"
+
+
+def load_sim_config(path: Path) -> SimConfig:
+    import yaml
+
+    try:
+        data = yaml.safe_load(path.read_text())
+    except OSError as exc:
+        raise ArmtoolError(f"cannot read {path}: {exc.strerror}") from None
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
+        raise ArmtoolError(f"not valid YAML: {getattr(exc, 'problem', exc)}", where) from None
+    return sim_config_from_dict(data, source=str(path))
+
+
+def _number(d: dict[str, Any], key: str, default: Any, where: str, kind: type = float) -> Any:
+    value = d.get(key, default)
+    if value is None:
+        return default
+    try:
+        return kind(value)
+    except (TypeError, ValueError):
+        raise ArmtoolError(f"'{key}' must be a number, got {value!r}", where) from None
+
+
+def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
+    if not isinstance(data, dict):
+        raise ArmtoolError("simulator config must be a mapping with 'protocol' and 'joints'", source)
+    protocol = str(data.get("protocol", "dxl1"))
+    if protocol not in ("dxl1", "dxl2", "feetech"):
+        raise ArmtoolError(f"unknown protocol '{protocol}'", source, hint="dxl1, dxl2 or feetech")
+    entries = data.get("joints", data.get("servos"))
+    if not isinstance(entries, list) or not entries:
+        raise ArmtoolError("no 'joints' list", source, hint="joints: [{id: 1, model: AX-12A, stops: [92, 914]}]")
+    servos: list[ServoSpec] = []
+    seen: set[int] = set()
+    for k, e in enumerate(entries):
+        where = f"{source}: joints[{k}]"
+        if not isinstance(e, dict) or "id" not in e:
+            raise ArmtoolError("each joint needs an 'id'", where)
+        sid = _number(e, "id", None, where, int)
+        if not 0 <= sid <= 252 or sid in seen:
+            raise ArmtoolError(f"id {sid} is out of range 0..252 or repeated", where)
+        seen.add(sid)
+        model = by_name(str(e.get("model", {"dxl1": "AX-12A", "dxl2": "XL430-W250", "feetech": "STS3215"}[protocol])))
+        if model.protocol != protocol:
+            raise ArmtoolError(f"{model.name} speaks {model.protocol}, the bus is {protocol}", where)
+        deg = model.deg_per_tick
+        if "stops_deg" in e:
+            lo, hi = (float(v) for v in e["stops_deg"])
+        elif "stops" in e:
+            lo, hi = (float(v) * deg for v in e["stops"])
+        else:
+            lo, hi = 0.0, model.max_tick * deg
+        if not lo < hi:
+            raise ArmtoolError(f"stops must be [low, high] with low < high, got [{lo}, {hi}]", where)
+        start = _number(e, "start", None, where)
+        start_deg = (lo + hi) / 2 if start is None else start * deg
+        if not lo <= start_deg <= hi:
+            raise ArmtoolError("start lies outside the stops", where)
+        nl = _number(e, "nonlinearity", 0.010 if model.name.startswith("AX") else 0.0, where)
+        servos.append(ServoSpec(sid, model, lo, hi, start_deg, nl, e.get("name")))
+    faults_d = data.get("faults") or {}
+    known = {f.name for f in fields(Faults)}
+    unknown = set(faults_d) - known
+    if unknown:
+        raise ArmtoolError(f"unknown fault(s): {', '.join(sorted(unknown))}", source, hint="faults: " + ", ".join(sorted(known)))
+    faults = Faults(**{k: (set(v) if k == "missing_ids" else v) for k, v in faults_d.items()})
+    enc = data.get("encoder")
+    person_d = data.get("person")
+    person = None
+    if isinstance(person_d, dict):
+        person = PersonSpec(**{k: v for k, v in person_d.items() if k in {f.name for f in fields(PersonSpec)}})
+    rdt = data.get("return_delay", 0)
+    return SimConfig(
+        protocol=protocol, servos=servos, baud=int(data.get("baud", 1_000_000)),
+        return_delay=None if rdt is None else int(rdt),
+        overload_time_s=float(data.get("overload_time_s", 1.0)), seed=int(data.get("seed", 0)),
+        encoder_noise_deg=float(enc.get("noise_deg", 0.0)) if isinstance(enc, dict) else 0.0,
+        faults=faults, person=person, source=source,
+    )
