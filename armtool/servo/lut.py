@@ -7,7 +7,7 @@ same idea with kinks, a polynomial is compact but can wiggle at the ends, where 
 potentiometer is least linear, so it is refused when it is not monotone over the range.
 
 Errors are reported in degrees: a command error times the measured local slope (degrees per
-tick) at that point. "nominal" is the datasheet map (`lut_nominal`), "lut" the table; both
+tick) at that point. "nominal" is the datasheet map (`ServoModel.deg_per_tick`: AX 300/1023, X and STS 360/4096), "lut" the table; both
 commands are rounded to whole ticks, as a servo takes them.
 """
 
@@ -24,8 +24,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut_meas import Measurements, Sample
-from armtool.servo.lut_nominal import ServoModel, servo_model
+from armtool.servo.lut_meas import Measurements, Sample, model_named
+from armtool.servo.models import ServoModel
 
 SCHEMA_VERSION = 1
 KIND = "armtool-servo-lut"
@@ -389,7 +389,7 @@ def table_from_dict(doc: Any, source: str) -> LutTable:
         return obj[key]
 
     servo = need(doc, "servo", "servo")
-    model = servo_model(str(need(servo, "model", "servo.model")), f"{source}: servo.model")
+    model = model_named(str(need(servo, "model", "servo.model")), f"{source}: servo.model")
     try:
         method = Method(need(doc, "method", "method"))
     except ValueError:

@@ -33,7 +33,7 @@ from pathlib import Path
 from typing import Iterable, Sequence
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut_nominal import ServoModel, servo_model
+from armtool.servo.models import ServoModel, by_name
 
 SCHEMA_VERSION = 1
 TITLE = "armtool servo-lut measurements"
@@ -79,6 +79,14 @@ class Measurements:
     servo_id: int | None = None
     reference: str = "unknown"
     meta: dict[str, str] = field(default_factory=dict)
+
+
+def model_named(name: str, where: str | None = None) -> ServoModel:
+    """The servo model called `name` (aliases such as ax12a accepted), or an error saying where."""
+    try:
+        return by_name(name)
+    except ArmtoolError as exc:
+        raise ArmtoolError(exc.what, where, exc.hint) from None
 
 
 def _number(text: str, column: str, where: str, required: bool) -> float | None:
@@ -140,7 +148,7 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
     if not model_name:
         raise ArmtoolError("the servo model is not stated", source,
                            hint="add a line '# servo_model: AX-12A' above the header, or pass --model")
-    servo = servo_model(model_name, f"{source}: servo_model")
+    servo = model_named(model_name, f"{source}: servo_model")
     to_deg = 1.0 if "reference_deg" in index else 180.0 / math.pi
     ref_col = "reference_deg" if "reference_deg" in index else "reference_rad"
     samples: list[Sample] = []

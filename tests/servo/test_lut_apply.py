@@ -11,7 +11,7 @@ import pytest
 from armtool.errors import ArmtoolError
 from armtool.servo.lut import LutTable, Method
 from armtool.servo.lut_apply import apply_csv, apply_list
-from armtool.servo.lut_nominal import servo_model
+from armtool.servo.models import by_name as servo_model
 
 # 10° per 30 ticks below 150°, 10° per 40 ticks above: easy to check by hand
 TABLE = LutTable(servo_model("AX-12A"), Method.LINEAR, (30.0, 150.0, 270.0), (90.0, 450.0, 930.0))

@@ -17,7 +17,7 @@ from armtool.errors import ArmtoolError
 from armtool.servo.lut import LutTable, Method, fit_table
 from armtool.servo.lut_export import ExportFormat, c_identifier, render
 from armtool.servo.lut_meas import read_measurements
-from armtool.servo.lut_nominal import servo_model
+from armtool.servo.models import by_name as servo_model
 
 FIXTURE = Path(__file__).resolve().parents[2] / "fixtures" / "servo" / "lut" / "ax12a_meas.csv"
 CC = shutil.which("cc")
