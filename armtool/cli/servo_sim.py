@@ -1,0 +1,52 @@
+"""`armtool servo-sim CONFIG.yaml`: a simulated servo bus on a pseudo-terminal, until Ctrl-C."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from armtool.errors import ArmtoolError
+
+
+def servo_sim(
+    config: Path = typer.Argument(..., help="Simulator YAML (protocol, joints with stops, faults); see fixtures/servo/."),
+    duration: Optional[float] = typer.Option(None, "--duration", help="Stop after this many seconds (default: until Ctrl-C)."),
+    port_file: Optional[Path] = typer.Option(None, "--port-file", help="Also write the bus port path to this file (for scripts)."),
+    person: bool = typer.Option(False, "--person", help="Start the scripted person: torque-off joints are moved to both stops."),
+) -> None:
+    """Prints the bus port path (line 1) and the encoder port path (line 2) on stdout."""
+    import signal
+    import sys
+
+    from armtool.console import stderr, write_stdout
+    from armtool.servo.sim import PersonSpec, SimBus, load_sim_config
+
+    if sys.platform == "win32":
+        raise ArmtoolError("servo-sim needs pseudo-terminals (Linux or macOS)")
+    if duration is not None and not duration > 0:
+        raise ArmtoolError(f"--duration must be > 0 seconds, got {duration}")
+    cfg = load_sim_config(config)
+    if person and cfg.person is None:
+        cfg.person = PersonSpec()
+    sim = SimBus.start(cfg)
+    signal.signal(signal.SIGTERM, lambda *_: sim.stop())
+    try:
+        if port_file is not None:
+            tmp = port_file.with_name(port_file.name + ".tmp")
+            tmp.write_text(sim.port_path + "\n")
+            tmp.replace(port_file)
+        write_stdout(sim.port_path)
+        write_stdout(sim.encoder_port_path)
+        ids = ", ".join(f"{s.id} {s.model.name}" for s in cfg.servos)
+        stderr().print(f"servo-sim: {cfg.protocol} at {cfg.baud} baud on {sim.port_path} (IDs {ids}); "
+                       f"encoder on {sim.encoder_port_path}; "
+                       + (f"stopping after {duration:g} s" if duration else "Ctrl-C to stop"))
+        sim.wait(duration)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        sim.stop()
+        if port_file is not None:
+            port_file.unlink(missing_ok=True)
