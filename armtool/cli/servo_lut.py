@@ -178,3 +178,263 @@ def apply(
     if result.clipped:
         stderr().print(f"[yellow]{result.clipped} of {result.rows} angle(s) clamped to the measured range[/yellow]")
     _write(result.text, output, "commands")
+
+
+# --------------------------------------------------------------------------------------------
+# commands that move a servo
+
+
+class ProtocolOption(str, Enum):
+    DXL1 = "dxl1"
+    DXL2 = "dxl2"
+    FEETECH = "feetech"
+
+
+class MeasureApproach(str, Enum):
+    UP = "up"
+    DOWN = "down"
+    BOTH = "both"
+
+
+def _ask(text: str) -> str:
+    return str(typer.prompt(text, err=True))
+
+
+def _confirm(question: str, yes: bool) -> None:
+    """Energising needs a yes: --yes, or an interactive answer."""
+    import sys
+
+    if yes:
+        return
+    if not sys.stdin.isatty():
+        raise ArmtoolError("this would energise a servo and no one can confirm (stdin is not a terminal)",
+                           hint="pass --yes for scripted use, once the workspace is clear")
+    if not typer.confirm(question, default=False, err=True):
+        raise ArmtoolError("not confirmed: nothing was moved")
+
+
+def _connect(port: str, protocol: ProtocolOption, baud: int, sid: int, expected_model: Optional[str]):  # type: ignore[no-untyped-def]
+    from armtool.servo.bus import open_bus
+    from armtool.servo.lut_meas import model_named
+
+    bus = open_bus(port, protocol.value, baud, echo_check_id=sid)
+    try:
+        want = {sid: model_named(expected_model, "--model")} if expected_model else None
+        bus.identify([sid], want)
+    except BaseException:
+        bus.close()
+        raise
+    return bus
+
+
+def _range(bus, sid: int, limits: Optional[Path], lo: Optional[int], hi: Optional[int],  # type: ignore[no-untyped-def]
+           fallback: Optional[tuple[int, int]] = None) -> tuple[int, int, str]:
+    """The command range to stay inside: recorded limits, --min/--max, or the fallback; never
+    wider than the model's ticks or the servo's own angle-limit registers."""
+    from armtool.servo.lut_measure import read_limits
+
+    model = bus.model(sid)
+    source = ""
+    if limits is not None:
+        lo_l, hi_l, model_name = read_limits(limits, sid)
+        if model_name and model_name.lower() not in (model.name.lower(), *model.aliases):
+            raise ArmtoolError(f"the limits for ID {sid} were recorded on a {model_name}, the servo is a {model.name}",
+                               str(limits))
+        lo = lo_l if lo is None else max(lo, lo_l)
+        hi = hi_l if hi is None else min(hi, hi_l)
+        source = f"limits {limits}"
+    elif lo is None or hi is None:
+        if fallback is None:
+            raise ArmtoolError("no range to measure in", hint="pass --limits limits.yaml (from `armtool limits`) or "
+                               "--min and --max in ticks, inside the joint's mechanical stops")
+        lo = fallback[0] if lo is None else lo
+        hi = fallback[1] if hi is None else hi
+        source = "the table's measured range"
+    else:
+        source = "--min/--max"
+    if not 0 <= lo < hi <= model.max_tick:
+        raise ArmtoolError(f"range {lo}..{hi} ticks is not inside 0..{model.max_tick} ({model.name}) with min < max")
+    reg_lo, reg_hi = bus.read(sid, "min_limit"), bus.read(sid, "max_limit")
+    if model.protocol == "dxl1" and reg_lo == 0 and reg_hi == 0:
+        raise ArmtoolError(f"ID {sid} is in wheel mode (both angle limits 0): it cannot hold a position")
+    if lo < reg_lo or hi > reg_hi:
+        lo, hi = max(lo, reg_lo), min(hi, reg_hi)
+        source += f", narrowed to the servo's angle-limit registers {reg_lo}..{reg_hi}"
+        if lo >= hi:
+            raise ArmtoolError(f"the servo's angle limits {reg_lo}..{reg_hi} leave nothing of the range")
+    return lo, hi, source
+
+
+def _progress(enabled: bool):  # type: ignore[no-untyped-def]
+    from contextlib import nullcontext
+
+    if not enabled:
+        return nullcontext(None)
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from armtool.console import stderr
+
+    return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
+                    console=stderr(), transient=True)
+
+
+@app.command("measure", help="Step a servo through its range and log command, present position, reference angle, "
+                             "load, temperature and voltage to a measurement CSV. Energises the servo (asks first).")
+def measure(
+    port: str = typer.Option(..., "--port", help="Serial port of the servo bus (e.g. /dev/ttyUSB0)."),
+    sid: int = typer.Option(..., "--id", help="Servo ID."),
+    reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual, csv:FILE or camera:DEVICE."),
+    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Measurement CSV to write (default: stdout)."),
+    protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1 (AX), dxl2 (X series) or feetech (STS/SCS)."),
+    baud: int = typer.Option(1_000_000, "--baud", help="Bus baud rate."),
+    model: Optional[str] = typer.Option(None, "--model", help="Refuse unless the servo is this model."),
+    limits: Optional[Path] = typer.Option(None, "--limits", help="Limits YAML from `armtool limits`: measure inside safe_min/max_ticks."),
+    lo: Optional[int] = typer.Option(None, "--min", help="Lowest command in ticks (inside the mechanical stop)."),
+    hi: Optional[int] = typer.Option(None, "--max", help="Highest command in ticks (inside the mechanical stop)."),
+    points: Optional[int] = typer.Option(None, "--points", help="Number of commands, evenly spaced [default: 32]."),
+    step: Optional[int] = typer.Option(None, "--step", help="Ticks between commands (instead of --points)."),
+    approach: MeasureApproach = typer.Option(MeasureApproach.UP, "--approach", help="Reach each point moving up, down, or both (records hysteresis)."),
+    backoff: Optional[int] = typer.Option(None, "--backoff", help="Ticks to back off before approaching a point [default: ~3°]."),
+    reads: int = typer.Option(3, "--reads", min=1, help="Reference readings per point."),
+    sweeps: int = typer.Option(1, "--sweeps", min=1, help="Times to go through all points."),
+    speed: float = typer.Option(60.0, "--speed", help="Moving speed, degrees per second."),
+    torque_limit: Optional[float] = typer.Option(None, "--torque-limit", help="RAM torque limit in percent (restored afterwards)."),
+    dwell: float = typer.Option(0.15, "--dwell", min=0.0, help="Seconds to wait after the servo stops before reading."),
+    settle_timeout: float = typer.Option(3.0, "--settle-timeout", min=0.1, help="Seconds to wait for a point to settle."),
+    yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
+) -> None:
+    import time
+
+    from armtool.console import stderr
+    from armtool.servo.guard import TorqueGuard
+    from armtool.servo.lut_meas import Sample, render_measurements
+    from armtool.servo.lut_measure import Driver, Motion, measure as run_measure, plan_commands, speed_register, torque_register
+    from armtool.servo.reference import CsvReference, ManualReference, open_reference
+
+    if points is not None and step is not None:
+        raise ArmtoolError("give --points or --step, not both")
+    ref = open_reference(reference, ask=_ask)
+    samples: list[Sample] = []
+    bus = None
+    meta: dict[str, str] = {}
+    try:
+        bus = _connect(port, protocol, baud, sid, model)
+        servo_model = bus.model(sid)
+        r_lo, r_hi, range_source = _range(bus, sid, limits, lo, hi)
+        b = backoff if backoff is not None else max(1, round(3.0 / servo_model.deg_per_tick))
+        if isinstance(ref, CsvReference):
+            commands = ref.commands
+            outside = [c for c in commands if not r_lo <= c <= r_hi]
+            if outside:
+                raise ArmtoolError(f"the reference file has commands outside the range {r_lo}..{r_hi}: {outside[:5]}",
+                                   str(ref.path))
+            reads = 1
+        else:
+            commands = plan_commands(r_lo, r_hi, approach.value, b, points, step)  # type: ignore[arg-type]
+        deg = servo_model.deg_per_tick
+        stderr().print(f"ID {sid}: {servo_model.name} on {port}; {len(commands)} points {commands[0]}..{commands[-1]} ticks "
+                       f"({commands[0] * deg:.1f}..{commands[-1] * deg:.1f}°) inside {r_lo}..{r_hi} ({range_source}), "
+                       f"approach {approach.value}, reference {ref.spec}")
+        _confirm(f"Energise servo {sid} and move it through this range? Clear the workspace first.", yes)
+        meta = {"servo_id": str(sid), "servo_model": servo_model.name, "reference": ref.spec, "port": port,
+                "range_ticks": f"{r_lo}..{r_hi} ({range_source})", "backoff_ticks": str(b),
+                "started": time.strftime("%Y-%m-%dT%H:%M:%S")}
+        motion = Motion(backoff_ticks=b, settle_timeout_s=settle_timeout, dwell_s=dwell,
+                        tolerance_ticks=2 if servo_model.ticks == 1024 else 6)
+        t0 = time.monotonic()
+        with TorqueGuard(bus) as guard, _progress(not isinstance(ref, ManualReference)) as bar:
+            guard.set_ram(sid, "moving_speed", speed_register(servo_model, speed))
+            if torque_limit is not None:
+                guard.set_ram(sid, "torque_limit", torque_register(servo_model, torque_limit))
+            guard.torque_on(sid)
+            task = bar.add_task("measuring", total=len(commands)) if bar is not None else None
+            run_measure(Driver(bus, guard, sid, motion), ref, commands, approach.value, r_lo, r_hi,  # type: ignore[arg-type]
+                        reads=reads, sweeps=sweeps, on_sample=samples.append,
+                        progress=(lambda k, n: bar.update(task, completed=k, total=n)) if bar is not None else None)
+        unsettled = sum(1 for s in samples if s.settled is False)
+        stderr().print(f"measured {len(samples)} readings at {len(commands)} points in {time.monotonic() - t0:.1f} s"
+                       + (f"; {unsettled} reading(s) taken before the servo settled" if unsettled else "")
+                       + "; torque off")
+    except BaseException:
+        if samples and output is not None:
+            partial = output.with_name(output.name + ".partial")
+            _write(render_measurements({**meta, "complete": "no"}, samples), partial, "the readings so far to")
+        raise
+    finally:
+        ref.close()
+        if bus is not None:
+            bus.close()
+    _write(render_measurements(meta, samples), output, "measurements")
+    if output is not None:
+        stderr().print(f"next: armtool servo-lut fit {output} -o lut.json")
+
+
+@app.command("check", help="Command random angles (not table knots) through the table and through the nominal linear "
+                           "map, measure both with the reference, print both errors; exit 1 above --max-err.")
+def check(
+    table_path: Path = typer.Argument(..., metavar="LUT_JSON", help="Table from `servo-lut fit`."),
+    port: str = typer.Option(..., "--port", help="Serial port of the servo bus."),
+    sid: int = typer.Option(..., "--id", help="Servo ID."),
+    reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual or camera:DEVICE."),
+    protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1, dxl2 or feetech."),
+    baud: int = typer.Option(1_000_000, "--baud", help="Bus baud rate."),
+    limits: Optional[Path] = typer.Option(None, "--limits", help="Limits YAML [default: the table's measured command range]."),
+    lo: Optional[int] = typer.Option(None, "--min", help="Lowest command in ticks."),
+    hi: Optional[int] = typer.Option(None, "--max", help="Highest command in ticks."),
+    n: int = typer.Option(25, "--n", help="Number of random angles."),
+    seed: int = typer.Option(0, "--seed", help="Random seed for the angles."),
+    max_err: float = typer.Option(0.5, "--max-err", help="Exit 1 when the table's largest error exceeds this (degrees)."),
+    reads: int = typer.Option(3, "--reads", min=1, help="Reference readings averaged per point."),
+    speed: float = typer.Option(60.0, "--speed", help="Moving speed, degrees per second."),
+    dwell: float = typer.Option(0.15, "--dwell", min=0.0, help="Seconds to wait after the servo stops before reading."),
+    output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text or json on stdout."),
+    yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
+) -> None:
+    import json
+
+    from armtool.console import stderr, write_stdout
+    from armtool.servo.guard import TorqueGuard
+    from armtool.servo.lut import read_table
+    from armtool.servo.lut_measure import Driver, Motion, check as run_check, check_angles, speed_register
+    from armtool.servo.reference import CsvReference, ManualReference, open_reference
+
+    table = read_table(table_path)
+    bus = _connect(port, protocol, baud, sid, None)
+    ref = None
+    try:
+        servo_model = bus.model(sid)
+        if servo_model.name != table.model.name:
+            raise ArmtoolError(f"{table_path} was made for a {table.model.name}, but ID {sid} is a {servo_model.name}",
+                               f"{table_path}: servo.model", hint="measure and fit a table on this servo")
+        if table.servo_id is not None and table.servo_id != sid:
+            stderr().print(f"[yellow]warning:[/yellow] {table_path} was measured on ID {table.servo_id}, checking ID {sid}")
+        knots = (int(min(table.knots_ticks)), int(max(table.knots_ticks)))
+        r_lo, r_hi, _ = _range(bus, sid, limits, lo, hi, fallback=knots)
+        ref = open_reference(reference, ask=_ask)
+        if isinstance(ref, CsvReference):
+            raise ArmtoolError("check needs a live reference (encoder, manual or camera), not a file")
+        angles = check_angles(table, n, seed, r_lo, r_hi)
+        b = max(1, round(3.0 / servo_model.deg_per_tick))
+        _confirm(f"Energise servo {sid} and move it to {n} angles between ticks {r_lo} and {r_hi}?", yes)
+        motion = Motion(backoff_ticks=b, dwell_s=dwell, tolerance_ticks=2 if servo_model.ticks == 1024 else 6)
+        with TorqueGuard(bus) as guard, _progress(not isinstance(ref, ManualReference)) as bar:
+            guard.set_ram(sid, "moving_speed", speed_register(servo_model, speed))
+            guard.torque_on(sid)
+            task = bar.add_task("checking", total=n) if bar is not None else None
+            result = run_check(Driver(bus, guard, sid, motion), ref, table, angles, r_lo, r_hi, reads=reads,
+                               progress=(lambda k, t: bar.update(task, completed=k, total=t)) if bar is not None else None)
+    finally:
+        if ref is not None:
+            ref.close()
+        bus.close()
+    if output_format is ReportFormat.JSON:
+        write_stdout(json.dumps(result.to_dict(), indent=2))
+    else:
+        lines = [f"{'':8} {'RMS (°)':>8} {'max (°)':>8}",
+                 f"{'nominal':8} {result.nominal['rms_deg']:8.3f} {result.nominal['max_deg']:8.3f}",
+                 f"{'table':8} {result.lut['rms_deg']:8.3f} {result.lut['max_deg']:8.3f}",
+                 f"({len(result.points)} random angles, not knots; error = measured - wanted)"]
+        write_stdout("\n".join(lines))
+    if result.lut["max_deg"] > max_err:
+        stderr().print(f"[red]table error {result.lut['max_deg']:.3f}° is above --max-err {max_err:g}°[/red]")
+        raise typer.Exit(ExitCode.FINDINGS)

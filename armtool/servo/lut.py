@@ -6,9 +6,11 @@ them and stays monotone when the data are (research/servo.md 4); a linear interp
 same idea with kinks, a polynomial is compact but can wiggle at the ends, where an AX-12A's
 potentiometer is least linear, so it is refused when it is not monotone over the range.
 
-Errors are reported in degrees: a command error times the measured local slope (degrees per
-tick) at that point. "nominal" is the datasheet map (`ServoModel.deg_per_tick`: AX 300/1023, X and STS 360/4096), "lut" the table; both
-commands are rounded to whole ticks, as a servo takes them.
+Fit errors are in degrees: the command error (fractional ticks, before rounding) times the
+measured local slope (degrees per tick) at that point. "nominal" is the datasheet map
+(`ServoModel.deg_per_tick`: AX 300/1023, X and STS 360/4096), "lut" the table. A servo takes
+whole ticks, so up to half a tick (0.15° on an AX-12A) comes on top of both; `servo-lut check`
+measures that too.
 """
 
 from __future__ import annotations
@@ -350,7 +352,7 @@ def fit_table(meas: Measurements, method: Method = Method.PCHIP, degree: int = 3
     slope = np.gradient(a, c) if len(c) > 1 else np.full(1, model.deg_per_tick)
 
     def errors(idx: NDArray[np.int64], commands: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.asarray((np.rint(commands[idx]) - c[idx]) * slope[idx], dtype=np.float64)
+        return np.asarray((commands[idx] - c[idx]) * slope[idx], dtype=np.float64)
 
     nominal_cmd = np.clip(a / model.deg_per_tick, 0, model.max_tick)
     lut_cmd = np.clip(table.command(np.clip(a, *table.valid_range_deg)), 0, model.max_tick)

@@ -1,0 +1,295 @@
+"""Driving a servo for `servo-lut measure` and `check`: plan the points, approach each from one
+side, wait until settled, read the reference, and stop at once when something pushes back.
+
+Why one side: gears and the position loop leave a dead band, so the angle reached depends on
+the direction of the last move (hysteresis). Approaching every point from below (or above)
+measures one consistent curve; `both` measures the two and the fit reports their gap.
+Why inside recorded limits only: the range comes from `armtool limits` (or --min/--max), never
+from pushing a stop, and a point the servo cannot reach (stall: no motion, load up, or the
+overload alarm) ends the run with torque off instead of being logged as a measurement.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Literal
+
+import numpy as np
+
+from armtool.errors import ArmtoolError
+from armtool.servo.lut import LutTable, nominal_command_ticks
+from armtool.servo.lut_meas import Sample
+from armtool.servo.reference import Reference
+
+log = logging.getLogger(__name__)
+
+ApproachMode = Literal["up", "down", "both"]
+TELEMETRY = ("present_position", "present_load", "present_voltage", "present_temperature", "moving")
+
+
+@dataclass(frozen=True)
+class Motion:
+    """How to move and when a point counts as reached."""
+
+    backoff_ticks: int = 10
+    settle_timeout_s: float = 3.0
+    dwell_s: float = 0.15
+    poll_s: float = 0.005
+    tolerance_ticks: int = 2  # present within this of the goal counts as arrived
+    stall_load_pct: float = 60.0  # load above this while short of the goal = pushing something
+
+
+def read_limits(path: Path, sid: int) -> tuple[int, int, str | None]:
+    """(safe_min_ticks, safe_max_ticks, model) for `sid` from an `armtool limits` YAML file."""
+    import yaml
+
+    try:
+        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ArmtoolError(f"cannot read {path}: {exc.strerror or exc}") from None
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        raise ArmtoolError(f"not valid YAML: {getattr(exc, 'problem', exc)}",
+                           f"{path}:{mark.line + 1}" if mark is not None else str(path)) from None
+    joints = doc.get("joints") if isinstance(doc, dict) else None
+    if not isinstance(joints, list):
+        raise ArmtoolError("no 'joints' list", str(path), hint="write one with `armtool limits -o limits.yaml`")
+    for k, joint in enumerate(joints):
+        if isinstance(joint, dict) and joint.get("id") == sid:
+            where = f"{path}: joints[{k}]"
+            values = []
+            for key in ("safe_min_ticks", "safe_max_ticks"):
+                value = joint.get(key)
+                if not isinstance(value, (int, float)) or isinstance(value, bool):
+                    raise ArmtoolError(f"'{key}' is missing or not a number", where)
+                values.append(int(value))
+            if values[0] >= values[1]:
+                raise ArmtoolError(f"safe_min_ticks {values[0]} is not below safe_max_ticks {values[1]}", where)
+            model = joint.get("model")
+            return values[0], values[1], str(model) if model is not None else None
+    ids = [j.get("id") for j in joints if isinstance(j, dict)]
+    raise ArmtoolError(f"ID {sid} is not in the limits file", str(path), hint=f"IDs there: {ids}")
+
+
+def plan_commands(lo: int, hi: int, approach: ApproachMode, backoff: int, points: int | None = None,
+                  step: int | None = None) -> list[int]:
+    """Commands to measure, inside [lo, hi] with room to approach from the chosen side(s)."""
+    first = lo + (backoff if approach in ("up", "both") else 0)
+    last = hi - (backoff if approach in ("down", "both") else 0)
+    if last - first < 3:
+        raise ArmtoolError(f"the range {lo}..{hi} ticks leaves no room to measure with a back-off of {backoff} ticks",
+                           hint="widen --min/--max (inside the recorded limits) or lower --backoff")
+    if step is not None:
+        if step < 1:
+            raise ArmtoolError(f"--step must be at least 1 tick, got {step}")
+        commands = list(range(first, last + 1, step))
+    else:
+        n = points if points is not None else 32
+        if n < 2:
+            raise ArmtoolError(f"--points must be at least 2, got {n}")
+        commands = sorted({int(round(v)) for v in np.linspace(first, last, n)})
+    return commands
+
+
+@dataclass
+class Driver:
+    """One servo on a guarded bus, moved point by point. `bus` is a `ServoBus`, `guard` its `TorqueGuard`."""
+
+    bus: Any
+    guard: Any
+    sid: int
+    motion: Motion = field(default_factory=Motion)
+    sleep: Callable[[float], None] = time.sleep
+    last_goal: int | None = None
+
+    def _telemetry(self) -> dict[str, int]:
+        return dict(self.bus.read_many(self.sid, TELEMETRY))
+
+    def goto(self, goal: int) -> tuple[bool, dict[str, int]]:
+        """Command `goal` and wait until the servo has settled there; (settled, telemetry)."""
+        m = self.motion
+        self.bus.write(self.sid, "goal_position", int(goal), retry=True)
+        self.last_goal = int(goal)
+        deadline = time.monotonic() + m.settle_timeout_s
+        previous: int | None = None
+        tel = self._telemetry()
+        while True:
+            here = tel["present_position"]
+            arrived = abs(here - goal) <= m.tolerance_ticks and tel["moving"] == 0
+            if arrived and previous is not None and abs(here - previous) <= 1:
+                break
+            if self.bus.overloaded(self.sid):
+                raise ArmtoolError(f"ID {self.sid} raised its overload alarm going to {goal} (present {here})",
+                                   hint="something blocks the joint inside the range: re-record the limits "
+                                        "(armtool limits) and measure inside them")
+            if time.monotonic() > deadline:
+                load = abs(tel["present_load"]) / 10.0
+                if abs(here - goal) > m.tolerance_ticks and load >= m.stall_load_pct:
+                    raise ArmtoolError(f"ID {self.sid} stopped at {here} short of {goal} with {load:.0f}% load: "
+                                       "pushing against something", hint="measure inside the recorded limits "
+                                       "(--limits limits.yaml) or re-record them")
+                log.warning("ID %d did not settle at %d within %.1f s (present %d)", self.sid, goal, m.settle_timeout_s, here)
+                return False, tel
+            previous = here
+            self.sleep(m.poll_s)
+            tel = self._telemetry()
+        if m.dwell_s > 0:
+            self.sleep(m.dwell_s)
+            tel = self._telemetry()
+        return True, tel
+
+    def approach(self, goal: int, side: str, lo: int, hi: int) -> tuple[bool, dict[str, int]]:
+        """Reach `goal` moving up (`side` = "up") or down, backing off first when needed."""
+        b = self.motion.backoff_ticks
+        last = self.last_goal
+        if side == "up" and (last is None or last > goal - b):
+            self.goto(max(lo, goal - b))
+        elif side == "down" and (last is None or last < goal + b):
+            self.goto(min(hi, goal + b))
+        return self.goto(goal)
+
+
+def _sample(command: int, reading: float, tel: dict[str, int], side: str, repeat: int, settled: bool) -> Sample:
+    return Sample(line=0, command_ticks=command, reference_deg=reading, present_ticks=float(tel["present_position"]),
+                  load_pct=tel["present_load"] / 10.0, temperature_c=float(tel["present_temperature"]),
+                  voltage_v=tel["present_voltage"] / 10.0, approach=side, repeat=repeat, settled=settled)
+
+
+def measure(driver: Driver, reference: Reference, commands: list[int], approach: ApproachMode, lo: int, hi: int,
+            reads: int = 3, sweeps: int = 1, on_sample: Callable[[Sample], None] | None = None,
+            progress: Callable[[int, int], None] | None = None) -> list[Sample]:
+    """Step through `commands` (sweeps x sides), reading the reference `reads` times per point."""
+    sides = ["up", "down"] if approach == "both" else [approach]
+    samples: list[Sample] = []
+    total = len(commands) * len(sides) * sweeps
+    done = 0
+    for sweep in range(sweeps):
+        for side in sides:
+            order = commands if side == "up" else list(reversed(commands))
+            for command in order:
+                settled, tel = driver.approach(command, side, lo, hi)
+                for r in range(reads):
+                    s = _sample(command, reference.read_deg(driver.sid, command), tel, side, sweep * reads + r, settled)
+                    samples.append(s)
+                    if on_sample is not None:
+                        on_sample(s)
+                done += 1
+                if progress is not None:
+                    progress(done, total)
+    return samples
+
+
+# --------------------------------------------------------------------------------------------
+# check
+
+
+@dataclass(frozen=True)
+class CheckPoint:
+    angle_deg: float
+    lut_command: int
+    lut_measured_deg: float
+    nominal_command: int
+    nominal_measured_deg: float
+
+    @property
+    def lut_error_deg(self) -> float:
+        return self.lut_measured_deg - self.angle_deg
+
+    @property
+    def nominal_error_deg(self) -> float:
+        return self.nominal_measured_deg - self.angle_deg
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    points: tuple[CheckPoint, ...]
+
+    @staticmethod
+    def _stats(errors: list[float]) -> dict[str, float]:
+        e = np.asarray(errors)
+        return {"rms_deg": float(np.sqrt(np.mean(e**2))), "max_deg": float(np.max(np.abs(e)))}
+
+    @property
+    def lut(self) -> dict[str, float]:
+        return self._stats([p.lut_error_deg for p in self.points])
+
+    @property
+    def nominal(self) -> dict[str, float]:
+        return self._stats([p.nominal_error_deg for p in self.points])
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"schema_version": 1, "nominal": self.nominal, "lut": self.lut,
+                "points": [{"angle_deg": p.angle_deg, "lut_command_ticks": p.lut_command,
+                            "lut_measured_deg": p.lut_measured_deg, "lut_error_deg": p.lut_error_deg,
+                            "nominal_command_ticks": p.nominal_command, "nominal_measured_deg": p.nominal_measured_deg,
+                            "nominal_error_deg": p.nominal_error_deg} for p in self.points]}
+
+
+def check_angles(table: LutTable, n: int, seed: int, lo: int, hi: int) -> list[float]:
+    """`n` random angles inside the table's range whose table and nominal commands both lie in
+    [lo, hi], each at least a quarter of the knot spacing away from every knot."""
+    if n < 1:
+        raise ArmtoolError(f"--n must be at least 1, got {n}")
+    knots = np.asarray(table.knots_deg)
+    gap = 0.25 * float(np.min(np.diff(knots))) if knots.size > 1 else 0.0
+    a_lo, a_hi = table.valid_range_deg
+    rng = np.random.default_rng(seed)
+    chosen: list[float] = []
+    for _ in range(200 * n):
+        a = float(rng.uniform(a_lo, a_hi))
+        if np.min(np.abs(knots - a)) < gap:
+            continue
+        c_lut = int(table.command_ticks([a])[0])
+        c_nom = int(nominal_command_ticks(table.model, np.array([a]))[0])
+        if lo <= c_lut <= hi and lo <= c_nom <= hi:
+            chosen.append(round(a, 3))
+        if len(chosen) == n:
+            return chosen
+    raise ArmtoolError(f"could not place {n} check angles inside {lo}..{hi} ticks away from the table's knots",
+                       hint="check a servo whose limits cover the table's range, or lower --n")
+
+
+def check(driver: Driver, reference: Reference, table: LutTable, angles: list[float], lo: int, hi: int,
+          reads: int = 3, progress: Callable[[int, int], None] | None = None) -> CheckResult:
+    """Command each angle through the table and through the nominal map; measure both."""
+    side = "down" if table.approach == "down" else "up"
+    points = []
+    # in travel order: short moves, and every point still approached from `side` (back-off)
+    for k, angle in enumerate(sorted(angles, reverse=side == "down")):
+        measured = []
+        commands = (int(table.command_ticks([angle])[0]), int(nominal_command_ticks(table.model, np.array([angle]))[0]))
+        for command in commands:
+            driver.approach(command, side, lo, hi)
+            measured.append(float(np.mean([reference.read_deg(driver.sid, command) for _ in range(reads)])))
+        points.append(CheckPoint(angle, commands[0], measured[0], commands[1], measured[1]))
+        if progress is not None:
+            progress(k + 1, len(angles))
+    return CheckResult(tuple(points))
+
+
+def speed_register(model: Any, deg_per_s: float) -> int:
+    """The moving-speed register value for about `deg_per_s` (AX 0.111 rpm, X 0.229 rpm, STS ticks/s units)."""
+    if not deg_per_s > 0:
+        raise ArmtoolError(f"--speed must be > 0 degrees per second, got {deg_per_s:g}")
+    if model.protocol == "dxl1":
+        unit = 0.111 if model.ticks == 1024 else 0.114
+        value = deg_per_s / (6.0 * unit)
+    elif model.protocol == "dxl2":
+        value = deg_per_s / (6.0 * 0.229)
+    else:
+        value = deg_per_s / model.deg_per_tick
+    reg = model.reg("moving_speed")
+    top = reg.hi if reg.hi else (1 << (8 * reg.size)) - 1
+    return int(min(max(1, math.ceil(value)), top))
+
+
+def torque_register(model: Any, percent: float) -> int:
+    """The RAM torque-limit register value for `percent` of the maximum."""
+    if not 0 < percent <= 100:
+        raise ArmtoolError(f"--torque-limit must be in (0, 100] percent, got {percent:g}")
+    reg = model.reg("torque_limit")
+    return int(round(reg.hi * percent / 100.0))
