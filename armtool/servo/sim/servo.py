@@ -23,7 +23,7 @@ from armtool.servo.models import Register, ServoModel, decode, encode
 from armtool.servo.sim.config import ServoSpec
 
 LOAD_TAU_S = 0.04
-HAND_SPEED_DEG_S = 150.0
+HAND_SPEED_DEG_S = 400.0
 POT_WIDTH = 0.10
 
 # error codes returned by write/read checks, mapped to each protocol's error byte by the bus
