@@ -1,0 +1,179 @@
+"""`armtool limits` end to end: a real CLI process against the simulator started in the test."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from armtool.servo.sim import Person, PersonSpec, SimBus, load_sim_config
+
+FIXTURES = Path(__file__).resolve().parent.parent / "fixtures" / "servo"
+AX_ARM = FIXTURES / "ax12_arm.yaml"
+KEYS = ["name", "id", "model", "zero_ticks", "direction", "raw_min_ticks", "raw_max_ticks", "safe_min_ticks",
+        "safe_max_ticks", "lower_rad", "upper_rad", "method", "evidence"]
+
+pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="the simulator needs a pty")
+
+
+def armtool(*args: str, timeout: float = 60) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "120"}
+    return subprocess.run([sys.executable, "-m", "armtool", *args], capture_output=True, text=True,
+                          timeout=timeout, stdin=subprocess.DEVNULL, env=env)
+
+
+def sub_arm(tmp_path: Path, ids: list[int]) -> Path:
+    doc = yaml.safe_load(AX_ARM.read_text())
+    doc["joints"] = [j for j in doc["joints"] if j["id"] in ids]
+    path = tmp_path / "arm.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    return path
+
+
+def all_off(sim: SimBus) -> bool:
+    return all(sim.peek(i, "torque_enable") == 0 for i in sim.servos)
+
+
+def test_auto_writes_yaml_and_a_urdf_that_passes_lint(tmp_path: Path) -> None:
+    arm = sub_arm(tmp_path, [4, 5])
+    out, urdf_out = tmp_path / "limits.yaml", tmp_path / "arm.limited.urdf"
+    with SimBus.start(AX_ARM) as sim:
+        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
+                    "-o", str(out), "--urdf", str(FIXTURES / "ax12_arm.urdf"), "--urdf-out", str(urdf_out))
+        assert r.returncode == 0, r.stderr
+        assert all_off(sim)
+        doc = yaml.safe_load(out.read_text())
+        assert doc["schema"] == "armtool.limits/1" and doc["version"] == 1
+        assert doc["bus"] == {"port": sim.port_path, "protocol": "dxl1", "baud": 1000000}
+        for row in doc["joints"]:
+            assert all(k in row for k in KEYS)
+            lo, hi = sim.stop_ticks(row["id"])
+            assert abs(row["raw_min_ticks"] - lo) <= 2 and abs(row["raw_max_ticks"] - hi) <= 2
+            assert sim.servo(row["id"]).overload_trips == 0
+    text = urdf_out.read_text()
+    gripper = next(j for j in doc["joints"] if j["name"] == "gripper")
+    assert f'lower="{gripper["lower_rad"]:.6g}" upper="{gripper["upper_rad"]:.6g}"' in text
+    assert "<!-- AX-12A: 1.5 N m, 59 rpm -->" in text  # comments kept
+    lint = armtool("lint", str(urdf_out))
+    assert lint.returncode == 0, lint.stdout + lint.stderr
+
+
+def test_manual_with_the_simulated_person(tmp_path: Path) -> None:
+    arm = sub_arm(tmp_path, [1, 2])
+    with SimBus.start(AX_ARM) as sim:
+        person = Person(sim, PersonSpec(start_s=1.0, speed_deg_s=200, dwell_s=0.5, ids=[1, 2])).start()
+        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "manual",
+                    "--duration", f"{person.remaining_s() + 0.3:.1f}")
+        assert r.returncode == 0, r.stderr
+        doc = yaml.safe_load(r.stdout)
+        for row in doc["joints"]:
+            lo, hi = sim.stop_ticks(row["id"])
+            assert abs(row["raw_min_ticks"] - lo) <= 2 and abs(row["raw_max_ticks"] - hi) <= 2
+            assert row["method"] == "manual" and row["evidence"]["confirmed_min"] and row["evidence"]["confirmed_max"]
+        assert "joint ranges" in r.stderr  # the live table
+
+
+def test_sigint_during_auto_leaves_every_servo_torque_off(tmp_path: Path) -> None:
+    out = tmp_path / "limits.yaml"
+    with SimBus.start(AX_ARM) as sim:
+        proc = subprocess.Popen([sys.executable, "-m", "armtool", "limits", "--port", sim.port_path, "--arm", str(AX_ARM),
+                                 "--mode", "auto", "--yes", "--speed", "30", "-o", str(out)],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True)
+        try:
+            deadline = time.monotonic() + 20
+            while sim.peek(1, "torque_enable") == 0 and time.monotonic() < deadline:
+                time.sleep(0.02)
+            assert sim.peek(1, "torque_enable") == 1
+            time.sleep(0.4)  # joint 1 is driving toward its stop
+            assert sim.peek(1, "moving") == 1
+            proc.send_signal(signal.SIGINT)
+            _, err = proc.communicate(timeout=10)
+        finally:
+            proc.kill()
+        assert proc.returncode == 130, err
+        assert all_off(sim)
+        assert sim.peek(1, "torque_limit") == 1023 and sim.peek(1, "moving_speed") == 0  # RAM restored
+        assert not out.exists()
+
+
+@pytest.mark.parametrize("fault, message", [
+    ({"missing_ids": [3]}, "ID 3 did not answer"),
+    ({"p_corrupt": 1.0}, "corrupt packets"),
+    ({"echo": True}, "echoes what it sends"),
+])
+def test_bus_faults_give_clear_errors(tmp_path: Path, fault: dict[str, Any], message: str) -> None:
+    cfg = load_sim_config(AX_ARM)
+    for k, v in fault.items():
+        setattr(cfg.faults, k, set(v) if k == "missing_ids" else v)
+    out = tmp_path / "limits.yaml"
+    with SimBus.start(cfg) as sim:
+        r = armtool("limits", "--port", sim.port_path, "--arm", str(AX_ARM), "--mode", "auto", "--yes", "-o", str(out))
+        assert r.returncode == 2 and message in r.stderr, r.stderr
+        assert "Traceback" not in r.stderr and not out.exists()
+        sim.faults.echo, sim.faults.p_corrupt = False, 0.0
+        assert all_off(sim)
+
+
+def test_bad_port_busy_port_wrong_baud_wrong_model(tmp_path: Path) -> None:
+    import serial
+
+    r = armtool("limits", "--port", str(tmp_path / "ttyUSB7"), "--ids", "1", "--mode", "auto", "--yes")
+    assert r.returncode == 2 and "does not exist" in r.stderr
+    with SimBus.start(AX_ARM) as sim:
+        holder = serial.Serial(sim.port_path, 1000000, exclusive=True)
+        r = armtool("limits", "--port", sim.port_path, "--ids", "1", "--mode", "auto", "--yes")
+        holder.close()
+        assert r.returncode == 2 and "busy" in r.stderr
+        r = armtool("limits", "--port", sim.port_path, "--ids", "1,2", "--baud", "57600", "--mode", "auto", "--yes")
+        assert r.returncode == 2 and "no servo answered" in r.stderr and "57600 baud" in r.stderr and "tried ID 1-2" in r.stderr
+        r = armtool("limits", "--port", sim.port_path, "--ids", "1", "--model", "AX-18A", "--mode", "auto", "--yes")
+        assert r.returncode == 2 and "ID 1 is a AX-12A (model number 12), not the AX-18A expected" in r.stderr
+        assert all_off(sim)
+
+
+def test_limits_outside_the_urdf_exit_2_and_write_nothing(tmp_path: Path) -> None:
+    arm = sub_arm(tmp_path, [5])
+    narrow = tmp_path / "narrow.urdf"
+    original = (FIXTURES / "ax12_arm.urdf").read_text().replace('lower="-1.0" upper="1.0"', 'lower="-0.2" upper="0.2"')
+    narrow.write_text(original)
+    out = tmp_path / "limits.yaml"
+    with SimBus.start(AX_ARM) as sim:
+        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
+                    "-o", str(out), "--urdf", str(narrow), "--in-place")
+        assert r.returncode == 2 and "outside the URDF's: gripper" in r.stderr, r.stderr
+        assert all_off(sim)
+    assert not out.exists() and narrow.read_text() == original and not (tmp_path / "narrow.urdf.bak").exists()
+
+
+def test_in_place_leaves_a_bak_and_eeprom_dry_run_then_write(tmp_path: Path) -> None:
+    arm = sub_arm(tmp_path, [5])
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text((FIXTURES / "ax12_arm.urdf").read_text())
+    with SimBus.start(AX_ARM) as sim:
+        base = ["limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300"]
+        r = armtool(*base, "--write-eeprom", "--dry-run")
+        assert r.returncode == 0, r.stderr
+        assert "would write ID 5: min_limit 0 ->" in r.stderr and sim.peek(5, "min_limit") == 0
+        r = armtool(*base, "--write-eeprom", "--urdf", str(urdf), "--in-place")
+        assert r.returncode == 0, r.stderr
+        row = yaml.safe_load(r.stdout)["joints"][0]
+        assert (sim.peek(5, "min_limit"), sim.peek(5, "max_limit")) == (row["safe_min_ticks"], row["safe_max_ticks"])
+        assert "verified by reading back" in r.stderr and all_off(sim)
+    assert (tmp_path / "arm.urdf.bak").read_text() == (FIXTURES / "ax12_arm.urdf").read_text()
+    assert f'lower="{row["lower_rad"]:.6g}"' in urdf.read_text()
+
+
+def test_usage_errors_before_touching_the_bus() -> None:
+    r = armtool("limits", "--port", "/dev/null", "--mode", "auto")
+    assert r.returncode == 2 and "exactly one of --ids or --arm" in r.stderr
+    r = armtool("limits", "--port", "/dev/null", "--ids", "1", "--mode", "auto")
+    assert r.returncode == 2 and "--yes" in r.stderr
+    r = armtool("limits", "--port", "/dev/null", "--ids", "1", "--mode", "manual")
+    assert r.returncode == 2 and "--duration" in r.stderr
