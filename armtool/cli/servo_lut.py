@@ -308,7 +308,8 @@ def measure(
     from armtool.console import stderr
     from armtool.servo.guard import TorqueGuard
     from armtool.servo.lut_meas import Sample, render_measurements
-    from armtool.servo.lut_measure import Driver, Motion, measure as run_measure, plan_commands, speed_register, torque_register
+    from armtool.servo.lut_measure import (Driver, Motion, align_reference, measure as run_measure, plan_commands,
+                                           speed_register, torque_register)
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 
     if points is not None and step is not None:
@@ -347,8 +348,13 @@ def measure(
             if torque_limit is not None:
                 guard.set_ram(sid, "torque_limit", torque_register(servo_model, torque_limit))
             guard.torque_on(sid)
+            driver = Driver(bus, guard, sid, motion)
+            note = align_reference(driver, ref, r_lo, r_hi, "down" if approach.value == "down" else "up")
+            if note is not None:
+                meta["reference_alignment"] = note
+                stderr().print(f"{ref.spec} aligned to the servo: {note}")
             task = bar.add_task("measuring", total=len(commands)) if bar is not None else None
-            run_measure(Driver(bus, guard, sid, motion), ref, commands, approach.value, r_lo, r_hi,  # type: ignore[arg-type]
+            run_measure(driver, ref, commands, approach.value, r_lo, r_hi,  # type: ignore[arg-type]
                         reads=reads, sweeps=sweeps, on_sample=samples.append,
                         progress=(lambda k, n: bar.update(task, completed=k, total=n)) if bar is not None else None)
         unsettled = sum(1 for s in samples if s.settled is False)
@@ -395,7 +401,7 @@ def check(
     from armtool.console import stderr, write_stdout
     from armtool.servo.guard import TorqueGuard
     from armtool.servo.lut import read_table
-    from armtool.servo.lut_measure import Driver, Motion, check as run_check, check_angles, speed_register
+    from armtool.servo.lut_measure import Driver, Motion, align_reference, check as run_check, check_angles, speed_register
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 
     table = read_table(table_path)
@@ -420,8 +426,10 @@ def check(
         with TorqueGuard(bus) as guard, _progress(not isinstance(ref, ManualReference)) as bar:
             guard.set_ram(sid, "moving_speed", speed_register(servo_model, speed))
             guard.torque_on(sid)
+            driver = Driver(bus, guard, sid, motion)
+            align_reference(driver, ref, r_lo, r_hi, "down" if table.approach == "down" else "up")
             task = bar.add_task("checking", total=n) if bar is not None else None
-            result = run_check(Driver(bus, guard, sid, motion), ref, table, angles, r_lo, r_hi, reads=reads,
+            result = run_check(driver, ref, table, angles, r_lo, r_hi, reads=reads,
                                progress=(lambda k, t: bar.update(task, completed=k, total=t)) if bar is not None else None)
     finally:
         if ref is not None:

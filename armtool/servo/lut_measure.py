@@ -153,6 +153,33 @@ class Driver:
         return self.goto(goal)
 
 
+def align_reference(driver: Driver, reference: Reference, lo: int, hi: int, side: str) -> str | None:
+    """Put a frame-less reference (a camera) into the servo's frame: read it at two commands
+    either side of the middle of the range; the sense of turning gives the sign, the second
+    reading is set to the datasheet angle there (the middle is where a potentiometer is most
+    linear). Returns a note for the CSV metadata, or None for references that need no alignment."""
+    raw = getattr(reference, "raw_deg", None)
+    align = getattr(reference, "align", None)
+    if raw is None or align is None:
+        return None
+    model = driver.bus.model(driver.sid)
+    k = max(2, min((hi - lo) // 4, round(10.0 / model.deg_per_tick)))
+    c1, c2 = (lo + hi) // 2 - k, (lo + hi) // 2 + k
+    driver.approach(c1, side, lo, hi)
+    a1 = float(raw())
+    driver.approach(c2, side, lo, hi)
+    a2 = float(raw())
+    expected = (c2 - c1) * model.deg_per_tick
+    if not 0.5 * expected <= abs(a2 - a1) <= 2.0 * expected:
+        raise ArmtoolError(f"{reference.spec} saw {abs(a2 - a1):.2f}° for a move of about {expected:.2f}°",
+                           hint="is the tag fixed flat on the horn? Without camera intrinsics the camera must look "
+                                "along the servo axis (camera:DEV,intrinsics=cam.yaml relaxes that)")
+    sign = 1.0 if a2 > a1 else -1.0
+    offset = c2 * model.deg_per_tick - sign * a2
+    align(sign, offset)
+    return f"sign {sign:+.0f}, offset {offset:.3f} deg, datasheet angle at tick {c2}"
+
+
 def _sample(command: int, reading: float, tel: dict[str, int], side: str, repeat: int, settled: bool) -> Sample:
     return Sample(line=0, command_ticks=command, reference_deg=reading, present_ticks=float(tel["present_position"]),
                   load_pct=tel["present_load"] / 10.0, temperature_c=float(tel["present_temperature"]),

@@ -9,7 +9,9 @@ instrument sees that. References, by `--reference` spec:
   degrees, a decimal number; a line starting with `E` is an error message). 115200 baud.
 * `manual`: a person reads a protractor and types the angle.
 * `csv:FILE`: readings taken by other means, keyed by command: `command_ticks,reference_deg`.
-* `camera:DEVICE`: an AprilTag on the horn, seen by a camera (needs the calibrate work's detector).
+* `camera:DEVICE[,tag=ID][,family=NAME][,intrinsics=FILE]`: an AprilTag flat on the horn, seen by
+  a camera (the calibrate work's detector, `armtool.calib.apriltag.detect_tag`), aligned to the
+  servo's frame by two moves before measuring.
 """
 
 from __future__ import annotations
@@ -17,10 +19,9 @@ from __future__ import annotations
 import csv
 import io
 import math
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Protocol
+from typing import Any, Callable, Protocol
 
 from armtool.errors import ArmtoolError
 
@@ -160,53 +161,112 @@ class CsvReference:
 
 
 class CameraReference:
-    """An AprilTag on the horn: the tag's in-plane rotation in the image, plus an offset set at a known angle."""
+    """An AprilTag flat on the horn, seen by a camera: the tag's rotation about its own normal.
 
-    def __init__(self, device: str, detect: Callable[..., object]) -> None:
+    With camera intrinsics the rotation comes from the tag's pose (solvePnP), so the camera may
+    look at the horn at an angle; without them it is the tag's in-plane rotation in the image,
+    which needs the camera to look along the servo axis. Either way the camera cannot know the
+    servo's zero or which way it turns: `align()` sets both from two moves (`servo-lut measure`
+    and `check` do this first, at the middle of the range).
+    """
+
+    def __init__(self, device: str, capture: Any = None, family: str = "tag36h11", tag_id: int = 0,
+                 camera: Any = None, size_m: float = 0.03, settle_frames: int = 3) -> None:
+        from armtool.calib.apriltag import detect_tag
+
         self.spec = f"camera:{device}"
-        self.detect = detect
-        import cv2
+        self.detect_tag = detect_tag
+        self.family, self.tag_id, self.camera, self.size_m = family, tag_id, camera, size_m
+        self.settle_frames = settle_frames
+        if capture is None:
+            import cv2
 
-        self.cap = cv2.VideoCapture(int(device) if device.isdigit() else device)
-        if not self.cap.isOpened():
-            raise ArmtoolError(f"cannot open camera {device}", hint="pass camera:0 or a device path such as /dev/video0")
+            capture = cv2.VideoCapture(int(device) if device.isdigit() else device)
+            if not capture.isOpened():
+                raise ArmtoolError(f"cannot open camera {device}", hint="pass camera:0 or a device path such as /dev/video0")
+        self.cap = capture
+        self.sign = 1.0
         self.offset_deg = 0.0
+        self._last: float | None = None
+        self._r0: Any = None
 
-    def _angle(self) -> float:
-        ok, frame = self.cap.read()
-        if not ok:
-            raise ArmtoolError(f"no image from {self.spec}")
-        found = self.detect(frame)
-        tags = list(found) if isinstance(found, (list, tuple)) else []
-        if not tags:
-            raise ArmtoolError(f"no AprilTag seen by {self.spec}", hint="put a tag on the horn, facing the camera")
-        corners = getattr(tags[0], "corners", None)
-        if corners is None:
-            raise ArmtoolError("the AprilTag detector returned tags without corners")
-        (x0, y0), (x1, y1) = corners[0], corners[1]
-        return math.degrees(math.atan2(y1 - y0, x1 - x0))
+    def raw_deg(self) -> float:
+        """The tag's rotation in the camera's own frame (arbitrary zero and sense), unwrapped."""
+        import numpy as np
+
+        frame = None
+        for _ in range(max(1, self.settle_frames)):  # drop frames buffered while the servo moved
+            ok, frame = self.cap.read()
+            if not ok:
+                raise ArmtoolError(f"no image from {self.spec}")
+        tag = self.detect_tag(frame, self.family, self.tag_id, self.camera)
+        if not tag.ok:
+            raise ArmtoolError(f"{self.spec}: {tag.reason}", hint="put the tag flat on the horn, in view and in focus")
+        corners = np.asarray(tag.corners_px, dtype=np.float64)
+        if self.camera is not None:
+            from armtool.calib.apriltag import pnp_pose
+
+            cMt, _rms, _ambiguous = pnp_pose(corners, self.size_m, self.camera)
+            rot = cMt[:3, :3]
+            if self._r0 is None:
+                self._r0 = rot
+            rel = self._r0.T @ rot
+            angle = math.degrees(math.atan2(rel[1, 0], rel[0, 0]))
+        else:
+            top = (corners[1] - corners[0]) + (corners[2] - corners[3])  # TL->TR plus BL->BR, image y down
+            angle = math.degrees(math.atan2(-top[1], top[0]))
+        if self._last is not None:
+            angle += 360.0 * round((self._last - angle) / 360.0)
+        self._last = angle
+        return angle
+
+    def align(self, sign: float, offset_deg: float) -> None:
+        self.sign, self.offset_deg = sign, offset_deg
 
     def read_deg(self, sid: int, command_ticks: int) -> float:
-        time.sleep(0.05)
-        return self._angle() + self.offset_deg
+        return self.sign * self.raw_deg() + self.offset_deg
 
     def close(self) -> None:
-        self.cap.release()
+        release = getattr(self.cap, "release", None)
+        if release is not None:
+            release()
 
 
 def _apriltag_detector() -> Callable[..., object] | None:
-    """The calibrate work's tag detector, if it has one yet."""
+    """The calibrate work's tag detector, if it has one."""
     try:
         import importlib
 
         module = importlib.import_module("armtool.calib.apriltag")
     except ImportError:
         return None
-    for name in ("detect_tags", "detect"):
-        fn = getattr(module, name, None)
-        if callable(fn):
-            return fn  # type: ignore[no-any-return]
-    return None
+    fn = getattr(module, "detect_tag", None)
+    return fn if callable(fn) else None
+
+
+def _camera_reference(arg: str) -> CameraReference:
+    """camera:DEVICE[,tag=ID][,family=NAME][,intrinsics=FILE][,size=METRES]"""
+    device, *options = [part.strip() for part in arg.split(",")]
+    kw: dict[str, Any] = {}
+    for option in options:
+        key, sep, value = option.partition("=")
+        try:
+            if key == "tag" and sep:
+                kw["tag_id"] = int(value)
+            elif key == "family" and sep:
+                kw["family"] = value
+            elif key == "size" and sep:
+                kw["size_m"] = float(value)
+            elif key == "intrinsics" and sep:
+                from armtool.calib.camera import load_intrinsics
+
+                kw["camera"] = load_intrinsics(Path(value))
+            else:
+                raise ValueError
+        except ValueError:
+            raise ArmtoolError(f"camera option {option!r} not understood",
+                               hint="camera:DEVICE[,tag=ID][,family=tag36h11][,intrinsics=cam.yaml][,size=0.03]") from None
+    return CameraReference(device or "0", **kw)
 
 
 def open_reference(spec: str, ask: Callable[[str], str] | None = None) -> Reference:
@@ -231,9 +291,8 @@ def open_reference(spec: str, ask: Callable[[str], str] | None = None) -> Refere
             raise ArmtoolError("csv reference without a file", hint="--reference csv:readings.csv")
         return CsvReference.load(Path(arg))
     if kind == "camera":
-        detect = _apriltag_detector()
-        if detect is None:
+        if _apriltag_detector() is None:
             raise ArmtoolError("the camera reference is not available yet: armtool.calib.apriltag has no tag detector",
                                hint="use --reference encoder:PORT, manual or csv:FILE for now")
-        return CameraReference(arg or "0", detect)
+        return _camera_reference(arg)
     raise ArmtoolError(f"unknown reference '{spec}'", hint="encoder:PORT, manual, csv:FILE or camera:DEVICE")

@@ -169,11 +169,12 @@ def test_csv_reference_drives_the_commands_in_the_file(sim: SimBus, tmp_path: Pa
     assert all(abs(int(r[1]) - int(r[0])) <= 1 for r in rows)  # the servo really went there
 
 
-def test_camera_reference_is_refused_until_a_detector_exists(sim: SimBus) -> None:
-    from armtool.servo.reference import _apriltag_detector
+def test_camera_reference_is_refused_without_a_detector(sim: SimBus, monkeypatch: pytest.MonkeyPatch) -> None:
+    import armtool.servo.reference as reference
 
-    if _apriltag_detector() is not None:
-        pytest.skip("armtool.calib.apriltag has a detector now")
+    monkeypatch.setattr(reference, "_apriltag_detector", lambda: None)
+    goal_before = sim.peek(1, "goal_position")
     code, _, err = invoke("measure", "--port", sim.port_path, "--id", "1", "--reference", "camera:0",
                           "--min", "100", "--max", "900", *FAST)
     assert code == 2 and "camera reference is not available yet" in err
+    assert sim.peek(1, "goal_position") == goal_before
