@@ -178,3 +178,29 @@ def test_camera_reference_is_refused_without_a_detector(sim: SimBus, monkeypatch
                           "--min", "100", "--max", "900", *FAST)
     assert code == 2 and "camera reference is not available yet" in err
     assert sim.peek(1, "goal_position") == goal_before
+
+
+def test_ctrl_c_leaves_torque_off_and_keeps_the_readings(tmp_path: Path) -> None:
+    import os
+    import signal
+    import subprocess
+    import time
+
+    with SimBus.start(config()) as live:
+        meas = tmp_path / "m.csv"
+        proc = subprocess.Popen([sys.executable, "-m", "armtool", "servo-lut", "measure", "--port", live.port_path,
+                                 "--id", "1", "--reference", f"encoder:{live.encoder_port_path}", "--min", "100",
+                                 "--max", "900", "--points", "200", "--speed", "300", "--yes", "-o", str(meas)],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                env={**os.environ, "NO_COLOR": "1"})
+        deadline = time.monotonic() + 30
+        while live.peek(1, "torque_enable") == 0 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        time.sleep(1.5)  # the first move, then a few points measured
+        assert live.peek(1, "torque_enable") == 1
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=30)
+        assert proc.returncode == 130, err
+        assert live.peek(1, "torque_enable") == 0
+        partial = tmp_path / "m.csv.partial"
+        assert partial.exists() and "# complete: no" in partial.read_text() and not meas.exists()
