@@ -63,6 +63,9 @@ def build_app() -> typer.Typer:
     full.command("lint-urdf", help="Alias of `armtool lint`.")(lint_cmd.lint)
     full.command("rules", help="List the lint rules, or show one rule's documentation.")(rules_cmd.rules)
     full.command("ik-bench", help="Compare IK solvers on your robot: success, speed, accuracy, repeatability.")(ik_bench_cmd.ik_bench)
+    from armtool.cli import calibrate as calibrate_cmd
+
+    full.add_typer(calibrate_cmd.app, name="calibrate", help="Fit a real arm's kinematic errors from AprilTag images and write a corrected URDF.")
     from armtool.cli import servo_lut as servo_lut_cmd
 
     full.add_typer(servo_lut_cmd.app, name="servo-lut", help=servo_lut_cmd.HELP)

@@ -1,0 +1,1 @@
+"""Kinematic calibration from AprilTag observations: the core of `armtool calibrate`."""

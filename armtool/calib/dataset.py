@@ -1,0 +1,279 @@
+"""The calibration dataset (`format: armtool-calib-dataset/1`): manifest, samples, observations.
+
+One directory holds `dataset.yaml`, the nominal URDF, the camera intrinsics, `samples.csv`
+(one row per robot pose, joint columns named after URDF joints, radians) and either the raw
+images or `corners.csv` (pre-detected corners in pixels). Every problem is collected with its
+file and row, so `armtool calibrate check` can list them all at once.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from armtool.calib.model import Setup
+from armtool.calib.se3 import Array
+from armtool.errors import ArmtoolError
+
+FORMAT = "armtool-calib-dataset/1"
+CORNER_COLUMNS = ["u0", "v0", "u1", "v1", "u2", "v2", "u3", "v3"]
+
+
+@dataclass(frozen=True)
+class Problem:
+    where: str  # file, or file:line
+    what: str
+    hint: str = ""
+    severity: str = "error"  # or "warning"
+
+
+@dataclass(frozen=True)
+class Sample:
+    id: str
+    row: int  # line in samples.csv (header is line 1)
+    q: Array  # joint values in chain order (rad or m)
+    image: Path | None
+
+
+@dataclass
+class Dataset:
+    root: Path
+    setup: Setup
+    urdf: Path
+    base_link: str
+    flange_link: str
+    joints: list[str]
+    intrinsics: Path
+    images_rectified: bool
+    family: str
+    tag_id: int
+    size_m: float
+    samples: list[Sample]
+    corners: dict[str, Array] = field(default_factory=dict)  # sample id -> (4,2) pixels, from corners.csv
+    corners_file: Path | None = None
+    hints: dict[str, Array] = field(default_factory=dict)  # "camera_in_base", "tag_in_flange", ... -> 4x4
+    problems: list[Problem] = field(default_factory=list)
+
+    @property
+    def errors(self) -> list[Problem]:
+        return [p for p in self.problems if p.severity == "error"]
+
+
+def _rel(root: Path, path: Path) -> str:
+    try:
+        return str(path.relative_to(root.parent))
+    except ValueError:
+        return str(path)
+
+
+def _get(doc: dict[str, Any], dotted: str, problems: list[Problem], where: str, kind: type | tuple[type, ...] = str) -> Any:
+    cur: Any = doc
+    for key in dotted.split("."):
+        if not isinstance(cur, dict) or key not in cur:
+            problems.append(Problem(where, f"missing key '{dotted}'", f"add `{dotted}:` (see the dataset format in the README)"))
+            return None
+        cur = cur[key]
+    if not isinstance(cur, kind) or isinstance(cur, bool) and kind is not bool:
+        problems.append(Problem(where, f"'{dotted}' must be {getattr(kind, '__name__', 'a ' + str(kind))}, got {cur!r}"))
+        return None
+    return cur
+
+
+def _hint_pose(value: Any) -> Array | None:
+    from armtool.calib import se3
+
+    try:
+        xyz = [float(v) for v in value["xyz"]]
+        rpy = [float(v) for v in value.get("rpy", [0, 0, 0])]
+        if len(xyz) != 3 or len(rpy) != 3:
+            return None
+        return se3.xyz_rpy(xyz, rpy)
+    except (TypeError, KeyError, ValueError):
+        return None
+
+
+def load_dataset(directory: Path, chain_joint_names: list[str] | None = None) -> Dataset:
+    """Read the manifest and samples; problems are collected, not raised (see `require_ok`)."""
+    import yaml
+
+    root = directory.resolve()
+    manifest = root / "dataset.yaml" if root.is_dir() else root
+    if root.is_file():
+        root = root.parent
+    where = _rel(root, manifest)
+    if not manifest.is_file():
+        raise ArmtoolError("no dataset.yaml", str(manifest), "pass a dataset directory (see `armtool calibrate simulate` for an example)")
+    try:
+        doc = yaml.safe_load(manifest.read_text(encoding="utf-8"))
+    except yaml.YAMLError as exc:
+        line = getattr(getattr(exc, "problem_mark", None), "line", None)
+        raise ArmtoolError(f"dataset.yaml is not valid YAML: {getattr(exc, 'problem', exc)}", f"{where}:{(line or 0) + 1}") from None
+    if not isinstance(doc, dict):
+        raise ArmtoolError("dataset.yaml must be a mapping", where)
+    problems: list[Problem] = []
+    if doc.get("format") != FORMAT:
+        problems.append(Problem(where, f"format is {doc.get('format')!r}, expected '{FORMAT}'", f"add `format: {FORMAT}`"))
+    setup_text = doc.get("setup", "eye_to_hand")
+    try:
+        setup = Setup(setup_text)
+    except ValueError:
+        problems.append(Problem(where, f"setup '{setup_text}' is not eye_to_hand or eye_in_hand"))
+        setup = Setup.EYE_TO_HAND
+    urdf_name = _get(doc, "robot.urdf", problems, where)
+    base = _get(doc, "robot.base_link", problems, where) or ""
+    flange = _get(doc, "robot.flange_link", problems, where) or ""
+    joints = _get(doc, "robot.joints", problems, where, list) or []
+    units = (doc.get("robot") or {}).get("joint_units", "rad") if isinstance(doc.get("robot"), dict) else "rad"
+    if units not in ("rad", "radians"):
+        problems.append(Problem(where, f"robot.joint_units is '{units}'", "armtool expects radians: convert the CSV and set `joint_units: rad`"))
+    intr_name = _get(doc, "camera.intrinsics", problems, where)
+    rectified = bool((doc.get("camera") or {}).get("images_rectified", False)) if isinstance(doc.get("camera"), dict) else False
+    family = _get(doc, "target.family", problems, where) or "tag36h11"
+    tag_id = _get(doc, "target.id", problems, where, int)
+    size_m = _get(doc, "target.size_m", problems, where, (int, float))
+    if size_m is not None and not (0.001 <= float(size_m) <= 2.0):
+        problems.append(Problem(where, f"target.size_m is {size_m}: the black square's edge in metres", "e.g. 0.08 for an 80 mm tag"))
+    samples_name = doc.get("samples", "samples.csv")
+
+    def file_in_root(name: str | None, what: str) -> Path:
+        if name is None:
+            return root / "__missing__"
+        path = (root / name).resolve()
+        if not path.is_file():
+            problems.append(Problem(where, f"{what} '{name}' does not exist", f"put it in {root} or fix the path in dataset.yaml"))
+        return path
+
+    urdf = file_in_root(urdf_name, "robot.urdf")
+    intrinsics = file_in_root(intr_name, "camera.intrinsics")
+    samples_path = file_in_root(samples_name, "samples")
+    hints: dict[str, Array] = {}
+    for key, value in (doc.get("hints") or {}).items():
+        pose = _hint_pose(value)
+        if pose is None:
+            problems.append(Problem(where, f"hint '{key}' needs xyz: [x, y, z] and rpy: [r, p, y]", severity="warning"))
+        else:
+            hints[key] = pose
+    corners_name = doc.get("corners")
+    corners_file = (root / corners_name).resolve() if corners_name else None
+    if corners_file is None and (root / "corners.csv").is_file():
+        corners_file = (root / "corners.csv").resolve()
+
+    ds = Dataset(
+        root, setup, urdf, base, flange, [str(j) for j in joints], intrinsics, rectified, str(family),
+        int(tag_id) if tag_id is not None else 0, float(size_m) if size_m is not None else 0.0, [],
+        corners_file=corners_file, hints=hints, problems=problems,
+    )
+    if samples_path.is_file():
+        _read_samples(ds, samples_path, chain_joint_names)
+    if corners_file is not None:
+        if corners_file.is_file():
+            _read_corners(ds, corners_file)
+        else:
+            problems.append(Problem(where, f"corners file '{corners_name}' does not exist"))
+    return ds
+
+
+def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) -> None:
+    where = _rel(ds.root, path)
+    with path.open(newline="", encoding="utf-8") as handle:
+        reader = csv.reader(handle)
+        header = next(reader, None)
+        if header is None:
+            ds.problems.append(Problem(where, "samples.csv is empty", "one row per pose: id,image,<joint names>"))
+            return
+        header = [h.strip() for h in header]
+        if "id" not in header:
+            ds.problems.append(Problem(f"{where}:1", "no 'id' column", "the header must start with id,image,<joint names>"))
+            return
+        names = chain_joint_names if chain_joint_names is not None else ds.joints
+        missing = [n for n in names if n not in header]
+        if missing:
+            ds.problems.append(Problem(f"{where}:1", f"joint column(s) missing: {', '.join(missing)}", "the header names URDF joints: " + ", ".join(names)))
+            return
+        unknown = [h for h in header if h not in ("id", "image") and h not in names]
+        if unknown and chain_joint_names is not None:
+            from armtool.lint.suggest import did_you_mean
+
+            for u in unknown:
+                ds.problems.append(
+                    Problem(f"{where}:1", f"column '{u}' is not a joint of the chain {ds.base_link} → {ds.flange_link}{did_you_mean(u, names)}",
+                            "remove the column, or fix robot.base_link / robot.flange_link", severity="warning" if u not in ds.joints else "error")
+                )
+        cols = [header.index(n) for n in names]
+        id_col = header.index("id")
+        image_col = header.index("image") if "image" in header else None
+        seen: set[str] = set()
+        for line, row in enumerate(reader, start=2):
+            if not row or all(not c.strip() for c in row):
+                continue
+            if len(row) < len(header):
+                ds.problems.append(Problem(f"{where}:{line}", f"{len(row)} values, header has {len(header)}"))
+                continue
+            sid = row[id_col].strip()
+            if sid in seen:
+                ds.problems.append(Problem(f"{where}:{line}", f"duplicate id '{sid}'"))
+                continue
+            seen.add(sid)
+            try:
+                q = np.array([float(row[c]) for c in cols])
+            except ValueError:
+                ds.problems.append(Problem(f"{where}:{line}", "a joint value is not a number"))
+                continue
+            if not np.isfinite(q).all():
+                ds.problems.append(Problem(f"{where}:{line}", "a joint value is NaN or infinite"))
+                continue
+            image = None
+            if image_col is not None and row[image_col].strip():
+                image = (ds.root / row[image_col].strip()).resolve()
+            ds.samples.append(Sample(sid, line, q, image))
+    if ds.samples:
+        Q = np.stack([s.q for s in ds.samples])
+        if float(np.abs(Q).max()) > 2 * math.pi + 0.5:
+            worst = int(np.abs(Q).max(axis=1).argmax())
+            ds.problems.append(
+                Problem(f"{where}:{ds.samples[worst].row}", f"joint values up to {float(np.abs(Q).max()):.1f}: these look like degrees, but the dataset states radians",
+                        "convert the joint columns to radians (value × π/180)")
+            )
+
+
+def _read_corners(ds: Dataset, path: Path) -> None:
+    where = _rel(ds.root, path)
+    with path.open(newline="", encoding="utf-8") as handle:
+        reader = csv.DictReader(handle)
+        fields = [f.strip() for f in (reader.fieldnames or [])]
+        missing = [c for c in ["id", "tag_id", *CORNER_COLUMNS] if c not in fields]
+        if missing:
+            ds.problems.append(Problem(f"{where}:1", f"corners.csv lacks column(s) {', '.join(missing)}", "header: id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3"))
+            return
+        ids = {s.id for s in ds.samples}
+        for line, row in enumerate(reader, start=2):
+            row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
+            try:
+                if int(row["tag_id"]) != ds.tag_id:
+                    continue
+                uv = np.array([float(row[c]) for c in CORNER_COLUMNS]).reshape(4, 2)
+            except ValueError:
+                ds.problems.append(Problem(f"{where}:{line}", "tag_id or a corner coordinate is not a number"))
+                continue
+            if not np.isfinite(uv).all():
+                ds.problems.append(Problem(f"{where}:{line}", "a corner coordinate is NaN or infinite"))
+                continue
+            if row["id"] not in ids:
+                ds.problems.append(Problem(f"{where}:{line}", f"sample id '{row['id']}' is not in samples.csv"))
+                continue
+            ds.corners[row["id"]] = uv
+
+
+def require_ok(ds: Dataset) -> None:
+    """Raise one ArmtoolError that lists every error-level problem."""
+    errors = ds.errors
+    if errors:
+        first = errors[0]
+        more = "".join(f"\n  {p.where}: {p.what}" for p in errors[1:8])
+        extra = f"\n  … and {len(errors) - 8} more" if len(errors) > 8 else ""
+        raise ArmtoolError(first.what + more + extra, first.where, first.hint or "run `armtool calibrate check` for the full list")

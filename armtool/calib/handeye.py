@@ -1,0 +1,70 @@
+"""Closed-form AX = XB (Park & Martin 1994) to start the fit near the answer.
+
+OpenCV 5 no longer exposes `calibrateHandEye` to Python, and the fit only needs a start within a
+few degrees and centimetres, so the classic closed form is enough: rotation from the rotation
+vectors of the motion pairs, then translation by linear least squares.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from armtool.calib import se3
+from armtool.calib.model import Setup
+from armtool.calib.se3 import Array
+from armtool.errors import ArmtoolError
+
+
+def solve_ax_xb(As: Sequence[Array], Bs: Sequence[Array]) -> Array:
+    """X with A_k X = X B_k for every motion pair (A_k, B_k), in the least-squares sense."""
+    alphas, betas = [], []
+    for A, B in zip(As, Bs):
+        a, b = se3.log3(A[:3, :3]), se3.log3(B[:3, :3])
+        # Pairs with little rotation carry no rotation information and amplify noise.
+        if np.linalg.norm(a) > 0.05 and np.linalg.norm(b) > 0.05:
+            alphas.append(a)
+            betas.append(b)
+    if len(alphas) < 2:
+        raise ArmtoolError(
+            "the poses rotate the flange too little to start the fit",
+            hint="take poses that turn the wrist by tens of degrees about different axes, or give hints: in dataset.yaml",
+        )
+    M = sum(np.outer(b, a) for a, b in zip(alphas, betas))
+    # R = (MᵀM)^(-1/2) Mᵀ, through the SVD for stability; fix a reflection if noise made one.
+    U, _, Vt = np.linalg.svd(np.asarray(M).T)
+    R = U @ Vt
+    if np.linalg.det(R) < 0:
+        U[:, -1] *= -1
+        R = U @ Vt
+    lhs = np.vstack([A[:3, :3] - np.eye(3) for A in As])
+    rhs = np.concatenate([R @ B[:3, 3] - A[:3, 3] for A, B in zip(As, Bs)])
+    t, *_ = np.linalg.lstsq(lhs, rhs, rcond=None)
+    return se3.make(R, t)
+
+
+def average_pose(Ts: Sequence[Array]) -> Array:
+    """Chordal mean of rotations (projected back onto SO(3)) and mean of translations."""
+    Rs = np.stack([T[:3, :3] for T in Ts]).sum(axis=0)
+    U, _, Vt = np.linalg.svd(Rs)
+    R = U @ np.diag([1.0, 1.0, np.linalg.det(U @ Vt)]) @ Vt
+    return se3.make(R, np.mean([T[:3, 3] for T in Ts], axis=0))
+
+
+def initial_frames(setup: Setup, flanges: Sequence[Array], tags_in_camera: Sequence[Array]) -> tuple[Array, Array]:
+    """(L, R) with cMt_i ≈ L · F_i^±1 · R, from per-image PnP poses and nominal flange poses."""
+    F = [T if setup is Setup.EYE_TO_HAND else se3.inv(T) for T in flanges]
+    C = list(tags_in_camera)
+    As, Bs = [], []
+    # All pairs against a few anchors: robust to a bad image without O(N²) pairs.
+    anchors = range(0, len(C), max(1, len(C) // 6))
+    for i in anchors:
+        for j in range(len(C)):
+            if i != j:
+                # C_i = L F_i R  ⇒  (F_i⁻¹ F_j) R = R (C_i⁻¹ C_j)
+                As.append(se3.inv(F[i]) @ F[j])
+                Bs.append(se3.inv(C[i]) @ C[j])
+    R = solve_ax_xb(As, Bs)
+    L = average_pose([C[i] @ se3.inv(R) @ se3.inv(F[i]) for i in range(len(C))])
+    return L, R

@@ -1,0 +1,147 @@
+"""The measurement model: which pixel each tag corner should land on, given joints and parameters.
+
+Eye-to-hand (camera fixed, tag on the flange):  cMt = cMb · bMf(q) · fMt
+Eye-in-hand (camera on the flange, tag fixed):   cMt = cMf · bMf(q)⁻¹ · bMt
+Both are `cMt = L · F(q)^±1 · R` with two free "measurement frames" L and R, which also carry the
+base and tool gauge (FIGAROH's metrology frames); they are fitted but never written to the URDF.
+
+bMf(q) is the URDF chain with, per moving joint j, `origin_j · SE3(exp(r_j), t_j)` (6-D origin
+correction), the reading turned into `gain_j · q_j + offset_j` (zero offset, optional gain).
+The parameter vector holds only corrections, so 0 is the nominal robot.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from enum import Enum
+
+import numpy as np
+
+from armtool.calib import se3
+from armtool.calib.se3 import Array
+from armtool.ik.chain import Chain
+
+
+class Setup(str, Enum):
+    EYE_TO_HAND = "eye_to_hand"
+    EYE_IN_HAND = "eye_in_hand"
+
+
+class Family(str, Enum):
+    """Parameter families the user can free with `--params`."""
+
+    ORIGINS = "origins"  # 6-D origin correction per moving joint
+    OFFSETS = "offsets"  # joint zero offset
+    GAINS = "gains"  # joint gain (transmission ratio error)
+
+
+ORIGIN_COMPONENTS = ("tx", "ty", "tz", "rx", "ry", "rz")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One scalar unknown: where it lives and how to name it to a person."""
+
+    name: str  # e.g. "elbow_joint.origin.tz", "camera.rx"
+    group: str  # "camera", "tag", or a joint name
+    kind: str  # "frame", "origin", "offset", "gain"
+    component: str  # tx..rz, "offset", "gain"
+    unit: str  # "m", "rad", "1"
+
+    def describe(self) -> str:
+        if self.kind == "offset":
+            return f"zero offset of joint '{self.group}'"
+        if self.kind == "gain":
+            return f"gain of joint '{self.group}'"
+        what = {"t": "translation", "r": "rotation"}[self.component[0]] + " " + self.component[1]
+        if self.kind == "origin":
+            return f"{what} of joint '{self.group}' origin"
+        return f"{what} of the {self.group} frame"
+
+
+@dataclass
+class CalibModel:
+    """Chain + setup + the layout of the full parameter vector (all candidates, free or not)."""
+
+    chain: Chain
+    setup: Setup
+    L0: Array  # nominal left frame: cMb (eye-to-hand) or cMf (eye-in-hand)
+    R0: Array  # nominal right frame: fMt (eye-to-hand) or bMt (eye-in-hand)
+    params: list[Parameter] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        if not self.params:
+            self.params = self._layout()
+
+    @property
+    def left_name(self) -> str:
+        return "camera" if self.setup is Setup.EYE_TO_HAND else "camera_in_flange"
+
+    @property
+    def right_name(self) -> str:
+        return "tag" if self.setup is Setup.EYE_TO_HAND else "tag_in_base"
+
+    def _layout(self) -> list[Parameter]:
+        out: list[Parameter] = []
+        for frame in (self.left_name, self.right_name):
+            for c in ORIGIN_COMPONENTS:
+                out.append(Parameter(f"{frame}.{c}", frame, "frame", c, "m" if c[0] == "t" else "rad"))
+        for j in self.chain.joints:
+            for c in ORIGIN_COMPONENTS:
+                out.append(Parameter(f"{j.name}.origin.{c}", j.name, "origin", c, "m" if c[0] == "t" else "rad"))
+            out.append(Parameter(f"{j.name}.offset", j.name, "offset", "offset", "rad" if j.kind != "prismatic" else "m"))
+            out.append(Parameter(f"{j.name}.gain", j.name, "gain", "gain", "1"))
+        return out
+
+    @property
+    def size(self) -> int:
+        return len(self.params)
+
+    def indices(self, families: Sequence[Family]) -> list[int]:
+        """Candidate parameters: both frames always, plus the chosen kinematic families."""
+        kinds = {"frame"} | {{Family.ORIGINS: "origin", Family.OFFSETS: "offset", Family.GAINS: "gain"}[f] for f in families}
+        return [i for i, p in enumerate(self.params) if p.kind in kinds]
+
+    # -- evaluation ------------------------------------------------------------------------------
+
+    def frames(self, x: Array) -> tuple[Array, Array]:
+        return self.L0 @ se3.delta(x[0:6]), self.R0 @ se3.delta(x[6:12])
+
+    def joint_terms(self, x: Array) -> tuple[Array, Array, Array]:
+        """Per joint: corrected origins (n,4,4), zero offsets (n,), gains (n,)."""
+        n = self.chain.n
+        k = x[12:].reshape(n, 8)
+        origins = np.stack([j.origin @ se3.delta(k[i, :6]) for i, j in enumerate(self.chain.joints)])
+        return origins, k[:, 6], 1.0 + k[:, 7]
+
+    def flange(self, x: Array, Q: Array) -> Array:
+        """bMf for every row of Q (N,n): (N,4,4)."""
+        origins, offsets, gains = self.joint_terms(x)
+        N = Q.shape[0]
+        T = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
+        for i, j in enumerate(self.chain.joints):
+            value = gains[i] * Q[:, i] + offsets[i]
+            M = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
+            if j.kind == "prismatic":
+                M[:, :3, 3] = value[:, None] * j.axis
+            else:
+                M[:, :3, :3] = se3.rotation_about(j.axis, value)
+            T = T @ origins[i] @ M
+        return T @ self.chain.tip_offset
+
+    def tag_in_camera(self, x: Array, Q: Array) -> Array:
+        """cMt for every row of Q: (N,4,4)."""
+        L, R = self.frames(x)
+        F = self.flange(x, Q)
+        if self.setup is Setup.EYE_IN_HAND:
+            F = se3.inv(F)
+        return L @ F @ R
+
+    def corners_in_camera(self, x: Array, Q: Array, tag_points: Array) -> Array:
+        """Tag corners in the camera frame: (N,4,3)."""
+        C = self.tag_in_camera(x, Q)
+        return np.einsum("nij,kj->nki", C[:, :3, :3], tag_points) + C[:, None, :3, 3]
+
+    def with_frames(self, L0: Array, R0: Array) -> CalibModel:
+        return CalibModel(self.chain, self.setup, L0, R0, self.params)

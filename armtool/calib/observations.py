@@ -1,0 +1,92 @@
+"""Tag corners per sample: detected in the images, or read from corners.csv.
+
+Detection is the slow part of a calibration (tens of ms per image), so it runs in a process
+pool on every core and reports progress; a sample whose tag is missing, blurred or ambiguous
+keeps its reason, which `check` and `fit` show.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from armtool.calib.camera import CameraModel
+from armtool.calib.dataset import Dataset, Sample
+from armtool.calib.se3 import Array
+
+
+@dataclass(frozen=True)
+class Observation:
+    sample_id: str
+    corners_px: Array | None  # (4,2), OpenCV pixel centres; None when rejected
+    reason: str = ""  # why there are no corners
+
+
+def _detect_one(args: tuple[str, str, str, int, CameraModel]) -> tuple[str, Array | None, str]:
+    import cv2
+
+    from armtool.calib.apriltag import detect_tag
+
+    sample_id, image_path, family, tag_id, camera = args
+    cv2.setNumThreads(1)
+    gray = cv2.imread(image_path, cv2.IMREAD_GRAYSCALE)
+    if gray is None:
+        return sample_id, None, f"cannot read image {image_path}"
+    if (gray.shape[1], gray.shape[0]) != (camera.width, camera.height):
+        return sample_id, None, f"image is {gray.shape[1]}x{gray.shape[0]}, the intrinsics say {camera.width}x{camera.height}"
+    det = detect_tag(gray, family, tag_id, camera)
+    if not det.ok:
+        return sample_id, None, det.reason
+    return sample_id, np.asarray(det.corners_px, dtype=float), ""
+
+
+def observe(
+    ds: Dataset,
+    camera: CameraModel,
+    samples: list[Sample] | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    workers: int | None = None,
+) -> dict[str, Observation]:
+    """Corners for every sample: corners.csv when the dataset has one, else detection in the images."""
+    samples = ds.samples if samples is None else samples
+    out: dict[str, Observation] = {}
+    if ds.corners_file is not None:
+        for s in samples:
+            uv = ds.corners.get(s.id)
+            out[s.id] = Observation(s.id, uv, "" if uv is not None else f"no row for tag {ds.tag_id} in corners.csv")
+        return out
+    jobs = []
+    for s in samples:
+        if s.image is None:
+            out[s.id] = Observation(s.id, None, "no image and no corners.csv row")
+        elif not Path(s.image).is_file():
+            out[s.id] = Observation(s.id, None, f"image {s.image} does not exist")
+        else:
+            jobs.append((s.id, str(s.image), ds.family, ds.tag_id, camera))
+    total = len(jobs)
+    workers = workers or min(os.cpu_count() or 1, 8)
+    if total == 0:
+        return out
+    done = 0
+    if workers <= 1 or total < 4:
+        results = map(_detect_one, jobs)
+        for sid, uv, reason in results:
+            out[sid] = Observation(sid, uv, reason)
+            done += 1
+            if progress:
+                progress(done, total)
+    else:
+        import multiprocessing
+
+        ctx = multiprocessing.get_context("fork" if hasattr(os, "fork") else "spawn")
+        with ctx.Pool(workers) as pool:
+            for sid, uv, reason in pool.imap_unordered(_detect_one, jobs, chunksize=2):
+                out[sid] = Observation(sid, uv, reason)
+                done += 1
+                if progress:
+                    progress(done, total)
+    return out

@@ -1,0 +1,290 @@
+"""Synthetic calibration datasets with known truth, for rehearsing a pose set and for the tests.
+
+A "true" robot is the URDF with injected errors (6-D origin errors per joint, zero offsets), seen
+by a camera at a made-up but plausible place; tag images are rendered from the true robot and the
+joint readings written as the controller would report them. The truth (injected errors, frames,
+validation poses, the true URDF) goes to `truth/`, which `armtool calibrate fit` never reads.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from armtool.calib import se3
+from armtool.calib.camera import CameraModel
+from armtool.calib.model import CalibModel, Setup
+from armtool.calib.se3 import Array
+from armtool.errors import ArmtoolError
+from armtool.ik.chain import Chain
+
+QUALITY = {  # research/calibration.md §2 image conditions
+    "good": {"blur": (0.5, 0.7), "noise": 1.5 / 255, "black": (0.06, 0.10), "white": (0.85, 0.9)},
+    "typical": {"blur": (0.8, 1.2), "noise": 3 / 255, "black": (0.08, 0.20), "white": (0.60, 0.90)},
+    "poor": {"blur": (1.4, 2.0), "noise": 6 / 255, "black": (0.15, 0.30), "white": (0.45, 0.70)},
+}
+
+
+DISTANCE_M = {"eye_to_hand": (0.5, 1.3), "eye_in_hand": (0.3, 0.8)}
+
+
+@dataclass(frozen=True)
+class SimulationSpec:
+    samples: int = 60
+    validation: int = 30  # poses kept in truth/ to check a calibration against the true robot
+    setup: Setup = Setup.EYE_TO_HAND
+    seed: int = 0
+    quality: str = "typical"
+    tag_size_m: float = 0.08
+    tag_id: int = 0
+    family: str = "tag36h11"
+    origin_error_mm: tuple[float, float] = (0.5, 3.0)
+    origin_error_deg: tuple[float, float] = (0.05, 0.3)
+    offset_error_deg: tuple[float, float] = (0.1, 0.5)
+    distance_m: tuple[float, float] | None = None  # camera-tag distance; default 0.5-1.3 m fixed, 0.3-0.8 m hand-held
+    max_tilt_deg: float = 60.0
+    bad_samples: int = 0  # wrong rows mixed in: a joint reading off by 5°, or a mislabeled image
+    joint_noise_deg: float = 0.0
+    distortion: bool = False
+
+    @property
+    def distances(self) -> tuple[float, float]:
+        return self.distance_m or DISTANCE_M[self.setup.value]
+
+
+def default_camera(distortion: bool = False) -> CameraModel:
+    K = np.array([[910.0, 0.0, 641.3], [0.0, 910.0, 358.7], [0.0, 0.0, 1.0]])
+    dist = np.array([0.10, -0.25, 5e-4, -3e-4, 0.10]) if distortion else np.zeros(5)
+    return CameraModel(K, dist, 1280, 720)
+
+
+def _random_unit(rng: np.random.Generator) -> Array:
+    v = rng.normal(size=3)
+    return v / np.linalg.norm(v)
+
+
+def true_corrections(chain: Chain, spec: SimulationSpec, rng: np.random.Generator) -> Array:
+    """Kinematic part of the parameter vector (n×8): origin errors and zero offsets, no gain error."""
+    k = np.zeros((chain.n, 8))
+    for i in range(chain.n):
+        k[i, :3] = _random_unit(rng) * rng.uniform(*spec.origin_error_mm) * 1e-3
+        k[i, 3:6] = _random_unit(rng) * math.radians(rng.uniform(*spec.origin_error_deg))
+        k[i, 6] = rng.choice([-1.0, 1.0]) * math.radians(rng.uniform(*spec.offset_error_deg))
+    return k
+
+
+def _look_at(eye: Array, target: Array, up: Array) -> Array:
+    """bMc of an OpenCV camera (z forward, y down) at `eye` looking at `target`."""
+    z = target - eye
+    z /= np.linalg.norm(z)
+    x = np.cross(z, -up)
+    if np.linalg.norm(x) < 1e-6:
+        x = np.cross(z, np.array([1.0, 0.0, 0.0]))
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    return se3.make(np.column_stack([x, y, z]), eye)
+
+
+def _place(model0: CalibModel, spec: SimulationSpec, rng: np.random.Generator) -> tuple[Array, Array, Array]:
+    """(L, R, Q_pool): measurement frames of the true setup and a pool of random joint vectors."""
+    chain = model0.chain
+    Q = chain.random(rng, 40000)
+    F = model0.flange(np.zeros(model0.size), Q)
+    P = F[:, :3, 3]
+    reach = float(np.percentile(np.linalg.norm(P, axis=1), 95))
+    centre = np.median(P, axis=0)
+    if spec.setup is Setup.EYE_TO_HAND:
+        fMt = se3.xyz_rpy([0.0, 0.0, 0.012], [0.0, 0.0, math.pi / 2])
+        direction = np.array([1.0, 0.35, 0.55])
+        eye = centre + direction / np.linalg.norm(direction) * (0.5 * reach + 0.75)
+        bMc = _look_at(eye, centre, np.array([0.0, 0.0, 1.0]))
+        return se3.inv(bMc), fMt, Q
+    fMc = se3.xyz_rpy([0.04, 0.0, 0.03], [0.0, 0.0, 0.0])
+    low = centre.copy()
+    low[2] = float(np.percentile(P[:, 2], 20))
+    bMt = se3.xyz_rpy(low, [0.0, 0.0, 0.3])  # flat on the table, facing up
+    return se3.inv(fMc), bMt, Q
+
+
+def _poses_by_ik(model: CalibModel, camera: CameraModel, spec: SimulationSpec, rng: np.random.Generator, count: int) -> Array:
+    """Joint vectors that put a hand-held camera where it sees the fixed tag: random views, then IK.
+
+    A random joint vector almost never points a flange camera at one spot on the table (0.04 %
+    of them for a 6-DOF arm), so views are drawn first and the arm is solved into them.
+    """
+    from armtool.calib.render import random_view_pose
+    from armtool.ik.registry import make_solver
+
+    chain = model.chain
+    solver = make_solver("lm", chain, timeout=0.003, tolerance=1e-6, seed=spec.seed)
+    L, R = model.L0, model.R0  # cMf, bMt
+    reach = float(np.linalg.norm(model.flange(np.zeros(model.size), chain.random(rng, 5000))[:, :3, 3], axis=1).max())
+    out: list[Array] = []
+    for _ in range(count * 20):
+        cMt = random_view_pose(camera, rng, distance_m=spec.distances, max_tilt_deg=spec.max_tilt_deg)
+        target = R @ se3.inv(cMt) @ L  # bMf = bMt · tMc · cMf
+        if np.linalg.norm(target[:3, 3]) > 0.95 * reach:  # out of reach: skip the IK timeout
+            continue
+        result = solver.solve(target, chain.random(rng))
+        if result.success:
+            out.append(result.q)
+            if len(out) == count:
+                break
+    return np.array(out).reshape(-1, chain.n)
+
+
+def _visible(model: CalibModel, x: Array, camera: CameraModel, Q: Array, spec: SimulationSpec) -> Array:
+    """Indices of rows of Q whose tag pose renders well (distance, tilt, whole plate in view)."""
+    from armtool.calib.render import tag_in_view
+
+    C = model.tag_in_camera(x, Q)
+    t = C[:, :3, 3]
+    dist = np.linalg.norm(t, axis=1)
+    view = -t / np.maximum(dist[:, None], 1e-9)
+    facing = np.einsum("ni,ni->n", C[:, :3, 2], view)  # cos(angle between the tag normal and the ray)
+    ok = (dist > spec.distances[0]) & (dist < spec.distances[1]) & (facing > math.cos(math.radians(spec.max_tilt_deg)))
+    good = []
+    for i in np.flatnonzero(ok):
+        if tag_in_view(camera, C[i], spec.tag_size_m, spec.family):
+            good.append(i)
+    return np.array(good, dtype=int)
+
+
+def _write_text(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec, progress=None) -> dict[str, object]:  # type: ignore[no-untyped-def]
+    """Write a dataset into `out` (must be empty or new); return a summary of what was injected."""
+    import cv2
+    import yaml
+
+    from armtool.calib.apriltag import family_dictionary
+    from armtool.calib.camera import save_intrinsics
+    from armtool.calib.render import render_tag
+    from armtool.calib.urdf_out import corrected_text, expanded_text, joint_corrections
+    from armtool.ik.chain import chain_from_xml
+    from armtool.model.load import load_robot_xml
+
+    if spec.quality not in QUALITY:
+        raise ArmtoolError(f"unknown image quality '{spec.quality}'", hint="choose good, typical or poor")
+    family_dictionary(spec.family)
+    if out.exists() and any(out.iterdir()):
+        raise ArmtoolError("output directory is not empty", str(out), "choose a new directory, nothing was written")
+    rng = np.random.default_rng(spec.seed)
+    chain = chain_from_xml(load_robot_xml(urdf), base, flange, source=urdf.name)
+    camera = default_camera(spec.distortion)
+    nominal = CalibModel(chain, spec.setup, np.eye(4), np.eye(4))
+    L, R, pool = _place(nominal, spec, rng)
+    x_true = np.zeros(nominal.size)
+    x_true[12:] = true_corrections(chain, spec, rng).ravel()
+    truth_model = nominal.with_frames(L, R)
+    if spec.setup is Setup.EYE_IN_HAND:
+        pool = _poses_by_ik(truth_model, camera, spec, rng, 3 * (spec.samples + spec.validation))
+    visible = _visible(truth_model, x_true, camera, pool, spec)
+    need = spec.samples + spec.validation
+    if len(visible) < need:
+        raise ArmtoolError(
+            f"only {len(visible)} of {len(pool)} candidate poses show the tag well; {need} are needed",
+            hint="lower --samples, or widen the distance range",
+        )
+    chosen = rng.choice(visible, size=need, replace=False)
+    Q_fit, Q_val = pool[chosen[: spec.samples]], pool[chosen[spec.samples :]]
+
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "images").mkdir()
+    (out / "truth").mkdir()
+    text = expanded_text(urdf)
+    _write_text(out / "robot.urdf", text)
+    save_intrinsics(camera, out / "camera.yaml")
+    q_cfg = QUALITY[spec.quality]
+    C = truth_model.tag_in_camera(x_true, Q_fit)
+    readings = Q_fit.copy()
+    if spec.joint_noise_deg:
+        readings = readings + rng.normal(scale=math.radians(spec.joint_noise_deg), size=readings.shape)
+    images = [f"images/{i:04d}.png" for i in range(spec.samples)]
+    for i in range(spec.samples):
+        img = render_tag(
+            camera, C[i], spec.tag_size_m, spec.family, spec.tag_id,
+            blur_sigma_px=rng.uniform(*q_cfg["blur"]), noise_sigma=q_cfg["noise"],
+            black=rng.uniform(*q_cfg["black"]), white=rng.uniform(*q_cfg["white"]), rng=rng,
+        )
+        if img is None:  # cannot happen: poses were chosen by the same visibility test
+            raise ArmtoolError(f"internal: pose {i} is not renderable")
+        cv2.imwrite(str(out / images[i]), img)
+        if progress:
+            progress(i + 1, spec.samples)
+    bad: dict[str, str] = {}
+    if spec.bad_samples:
+        picks = rng.choice(spec.samples, size=min(spec.bad_samples, spec.samples // 4), replace=False)
+        for k, i in enumerate(picks):
+            if k % 2 == 0:
+                j = int(rng.integers(chain.n))
+                readings[i, j] += math.radians(5.0)
+                bad[str(i)] = f"joint '{chain.joint_names[j]}' reading off by +5°"
+            else:
+                other = (int(i) + 1 + int(rng.integers(spec.samples - 1))) % spec.samples
+                images[i] = f"images/{other:04d}.png"
+                bad[str(i)] = f"image label points at sample {other}'s image"
+    rows = ["id,image," + ",".join(chain.joint_names)]
+    for i in range(spec.samples):
+        rows.append(f"{i},{images[i]}," + ",".join(f"{v:.9f}" for v in readings[i]))
+    _write_text(out / "samples.csv", "\n".join(rows) + "\n")
+    if spec.setup is Setup.EYE_TO_HAND:
+        hints = {"camera_in_base": se3.inv(L), "tag_in_flange": R}
+    else:
+        hints = {"camera_in_flange": se3.inv(L), "tag_in_base": R}
+    manifest = {
+        "format": "armtool-calib-dataset/1",
+        "created_by": "armtool calibrate simulate",
+        "setup": spec.setup.value,
+        "robot": {"urdf": "robot.urdf", "base_link": chain.base, "flange_link": chain.tip, "joints": chain.joint_names, "joint_units": "rad"},
+        "camera": {"intrinsics": "camera.yaml", "convention": "opencv (x right, y down, z forward)", "images_rectified": False},
+        "target": {
+            "type": "apriltag", "family": spec.family, "id": spec.tag_id, "size_m": spec.tag_size_m,
+            "size_definition": "edge of the black border square",
+            "frame": "opencv aruco: origin at centre, x right, y up, z out of the face",
+            "mounted_on": chain.tip if spec.setup is Setup.EYE_TO_HAND else chain.base,
+        },
+        "samples": "samples.csv",
+        "images_dir": "images",
+        "hints": {k: _rough(v, rng) for k, v in hints.items()},
+    }
+    _write_text(out / "dataset.yaml", yaml.safe_dump(manifest, sort_keys=False))
+    # The truth, kept apart.
+    corrections = joint_corrections(truth_model, x_true)
+    _write_text(out / "truth" / "robot_true.urdf", corrected_text(text, corrections, "robot.urdf"))
+    k = x_true[12:].reshape(chain.n, 8)
+    truth = {
+        "note": "ground truth of this synthetic dataset; armtool calibrate fit never reads it",
+        "setup": spec.setup.value,
+        "left_frame": _pose_dict(L),
+        "right_frame": _pose_dict(R),
+        "joints": {
+            name: {"origin_t_m": k[i, :3].tolist(), "origin_r_rad": k[i, 3:6].tolist(), "offset_rad": float(k[i, 6])}
+            for i, name in enumerate(chain.joint_names)
+        },
+        "bad_samples": bad,
+        "spec": {"quality": spec.quality, "seed": spec.seed, "samples": spec.samples, "tag_size_m": spec.tag_size_m},
+    }
+    _write_text(out / "truth" / "truth.yaml", yaml.safe_dump(truth, sort_keys=False))
+    val_rows = [",".join(chain.joint_names)] + [",".join(f"{v:.9f}" for v in q) for q in Q_val]
+    _write_text(out / "truth" / "validation.csv", "\n".join(val_rows) + "\n")
+    return {"samples": spec.samples, "validation": spec.validation, "bad_samples": bad, "joints": chain.joint_names}
+
+
+def _pose_dict(T: Array) -> dict[str, list[float]]:
+    return {"xyz": [float(v) for v in T[:3, 3]], "rpy": [float(v) for v in se3.rpy_of(T[:3, :3])]}
+
+
+def _rough(T: Array, rng: np.random.Generator) -> dict[str, list[float]]:
+    """A hint as a person would measure it: a few cm and degrees off."""
+    noisy = T @ se3.delta(np.concatenate([rng.normal(scale=0.02, size=3), rng.normal(scale=math.radians(3), size=3)]))
+    return {k: [round(v, 3) for v in vals] for k, vals in _pose_dict(noisy).items()}

@@ -1,0 +1,310 @@
+"""`armtool calibrate check|fit|simulate`: kinematic calibration from AprilTag images."""
+
+from __future__ import annotations
+
+import json
+import math
+from enum import Enum
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from armtool.errors import ArmtoolError, ExitCode
+
+app = typer.Typer(
+    help="Fit a real arm's kinematic errors from AprilTag images and write a corrected URDF.",
+    no_args_is_help=True,
+    add_completion=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+class SetupOption(str, Enum):
+    EYE_TO_HAND = "eye_to_hand"
+    EYE_IN_HAND = "eye_in_hand"
+
+
+class QualityOption(str, Enum):
+    GOOD = "good"
+    TYPICAL = "typical"
+    POOR = "poor"
+
+
+class ReportFormat(str, Enum):
+    TEXT = "text"
+    JSON = "json"
+
+
+def _families(text: str) -> tuple:  # type: ignore[type-arg]
+    from armtool.calib.model import Family
+
+    out = []
+    for part in [p.strip() for p in text.split(",") if p.strip()]:
+        try:
+            out.append(Family(part))
+        except ValueError:
+            raise ArmtoolError(f"unknown parameter family '{part}' in --params", hint="choose from: origins, offsets, gains") from None
+    if not out:
+        raise ArmtoolError("--params is empty", hint="e.g. --params origins,offsets")
+    return tuple(dict.fromkeys(out))
+
+
+def _load(dataset: Path):  # type: ignore[no-untyped-def]
+    """Dataset, chain and camera; the dataset re-read with the chain's joint names to check the CSV."""
+    from armtool.calib.camera import load_intrinsics
+    from armtool.calib.dataset import Problem, load_dataset
+    from armtool.ik.chain import load_chain
+
+    ds = load_dataset(dataset)
+    chain = camera = None
+    if ds.urdf.is_file() and ds.base_link and ds.flange_link:
+        try:
+            chain = load_chain(ds.urdf, ds.base_link, ds.flange_link)
+        except ArmtoolError as exc:
+            ds.problems.append(Problem(str(ds.urdf.name), exc.what, exc.hint or ""))
+    if chain is not None:
+        problems = [p for p in ds.problems if "samples" not in p.where]
+        ds = load_dataset(dataset, chain.joint_names)
+        listed = set(ds.joints)
+        if listed and listed != set(chain.joint_names):
+            ds.problems.append(Problem("dataset.yaml", f"robot.joints {sorted(listed)} differ from the chain's moving joints {chain.joint_names}",
+                                       f"list the joints between {ds.base_link} and {ds.flange_link}"))
+        for p in problems:
+            if p not in ds.problems:
+                ds.problems.append(p)
+    if ds.intrinsics.is_file():
+        try:
+            camera = load_intrinsics(ds.intrinsics)
+            if ds.images_rectified:
+                camera = camera.without_distortion()
+        except ArmtoolError as exc:
+            ds.problems.append(Problem(ds.intrinsics.name, exc.what, exc.hint or ""))
+    return ds, chain, camera
+
+
+def _progress_bar():  # type: ignore[no-untyped-def]
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from armtool.console import stderr
+
+    return Progress(TextColumn("{task.description:<18}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(), console=stderr(), transient=True)
+
+
+def _detect(ds, camera):  # type: ignore[no-untyped-def]
+    from armtool.calib.observations import observe
+
+    with _progress_bar() as bar:
+        task = bar.add_task("detecting tags" if ds.corners_file is None else "reading corners", total=len(ds.samples))
+        return observe(ds, camera, progress=lambda done, total: bar.update(task, completed=done))
+
+
+@app.command("check")
+def check(
+    dataset: Path = typer.Argument(..., help="Dataset directory (with dataset.yaml)."),
+    detect: bool = typer.Option(True, "--detect/--no-detect", help="Also look for the tag in every image."),
+) -> None:
+    """Validate a dataset: files, joints, units, images, and the tag in every image."""
+    from rich.markup import escape
+
+    from armtool.calib.dataset import Problem
+    from armtool.console import stderr
+
+    ds, chain, camera = _load(dataset)
+    if detect and chain is not None and camera is not None and ds.samples:
+        for sid, ob in _detect(ds, camera).items():
+            if ob.corners_px is None:
+                row = next(s.row for s in ds.samples if s.id == sid)
+                ds.problems.append(Problem(f"samples.csv:{row}", f"sample {sid}: {ob.reason}", severity="warning"))
+    out = stderr()
+    for p in ds.problems:
+        color = "red" if p.severity == "error" else "yellow"
+        out.print(f"{escape(p.where)}: [{color}]{p.severity}[/{color}]: {escape(p.what)}")
+        if p.hint:
+            out.print(f"  [dim]hint:[/dim] {escape(p.hint)}")
+    errors = len(ds.errors)
+    warnings = len(ds.problems) - errors
+    out.print(f"{len(ds.samples)} samples, {errors} error(s), {warnings} warning(s)")
+    if errors:
+        raise typer.Exit(ExitCode.FINDINGS)
+
+
+@app.command("fit")
+def fit(
+    dataset: Path = typer.Argument(..., help="Dataset directory (with dataset.yaml)."),
+    out: Path = typer.Option(..., "--out", "-o", help="Directory for calibrated.urdf and calibration.yaml."),
+    params: str = typer.Option("origins,offsets", "--params", help="Kinematic parameter families to fit: origins, offsets, gains."),
+    holdout: float = typer.Option(0.0, "--holdout", min=0.0, max=0.9, help="Fraction of samples kept out of the fit to validate it."),
+    validation: Optional[Path] = typer.Option(None, "--validation", help="A second dataset of the same setup, used only to validate."),
+    seed: int = typer.Option(0, "--seed", help="Random seed for the hold-out split."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write a PNG of per-sample residuals before and after."),
+    output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
+) -> None:
+    """Calibrate: per-joint origin corrections and zero offsets, with the camera and tag frames."""
+    import numpy as np
+    import yaml
+
+    from armtool.calib.dataset import require_ok
+    from armtool.calib.fit import FitOptions, calibrate
+    from armtool.calib.model import CalibModel
+    from armtool.calib.report import calibration_document, residual_plot_png, write_atomic
+    from armtool.calib.urdf_out import corrected_text, expanded_text, joint_corrections
+    from armtool.console import stderr, write_stdout
+
+    explicit = params != "origins,offsets"
+    families = _families(params)
+    if out.exists() and not out.is_dir():
+        raise ArmtoolError("--out is a file", str(out), "pass a directory")
+    ds, chain, camera = _load(dataset)
+    require_ok(ds)
+    assert chain is not None and camera is not None
+    observations = _detect(ds, camera)
+    samples = list(ds.samples)
+    holdout_ids: set[str] | None = None
+    if validation is not None:
+        vds, vchain, vcamera = _load(validation)
+        require_ok(vds)
+        if vchain is None or vchain.joint_names != chain.joint_names:
+            raise ArmtoolError("the validation dataset's chain differs from the dataset's", str(validation))
+        from dataclasses import replace
+
+        from armtool.calib.observations import Observation
+
+        vobs = _detect(vds, vcamera)
+        for s in vds.samples:
+            sid = f"validation:{s.id}"
+            samples.append(replace(s, id=sid))
+            o = vobs[s.id]
+            observations[sid] = Observation(sid, o.corners_px, o.reason)
+        holdout_ids = {s.id for s in samples if s.id.startswith("validation:")}
+    from armtool.calib.fit import split_holdout
+
+    if holdout and holdout_ids is None:
+        usable = [s.id for s in samples if observations[s.id].corners_px is not None]
+        holdout_ids = split_holdout(usable, holdout, seed)
+    elif holdout and holdout_ids is not None:
+        usable = [s.id for s in samples if observations[s.id].corners_px is not None and s.id not in holdout_ids]
+        holdout_ids |= split_holdout(usable, holdout, seed)
+
+    model = CalibModel(chain, ds.setup, np.eye(4), np.eye(4))
+    status = stderr().status("fitting")
+    with status:
+        result = calibrate(
+            model, camera, samples, observations, ds.size_m,
+            FitOptions(families=families, families_explicit=explicit, holdout=holdout, seed=seed),
+            ds.hints, holdout_ids=holdout_ids, progress=lambda msg: status.update(msg),
+        )
+    # Everything computed: now write, each file atomically.
+    text = expanded_text(ds.urdf)
+    new_urdf = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)
+    doc = calibration_document(result, str(dataset), ds.urdf.name)
+    truth_scores = _truth_scores(dataset, result)
+    if truth_scores:
+        doc["against_truth"] = truth_scores
+    out.mkdir(parents=True, exist_ok=True)
+    write_atomic(out / "calibrated.urdf", new_urdf)
+    write_atomic(out / "calibration.yaml", yaml.safe_dump(doc, sort_keys=False, allow_unicode=True))
+    if plot is not None:
+        write_atomic(plot, residual_plot_png(result))
+    if output_format is ReportFormat.JSON:
+        summary = {k: doc[k] for k in ("setup", "frames", "identifiability", "metrics", "outliers", "rejected", "warnings")}
+        summary["schema_version"] = 1
+        if truth_scores:
+            summary["against_truth"] = truth_scores
+        write_stdout(json.dumps(summary, indent=2))
+    _print_report(result, truth_scores, out, plot)
+
+
+def _truth_scores(dataset: Path, result) -> dict | None:  # type: ignore[no-untyped-def,type-arg]
+    """For simulated datasets only: errors against the known true robot on its validation poses."""
+    from armtool.calib.truth import load_truth, score
+
+    if not (dataset / "truth" / "truth.yaml").is_file():
+        return None
+    truth = load_truth(dataset, result.model)
+    before, after = score(result.model, result.x_handeye, truth), score(result.model, result.x, truth)
+    named = sorted(set(truth.bad_samples) & set(result.outliers))
+    return {
+        "validation_poses": int(len(truth.validation)),
+        "hand_eye_only": before.__dict__,
+        "calibrated": after.__dict__,
+        "improvement": before.position_rms_mm / after.position_rms_mm if after.position_rms_mm > 0 else math.inf,
+        "bad_samples": truth.bad_samples,
+        "bad_samples_named": named,
+    }
+
+
+def _print_report(result, truth, out: Path, plot: Optional[Path]) -> None:  # type: ignore[no-untyped-def]
+    from rich.markup import escape
+    from rich.table import Table
+
+    from armtool.console import stderr
+
+    con = stderr()
+    ident = result.identifiability
+    table = Table(title="corner reprojection RMS (px)", title_justify="left")
+    table.add_column("")
+    table.add_column("hand-eye only", justify="right")
+    table.add_column("calibrated", justify="right")
+    table.add_row("fit samples", f"{result.fit_rms_px[0]:.3f}", f"{result.fit_rms_px[1]:.3f}")
+    if not math.isnan(result.holdout_rms_px[0]):
+        table.add_row("held-out samples", f"{result.holdout_rms_px[0]:.3f}", f"{result.holdout_rms_px[1]:.3f}")
+    if truth:
+        b, a = truth["hand_eye_only"], truth["calibrated"]
+        table.add_row("vs truth: position RMS / max (mm)", f"{b['position_rms_mm']:.3f} / {b['position_max_mm']:.3f}", f"{a['position_rms_mm']:.3f} / {a['position_max_mm']:.3f}")
+        table.add_row("vs truth: rotation RMS (°)", f"{b['rotation_rms_deg']:.4f}", f"{a['rotation_rms_deg']:.4f}")
+    con.print(table)
+    con.print(
+        f"identified {len(result.free)} of {len(result.free) + len(ident.dropped)} parameters; "
+        f"condition number {ident.condition_number:.1f}, observability index {ident.observability_index:.3g}"
+    )
+    shown = list(ident.dropped.items())[:6]
+    for i, why in shown:
+        con.print(f"  [dim]dropped[/dim] {escape(result.model.params[i].name)}: {escape(why)}")
+    if len(ident.dropped) > len(shown):
+        con.print(f"  [dim]… {len(ident.dropped) - len(shown)} more in calibration.yaml[/dim]")
+    for sid, why in result.outliers.items():
+        con.print(f"[yellow]outlier[/yellow] sample {escape(sid)}: {escape(why)}")
+    for sid, why in result.rejected.items():
+        con.print(f"[yellow]rejected[/yellow] sample {escape(sid)}: {escape(why)}")
+    for w in result.warnings:
+        con.print(f"[yellow]warning:[/yellow] {escape(w)}")
+    con.print(f"wrote {out / 'calibrated.urdf'} and {out / 'calibration.yaml'}" + (f" and {plot}" if plot else ""))
+
+
+@app.command("simulate")
+def simulate(
+    urdf: Path = typer.Argument(..., help="Nominal URDF (or xacro) of the robot."),
+    out: Path = typer.Option(..., "--out", "-o", help="New directory for the dataset (truth goes to OUT/truth/)."),
+    base: Optional[str] = typer.Option(None, "--base", help="Base link (default: the root)."),
+    flange: Optional[str] = typer.Option(None, "--flange", help="Link the tag (or camera) is mounted on (default: end of the longest chain)."),
+    samples: int = typer.Option(60, "--samples", min=3, help="Images to render."),
+    validation: int = typer.Option(30, "--validation", min=1, help="Extra poses kept in truth/ to score a calibration."),
+    setup: SetupOption = typer.Option(SetupOption.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."),
+    quality: QualityOption = typer.Option(QualityOption.TYPICAL, "--quality", help="Image blur, noise and contrast."),
+    tag_size: float = typer.Option(0.08, "--tag-size", help="Edge of the black square, m."),
+    bad_samples: int = typer.Option(0, "--bad-samples", min=0, help="Wrong rows to mix in (joint off by 5°, mislabeled image)."),
+    distortion: bool = typer.Option(False, "--distortion", help="Give the camera lens distortion."),
+    seed: int = typer.Option(0, "--seed", help="Random seed."),
+) -> None:
+    """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
+    from armtool.calib.model import Setup
+    from armtool.calib.simulate import SimulationSpec
+    from armtool.calib.simulate import simulate as run
+    from armtool.console import stderr
+    from armtool.ik.chain import chain_from_xml
+    from armtool.model.load import load_robot_xml
+
+    if not tag_size > 0:
+        raise ArmtoolError(f"--tag-size must be > 0, got {tag_size}")
+    if base is None or flange is None:
+        chain = chain_from_xml(load_robot_xml(urdf), base, flange, source=urdf.name)
+        base, flange = chain.base, chain.tip
+    spec = SimulationSpec(samples=samples, validation=validation, setup=Setup(setup.value), seed=seed, quality=quality.value,
+                          tag_size_m=tag_size, bad_samples=bad_samples, distortion=distortion)
+    with _progress_bar() as bar:
+        task = bar.add_task("rendering", total=samples)
+        summary = run(urdf, out, base, flange, spec, progress=lambda done, total: bar.update(task, completed=done))
+    stderr().print(f"wrote {samples} images and dataset.yaml to {out}; ground truth in {out / 'truth'}")
+    if summary["bad_samples"]:
+        stderr().print(f"bad samples mixed in: {summary['bad_samples']}")

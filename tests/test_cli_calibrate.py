@@ -1,0 +1,135 @@
+"""`armtool calibrate simulate|check|fit` end to end on the bundled arm, and bad input."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from armtool.cli import app
+from armtool.ik.chain import load_chain
+
+ROOT = Path(__file__).resolve().parents[1]
+CLEAN_ARM = ROOT / "fixtures" / "robots" / "clean_arm" / "urdf" / "clean_arm.urdf"
+runner = CliRunner()
+
+
+def armtool(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "armtool", *args], capture_output=True, text=True, cwd=ROOT)
+
+
+@pytest.fixture(scope="module")
+def dataset(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("calib") / "ds"
+    result = runner.invoke(app, ["calibrate", "simulate", str(CLEAN_ARM), "--flange", "tool0", "-o", str(out),
+                                 "--samples", "30", "--validation", "20", "--bad-samples", "2", "--seed", "1"])
+    assert result.exit_code == 0, result.output
+    return out
+
+
+def test_simulate_writes_a_dataset_and_keeps_the_truth_apart(dataset: Path) -> None:
+    assert {p.name for p in dataset.iterdir()} == {"dataset.yaml", "robot.urdf", "camera.yaml", "samples.csv", "images", "truth"}
+    assert len(list((dataset / "images").glob("*.png"))) == 30
+    assert {p.name for p in (dataset / "truth").iterdir()} == {"truth.yaml", "robot_true.urdf", "validation.csv"}
+    assert "truth" not in (dataset / "dataset.yaml").read_text()
+
+
+def test_check_passes_on_a_good_dataset(dataset: Path) -> None:
+    result = runner.invoke(app, ["calibrate", "check", str(dataset)])
+    assert result.exit_code == 0, result.output
+
+
+def test_fit_end_to_end(dataset: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["calibrate", "fit", str(dataset), "--out", str(out), "--holdout", "0.2",
+                                 "--format", "json", "--plot", str(tmp_path / "res.png")])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    truth = summary["against_truth"]
+    assert truth["calibrated"]["position_rms_mm"] < 0.15 and truth["improvement"] > 25
+    assert set(truth["bad_samples"]) <= set(summary["outliers"])
+    assert summary["identifiability"]["identified"] == 30
+    assert summary["metrics"]["holdout_rms_px"]["calibrated"] < 0.3
+    assert (tmp_path / "res.png").read_bytes()[:4] == b"\x89PNG"
+    # The corrected URDF keeps joint names and comments, and has the fitted kinematics.
+    text = (out / "calibrated.urdf").read_text()
+    assert "<!-- The root carries no inertia (KDL ignores it there). -->" in text
+    import yaml
+
+    doc = yaml.safe_load((out / "calibration.yaml").read_text())
+    assert doc["format"] == "armtool-calibration/1" and set(doc["joints"]) == {f"joint{i}" for i in range(1, 7)}
+    calibrated = load_chain(out / "calibrated.urdf", "base_link", "tool0")
+    true = load_chain(dataset / "truth" / "robot_true.urdf", "base_link", "tool0")
+    q = np.zeros(6)
+    moved = np.linalg.norm(calibrated.fk(q)[:3, 3] - load_chain(CLEAN_ARM, "base_link", "tool0").fk(q)[:3, 3])
+    assert moved > 1e-4  # corrections were written
+    assert true.joint_names == calibrated.joint_names
+    lint = armtool("lint", str(out / "calibrated.urdf"))
+    assert "error" not in lint.stdout, lint.stdout
+
+
+def test_missing_dataset_is_exit_2(tmp_path: Path) -> None:
+    result = armtool("calibrate", "fit", str(tmp_path / "nope"), "--out", str(tmp_path / "o"))
+    assert result.returncode == 2 and "no dataset.yaml" in result.stderr and "Traceback" not in result.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_degrees_in_csv_is_exit_2_and_nothing_written(dataset: Path, tmp_path: Path) -> None:
+    bad = tmp_path / "bad"
+    shutil.copytree(dataset, bad)
+    lines = (bad / "samples.csv").read_text().splitlines()
+    head, *rows = lines
+    rows = [",".join(r.split(",")[:2] + [f"{float(v) * 57.3:.3f}" for v in r.split(",")[2:]]) for r in rows]
+    (bad / "samples.csv").write_text("\n".join([head, *rows]) + "\n")
+    result = armtool("calibrate", "fit", str(bad), "--out", str(tmp_path / "o"))
+    assert result.returncode == 2 and "look like degrees" in result.stderr and "samples.csv:" in result.stderr
+    assert not (tmp_path / "o").exists()
+    check = armtool("calibrate", "check", str(bad), "--no-detect")
+    assert check.returncode == 1 and "look like degrees" in check.stderr
+
+
+def test_unknown_joint_column(dataset: Path, tmp_path: Path) -> None:
+    bad = tmp_path / "bad"
+    shutil.copytree(dataset, bad)
+    text = (bad / "samples.csv").read_text().replace("joint6", "joint_6", 1)
+    (bad / "samples.csv").write_text(text)
+    result = armtool("calibrate", "check", str(bad))
+    assert result.returncode == 1
+    assert "joint6" in result.stderr and "samples.csv:1" in result.stderr
+
+
+def test_missing_image_is_reported_by_check(dataset: Path, tmp_path: Path) -> None:
+    bad = tmp_path / "bad"
+    shutil.copytree(dataset, bad)
+    (bad / "images" / "0004.png").write_bytes(b"not a png")
+    result = armtool("calibrate", "check", str(bad))
+    assert "samples.csv:6" in result.stderr and "cannot read image" in result.stderr
+
+
+def test_unknown_params_family(dataset: Path, tmp_path: Path) -> None:
+    result = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--params", "origins,lengths")
+    assert result.returncode == 2 and "unknown parameter family 'lengths'" in result.stderr
+
+
+def test_simulate_refuses_a_non_empty_directory(tmp_path: Path) -> None:
+    (tmp_path / "x").write_text("keep me")
+    result = armtool("calibrate", "simulate", str(CLEAN_ARM), "-o", str(tmp_path), "--samples", "5")
+    assert result.returncode == 2 and "not empty" in result.stderr
+    assert (tmp_path / "x").read_text() == "keep me"
+
+
+def test_eye_in_hand_simulate_and_fit(tmp_path: Path) -> None:
+    ds = tmp_path / "eih"
+    result = runner.invoke(app, ["calibrate", "simulate", str(CLEAN_ARM), "--flange", "tool0", "-o", str(ds),
+                                 "--samples", "30", "--validation", "15", "--setup", "eye_in_hand", "--seed", "2"])
+    assert result.exit_code == 0, result.output
+    result = runner.invoke(app, ["calibrate", "fit", str(ds), "--out", str(tmp_path / "o"), "--format", "json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert "camera_in_flange" in summary["frames"] and summary["against_truth"]["calibrated"]["position_rms_mm"] < 0.15
