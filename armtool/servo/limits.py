@@ -291,7 +291,8 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
             time.sleep(0.01)
     (lo, rlo), (hi, rhi) = ends[-1], ends[1]
     return JointRange(joint, model, lo, hi, "auto", {
-        "reason_min": rlo, "reason_max": rhi, "torque_limit": cap, "speed": speed,
+        "reason_min": rlo, "reason_max": rhi, "torque_limit": cap, "torque_limit_percent": round(100 * p.torque_limit, 1),
+        "speed": speed, "speed_deg_s": p.speed_deg_s,
         "max_load_fraction_of_limit": round(max_load, 3)})
 
 
