@@ -120,6 +120,7 @@ class LutTable:
     poly_coef: tuple[float, ...] | None = None
     report: FitReport | None = None
     source: dict[str, Any] = field(default_factory=dict)
+    fit_summary: dict[str, Any] | None = None  # the "fit" block of a table read back from JSON
 
     @property
     def valid_range_deg(self) -> tuple[float, float]:
@@ -177,6 +178,8 @@ class LutTable:
             doc["grid"] = {"start_deg": g.start_deg, "step_deg": g.step_deg, "command_ticks": list(g.command_ticks)}
         if self.report is not None:
             doc["fit"] = _jsonable(asdict(self.report))
+        elif self.fit_summary is not None:
+            doc["fit"] = self.fit_summary
         doc["source"] = self.source
         from armtool import __version__
 
@@ -425,7 +428,8 @@ def table_from_dict(doc: Any, source: str) -> LutTable:
     return LutTable(model=model, method=method, knots_deg=tuple(kx), knots_ticks=tuple(ky),
                     servo_id=int(sid) if isinstance(sid, int) else None, reference=str(doc.get("reference", "unknown")),
                     approach=str(doc.get("approach", "up")), poly_degree=degree, poly_domain=domain, poly_coef=coef,
-                    source=doc.get("source") if isinstance(doc.get("source"), dict) else {})
+                    source=doc.get("source") if isinstance(doc.get("source"), dict) else {},
+                    fit_summary=doc.get("fit") if isinstance(doc.get("fit"), dict) else None)
 
 
 def read_table(path: Path) -> LutTable:

@@ -67,6 +67,21 @@ def test_c_header_is_clipped_to_the_tick_range() -> None:
     assert "#define WIDE_MAX_TICK 1023u" in text
 
 
+@pytest.mark.skipif(CC is None, reason="no C compiler (cc) on PATH")
+def test_c_header_survives_hostile_metadata_and_keeps_fit_numbers(table: LutTable, tmp_path: Path) -> None:
+    doc = table.to_dict()
+    doc["reference"] = "csv:evil*/ int x = ; /*.csv"
+    (tmp_path / "t.json").write_text(json.dumps(doc))
+    from armtool.servo.lut import read_table
+
+    text = render(read_table(tmp_path / "t.json"), ExportFormat.C, name="t")
+    assert "held-out points:" in text  # the fit's numbers survive the JSON round trip
+    (tmp_path / "t.h").write_text(text)
+    (tmp_path / "t.c").write_text('#include "t.h"\n')
+    done = subprocess.run([CC, "-std=c99", "-Wall", "-Werror", "-c", "t.c", "-o", "t.o"], cwd=tmp_path, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+
+
 def test_c_step_must_be_whole_hundredths(table: LutTable) -> None:
     with pytest.raises(ArmtoolError, match="hundredths of a degree"):
         render(table, ExportFormat.C, step_deg=0.333)
