@@ -145,6 +145,11 @@ def limits(
         if write_eeprom:
             plan = _eeprom_plan(bus, ranges, rows)
         _summary(rows, ranges)
+        ends = [f"{r.joint.name} ({k[7:]})" for r in ranges for k in ("reason_min", "reason_max")
+                if "range end" in str(r.evidence.get(k, ""))]
+        if ends:
+            con.print("[yellow]no stop found before the servo's range end[/yellow] (or the travel crosses the encoder seam; "
+                      "use --mode manual for those): " + ", ".join(ends))
         if unconfirmed:
             con.print(f"[yellow]unconfirmed ends[/yellow] (the joint did not rest there {min_dwell:g} s): "
                       + ", ".join(unconfirmed))
