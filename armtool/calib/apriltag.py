@@ -304,30 +304,37 @@ def detect_tag(
         return _not_found(tag_id, f"ambiguous: {len(rough_hits)} detections of id {tag_id}")
     rough = rough_hits[0]
     corners, count = _refine(image, family, tag_id, rough, camera)
+    cells = int(family_dictionary(family).markerSize) + 2
     if corners is None:
+        # Say why if we can: blur and low contrast are the usual causes, measured on the rough corners.
         side = _side_px(rough)
-        reason = (
+        sharpness, contrast = edge_sharpness(image, rough, cells)
+        reason = _quality_reason(side, sharpness, contrast, min_side_px, min_sharpness) or (
             f"corner refinement failed: the AprilTag edge fit does not find the tag ({side:.0f} px side; "
-            "usually too small, too tilted or too blurred)"
+            "usually too small or too tilted)"
         )
-        return TagDetection(tag_id, rough, False, reason, side, float("nan"))
+        return TagDetection(tag_id, rough, False, reason, side, sharpness)
     if count > 1:
         return _not_found(tag_id, f"ambiguous: {count} detections of id {tag_id}")
     side = _side_px(corners)
     shift = float(np.max(np.linalg.norm(corners - rough, axis=1)))
-    cells = int(family_dictionary(family).markerSize) + 2
     sharpness, contrast = edge_sharpness(image, corners, cells)
-    reason = ""
+    reason = _quality_reason(side, sharpness, contrast, min_side_px, min_sharpness)
     if shift > max(3.0, _MAX_REFINE_SHIFT_FRACTION * side):
         reason = f"corner refinement moved a corner by {shift:.1f} px from the detection"
-    elif side < min_side_px:
-        reason = f"too small: {side:.0f} px side (minimum {min_side_px:.0f})"
-    elif contrast < _MIN_CONTRAST:
-        reason = f"low contrast: the tag's black-to-white step is {contrast:.0f} grey levels (minimum {_MIN_CONTRAST:.0f})"
-    elif sharpness < min_sharpness:
-        reason = (f"blurred: edge sharpness {sharpness:.3f} below {min_sharpness:.3f} "
-                  f"(an edge blur of about {1.0 / sharpness / np.sqrt(2 * np.pi):.1f} px)")
     return TagDetection(tag_id, corners, not reason, reason, side, sharpness)
+
+
+def _quality_reason(side: float, sharpness: float, contrast: float, min_side_px: float, min_sharpness: float) -> str:
+    """Why a found tag's corners should not be trusted, or "" if they can."""
+    if side < min_side_px:
+        return f"too small: {side:.0f} px side (minimum {min_side_px:.0f})"
+    if contrast < _MIN_CONTRAST:
+        return f"low contrast: the tag's black-to-white step is {contrast:.0f} grey levels (minimum {_MIN_CONTRAST:.0f})"
+    if sharpness < min_sharpness:
+        blur = 1.0 / sharpness / np.sqrt(2 * np.pi) if sharpness > 0 else float("inf")
+        return f"blurred: edge sharpness {sharpness:.3f} below {min_sharpness:.3f} (an edge blur of about {blur:.1f} px)"
+    return ""
 
 
 # IPPE's two solutions are "similar" when the worse one reprojects within this factor of the

@@ -143,13 +143,14 @@ def test_sharpness_tracks_blur() -> None:
     np.testing.assert_allclose(measured, np.sqrt(np.array([1.0, 4.0, 9.0]) + 1 / 12), rtol=0.2)
 
 
-def test_blurred_image_is_rejected_with_the_measured_sharpness() -> None:
+def test_blurred_images_are_rejected_with_the_measured_sharpness() -> None:
     rng = np.random.default_rng(5)
     cMt = pose(FACING @ rot([0, 1, 0], 20), [0.0, 0.0, 0.45])
-    det = detect_tag(typical(CAM, cMt, rng, blur_sigma_px=5.0), FAMILY, TAG_ID)
-    assert not det.ok
-    assert det.reason.startswith("blurred: edge sharpness 0.0") and "below 0.120" in det.reason
-    assert np.all(np.isfinite(det.corners_px))  # found, just not trusted
+    for sigma in (4.0, 5.0, 5.0, 6.0):  # at σ ≥ 5 the AprilTag fit itself often fails: still "blurred"
+        det = detect_tag(typical(CAM, cMt, rng, blur_sigma_px=sigma), FAMILY, TAG_ID)
+        assert not det.ok
+        assert det.reason.startswith("blurred: edge sharpness 0.") and "below 0.120" in det.reason, det.reason
+        assert np.all(np.isfinite(det.corners_px))  # found, just not trusted
     sharp = detect_tag(typical(CAM, cMt, rng, blur_sigma_px=1.0), FAMILY, TAG_ID)
     assert sharp.ok and sharp.reason == ""
 
