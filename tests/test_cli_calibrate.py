@@ -133,3 +133,23 @@ def test_eye_in_hand_simulate_and_fit(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     assert "camera_in_flange" in summary["frames"] and summary["against_truth"]["calibrated"]["position_rms_mm"] < 0.15
+
+
+def test_fit_from_pre_detected_corners(dataset: Path, tmp_path: Path) -> None:
+    """corners.csv from another detector feeds the same solver; the images are not needed."""
+    from armtool.calib.camera import load_intrinsics
+    from armtool.calib.dataset import load_dataset
+    from armtool.calib.observations import observe
+
+    ds = load_dataset(dataset)
+    observations = observe(ds, load_intrinsics(ds.intrinsics), workers=1)
+    copy = tmp_path / "corners_only"
+    shutil.copytree(dataset, copy, ignore=shutil.ignore_patterns("images"))
+    rows = ["id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3"]
+    for sid, ob in observations.items():
+        if ob.corners_px is not None:
+            rows.append(f"{sid},0," + ",".join(f"{v:.4f}" for v in ob.corners_px.ravel()))
+    (copy / "corners.csv").write_text("\n".join(rows) + "\n")
+    result = runner.invoke(app, ["calibrate", "fit", str(copy), "--out", str(tmp_path / "o"), "--format", "json"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["against_truth"]["calibrated"]["position_rms_mm"] < 0.15
