@@ -3,9 +3,10 @@
 Why this detector (research/calibration.md §2, measured on rendered images with known truth):
 `CORNER_REFINE_APRILTAG` fits lines to the tag's edges and gives 0.07–0.19 px median corner
 error, where `NONE` (0.7 px) and `SUBPIX` (0.2–0.7 px) are biased inwards by blur, so the tag
-looks smaller and further away (mm of depth error). On the whole image it is slow (242 ms per
-1280×720 frame), so the marker is found with `CORNER_REFINE_NONE` and the AprilTag refinement
-runs on a crop around it only (33 ms). AprilTag puts pixel centres at 0.5: its corners are
+looks smaller and further away (mm of depth error). On the whole image it is slow (242 ms CPU
+per 1280×720 frame in research, 500 ms here), so the marker is found with `CORNER_REFINE_NONE`
+and the AprilTag refinement runs on a crop around it only (15–29 ms CPU per frame in all, 0.064 px
+median corner error on 90 typical images). AprilTag puts pixel centres at 0.5: its corners are
 shifted by +0.5 px in x and y, which is subtracted here (AprilRobotics/apriltag #121).
 pupil-apriltags is as accurate but segfaulted in long runs, so it is not used.
 """
@@ -128,7 +129,7 @@ def _detect(gray: NDArray[np.uint8], family: str, refine: str) -> tuple[list[Arr
     return [np.asarray(c, dtype=np.float64).reshape(4, 2) for c in corners], [int(i) for i in ids.reshape(-1)]
 
 
-def _as_gray(image: np.ndarray) -> NDArray[np.uint8]:
+def _as_gray(image: NDArray[Any]) -> NDArray[np.uint8]:
     import cv2
 
     img = np.asarray(image)
@@ -161,7 +162,8 @@ def _find_rough(gray: NDArray[np.uint8], family: str, tag_id: int) -> tuple[list
     for scale, refine in ((1, "none"), (2, "none"), (2, "apriltag")):
         if scale == 2 and small is None:
             small = cv2.pyrDown(gray)
-        corners, ids = _detect(gray if scale == 1 else small, family, refine)
+        image = gray if small is None or scale == 1 else small
+        corners, ids = _detect(image, family, refine)
         seen.update(ids)
         hits = [c * scale for c, i in zip(corners, ids) if i == tag_id]
         if hits:
@@ -273,7 +275,7 @@ def edge_sharpness(gray: NDArray[np.uint8], corners: Array, cells: int) -> tuple
 
 
 def detect_tag(
-    gray: np.ndarray,
+    gray: NDArray[Any],
     family: str,
     tag_id: int,
     camera: CameraModel | None = None,
