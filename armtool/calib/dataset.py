@@ -79,7 +79,9 @@ def _get(doc: dict[str, Any], dotted: str, problems: list[Problem], where: str, 
             return None
         cur = cur[key]
     if not isinstance(cur, kind) or isinstance(cur, bool) and kind is not bool:
-        problems.append(Problem(where, f"'{dotted}' must be {getattr(kind, '__name__', 'a ' + str(kind))}, got {cur!r}"))
+        names = {str: "a string", list: "a list", int: "an integer", bool: "true or false"}
+        wanted = "a number" if isinstance(kind, tuple) else names.get(kind, kind.__name__)
+        problems.append(Problem(where, f"'{dotted}' must be {wanted}, got {cur!r}"))
         return None
     return cur
 

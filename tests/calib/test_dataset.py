@@ -75,3 +75,12 @@ def test_corners_csv(tmp_path: Path) -> None:
     assert list(ds.corners) == ["0"] and ds.corners["0"].shape == (4, 2)
     (p,) = ds.errors
     assert p.where.endswith("corners.csv:4") and "'7'" in p.what
+
+
+def test_wrong_types_in_the_manifest(tmp_path: Path) -> None:
+    root = _dataset(tmp_path, ["0,a.png,0,0,0,0,0,0"])
+    text = (root / "dataset.yaml").read_text().replace("size_m: 0.08", "size_m: eighty").replace("id: 0,", "id: zero,")
+    (root / "dataset.yaml").write_text(text)
+    whats = [p.what for p in load_dataset(root, JOINTS).errors]
+    assert "'target.size_m' must be a number, got 'eighty'" in whats
+    assert "'target.id' must be an integer, got 'zero'" in whats
