@@ -35,12 +35,23 @@ demo: $(STAMP)
 	$(BIN)/armtool calibrate fit $$d/dataset --out $$d/out --holdout 0.25; \
 	echo "-- calibrated.urdf differs from the nominal one only in joint origins:"; \
 	diff fixtures/robots/clean_arm/urdf/clean_arm.urdf $$d/out/calibrated.urdf | head -8 || true
+	@echo
+	@echo "== armtool servo-sim + armtool limits --mode auto: find the stops of a simulated 5-joint AX-12A arm, write limits YAML and URDF limits"
+	@set -e; d=$$(mktemp -d); \
+	$(BIN)/armtool servo-sim fixtures/servo/ax12_arm.yaml --duration 120 --port-file $$d/port > /dev/null & sim=$$!; \
+	trap 'kill $$sim 2>/dev/null || true; rm -rf $$d' EXIT; \
+	for i in $$(seq 100); do test -s $$d/port && break; sleep 0.1; done; \
+	$(BIN)/armtool limits --port $$(cat $$d/port) --arm fixtures/servo/ax12_arm.yaml --mode auto --yes --speed 120 \
+	  -o $$d/ax12_limits.yaml --urdf fixtures/servo/ax12_arm.urdf --urdf-out $$d/ax12_arm.limited.urdf; \
+	echo "-- limits YAML (first joint):"; sed -n '1,27p' $$d/ax12_limits.yaml; \
+	echo "-- armtool lint on the URDF with the measured limits:"; $(BIN)/armtool lint $$d/ax12_arm.limited.urdf
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/lint_bench.py
+	$(BIN)/python benchmarks/calib_bench.py
 	$(BIN)/python -m pip install --quiet --config-settings editable_mode=compat -e '.[dev,peers]'
 	$(BIN)/python benchmarks/ik_bench.py
 
