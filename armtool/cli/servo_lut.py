@@ -5,11 +5,15 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import typer
 
 from armtool.errors import ArmtoolError, ExitCode
+
+if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
+    from armtool.servo.bus import ServoBus
+    from armtool.servo.lut import ErrorStats, LutTable
 
 HELP = "Build, export and check compensation tables for a servo's non-linear response."
 
@@ -56,29 +60,25 @@ def _write(text: str, output: Optional[Path], what: str) -> None:
         stderr().print(f"wrote {what} {output}")
 
 
-def _stats_row(label: str, nominal: object, lut: object) -> list[str]:
-    def cell(s: object) -> str:
-        rms, mx, n = getattr(s, "rms_deg"), getattr(s, "max_deg"), getattr(s, "n")
-        return "-" if n == 0 else f"{rms:.3f} / {mx:.3f}"
-
-    return [label, str(getattr(nominal, "n")), cell(nominal), cell(lut)]
+def _cell(stats: ErrorStats) -> str:
+    return "-" if stats.n == 0 else f"{stats.rms_deg:.3f} / {stats.max_deg:.3f}"
 
 
-def print_fit_report(table: object) -> None:
+def print_fit_report(table: LutTable) -> None:
     """The fit's before/after table on stderr."""
     from rich.table import Table
 
     from armtool.console import stderr
 
-    report = getattr(table, "report")
-    model = getattr(table, "model")
-    lo, hi = getattr(table, "valid_range_deg")
-    t = Table(title=f"servo-lut fit: {model.name}, method {getattr(table, 'method').value}, approach "
-                    f"{getattr(table, 'approach')}, {lo:.2f}..{hi:.2f}°", title_justify="left")
+    report, model = table.report, table.model
+    assert report is not None
+    lo, hi = table.valid_range_deg
+    t = Table(title=f"servo-lut fit: {model.name}, method {table.method.value}, approach {table.approach}, "
+                    f"{lo:.2f}..{hi:.2f}°", title_justify="left")
     for col in ("points", "n", "nominal map RMS / max (°)", "with table RMS / max (°)"):
         t.add_column(col, justify="right" if col != "points" else "left")
-    t.add_row(*_stats_row("train (knots)", report.train_nominal, report.train_lut))
-    t.add_row(*_stats_row("held out", report.holdout_nominal, report.holdout_lut))
+    t.add_row("train (knots)", str(report.train), _cell(report.train_nominal), _cell(report.train_lut))
+    t.add_row("held out", str(report.holdout), _cell(report.holdout_nominal), _cell(report.holdout_lut))
     stderr().print(t)
     hyst = "" if report.hysteresis_max_deg is None else f", hysteresis up/down up to {report.hysteresis_max_deg:.2f}°"
     stderr().print(f"raw data: {report.samples} readings at {report.points} commands, off the datasheet map by up to "
@@ -213,7 +213,7 @@ def _confirm(question: str, yes: bool) -> None:
         raise ArmtoolError("not confirmed: nothing was moved")
 
 
-def _connect(port: str, protocol: ProtocolOption, baud: int, sid: int, expected_model: Optional[str]):  # type: ignore[no-untyped-def]
+def _connect(port: str, protocol: ProtocolOption, baud: int, sid: int, expected_model: Optional[str]) -> ServoBus:
     from armtool.servo.bus import open_bus
     from armtool.servo.lut_meas import model_named
 
@@ -227,7 +227,7 @@ def _connect(port: str, protocol: ProtocolOption, baud: int, sid: int, expected_
     return bus
 
 
-def _range(bus, sid: int, limits: Optional[Path], lo: Optional[int], hi: Optional[int],  # type: ignore[no-untyped-def]
+def _range(bus: ServoBus, sid: int, limits: Optional[Path], lo: Optional[int], hi: Optional[int],
            fallback: Optional[tuple[int, int]] = None) -> tuple[int, int, str]:
     """The command range to stay inside: recorded limits, --min/--max, or the fallback; never
     wider than the model's ticks or the servo's own angle-limit registers."""
