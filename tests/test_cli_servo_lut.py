@@ -117,3 +117,10 @@ def test_real_process_exit_2_without_traceback(tmp_path: Path) -> None:
                           text=True, timeout=120, env={**os.environ, "NO_COLOR": "1"})
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert "'reference_deg' is inf" in done.stderr and f"{bad}:4" in done.stderr
+
+
+def test_fit_warns_about_an_interrupted_run(tmp_path: Path) -> None:
+    partial = tmp_path / "m.csv.partial"
+    partial.write_text(FIXTURE.read_text().replace("# servo_id: 1", "# servo_id: 1\n# complete: no"))
+    code, out, err = invoke("fit", str(partial))
+    assert code == 0 and "interrupted run" in err and json.loads(out)["kind"] == "armtool-servo-lut"

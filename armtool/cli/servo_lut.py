@@ -109,6 +109,10 @@ def fit(
     from armtool.servo.lut_meas import read_measurements
 
     meas = read_measurements(measurements, model)
+    if meas.meta.get("complete") == "no":
+        from armtool.console import stderr
+
+        stderr().print(f"[yellow]warning:[/yellow] {measurements} holds the readings of an interrupted run")
     table = fit_table(meas, Method(method.value), degree=degree, holdout=holdout, seed=seed,
                       approach=None if approach is None else Approach(approach.value), monotone_tol_deg=monotone_tol)
     doc = table.to_dict(grid_step_deg=grid_step)
