@@ -3,6 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+DEMO_TMP := build/demo
 
 .PHONY: demo test bench clean
 
@@ -13,6 +14,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
+	@rm -rf $(DEMO_TMP) && mkdir -p $(DEMO_TMP)
 	@echo "== armtool lint on a clean arm (URDF + SRDF + kinematics.yaml): expect no findings"
 	$(BIN)/armtool lint fixtures/robots/clean_arm/urdf fixtures/robots/clean_arm/config
 	@echo
@@ -45,6 +47,25 @@ demo: $(STAMP)
 	  -o $$d/ax12_limits.yaml --urdf fixtures/servo/ax12_arm.urdf --urdf-out $$d/ax12_arm.limited.urdf; \
 	echo "-- limits YAML (first joint):"; sed -n '1,27p' $$d/ax12_limits.yaml; \
 	echo "-- armtool lint on the URDF with the measured limits:"; $(BIN)/armtool lint $$d/ax12_arm.limited.urdf
+	@echo
+	@echo "== armtool servo-lut fit/export/apply on a bundled measurement file"
+	@echo "   (fixtures/servo/lut/ax12a_meas.csv: generated from the simulator's AX-12A potentiometer model by"
+	@echo "    fixtures/servo/lut/make_fixtures.py, not measured on a real servo)"
+	$(BIN)/armtool servo-lut fit fixtures/servo/lut/ax12a_meas.csv -o $(DEMO_TMP)/lut.json
+	$(BIN)/armtool servo-lut export $(DEMO_TMP)/lut.json --format c --name shoulder_lut -o $(DEMO_TMP)/shoulder_lut.h
+	head -n 30 $(DEMO_TMP)/shoulder_lut.h
+	$(BIN)/armtool servo-lut apply $(DEMO_TMP)/lut.json --angles 45,150,255
+	@echo
+	@echo "== armtool servo-lut on the simulated AX-12A arm: limits, measure with the encoder, fit, check (exit 1 above 0.5 deg)"
+	@set -e; d=$(DEMO_TMP)/sim; mkdir -p $$d; : > $$d/ports; \
+	$(BIN)/armtool servo-sim fixtures/servo/ax12_arm.yaml --duration 120 > $$d/ports & sim=$$!; \
+	trap 'kill $$sim 2>/dev/null || true' EXIT; \
+	for i in $$(seq 50); do [ "$$(wc -l < $$d/ports)" -ge 2 ] && break; sleep 0.1; done; \
+	port=$$(sed -n 1p $$d/ports); enc=encoder:$$(sed -n 2p $$d/ports); \
+	$(BIN)/armtool limits --port $$port --mode auto --ids 1 --model AX-12A --speed 120 --yes -o $$d/limits.yaml; \
+	$(BIN)/armtool servo-lut measure --port $$port --id 1 --reference $$enc --limits $$d/limits.yaml --points 41 --speed 300 --dwell 0.02 --yes -o $$d/meas.csv; \
+	$(BIN)/armtool servo-lut fit $$d/meas.csv -o $$d/lut.json; \
+	$(BIN)/armtool servo-lut check $$d/lut.json --port $$port --id 1 --reference $$enc --limits $$d/limits.yaml --n 15 --speed 300 --dwell 0.02 --max-err 0.5 --yes
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
@@ -52,6 +73,7 @@ test: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/lint_bench.py
 	$(BIN)/python benchmarks/calib_bench.py
+	$(BIN)/python benchmarks/servo_lut_bench.py
 	$(BIN)/python -m pip install --quiet --config-settings editable_mode=compat -e '.[dev,peers]'
 	$(BIN)/python benchmarks/ik_bench.py
 
