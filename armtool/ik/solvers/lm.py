@@ -3,7 +3,9 @@
 Damping follows Sugihara (2011): λ = μ·(k·E + λ̄) with E = ‖e‖² the squared pose error, so
 steps approach Gauss–Newton near a solution and shrink where the error is large or the
 arm is near a singularity; a rejected step multiplies μ by 10. Limits are enforced by
-projection (continuous joints wrap). A try that stalls ends early and the solver restarts
+projection; continuous joints move freely and wrap into [-π, π) in the answer. The scalar loop
+works in the tip frame (Pinocchio's body Jacobian and log6 twist: one call each, ~10 µs per
+iteration in all). A try that stalls ends early and the solver restarts
 from a random configuration, until the time budget is spent. Most targets are reached in the first try
 from the seed; for the rest, restarts first take the configurations of a table of random
 poses (built once per solver) nearest to the target, then uniform random ones: near-pose
@@ -36,9 +38,23 @@ class LevenbergMarquardt(Solver):
 
     def __init__(self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
         super().__init__(chain, timeout, tolerance, seed, **options)
-        from scipy.linalg import lapack
+        import pinocchio as pin
+        from scipy.linalg import blas, lapack
 
         self._lapack_dposv = lapack.dposv
+        self._blas_dsyrk = blas.dsyrk
+        # Per-solve constants, computed once: every microsecond counts at ~10 µs per iteration.
+        self._pin_calls = (pin.computeJointJacobians, pin.updateFramePlacement, pin.getFrameJacobian, pin.log6, pin.LOCAL)
+        cont = chain.continuous
+        self._k = float(self.opts["error_damping"])
+        self._bias = float(self.opts["damping_bias"])
+        self._per_try = int(self.opts["max_iterations_per_try"])
+        self._lower = np.where(cont, -np.inf, chain.lower)
+        self._upper = np.where(cont, np.inf, chain.upper)
+        self._lower_l, self._upper_l = self._lower.tolist(), self._upper.tolist()
+        self._limits_l = (chain.lower.tolist(), chain.upper.tolist(), cont.tolist())
+        self._wrap_any = bool(cont.any())
+        self._eye = np.asfortranarray(np.eye(chain.n))
         self._restart_seeds(np.eye(4))  # build the pose table now, not inside a timed solve
 
     def _dposv(self, A: Array, g: Array) -> Array:
@@ -75,34 +91,42 @@ class LevenbergMarquardt(Solver):
     def solve(self, target: Array, seed: Array) -> IKResult:
         chain = self.chain
         deadline = self.clock() + self.timeout
-        k = float(self.opts["error_damping"])
-        bias = float(self.opts["damping_bias"])
-        per_try = int(self.opts["max_iterations_per_try"])
-        lower, upper, cont = chain.lower, chain.upper, chain.continuous
-        wrap_any = bool(cont.any())
-        eye = np.eye(chain.n)
+        pin, model, data, frame = chain._model()
+        joint_jacobians, place, frame_jacobian, log6, local = self._pin_calls
+        target = np.asarray(target, dtype=float)
+        goal_pose = pin.SE3(target)
+        k, bias, per_try = self._k, self._bias, self._per_try
+        lower, upper = self._lower, self._upper  # ±inf for continuous joints: they wrap, once, at the end
+        lower_l, upper_l = self._lower_l, self._upper_l
+        eye = self._eye
         goal = (self.tolerance * 0.5) ** 2
-        fk_jacobian = chain.fk_jacobian
-        dposv = self._dposv
-        q = chain.clamp(np.asarray(seed, dtype=float).copy())
+        dposv, dsyrk = self._lapack_dposv, self._blas_dsyrk
+        maximum, minimum = np.maximum, np.minimum
+        q = np.minimum(np.maximum(np.asarray(seed, dtype=float), lower), upper)
         iterations = 0
         best_q, best_err = q, math.inf
         restarts: list[Array] | None = None
-        T, J = fk_jacobian(q)
         while True:
-            e = pose_error(T, target)
-            err = float(e @ e)
+            # Local frame: J is the tip's body Jacobian and e = log6(T⁻¹·target) the body twist to the
+            # target, both rotated by Rᵀ from the base frame, so JᵀJ and Jᵀe (and the step) are the same.
+            joint_jacobians(model, data, q)  # forward kinematics and every joint's Jacobian
+            e = log6(place(model, data, frame).actInv(goal_pose)).vector
+            J = frame_jacobian(model, data, frame, local)
+            err = float(e.dot(e))
             mu = 1.0
             rejected = 0
-            touching = bool((q <= lower).any() or (q >= upper).any())  # some joint held at a limit
+            ql = q.tolist()
+            touching = any(map(float.__le__, ql, lower_l)) or any(map(float.__ge__, ql, upper_l))  # a joint at a limit
             for _ in range(per_try):
                 if err < goal:
-                    return self._result(q, target, iterations)
+                    return self._converged(q, target, goal_pose, iterations)
                 iterations += 1
-                A = J.T @ J
-                A += (mu * (k * err + bias)) * eye
-                g = J.T @ e
-                dq = dposv(A, g)
+                # A = JᵀJ + λI in one BLAS call (upper triangle, which is all dposv reads); J.T is Fortran-ordered.
+                A = dsyrk(1.0, J.T, beta=mu * (k * err + bias), c=eye)
+                g = J.T.dot(e)
+                _, dq, info = dposv(A, g)
+                if info:
+                    dq = np.linalg.lstsq(A + np.triu(A, 1).T, g, rcond=None)[0]
                 if touching:
                     blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
                     if blocked.any():
@@ -111,19 +135,22 @@ class LevenbergMarquardt(Solver):
                         A[:, blocked] = 0.0
                         A[blocked, blocked] = 1.0
                         g[blocked] = 0.0
-                        dq = dposv(A, g)
+                        _, dq, info = dposv(A, g)
+                        if info:
+                            dq = np.linalg.lstsq(A + np.triu(A, 1).T, g, rcond=None)[0]
                 q_raw = q + dq
-                q_new = np.minimum(np.maximum(q_raw, lower), upper)
-                if wrap_any:
-                    q_new = np.where(cont, (q_raw + math.pi) % (2 * math.pi) - math.pi, q_new)
-                clipped = bool((q_raw - q_new).any())
-                T_new, J_new = fk_jacobian(q_new)
-                e_new = pose_error(T_new, target)
-                err_new = float(e_new @ e_new)
+                q_new = minimum(maximum(q_raw, lower), upper)
+                joint_jacobians(model, data, q_new)
+                e_new = log6(place(model, data, frame).actInv(goal_pose)).vector
+                err_new = float(e_new.dot(e_new))
                 if err_new < err:
                     progress = err_new < 0.5 * err
-                    q, J, e, err, mu = q_new, J_new, e_new, err_new, 1.0
-                    touching = clipped or (touching and bool((q <= lower).any() or (q >= upper).any()))
+                    ql = q_new.tolist()
+                    touching = ql != q_raw.tolist() or (
+                        touching and (any(map(float.__le__, ql, lower_l)) or any(map(float.__ge__, ql, upper_l)))
+                    )
+                    q, e, err, mu = q_new, e_new, err_new, 1.0
+                    J = frame_jacobian(model, data, frame, local)
                     rejected = 0 if progress else rejected + 1
                 else:
                     mu *= 10.0
@@ -133,13 +160,40 @@ class LevenbergMarquardt(Solver):
             if err < best_err:
                 best_q, best_err = q, err
             if err < goal:
-                return self._result(q, target, iterations)
+                return self._converged(q, target, goal_pose, iterations)
             if self.clock() > deadline:
-                return self._result(best_q, target, iterations, "timeout")
+                return self._result(self._wrap(best_q), target, iterations, "timeout")
             if restarts is None:
                 restarts = self._restart_seeds(target)
-            q = restarts.pop(0) if restarts else self.rng.uniform(lower, upper)
-            T, J = fk_jacobian(q)
+            q = restarts.pop(0) if restarts else self.rng.uniform(chain.lower, chain.upper)
+
+    def _wrap(self, q: Array) -> Array:
+        """Continuous joints into [-π, π)."""
+        if self._wrap_any:
+            q = np.where(self.chain.continuous, (q + math.pi) % (2 * math.pi) - math.pi, q)
+        return q
+
+    def _converged(self, q: Array, target: Array, goal_pose: Any, iterations: int) -> IKResult:
+        """verify() from Pinocchio's FK at q (as verify uses), in plain floats: the base-frame
+        twist error [p_target − p; R·log3(Rᵀ R_target)] per component, and the limits."""
+        pin, model, data, frame = self.chain._model()
+        q = self._wrap(q)
+        pin.forwardKinematics(model, data, q)  # data may hold a rejected step's pose
+        M = pin.updateFramePlacement(model, data, frame)
+        ep = (target[:3, 3] - M.translation).tolist()
+        er = M.rotation.dot(pin.log3(M.actInv(goal_pose).rotation)).tolist()
+        ql = q.tolist()
+        tol = self.tolerance
+        ok = (
+            max(map(abs, ep + er)) <= tol
+            and all(map(math.isfinite, ql))
+            and all(lo - 1e-9 <= x <= hi + 1e-9 or c for x, lo, hi, c in zip(ql, self._limits_l[0], self._limits_l[1], self._limits_l[2]))
+        )
+        if not ok:
+            return self._result(q, target, iterations)
+        pos = math.sqrt(ep[0] * ep[0] + ep[1] * ep[1] + ep[2] * ep[2])
+        rot = math.sqrt(er[0] * er[0] + er[1] * er[1] + er[2] * er[2])
+        return IKResult(True, q, pos, rot, iterations)
 
     def solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
         """All targets at once: the same algorithm with numpy over every unsolved target per step.
