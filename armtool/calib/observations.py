@@ -1,7 +1,8 @@
 """Tag corners per sample: detected in the images, or read from corners.csv.
 
-Detection is the slow part of a calibration (tens of ms per image), so it runs in a process
-pool on every core and reports progress; a sample whose tag is missing, blurred or ambiguous
+Detection is the slow part of a calibration (tens of ms per image), so it runs on a thread per
+core (OpenCV releases the GIL while it works; a forked process pool can deadlock on OpenCV's
+own thread pool inherited from the parent) and reports progress; a sample whose tag is missing, blurred or ambiguous
 keeps its reason, which `check` and `fit` show.
 """
 
@@ -32,7 +33,6 @@ def _detect_one(args: tuple[str, str, str, int, CameraModel]) -> tuple[str, Arra
     from armtool.calib.apriltag import detect_tag
 
     sample_id, image_path, family, tag_id, camera = args
-    cv2.setNumThreads(1)
     gray = cv2.imread(image_path, cv2.IMREAD_GRAYSCALE)
     if gray is None:
         return sample_id, None, f"cannot read image {image_path}"
@@ -71,22 +71,13 @@ def observe(
     workers = workers or min(os.cpu_count() or 1, 8)
     if total == 0:
         return out
+    from concurrent.futures import ThreadPoolExecutor
+
     done = 0
-    if workers <= 1 or total < 4:
-        results = map(_detect_one, jobs)
-        for sid, uv, reason in results:
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        for sid, uv, reason in pool.map(_detect_one, jobs):
             out[sid] = Observation(sid, uv, reason)
             done += 1
             if progress:
                 progress(done, total)
-    else:
-        import multiprocessing
-
-        ctx = multiprocessing.get_context("fork" if hasattr(os, "fork") else "spawn")
-        with ctx.Pool(workers) as pool:
-            for sid, uv, reason in pool.imap_unordered(_detect_one, jobs, chunksize=2):
-                out[sid] = Observation(sid, uv, reason)
-                done += 1
-                if progress:
-                    progress(done, total)
     return out
