@@ -5,19 +5,30 @@ from __future__ import annotations
 import math
 from collections import defaultdict
 from pathlib import Path
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 from lxml import etree
 
 from armtool.lint.finding import Finding
-from armtool.lint.locate import Locator, display_path, local_tag
-from armtool.lint.numbers import numeric_values, parse_floats
+from armtool.lint.locate import Locator, display_path
+from armtool.lint.numbers import numeric_texts, numeric_values, parse_floats
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
 
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+_MOVING = frozenset(JOINT_TYPES) - {"fixed"}
 
 
+
+
+_XPATHS: dict[str, etree.XPath] = {}
+
+
+def _compiled_xpath(expr: str) -> etree.XPath:
+    compiled = _XPATHS.get(expr)
+    if compiled is None:
+        compiled = _XPATHS[expr] = etree.XPath(expr, smart_strings=False)
+    return compiled
 
 
 class JointView(NamedTuple):
@@ -26,13 +37,20 @@ class JointView(NamedTuple):
     type: str | None
     parent: str | None
     child: str | None
+    # The first child element of each kind (what el.find(tag) returns), looked up once per file:
+    # rules ask for them joint after joint, and each find() costs several times a dict lookup.
+    parent_el: etree._Element | None = None
+    child_el: etree._Element | None = None
+    limit_el: etree._Element | None = None
+    axis_el: etree._Element | None = None
+    mimic_el: etree._Element | None = None
 
     @property
     def moves(self) -> bool:
-        return self.type in JOINT_TYPES and self.type != "fixed"
+        return self.type in _MOVING
 
     def limit(self) -> etree._Element | None:
-        return self.el.find("limit")
+        return self.limit_el
 
 
 class FileContext:
@@ -58,17 +76,18 @@ class FileContext:
         if place.note:
             message = f"{message} ({place.note})"
         edit = self.locator.edit(el, attr, fix_value) if (attr and fix_value is not None) else None
+        shown = self.locator.display
         return Finding(
-            path=display_path(place.path),
-            line=place.line,
-            column=place.column,
-            code=rule.code,
-            name=rule.name,
-            severity=rule.severity,
-            message=message,
-            hint=hint,
-            edit=edit,
-            related=tuple((display_path(s.path), s.line) for s in place.related),
+            shown(place.path),
+            place.line,
+            place.column,
+            rule.code,
+            rule.name,
+            rule.severity,
+            message,
+            hint,
+            edit,
+            tuple((shown(s.path), s.line) for s in place.related) if place.related else (),
         )
 
 
@@ -106,21 +125,39 @@ class UrdfContext(FileContext):
         self.raw = raw  # the file's bytes, for whole-text prechecks (None after xacro)
         self.resolver = resolver
         self.from_xacro = from_xacro
-        self.links: list[etree._Element] = [c for c in root if local_tag(c) == "link"]
+        self.links: list[etree._Element] = []
         self.joints: list[JointView] = []
+        # One pass over the top level and over each joint's children; every rule reads the result.
+        links, joints = self.links, self.joints
         for el in root:
-            if local_tag(el) != "joint":
-                continue
-            parent, child = el.find("parent"), el.find("child")
-            self.joints.append(
-                JointView(
-                    el,
-                    el.get("name"),
-                    el.get("type"),
-                    parent.get("link") if parent is not None else None,
-                    child.get("link") if child is not None else None,
+            tag = el.tag
+            if tag.__class__ is not str:
+                continue  # comment or processing instruction
+            if tag[0] == "{":
+                tag = tag.rsplit("}", 1)[-1]
+            if tag == "link":
+                links.append(el)
+            elif tag == "joint":
+                kids: dict[object, etree._Element] = {}
+                for c in el:
+                    if c.tag not in kids:
+                        kids[c.tag] = c
+                parent, child = kids.get("parent"), kids.get("child")
+                attrib = el.attrib
+                joints.append(
+                    JointView(
+                        el,
+                        attrib.get("name"),
+                        attrib.get("type"),
+                        parent.get("link") if parent is not None else None,
+                        child.get("link") if child is not None else None,
+                        parent,
+                        child,
+                        kids.get("limit"),
+                        kids.get("axis"),
+                        kids.get("mimic"),
+                    )
                 )
-            )
         self._link_by_name: dict[str, etree._Element] = {}
         for el in self.links:
             self._link_by_name.setdefault(el.get("name") or "", el)
@@ -132,6 +169,8 @@ class UrdfContext(FileContext):
         self._numbers: list[tuple[etree._Element, str, str, int, list[float] | None]] | None = None
         self._meshes: list[tuple[etree._Element, etree._Element, str, str | None, str | None]] | None = None
         self._inertias: list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]] | None = None
+        self._inertial_of: dict[etree._Element, etree._Element] | None = None
+        self._texts: dict[int, dict[str, list[float] | None]] | None = None
         self.joints_by_child: dict[str, list[JointView]] = defaultdict(list)
         self.joints_by_parent: dict[str, list[JointView]] = defaultdict(list)
         for j in self.joints:
@@ -140,22 +179,49 @@ class UrdfContext(FileContext):
             if j.parent is not None:
                 self.joints_by_parent[j.parent].append(j)
 
+    def xpath(self, expr: str) -> list[Any]:
+        """Run an XPath query on the file (compiled once per process; attribute values come back as str).
+
+        Most files have no problem a given rule looks for: one query in libxml2 tells a rule that
+        nothing needs a closer look, faster than visiting each element from Python.
+        """
+        return _compiled_xpath(expr)(self.root)  # type: ignore[no-any-return]
+
+    def inertial_of(self, link: etree._Element) -> etree._Element | None:
+        """The link's first <inertial> (what link.find("inertial") returns), indexed once per file."""
+        index = self._inertial_of
+        if index is None:
+            index = self._inertial_of = {}
+            for inertial in reversed(self.xpath("*[local-name()='link']/inertial")):
+                index[inertial.getparent()] = inertial
+        return index.get(link)
+
     def numeric_values(self) -> list[tuple[etree._Element, str, str, int, list[float] | None]]:
         """(element, attribute, raw text, expected count, parsed values or None), read once per file."""
         if self._numbers is None:
             self._numbers = numeric_values(self.root)
         return self._numbers
 
+    def numeric_texts(self) -> dict[int, dict[str, list[float] | None]]:
+        """{expected count: {text: parsed values}}, a superset of numeric_values()'s texts, once per file."""
+        if self._texts is None:
+            self._texts = numeric_texts(self.root)
+        return self._texts
+
     def meshes(self) -> list[tuple[etree._Element, etree._Element, str, str | None, str | None]]:
         """(link, <mesh>, filename, resolved path or None, package that was not found) per mesh, once per file."""
         if self._meshes is None:
             base = self.base_dir
+            resolve = self.resolver.resolve
             out = []
-            for mesh in self.root.iterfind("link/*/geometry/mesh"):  # one path search for the file
-                link = mesh.getparent().getparent().getparent()  # type: ignore[union-attr]
+            seen: dict[str, tuple[str | None, str | None]] = {"": (None, None)}  # visual and collision share meshes
+            for mesh in self.xpath("link/*/geometry/mesh"):  # one path search for the file, in libxml2
+                link = mesh.getparent().getparent().getparent()
                 uri = mesh.get("filename") or ""
-                path, missing = self.resolver.resolve(uri, base) if uri else (None, None)
-                out.append((link, mesh, uri, path, missing))
+                found = seen.get(uri)
+                if found is None:
+                    found = seen[uri] = resolve(uri, base)
+                out.append((link, mesh, uri, *found))
             self._meshes = out
         return self._meshes
 
@@ -166,7 +232,7 @@ class UrdfContext(FileContext):
 
             out = []
             seen: set[etree._Element] = set()
-            for inertia in self.root.iterfind("link/inertial/inertia"):
+            for inertia in self.xpath("link/inertial/inertia"):
                 link = inertia.getparent().getparent()  # type: ignore[union-attr]
                 if link in seen:
                     continue  # the first <inertial> of a link counts, as link.find() would

@@ -157,7 +157,7 @@ class Linter:
                               "a URDF file holds one <robot name=\"...\"> element")
             )
             return None, findings
-        return UrdfContext(path, root, Locator(path), self.resolver, raw=data), findings
+        return UrdfContext(path, root, Locator(path, data=data), self.resolver, raw=data), findings
 
     def _load_xacro(self, path: Path) -> tuple[UrdfContext | None, list[Finding]]:
         from armtool.model.xacro_source import XacroFailure, expand
@@ -240,7 +240,7 @@ class Linter:
             findings.append(_file_finding("S002", path, root.sourceline or 1, 1,
                                           f"cannot check names and limits against the robot: {why}",
                                           "pass --urdf PATH (a .urdf or .urdf.xacro)"))
-        return SrdfContext(path, root, Locator(path), urdf), findings
+        return SrdfContext(path, root, Locator(path, data=data), urdf), findings
 
     def lint_srdf(self, path: Path) -> list[Finding]:
         ctx, findings = self.load_srdf(path)

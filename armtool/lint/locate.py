@@ -45,17 +45,27 @@ def local_tag(el: etree._Element) -> str:
 
 
 class Locator:
-    def __init__(self, path: Path, origins: dict[etree._Element, Origin] | None = None) -> None:
+    def __init__(self, path: Path, origins: dict[etree._Element, Origin] | None = None, data: bytes | None = None) -> None:
+        """`data`: the bytes of `path` when the caller has read them (saves reading the file again)."""
         self.path = path
         self.origins = origins
+        self._data = data
         self._texts: dict[Path, SourceText] = {}
+        self._shown: dict[Path, str] = {}
 
     def text(self, path: Path) -> SourceText:
         text = self._texts.get(path)
         if text is None:
-            text = SourceText.read(path)
+            text = SourceText.read(path, self._data if path is self.path else None)
             self._texts[path] = text
         return text
+
+    def display(self, path: Path) -> str:
+        """display_path(path), worked out once per file and linting run."""
+        shown = self._shown.get(path)
+        if shown is None:
+            shown = self._shown[path] = display_path(path)
+        return shown
 
     def _origin(self, el: etree._Element) -> Origin | None:
         if self.origins is None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import re
 from bisect import bisect_right
+from itertools import accumulate
 from pathlib import Path
 
 from lxml import etree
@@ -78,14 +79,22 @@ class SourceText:
     def __init__(self, path: Path, text: str) -> None:
         self.path = path
         self.text = text
-        starts = [0]
-        for m in re.finditer("\n", text):
-            starts.append(m.end())
-        self._starts = starts
+        self._line_starts: list[int] | None = None
+
+    @property
+    def _starts(self) -> list[int]:
+        """Offset of each line's first character (built on first use, with C-level loops only)."""
+        if self._line_starts is None:
+            starts = list(accumulate(map((1).__add__, map(len, self.text.split("\n"))), initial=0))
+            starts.pop()  # the offset after the last line
+            self._line_starts = starts
+        return self._line_starts
 
     @classmethod
-    def read(cls, path: Path) -> SourceText:
-        data = path.read_bytes()
+    def read(cls, path: Path, data: bytes | None = None) -> SourceText:
+        """The file's text; `data` is its bytes when the caller has read them already."""
+        if data is None:
+            data = path.read_bytes()
         return cls(path, data.decode("utf-8", errors="replace"))
 
     def line_offset(self, line: int) -> int:

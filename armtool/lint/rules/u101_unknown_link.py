@@ -33,7 +33,7 @@ class UnknownLink(Rule):
                 if name is None or name in ctx.link_names:
                     continue
                 match = closest(name, ctx.link_names)
-                el = joint.el.find(role)
+                el = joint.parent_el if role == "parent" else joint.child_el
                 assert el is not None
                 yield ctx.finding(
                     self,

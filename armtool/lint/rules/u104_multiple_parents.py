@@ -32,7 +32,7 @@ class MultipleParents(Rule):
                 continue
             first = joints[0].name
             for joint in joints[1:]:
-                el = joint.el.find("child")
+                el = joint.child_el
                 assert el is not None
                 yield ctx.finding(
                     self,

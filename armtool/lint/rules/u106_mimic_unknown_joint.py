@@ -28,7 +28,7 @@ class MimicUnknownJoint(Rule):
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         for joint in ctx.joints:
-            mimic = joint.el.find("mimic")
+            mimic = joint.mimic_el
             if mimic is None:
                 continue
             target = mimic.get("joint")

@@ -34,7 +34,7 @@ class MissingRequired(Rule):
             if not joint.name:
                 yield ctx.finding(self, joint.el, "<joint> has no name", hint="add name=\"...\"")
             for role in ("parent", "child"):
-                el = joint.el.find(role)
+                el = joint.parent_el if role == "parent" else joint.child_el
                 if el is None or not el.get("link"):
                     yield ctx.finding(
                         self,

@@ -34,6 +34,13 @@ def looks_like_degrees(values: list[float]) -> bool:
     return bool(out) and all(v > 2 * math.pi or (v == int(v) and int(v) in _COMMON_DEGREES) for v in out)
 
 
+def _out_of_range(raw: str | None) -> bool:
+    values = parse_floats(raw)
+    if values is None or len(values) != 3 or not all(map(math.isfinite, values)):
+        return False
+    return any(abs(v) > math.pi + TOLERANCE_RAD for v in values)
+
+
 class RpyOutOfRange(Rule):
     """
     What it does:
@@ -62,9 +69,14 @@ class RpyOutOfRange(Rule):
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         if ctx.raw is not None and not _MAYBE_LARGE_RPY.search(ctx.raw):
             return  # every rpy in the file is written with |value| < 3.1425 (or the file has none)
+        # Each distinct rpy text is checked once; then only origins holding a bad one get a closer look.
+        bad = {raw for raw in {origin.get("rpy") for origin in ctx.root.iter("origin")} if _out_of_range(raw)}
+        if not bad:
+            return
         for top in [*ctx.links, *(j.el for j in ctx.joints)]:
             for origin in top.iter("origin"):
-                yield from self._check_origin(ctx, top, origin)
+                if origin.get("rpy") in bad:
+                    yield from self._check_origin(ctx, top, origin)
 
     def _check_origin(self, ctx: UrdfContext, top: etree._Element, origin: etree._Element) -> Iterator[Finding]:
         raw = origin.get("rpy")

@@ -29,7 +29,7 @@ class ZeroAxis(Rule):
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         for joint in ctx.joints:
-            axis = joint.el.find("axis")
+            axis = joint.axis_el
             if axis is None or not joint.moves or joint.type == "floating":
                 continue
             xyz = parse_floats(axis.get("xyz"))

@@ -34,6 +34,9 @@ class NonFiniteNumber(Rule):
             lowered = ctx.raw.lower()
             if b"nan" not in lowered and b"inf" not in lowered:
                 return  # no "nan" or "inf" anywhere in the file: nothing to parse
+        texts = ctx.numeric_texts()
+        if all(values is None or all(map(math.isfinite, values)) for by_text in texts.values() for values in by_text.values()):
+            return  # "inf" was in a name or a comment, not in a number
         for el, attr, raw, _count, values in ctx.numeric_values():
             if values and not all(map(math.isfinite, values)):
                 yield ctx.finding(

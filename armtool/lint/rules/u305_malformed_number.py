@@ -28,6 +28,9 @@ class MalformedNumber(Rule):
     code, name, severity, target = "U305", "malformed-number", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        texts = ctx.numeric_texts()
+        if all(values is not None and len(values) == count for count in texts for values in texts[count].values()):
+            return  # every numeric text in the file is well formed: no element needs a look
         for el, attr, raw, count, values in ctx.numeric_values():
             if values is None:
                 problem = "is not a number" if count == 1 else "contains something that is not a number"

@@ -16,7 +16,7 @@ def carries_mass(ctx: UrdfContext, link_name: str) -> bool:
             continue
         seen.add(name)
         el = ctx.link(name)
-        if el is not None and el.find("inertial") is not None:
+        if el is not None and ctx.inertial_of(el) is not None:
             return True
         stack.extend(j.child for j in ctx.joints_by_parent.get(name, ()) if j.type == "fixed" and j.child)
     return False

@@ -8,6 +8,11 @@ from armtool.lint.numbers import parse_floats
 from armtool.lint.rule import Rule, Target
 
 
+def _not_positive(text: str) -> bool:
+    value = parse_floats(text)
+    return value is not None and len(value) == 1 and value[0] <= 0
+
+
 class NonPositiveMass(Rule):
     """
     What it does:
@@ -28,10 +33,14 @@ class NonPositiveMass(Rule):
     code, name, severity, target = "U403", "non-positive-mass", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        for link in ctx.links:
-            mass = link.find("inertial/mass")
-            if mass is None:
-                continue
+        if not any(_not_positive(text) for text in set(ctx.xpath("*[local-name()='link']/inertial/mass/@value"))):
+            return  # every mass in the file is a positive number (or not a number: U305's)
+        seen: set[object] = set()
+        for mass in ctx.xpath("*[local-name()='link']/inertial/mass"):  # links in file order
+            link = mass.getparent().getparent()
+            if link in seen:
+                continue  # the first <inertial>'s <mass> counts, as link.find("inertial/mass") would
+            seen.add(link)
             value = parse_floats(mass.get("value"))
             if not value or len(value) != 1:
                 continue

@@ -7,6 +7,12 @@ from armtool.lint.finding import Finding, Severity
 from armtool.lint.rule import Rule, Target
 
 
+_INCOMPLETE = (
+    "*[local-name()='link']/inertial"
+    "[not(mass[1]/@value) or not(inertia[1][@ixx and @ixy and @ixz and @iyy and @iyz and @izz])]"
+)
+
+
 class IncompleteInertial(Rule):
     """
     What it does:
@@ -25,23 +31,24 @@ class IncompleteInertial(Rule):
     code, name, severity, target = "U406", "incomplete-inertial", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        for link in ctx.links:
-            for inertial in link.findall("inertial"):
-                mass = inertial.find("mass")
-                missing = []
-                if mass is None or mass.get("value") is None:
-                    missing.append('<mass value="..."/>')
-                inertia = inertial.find("inertia")
-                if inertia is None:
-                    missing.append("<inertia .../>")
-                else:
-                    absent = [k for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz") if inertia.get(k) is None]
-                    if absent:
-                        missing.append("inertia attributes " + ", ".join(absent))
-                if missing:
-                    yield ctx.finding(
-                        self,
-                        inertial,
-                        f"link '{link.get('name')}': <inertial> lacks {' and '.join(missing)}",
-                        hint="give all of mass and ixx, ixy, ixz, iyy, iyz, izz",
-                    )
+        # Only the incomplete ones, in file order (as the links and their <inertial>s come).
+        for inertial in ctx.xpath(_INCOMPLETE):
+            link = inertial.getparent()
+            mass = inertial.find("mass")
+            missing = []
+            if mass is None or mass.get("value") is None:
+                missing.append('<mass value="..."/>')
+            inertia = inertial.find("inertia")
+            if inertia is None:
+                missing.append("<inertia .../>")
+            else:
+                absent = [k for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz") if inertia.get(k) is None]
+                if absent:
+                    missing.append("inertia attributes " + ", ".join(absent))
+            if missing:
+                yield ctx.finding(
+                    self,
+                    inertial,
+                    f"link '{link.get('name')}': <inertial> lacks {' and '.join(missing)}",
+                    hint="give all of mass and ixx, ixy, ixz, iyy, iyz, izz",
+                )
