@@ -1,15 +1,18 @@
 """`lm`: Levenberg–Marquardt with joint limits, error-scaled damping and random restarts.
 
-Damping follows Sugihara (2011): λ = μ·(k·E + λ̄) with E = ‖e‖² the squared pose error, so
-steps approach Gauss–Newton near a solution and shrink where the error is large or the
-arm is near a singularity; a rejected step multiplies μ by 10. Limits are enforced by
-projection; continuous joints move freely and wrap into [-π, π) in the answer. The scalar loop
-works in the tip frame (Pinocchio's body Jacobian and log6 twist: one call each, ~10 µs per
-iteration in all). A try that stalls ends early and the solver restarts
-from a random configuration, until the time budget is spent. Most targets are reached in the first try
-from the seed; for the rest, restarts first take the configurations of a table of random
-poses (built once per solver) nearest to the target, then uniform random ones: near-pose
-seeds land in the right basin far more often than blind ones, which matters next to limits.
+Damping follows Sugihara (2011): λ = k·E + λ̄ with E = ‖e‖² the squared pose error, so steps
+approach Gauss–Newton near a solution and shrink where the error is large. Every step is taken,
+also one that raises the error (λ grows with it, as in rtb's ik_LM): a monotone search (reject,
+raise λ, retry) crawls through the curved valleys around near-singular poses, which is where the
+slowest 1 % of targets lie, and this one crosses them. Limits are enforced by projection, with
+joints held at a limit taken out of the step; continuous joints move freely and wrap into
+[-π, π) in the answer. A try whose best error has not halved in STALL iterations ends, and the
+solver restarts until the time budget is spent: first from the configurations of a table of
+random poses (built once per solver) nearest to the target, then uniform random ones.
+
+The scalar loop works in the tip frame (Pinocchio's body Jacobian and log6 twist: one call
+each), ~10 µs per iteration in all; an answer is accepted once every component of the
+base-frame twist error is within 0.99·tolerance.
 """
 
 from __future__ import annotations
@@ -31,6 +34,8 @@ class LevenbergMarquardt(Solver):
         "max_iterations_per_try": 25,
     }
     SCALAR_TAIL = 16
+    STALL = 5  # iterations without the try's best error falling by PROGRESS end a try
+    PROGRESS = 0.5
     TABLE_SIZE = 4096
     TABLE_SEEDS = 8
     BATCH_TABLE_SIZE = 1024  # restarts of many targets at once search a smaller table
@@ -99,7 +104,8 @@ class LevenbergMarquardt(Solver):
         lower, upper = self._lower, self._upper  # ±inf for continuous joints: they wrap, once, at the end
         lower_l, upper_l = self._lower_l, self._upper_l
         eye = self._eye
-        goal = (self.tolerance * 0.5) ** 2
+        # Close enough to check: every component within 0.99·tolerance is possible once ‖e‖² < 6·(0.99·tol)².
+        near = 6.0 * (0.99 * self.tolerance) ** 2
         dposv, dsyrk = self._lapack_dposv, self._blas_dsyrk
         maximum, minimum = np.maximum, np.minimum
         q = np.minimum(np.maximum(np.asarray(seed, dtype=float), lower), upper)
@@ -113,16 +119,17 @@ class LevenbergMarquardt(Solver):
             e = log6(place(model, data, frame).actInv(goal_pose)).vector
             J = frame_jacobian(model, data, frame, local)
             err = float(e.dot(e))
-            mu = 1.0
-            rejected = 0
+            try_q, try_err, since = q, err, 0
             ql = q.tolist()
             touching = any(map(float.__le__, ql, lower_l)) or any(map(float.__ge__, ql, upper_l))  # a joint at a limit
             for _ in range(per_try):
-                if err < goal:
-                    return self._converged(q, target, goal_pose, iterations)
+                if err < near:
+                    done = self._converged(q, target, goal_pose, iterations)
+                    if done is not None:
+                        return done
                 iterations += 1
                 # A = JᵀJ + λI in one BLAS call (upper triangle, which is all dposv reads); J.T is Fortran-ordered.
-                A = dsyrk(1.0, J.T, beta=mu * (k * err + bias), c=eye)
+                A = dsyrk(1.0, J.T, beta=k * err + bias, c=eye)
                 g = J.T.dot(e)
                 _, dq, info = dposv(A, g)
                 if info:
@@ -139,28 +146,31 @@ class LevenbergMarquardt(Solver):
                         if info:
                             dq = np.linalg.lstsq(A + np.triu(A, 1).T, g, rcond=None)[0]
                 q_raw = q + dq
-                q_new = minimum(maximum(q_raw, lower), upper)
-                joint_jacobians(model, data, q_new)
-                e_new = log6(place(model, data, frame).actInv(goal_pose)).vector
-                err_new = float(e_new.dot(e_new))
-                if err_new < err:
-                    progress = err_new < 0.5 * err
-                    ql = q_new.tolist()
-                    touching = ql != q_raw.tolist() or (
-                        touching and (any(map(float.__le__, ql, lower_l)) or any(map(float.__ge__, ql, upper_l)))
-                    )
-                    q, e, err, mu = q_new, e_new, err_new, 1.0
-                    J = frame_jacobian(model, data, frame, local)
-                    rejected = 0 if progress else rejected + 1
+                q = minimum(maximum(q_raw, lower), upper)
+                ql = q.tolist()
+                touching = ql != q_raw.tolist() or (
+                    touching and (any(map(float.__le__, ql, lower_l)) or any(map(float.__ge__, ql, upper_l)))
+                )
+                # Every step is taken, also one that raises the error (λ then grows with it): a
+                # monotone search stalls in the curved valleys near singular poses, this one crosses them.
+                joint_jacobians(model, data, q)
+                e = log6(place(model, data, frame).actInv(goal_pose)).vector
+                J = frame_jacobian(model, data, frame, local)
+                err = float(e.dot(e))
+                if err < try_err * self.PROGRESS:
+                    since = 0
                 else:
-                    mu *= 10.0
-                    rejected += 1
-                if rejected >= 4:
-                    break  # stuck in a local minimum or against a limit
-            if err < best_err:
-                best_q, best_err = q, err
-            if err < goal:
-                return self._converged(q, target, goal_pose, iterations)
+                    since += 1
+                    if since >= self.STALL:
+                        break  # no progress: a local minimum, or pinned at a limit
+                if err < try_err:
+                    try_q, try_err = q, err
+            if try_err < best_err:
+                best_q, best_err = try_q, try_err
+            if err < near:
+                done = self._converged(q, target, goal_pose, iterations)
+                if done is not None:
+                    return done
             if self.clock() > deadline:
                 return self._result(self._wrap(best_q), target, iterations, "timeout")
             if restarts is None:
@@ -173,9 +183,10 @@ class LevenbergMarquardt(Solver):
             q = np.where(self.chain.continuous, (q + math.pi) % (2 * math.pi) - math.pi, q)
         return q
 
-    def _converged(self, q: Array, target: Array, goal_pose: Any, iterations: int) -> IKResult:
-        """verify() from Pinocchio's FK at q (as verify uses), in plain floats: the base-frame
-        twist error [p_target − p; R·log3(Rᵀ R_target)] per component, and the limits."""
+    def _converged(self, q: Array, target: Array, goal_pose: Any, iterations: int) -> IKResult | None:
+        """The answer if q passes verify() (Pinocchio's FK at q, as verify uses, in plain floats: the
+        base-frame twist error [p_target − p; R·log3(Rᵀ R_target)] per component within 0.99·tolerance,
+        a margin for other FK implementations, and the limits); None to keep iterating."""
         pin, model, data, frame = self.chain._model()
         q = self._wrap(q)
         pin.forwardKinematics(model, data, q)  # data may hold a rejected step's pose
@@ -183,14 +194,14 @@ class LevenbergMarquardt(Solver):
         ep = (target[:3, 3] - M.translation).tolist()
         er = M.rotation.dot(pin.log3(M.actInv(goal_pose).rotation)).tolist()
         ql = q.tolist()
-        tol = self.tolerance
+        tol = 0.99 * self.tolerance
         ok = (
             max(map(abs, ep + er)) <= tol
             and all(map(math.isfinite, ql))
             and all(lo - 1e-9 <= x <= hi + 1e-9 or c for x, lo, hi, c in zip(ql, self._limits_l[0], self._limits_l[1], self._limits_l[2]))
         )
         if not ok:
-            return self._result(q, target, iterations)
+            return None
         pos = math.sqrt(ep[0] * ep[0] + ep[1] * ep[1] + ep[2] * ep[2])
         rot = math.sqrt(er[0] * er[0] + er[1] * er[1] + er[2] * er[2])
         return IKResult(True, q, pos, rot, iterations)
