@@ -130,9 +130,19 @@ def _read(path: Path) -> bytes:
 
 class Linter:
     def __init__(self, options: LintOptions) -> None:
+        from armtool.lint.suppress import SuppressionIndex
+
         self.options = options
         self.resolver = PackageResolver(options.package_paths)
         self._urdf_cache: dict[Path, UrdfContext | None] = {}
+        self._rules: dict[Target, list[Rule]] = {}
+        self.suppressions = SuppressionIndex()
+
+    def _read(self, path: Path) -> bytes:
+        """The file's bytes; inline ignore comments are read from them too, not from a second read."""
+        data = _read(path)
+        self.suppressions.prime(display_path(path), data)
+        return data
 
     # ---- URDF and xacro -------------------------------------------------
     def load_urdf(self, path: Path) -> tuple[UrdfContext | None, list[Finding]]:
@@ -140,7 +150,7 @@ class Linter:
         kind = file_kind(path)
         if kind is FileKind.XACRO or path.name.lower().endswith(".xacro"):
             return self._load_xacro(path)
-        data = _read(path)
+        data = self._read(path)
         try:
             root = parse_xml(data)
         except XmlSyntaxProblem as exc:
@@ -162,7 +172,7 @@ class Linter:
     def _load_xacro(self, path: Path) -> tuple[UrdfContext | None, list[Finding]]:
         from armtool.model.xacro_source import XacroFailure, expand
 
-        _read(path)
+        self._read(path)
         try:
             expansion = expand(path, self.options.xacro_args, self.resolver)
         except XacroFailure as exc:
@@ -225,7 +235,7 @@ class Linter:
     def load_srdf(self, path: Path) -> tuple[FileContext | None, list[Finding]]:
         from armtool.lint.srdf_context import SrdfContext
 
-        data = _read(path)
+        data = self._read(path)
         try:
             root = parse_xml(data)
         except XmlSyntaxProblem as exc:
@@ -261,7 +271,7 @@ class Linter:
         from armtool.lint.kinematics_context import KinematicsContext, read_groups
         from armtool.lint.srdf_context import SrdfContext
 
-        text = _read(path).decode("utf-8", "replace")
+        text = self._read(path).decode("utf-8", "replace")
         try:
             groups = read_groups(text)
         except yaml.YAMLError as exc:
@@ -283,7 +293,10 @@ class Linter:
 
     # ---- common -----------------------------------------------------------------
     def _run(self, ctx: FileContext, target: Target) -> Iterator[Finding]:
-        for rule in rules_for(target):
+        rules = self._rules.get(target)
+        if rules is None:
+            rules = self._rules[target] = rules_for(target)
+        for rule in rules:
             yield from rule.check(ctx)
 
     def lint_file(self, path: Path) -> list[Finding]:
@@ -295,56 +308,196 @@ class Linter:
         return self.lint_urdf(path)
 
 
+    def lint(self, path: Path) -> list[Finding]:
+        """lint_file() without the findings that inline ignore comments silence."""
+        silenced = self.suppressions.silenced
+        return [f for f in self.lint_file(path) if not silenced(f)]
+
+
 # Many files are linted by worker processes (forked, so they share the imported rules): a
 # repository-wide pre-commit run or `armtool lint src/` then uses every core, as ruff does.
+# Plain os.fork and pipes, not multiprocessing: its import and Pool cost ~35 ms, a fifth of
+# linting all 69 example-robot-data URDFs; here the parent lints too and one fork costs ~2 ms.
 PARALLEL_MIN_FILES = 16
-_worker_linter: Linter | None = None
+MAX_WORKERS = 8
 
 
-def _lint_in_worker(path: Path) -> list[Finding]:
-    assert _worker_linter is not None
-    return _worker_linter.lint_file(path)
+def _cpus() -> int:
+    import os
+
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 
 def _lint_all(files: list[Path], options: LintOptions) -> Iterator[list[Finding]]:
-    global _worker_linter
+    """Findings per file, in the order of `files` (inline ignores applied)."""
     import os
 
-    workers = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 8)
     linter = Linter(options)
-    if len(files) < PARALLEL_MIN_FILES or workers < 2:
+    workers = min(_cpus(), MAX_WORKERS)
+    if len(files) < PARALLEL_MIN_FILES or workers < 2 or not hasattr(os, "fork"):
         for path in files:
-            yield linter.lint_file(path)
+            yield linter.lint(path)
         return
-    import multiprocessing  # only now: its import costs a few ms of start-up
+    yield from _lint_forked(linter, files, workers)
 
-    if "fork" not in multiprocessing.get_all_start_methods():
-        for path in files:
-            yield linter.lint_file(path)
-        return
+
+def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[list[Finding]]:
+    """Task indices travel through one pipe, written before forking: each process reads the next
+    index when it is free (reads of 4 bytes from a pipe are atomic), so a process slowed by other
+    load on the machine takes fewer files. Findings come back in file order, as in a serial run."""
+    import marshal
+    import os
+
     for target in Target:
-        rules_for(target)  # import every rule before forking, not once per worker
-    _worker_linter = linter
-    # Largest files first, one at a time: a few big robots (Talos, Romeo) dominate the work.
-    by_size = sorted(files, key=lambda p: -p.stat().st_size if p.exists() else 0)
+        linter._rules.setdefault(target, rules_for(target))  # imported once, before forking
+    # Largest files first: a few big robots (Talos, Romeo) dominate the work.
+    sizes = []
+    for i, path in enumerate(files):
+        try:
+            sizes.append((-os.stat(path).st_size, i))
+        except OSError:
+            sizes.append((0, i))
+    order = [i for _, i in sorted(sizes)]
+    tasks_r, tasks_w = os.pipe()
+    queue = b"".join(i.to_bytes(4, "little") for i in order)
+    os.set_blocking(tasks_w, False)
     try:
-        with multiprocessing.get_context("fork").Pool(workers) as pool:
-            yield from pool.imap_unordered(_lint_in_worker, by_size, chunksize=1)
+        queued = os.write(tasks_w, queue) // 4
+    except BlockingIOError:
+        queued = 0
+    os.close(tasks_w)
+    left = order[queued:]  # when the system gives pipes less room: the parent lints these itself
+    children: list[tuple[int, int]] = []
+    try:
+        for _ in range(workers - 1):
+            results_r, results_w = os.pipe()
+            pid = os.fork()
+            if pid == 0:  # child: lint from the queue, send findings back, never return
+                os.close(results_r)
+                code = 0
+                try:
+                    _worker(linter, files, tasks_r, results_w)
+                except BaseException:  # noqa: BLE001 - reported to the parent through the pipe
+                    code = 1
+                finally:
+                    os._exit(code)
+            os.close(results_w)
+            children.append((pid, results_r))
+        mine = _take_tasks(linter, files, tasks_r)
+        for index in left:
+            try:
+                mine.append((index, linter.lint(files[index])))
+            except Exception as exc:  # noqa: BLE001 - raised below, in file order
+                mine.append((index, exc))
+        results: dict[int, list[Finding]] = {}
+        errors: dict[int, BaseException] = {}
+        for index, outcome in mine:
+            (errors if isinstance(outcome, BaseException) else results)[index] = outcome  # type: ignore[index]
+        for pid, results_r in children:
+            blob = _read_all(results_r)
+            os.close(results_r)
+            os.waitpid(pid, 0)
+            children = [c for c in children if c[0] != pid]
+            if not blob:
+                raise RuntimeError("a lint worker process ended without reporting (killed?)")
+            sent, failures = marshal.loads(blob)
+            for index, rows in sent:
+                results[index] = [_finding_from_row(row) for row in rows]
+            for index, pickled in failures:
+                import pickle
+
+                errors[index] = pickle.loads(pickled)
+        if errors:
+            raise errors[min(errors)]  # the first failing file, as a serial run would report
     finally:
-        _worker_linter = None
+        os.close(tasks_r)
+        for pid, results_r in children:  # only left on an exception in the parent
+            os.close(results_r)
+            try:
+                import signal
+
+                os.kill(pid, signal.SIGTERM)
+                os.waitpid(pid, 0)
+            except OSError:
+                pass
+    for i in range(len(files)):
+        yield results[i]
+
+
+def _take_tasks(linter: Linter, files: list[Path], tasks_r: int) -> list[tuple[int, list[Finding] | BaseException]]:
+    """Lint files from the queue until it is empty (a file that raises is kept as its exception)."""
+    import os
+
+    out: list[tuple[int, list[Finding] | BaseException]] = []
+    while True:
+        raw = os.read(tasks_r, 4)
+        if len(raw) < 4:
+            return out
+        index = int.from_bytes(raw, "little")
+        try:
+            out.append((index, linter.lint(files[index])))
+        except Exception as exc:  # noqa: BLE001 - raised again in the parent, in file order
+            out.append((index, exc))
+
+
+def _worker(linter: Linter, files: list[Path], tasks_r: int, results_w: int) -> None:
+    import marshal
+    import os
+
+    sent = []
+    failures = []
+    for index, outcome in _take_tasks(linter, files, tasks_r):
+        if isinstance(outcome, BaseException):
+            import pickle
+
+            try:
+                failures.append((index, pickle.dumps(outcome)))
+            except Exception:  # noqa: BLE001 - an exception that cannot be pickled
+                failures.append((index, pickle.dumps(RuntimeError(f"{type(outcome).__name__}: {outcome}"))))
+        else:
+            sent.append((index, [_finding_to_row(f) for f in outcome]))
+    blob = marshal.dumps((sent, failures))
+    view = memoryview(blob)
+    while view:
+        view = view[os.write(results_w, view) :]
+    os.close(results_w)
+
+
+def _read_all(fd: int) -> bytes:
+    import os
+
+    chunks = []
+    while True:
+        chunk = os.read(fd, 1 << 20)
+        if not chunk:
+            return b"".join(chunks)
+        chunks.append(chunk)
+
+
+# Findings cross the pipe as tuples of str/int/None (marshal: built in, no import, fast).
+def _finding_to_row(f: Finding) -> tuple[object, ...]:
+    edit = None if f.edit is None else (str(f.edit.path), f.edit.start, f.edit.end, f.edit.replacement)
+    return (f.path, f.line, f.column, f.code, f.name, f.severity.value, f.message, f.hint, edit, f.related)
+
+
+def _finding_from_row(row: tuple[object, ...]) -> Finding:
+    from armtool.lint.finding import Edit, Severity
+
+    path, line, column, code, name, severity, message, hint, edit, related = row
+    return Finding(
+        path, line, column, code, name, Severity(severity), message, hint,  # type: ignore[arg-type]
+        None if edit is None else Edit(Path(edit[0]), *edit[1:]),  # type: ignore[index]
+        related,  # type: ignore[arg-type]
+    )
 
 
 def lint_paths(paths: Iterable[Path], options: LintOptions) -> LintResult:
-    from armtool.lint.suppress import SuppressionIndex
-
     files = collect_files(list(paths))
-    suppressions = SuppressionIndex()
     config = options.config
     findings: list[Finding] = []
     for file_findings in _lint_all(files, options):
         for finding in file_findings:
-            if not config.keeps(finding) or suppressions.silenced(finding):
-                continue
-            findings.append(config.adjust(finding))
+            if config.keeps(finding):
+                findings.append(config.adjust(finding))
     unique = {(f.path, f.line, f.column, f.code, f.message): f for f in findings}
     return LintResult(sorted(unique.values(), key=lambda f: f.sort_key), files)

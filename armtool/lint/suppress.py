@@ -88,16 +88,24 @@ class SuppressionIndex:
     def __init__(self) -> None:
         self._by_path: dict[str, list[Suppression]] = {}
 
+    def prime(self, path: str, data: bytes) -> None:
+        """Take the bytes of `path` (as findings name it) that the linter has read already."""
+        if path not in self._by_path:
+            self._by_path[path] = self._parse(path, data)
+
+    @staticmethod
+    def _parse(path: str, data: bytes) -> list[Suppression]:
+        if path.endswith((".yaml", ".yml")):
+            return yaml_suppressions(data.decode("utf-8", "replace"))
+        return xml_suppressions(data)
+
     def _for(self, path: str) -> list[Suppression]:
         if path not in self._by_path:
             try:
                 data = Path(path).read_bytes()
             except OSError:
                 data = b""
-            if path.endswith((".yaml", ".yml")):
-                self._by_path[path] = yaml_suppressions(data.decode("utf-8", "replace"))
-            else:
-                self._by_path[path] = xml_suppressions(data)
+            self._by_path[path] = self._parse(path, data)
         return self._by_path[path]
 
     def silenced(self, finding: Finding) -> bool:
