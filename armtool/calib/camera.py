@@ -11,9 +11,7 @@ Pixel convention everywhere: OpenCV's, the centre of pixel (0, 0) is at (0.0, 0.
 
 from __future__ import annotations
 
-import os
 import re
-import tempfile
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -155,14 +153,9 @@ def save_intrinsics(camera: CameraModel, path: Path) -> None:
     fs.write("camera_matrix", np.array(camera.K))
     fs.write("distortion_coefficients", np.array(camera.dist).reshape(1, -1))
     text = fs.releaseAndGetString()
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    from armtool.fileio import write_atomic
+
+    write_atomic(path, text)
 
 
 def _is_filestorage(path: Path, text: str) -> bool:

@@ -4,9 +4,6 @@ plot, and the numbers the terminal report shows."""
 from __future__ import annotations
 
 import math
-import os
-import tempfile
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -80,20 +77,6 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
         ],
         "warnings": list(result.warnings),
     }
-
-
-def write_atomic(path: Path, text: str | bytes) -> None:
-    """Write beside the target, then rename: a reader never sees half a file."""
-    data = text.encode("utf-8") if isinstance(text, str) else text
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def residual_plot_png(result: CalibrationResult) -> bytes:

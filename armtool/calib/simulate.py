@@ -8,9 +8,7 @@ validation poses, the true URDF) goes to `truth/`, which `armtool calibrate fit`
 
 from __future__ import annotations
 
-import csv
 import math
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -156,9 +154,9 @@ def _visible(model: CalibModel, x: Array, camera: CameraModel, Q: Array, spec: S
 
 
 def _write_text(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
+    from armtool.fileio import write_atomic
+
+    write_atomic(path, text)
 
 
 def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec, progress=None) -> dict[str, object]:  # type: ignore[no-untyped-def]

@@ -147,7 +147,8 @@ def fit(
     from armtool.calib.dataset import require_ok
     from armtool.calib.fit import FitOptions, calibrate
     from armtool.calib.model import CalibModel
-    from armtool.calib.report import calibration_document, residual_plot_png, write_atomic
+    from armtool.calib.report import calibration_document, residual_plot_png
+    from armtool.fileio import write_atomic
     from armtool.calib.urdf_out import corrected_text, expanded_text, joint_corrections
     from armtool.console import stderr, write_stdout
 

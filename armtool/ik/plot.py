@@ -6,8 +6,6 @@ Drawn with OpenCV, which armtool already depends on, rather than adding matplotl
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -68,7 +66,6 @@ def write_plot(path: Path, reports: list[SolverReport]) -> None:
     ok, data = cv2.imencode(".png", img)
     if not ok:
         raise ArmtoolError("could not encode the plot", str(path))
-    fd, tmp = tempfile.mkstemp(dir=path.parent if path.parent.exists() else None, suffix=".png")
-    with os.fdopen(fd, "wb") as handle:
-        handle.write(data.tobytes())
-    os.replace(tmp, path)
+    from armtool.fileio import write_atomic
+
+    write_atomic(path, data.tobytes())

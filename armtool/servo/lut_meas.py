@@ -26,8 +26,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable, Sequence
@@ -241,19 +239,9 @@ def render_measurements(meta: dict[str, str], samples: Iterable[Sample]) -> str:
 
 
 def write_atomic(path: Path, text: str) -> None:
-    """Write the whole file or nothing (temp file in the same directory, then rename)."""
-    directory = path.parent if str(path.parent) else Path(".")
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-    except OSError as exc:
-        raise ArmtoolError(f"cannot write {path}: {exc.strerror}", hint="check that the directory exists and is writable") from None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
-            handle.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    """Write the whole file or nothing (see armtool.fileio)."""
+    from armtool.fileio import write_atomic as write
+
+    write(path, text)
+
+
