@@ -35,6 +35,17 @@ class CommError(ArmtoolError):
         self.sid = sid
 
 
+class PortLost(ArmtoolError):
+    """The serial port itself failed (adapter unplugged, device gone): nothing more can be sent."""
+
+
+try:  # tcflush/tcgetattr on a vanished pty or USB adapter raise termios.error, not OSError
+    from termios import error as _TermiosError
+    _PORT_ERRORS: tuple[type[BaseException], ...] = (OSError, _TermiosError)
+except ImportError:  # pragma: no cover - Windows
+    _PORT_ERRORS = (OSError,)
+
+
 class StatusError(ArmtoolError):
     """The servo answered but refused the instruction (range, angle limit, instruction, access...)."""
 
@@ -189,6 +200,11 @@ class ServoBus:
     def protocol(self) -> str:
         return self.transport.name
 
+    def _lost(self, exc: BaseException) -> PortLost:
+        return PortLost(f"lost the serial port {self.path}: {exc}",
+                        hint="the adapter was unplugged or lost power; switch the servo power off before touching "
+                             "the arm (torque may still be on), then reconnect and retry")
+
     def close(self) -> None:
         try:
             self.transport.port.closePort()
@@ -215,17 +231,20 @@ class ServoBus:
         (missing half-duplex direction control) makes every read parse its own request."""
         packet = self.transport.ping_packet(sid)
         port = self.transport.port
-        port.clearPort()
-        port.writePort(packet)
         got = bytearray()
-        deadline = time.monotonic() + wait_s
-        while time.monotonic() < deadline and len(got) < 2 * len(packet):
-            chunk = port.readPort(64)
-            if chunk:
-                got.extend(chunk)
-            else:
-                time.sleep(0.0005)
-        port.clearPort()
+        try:
+            port.clearPort()
+            port.writePort(packet)
+            deadline = time.monotonic() + wait_s
+            while time.monotonic() < deadline and len(got) < 2 * len(packet):
+                chunk = port.readPort(64)
+                if chunk:
+                    got.extend(chunk)
+                else:
+                    time.sleep(0.0005)
+            port.clearPort()
+        except _PORT_ERRORS as exc:
+            raise self._lost(exc) from None
         if got.startswith(packet):
             raise ArmtoolError(
                 f"the adapter on {self.path} echoes what it sends (half-duplex echo): every reply would be misread",
@@ -239,6 +258,8 @@ class ServoBus:
             try:
                 model_number, _err = self.transport.ping(sid)
                 return model_number
+            except _PORT_ERRORS as exc:
+                raise self._lost(exc) from None
             except CommError as exc:
                 last = exc
                 self.stats.retries += 1
@@ -303,6 +324,8 @@ class ServoBus:
                 if why:
                     raise StatusError(f"ID {sid} refused to {what}: {why}", sid, err)
                 return data
+            except _PORT_ERRORS as exc:
+                raise self._lost(exc) from None
             except CommError as exc:
                 last = exc
                 if attempt + 1 < self.retries:
@@ -344,6 +367,8 @@ class ServoBus:
                 err = self.transport.write(sid, reg.addr, data)
                 self.stats.writes += 1
                 self.last_error[sid] = err
+            except _PORT_ERRORS as exc:
+                raise self._lost(exc) from None
             except CommError as exc:
                 last = exc
                 if attempt + 1 < tries:
@@ -368,7 +393,11 @@ class ServoBus:
         reg = first.reg(name)
         if len({(self.model(s).reg(name).addr, self.model(s).reg(name).size) for s in values}) != 1:
             raise ArmtoolError(f"sync write of {name} across models with different layouts: {', '.join(sorted(models))}")
-        self.transport.sync_write(reg.addr, reg.size, {sid: encode(reg, v, self.model(sid).big_endian) for sid, v in values.items()})
+        try:
+            self.transport.sync_write(reg.addr, reg.size,
+                                      {sid: encode(reg, v, self.model(sid).big_endian) for sid, v in values.items()})
+        except _PORT_ERRORS as exc:
+            raise self._lost(exc) from None
         self.stats.writes += 1
 
     def overloaded(self, sid: int) -> bool:

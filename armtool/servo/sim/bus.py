@@ -93,16 +93,33 @@ class SimBus:
         self.stop()
 
     def stop(self) -> None:
-        if self._stop.is_set():
-            return
         self._stop.set()
         if self._thread.is_alive():
             self._thread.join(timeout=2.0)
-        for fd in (self._master, self._slave, self._enc_master, self._enc_slave):
+        for name in ("_master", "_slave", "_enc_master", "_enc_slave"):
+            fd = getattr(self, name)
+            if fd < 0:
+                continue
             try:
                 os.close(fd)
             except OSError:
                 pass
+            setattr(self, name, -1)
+
+    def hang_up(self) -> None:
+        """Close the bus pty as an unplugged adapter would: the client's next read or write fails
+        with an I/O error. The servos keep their state (peek still works); serving stops."""
+        self._stop.set()
+        if self._thread.is_alive():
+            self._thread.join(timeout=2.0)
+        for name in ("_master", "_slave"):
+            fd = getattr(self, name)
+            if fd >= 0:
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
+                setattr(self, name, -1)
 
     def wait(self, seconds: float | None = None) -> None:
         """Serve until stop() or `seconds` elapse (the CLI's foreground loop)."""
