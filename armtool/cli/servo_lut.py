@@ -302,7 +302,7 @@ def measure(
     reads: int = typer.Option(3, "--reads", min=1, help="Reference readings per point."),
     sweeps: int = typer.Option(1, "--sweeps", min=1, help="Times to go through all points."),
     speed: float = typer.Option(60.0, "--speed", help="Moving speed, degrees per second."),
-    torque_limit: Optional[float] = typer.Option(None, "--torque-limit", help="RAM torque limit in percent (restored afterwards)."),
+    torque_limit: float = typer.Option(50.0, "--torque-limit", help="RAM torque limit in percent (restored afterwards)."),
     dwell: float = typer.Option(0.15, "--dwell", min=0.0, help="Seconds to wait after the servo stops before reading."),
     settle_timeout: float = typer.Option(3.0, "--settle-timeout", min=0.1, help="Seconds to wait for a point to settle."),
     yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
@@ -344,13 +344,14 @@ def measure(
         meta = {"servo_id": str(sid), "servo_model": servo_model.name, "reference": ref.spec, "port": port,
                 "range_ticks": f"{r_lo}..{r_hi} ({range_source})", "backoff_ticks": str(b),
                 "started": time.strftime("%Y-%m-%dT%H:%M:%S")}
+        cap = torque_register(servo_model, torque_limit)
         motion = Motion(backoff_ticks=b, settle_timeout_s=settle_timeout, dwell_s=dwell,
-                        tolerance_ticks=2 if servo_model.ticks == 1024 else 6)
+                        tolerance_ticks=2 if servo_model.ticks == 1024 else 6,
+                        torque_cap=cap / servo_model.reg("torque_limit").hi)
         t0 = time.monotonic()
         with TorqueGuard(bus) as guard, _progress(not isinstance(ref, ManualReference)) as bar:
             guard.set_ram(sid, "moving_speed", speed_register(servo_model, speed))
-            if torque_limit is not None:
-                guard.set_ram(sid, "torque_limit", torque_register(servo_model, torque_limit))
+            guard.set_ram(sid, "torque_limit", cap)
             guard.torque_on(sid)
             driver = Driver(bus, guard, sid, motion)
             note = align_reference(driver, ref, r_lo, r_hi, "down" if approach.value == "down" else "up")
@@ -396,6 +397,7 @@ def check(
     max_err: float = typer.Option(0.5, "--max-err", help="Exit 1 when the table's largest error exceeds this (degrees)."),
     reads: int = typer.Option(3, "--reads", min=1, help="Reference readings averaged per point."),
     speed: float = typer.Option(60.0, "--speed", help="Moving speed, degrees per second."),
+    torque_limit: float = typer.Option(50.0, "--torque-limit", help="RAM torque limit in percent (restored afterwards)."),
     dwell: float = typer.Option(0.15, "--dwell", min=0.0, help="Seconds to wait after the servo stops before reading."),
     output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text or json on stdout."),
     yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
@@ -405,7 +407,8 @@ def check(
     from armtool.console import stderr, write_stdout
     from armtool.servo.guard import TorqueGuard
     from armtool.servo.lut import read_table
-    from armtool.servo.lut_measure import Driver, Motion, align_reference, check as run_check, check_angles, speed_register
+    from armtool.servo.lut_measure import (Driver, Motion, align_reference, check as run_check, check_angles, speed_register,
+                                           torque_register)
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 
     table = read_table(table_path)
@@ -416,19 +419,27 @@ def check(
         if servo_model.name != table.model.name:
             raise ArmtoolError(f"{table_path} was made for a {table.model.name}, but ID {sid} is a {servo_model.name}",
                                f"{table_path}: servo.model", hint="measure and fit a table on this servo")
-        if table.servo_id is not None and table.servo_id != sid:
-            stderr().print(f"[yellow]warning:[/yellow] {table_path} was measured on ID {table.servo_id}, checking ID {sid}")
         knots = (int(min(table.knots_ticks)), int(max(table.knots_ticks)))
-        r_lo, r_hi, _ = _range(bus, sid, limits, lo, hi, fallback=knots)
+        same_servo = table.servo_id is not None and table.servo_id == sid
+        if not same_servo and limits is None and (lo is None or hi is None):
+            measured_on = f"ID {table.servo_id}" if table.servo_id is not None else "an unnamed servo"
+            raise ArmtoolError(f"{table_path} was measured on {measured_on}, not ID {sid}: its command range "
+                               f"{knots[0]}..{knots[1]} says nothing about this joint's stops",
+                               f"{table_path}: servo.id",
+                               hint="pass --limits limits.yaml (from `armtool limits`) or --min and --max in ticks")
+        torque = torque_register(servo_model, torque_limit)
+        r_lo, r_hi, _ = _range(bus, sid, limits, lo, hi, fallback=knots if same_servo else None)
         ref = open_reference(reference, ask=_ask)
         if isinstance(ref, CsvReference):
             raise ArmtoolError("check needs a live reference (encoder, manual or camera), not a file")
         angles = check_angles(table, n, seed, r_lo, r_hi)
         b = max(1, round(3.0 / servo_model.deg_per_tick))
         _confirm(f"Energise servo {sid} and move it to {n} angles between ticks {r_lo} and {r_hi}?", yes)
-        motion = Motion(backoff_ticks=b, dwell_s=dwell, tolerance_ticks=2 if servo_model.ticks == 1024 else 6)
+        motion = Motion(backoff_ticks=b, dwell_s=dwell, tolerance_ticks=2 if servo_model.ticks == 1024 else 6,
+                        torque_cap=torque / servo_model.reg("torque_limit").hi)
         with TorqueGuard(bus) as guard, _progress(not isinstance(ref, ManualReference)) as bar:
             guard.set_ram(sid, "moving_speed", speed_register(servo_model, speed))
+            guard.set_ram(sid, "torque_limit", torque)
             guard.torque_on(sid)
             driver = Driver(bus, guard, sid, motion)
             align_reference(driver, ref, r_lo, r_hi, "down" if table.approach == "down" else "up")

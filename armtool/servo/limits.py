@@ -207,7 +207,9 @@ def _full_torque(model: ServoModel) -> int:
 
 
 def _load_full(model: ServoModel) -> int:
-    return 1023 if model.protocol == "dxl1" else 1000
+    from armtool.servo.models import load_full_scale
+
+    return load_full_scale(model)
 
 
 def speed_units(model: ServoModel, deg_s: float) -> int:

@@ -5,8 +5,9 @@ Why one side: gears and the position loop leave a dead band, so the angle reache
 the direction of the last move (hysteresis). Approaching every point from below (or above)
 measures one consistent curve; `both` measures the two and the fit reports their gap.
 Why inside recorded limits only: the range comes from `armtool limits` (or --min/--max), never
-from pushing a stop, and a point the servo cannot reach (stall: no motion, load up, or the
-overload alarm) ends the run with torque off instead of being logged as a measurement.
+from pushing a stop, and a point the servo cannot reach (stall: no motion with the load near the
+torque limit, checked at every poll so it ends well before the overload alarm, or the alarm
+itself) ends the run with torque off instead of being logged as a measurement.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import numpy as np
 from armtool.errors import ArmtoolError
 from armtool.servo.lut import LutTable, nominal_command_ticks
 from armtool.servo.lut_meas import Sample
+from armtool.servo.models import load_full_scale
 from armtool.servo.reference import Reference
 
 log = logging.getLogger(__name__)
@@ -40,7 +42,10 @@ class Motion:
     dwell_s: float = 0.15
     poll_s: float = 0.005
     tolerance_ticks: int = 2  # present within this of the goal counts as arrived
-    stall_load_pct: float = 60.0  # load above this while short of the goal = pushing something
+    torque_cap: float = 1.0  # the RAM torque limit set, as a fraction of full output
+    stall_load: float = 0.7  # |load| at this fraction of the torque limit ...
+    stall_window_s: float = 0.15  # ... with no motion over this window, short of the goal = pushing something
+    stall_ticks: int = 1
 
 
 def read_limits(path: Path, sid: int) -> tuple[int, int, str | None]:
@@ -114,10 +119,14 @@ class Driver:
         m = self.motion
         self.bus.write(self.sid, "goal_position", int(goal), retry=True)
         self.last_goal = int(goal)
-        deadline = time.monotonic() + m.settle_timeout_s
+        start = time.monotonic()
+        deadline = start + m.settle_timeout_s
         previous: int | None = None
+        history: list[tuple[float, int]] = []
+        full = load_full_scale(self.bus.model(self.sid))
         tel = self._telemetry()
         while True:
+            now = time.monotonic()
             here = tel["present_position"]
             arrived = abs(here - goal) <= m.tolerance_ticks and tel["moving"] == 0
             if arrived and previous is not None and abs(here - previous) <= 1:
@@ -126,12 +135,17 @@ class Driver:
                 raise ArmtoolError(f"ID {self.sid} raised its overload alarm going to {goal} (present {here})",
                                    hint="something blocks the joint inside the range: re-record the limits "
                                         "(armtool limits) and measure inside them")
-            if time.monotonic() > deadline:
-                load = abs(tel["present_load"]) / 10.0
-                if abs(here - goal) > m.tolerance_ticks and load >= m.stall_load_pct:
-                    raise ArmtoolError(f"ID {self.sid} stopped at {here} short of {goal} with {load:.0f}% load: "
-                                       "pushing against something", hint="measure inside the recorded limits "
-                                       "(--limits limits.yaml) or re-record them")
+            # stall, checked at every poll: no motion over the window, |load| near the torque limit, short of the goal
+            history.append((now, here))
+            while history and history[0][0] < now - m.stall_window_s:
+                history.pop(0)
+            load = abs(tel["present_load"]) / full / max(m.torque_cap, 1e-6)
+            if (now - start >= m.stall_window_s and abs(here - goal) > m.tolerance_ticks and load >= m.stall_load
+                    and max(v for _, v in history) - min(v for _, v in history) <= m.stall_ticks):
+                raise ArmtoolError(f"ID {self.sid} stopped at {here} short of {goal} with {load:.0%} of its torque "
+                                   "limit: pushing against something", hint="measure inside the recorded limits "
+                                   "(--limits limits.yaml) or re-record them")
+            if now > deadline:
                 log.warning("ID %d did not settle at %d within %.1f s (present %d)", self.sid, goal, m.settle_timeout_s, here)
                 return False, tel
             previous = here
@@ -180,9 +194,10 @@ def align_reference(driver: Driver, reference: Reference, lo: int, hi: int, side
     return f"sign {sign:+.0f}, offset {offset:.3f} deg, datasheet angle at tick {c2}"
 
 
-def _sample(command: int, reading: float, tel: dict[str, int], side: str, repeat: int, settled: bool) -> Sample:
+def _sample(command: int, reading: float, tel: dict[str, int], side: str, repeat: int, settled: bool,
+            load_full: int = 1000) -> Sample:
     return Sample(line=0, command_ticks=command, reference_deg=reading, present_ticks=float(tel["present_position"]),
-                  load_pct=tel["present_load"] / 10.0, temperature_c=float(tel["present_temperature"]),
+                  load_pct=round(100.0 * tel["present_load"] / load_full, 2), temperature_c=float(tel["present_temperature"]),
                   voltage_v=tel["present_voltage"] / 10.0, approach=side, repeat=repeat, settled=settled)
 
 
@@ -194,13 +209,14 @@ def measure(driver: Driver, reference: Reference, commands: list[int], approach:
     samples: list[Sample] = []
     total = len(commands) * len(sides) * sweeps
     done = 0
+    full = load_full_scale(driver.bus.model(driver.sid))
     for sweep in range(sweeps):
         for side in sides:
             order = commands if side == "up" else list(reversed(commands))
             for command in order:
                 settled, tel = driver.approach(command, side, lo, hi)
                 for r in range(reads):
-                    s = _sample(command, reference.read_deg(driver.sid, command), tel, side, sweep * reads + r, settled)
+                    s = _sample(command, reference.read_deg(driver.sid, command), tel, side, sweep * reads + r, settled, full)
                     samples.append(s)
                     if on_sample is not None:
                         on_sample(s)

@@ -249,6 +249,16 @@ MODELS: tuple[ServoModel, ...] = (
 )
 
 
+def load_full_scale(model: ServoModel) -> int:
+    """Present Load at full output: AX/MX 1023 (0.1 %), STS and XL430 1000 (0.1 %), XM430 Present
+    Current at its Current Limit (1193, 2.69 mA units)."""
+    if model.protocol == "dxl1":
+        return 1023
+    if model.has("current_limit"):
+        return model.reg("current_limit").hi
+    return 1000
+
+
 def by_number(protocol: str, number: int) -> ServoModel | None:
     for m in MODELS:
         if m.protocol == protocol and m.model_number == number:

@@ -114,6 +114,23 @@ def test_check_refuses_a_table_for_another_model(sim: SimBus, measured: tuple[Pa
     assert sim.peek(1, "torque_enable") == 0 and sim.peek(1, "goal_position") == goal_before
 
 
+def test_check_refuses_a_table_from_another_id_without_a_range(measured: tuple[Path, Path]) -> None:
+    """ID 1's table on ID 5 (stops 400..640): its command range would drive ID 5 into a stop."""
+    two = config()
+    two["joints"].append({"id": 5, "model": "AX-12A", "stops": [400, 640], "start": 520})
+    with SimBus.start(two) as other:
+        goal_before = other.peek(5, "goal_position")
+        code, _, err = invoke("check", str(measured[1]), "--port", other.port_path, "--id", "5", "--reference",
+                              f"encoder:{other.encoder_port_path}", *FAST)
+        assert code == 2 and "measured on ID 1, not ID 5" in err and "--limits" in err, err
+        assert other.peek(5, "torque_enable") == 0 and other.peek(5, "goal_position") == goal_before
+        code, out, err = invoke("check", str(measured[1]), "--port", other.port_path, "--id", "5", "--reference",
+                                f"encoder:{other.encoder_port_path}", "--min", "420", "--max", "620", "--n", "3",
+                                "--reads", "1", "--max-err", "90", *FAST)
+        assert code == 0, err
+        assert other.servo(5).overload_trips == 0 and other.peek(5, "torque_enable") == 0
+
+
 def test_no_yes_and_no_terminal_moves_nothing(sim: SimBus, tmp_path: Path) -> None:
     goal_before = sim.peek(1, "goal_position")
     code, _, err = invoke("measure", *bus_args(sim), "--min", "100", "--max", "900", "-o", str(tmp_path / "m.csv"))
@@ -145,14 +162,19 @@ def test_measure_from_limits_file(sim: SimBus, tmp_path: Path) -> None:
 
 
 def test_stop_inside_the_range_aborts_with_torque_off(tmp_path: Path) -> None:
+    """The stall is seen while polling (default settle timeout 3 s, overload after 1 s at the cap):
+    the run ends on the stall, long before the alarm, at the default torque limit."""
     with SimBus.start(config(stops=(92, 600))) as short:
         meas = tmp_path / "m.csv"
         code, _, err = invoke("measure", "--port", short.port_path, "--id", "1", "--reference",
                               f"encoder:{short.encoder_port_path}", "--min", "500", "--max", "700", "--points", "6",
-                              "--reads", "1", "--settle-timeout", "0.6", *FAST, "-o", str(meas))
-        assert code == 2 and ("pushing against something" in err or "overload" in err), err
-        assert short.peek(1, "torque_enable") == 0
+                              "--reads", "1", *FAST, "-o", str(meas))
+        assert code == 2 and "pushing against something" in err, err
+        assert "of its torque limit" in err
+        assert short.peek(1, "torque_enable") == 0 and short.peek(1, "torque_limit") == 1023  # restored
         assert short.servo(1).overload_trips == 0
+        assert short.servo(1).max_load_frac <= 0.51  # the default 50 % torque limit held while pushing
+        assert abs(short.peek(1, "goal_position") - short.peek(1, "present_position")) <= 2  # no stale goal
         partial = tmp_path / "m.csv.partial"
         assert partial.exists() and "# complete: no" in partial.read_text() and not meas.exists()
 
