@@ -105,6 +105,9 @@ def main() -> None:
     argv = sys.argv[1:]
     try:
         if argv[:1] in (["lint"], ["lint-urdf"]):
+            code = lint_cmd.run_plain(argv[1:])  # only paths: no parser to build
+            if code is not None:
+                sys.exit(code)
             _lint_only_app()(args=argv[1:], prog_name=f"armtool {argv[0]}", standalone_mode=True)
         else:
             build_app()(standalone_mode=True)

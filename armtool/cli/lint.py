@@ -92,3 +92,40 @@ def lint(
     write_stdout(formatter(fmt).render(report, color=sys.stdout.isatty() and "NO_COLOR" not in os.environ))
     failing = any(f.severity.rank >= cfg.fail_on.rank for f in findings)
     raise typer.Exit(ExitCode.FINDINGS if failing and not exit_zero else ExitCode.OK)
+
+
+# `armtool lint PATH...` with no option at all is how pre-commit runs it, on every commit. That
+# call skips building the Typer command, whose parameter introspection costs ~4% of the run.
+# Anything else (an option, --help, no path) goes through Typer. These are the values Typer
+# passes for the defaults (tests/lint/test_cli_plain_paths.py compares both ways).
+_DEFAULTS: dict[str, object] = {
+    "output_format": None, "fail_on": None, "exit_zero": False, "fix": False, "diff": False, "select": None,
+    "ignore": None, "xacro_arg": (), "package_path": (), "urdf": None, "srdf": None, "config": None,
+}
+
+
+def run_plain(args: list[str]) -> int | None:
+    """Run `armtool lint ARGS` if every argument is a path and return the exit code, else None.
+
+    Exits as Typer's standalone mode would: typer.Exit's code, 130 on Ctrl-C, 1 on a closed
+    stdout pipe (`armtool lint ... | head`); other exceptions propagate to the caller.
+    """
+    if not args or any(arg.startswith("-") for arg in args):
+        return None
+    options = {k: list(v) if isinstance(v, tuple) else v for k, v in _DEFAULTS.items()}
+    try:
+        lint([Path(arg) for arg in args], **options)  # type: ignore[arg-type]
+    except typer.Exit as exc:
+        return exc.exit_code
+    except KeyboardInterrupt:
+        return 130
+    except OSError as exc:
+        import errno
+
+        if exc.errno != errno.EPIPE:
+            raise
+        devnull = os.open(os.devnull, os.O_WRONLY)  # nothing more reaches the closed pipe at exit
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
+    return 0
+

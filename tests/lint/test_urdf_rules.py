@@ -232,8 +232,7 @@ def test_columns_point_at_the_attribute(tmp_path: Path) -> None:
 def test_u301_text_precheck_never_misses_a_large_angle(value: float, style: str) -> None:
     import math
 
-    from armtool.lint.rules.u301_rpy_out_of_range import _MAYBE_LARGE_RPY, TOLERANCE_RAD
+    from armtool.lint.rules.u301_rpy_out_of_range import TOLERANCE_RAD, _out_of_range
 
     text = style.format(value)
-    if abs(float(text)) > math.pi + TOLERANCE_RAD:
-        assert _MAYBE_LARGE_RPY.search(f'<origin rpy="0 {text} 0"/>'.encode())
+    assert _out_of_range(f"0 {text} 0") == (abs(float(text)) > math.pi + TOLERANCE_RAD)

@@ -1,7 +1,6 @@
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterator
 
 from lxml import etree
@@ -14,13 +13,6 @@ from armtool.lint.rule import Rule, Target
 # Real files write pi as 3.1416 or 3.14159265359: allow a little over pi.
 TOLERANCE_RAD = 1e-3
 _COMMON_DEGREES = {15, 30, 45, 60, 75, 90, 105, 120, 135, 150, 165, 180, 270, 360}
-
-
-# An rpy attribute holding a number that may exceed π + 1e-3: integer part ≥ 4 (or several
-# digits), 3.1425 and up, or an exponent. Files without one skip the per-element check.
-_MAYBE_LARGE_RPY = re.compile(
-    rb"rpy\s*=\s*[\"'][^\"']*(?:(?<![\d.])(?:[4-9]|[1-9]\d+)|(?<![\d.])3\.(?:[2-9]|1[5-9]|14[3-9]|142[5-9])|[eE])"
-)
 
 
 def wrap(angle: float) -> float:
@@ -67,9 +59,8 @@ class RpyOutOfRange(Rule):
     fix_safety = FixSafety.SAFE
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        if ctx.raw is not None and not _MAYBE_LARGE_RPY.search(ctx.raw):
-            return  # every rpy in the file is written with |value| < 3.1425 (or the file has none)
-        # Each distinct rpy text is checked once; then only origins holding a bad one get a closer look.
+        # Each distinct rpy text is checked once (in the whole file: a superset of those below links
+        # and joints); then only origins holding an out-of-range one get a closer look.
         bad = {raw for raw in {origin.get("rpy") for origin in ctx.root.iter("origin")} if _out_of_range(raw)}
         if not bad:
             return
