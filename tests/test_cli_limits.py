@@ -177,3 +177,20 @@ def test_usage_errors_before_touching_the_bus() -> None:
     assert r.returncode == 2 and "--yes" in r.stderr
     r = armtool("limits", "--port", "/dev/null", "--ids", "1", "--mode", "manual")
     assert r.returncode == 2 and "--duration" in r.stderr
+
+
+def test_write_eeprom_refuses_a_range_end_but_keeps_the_yaml(tmp_path: Path) -> None:
+    so101 = FIXTURES / "so101_arm.yaml"
+    doc = yaml.safe_load(so101.read_text())
+    doc["joints"] = [j for j in doc["joints"] if j["id"] == 5]  # wrist_roll: travel across the seam
+    arm = tmp_path / "arm.yaml"
+    arm.write_text(yaml.safe_dump(doc))
+    out = tmp_path / "limits.yaml"
+    with SimBus.start(so101) as sim:
+        before = (sim.peek(5, "min_limit"), sim.peek(5, "max_limit"))
+        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
+                    "-o", str(out), "--write-eeprom")
+        assert r.returncode == 2 and "not writing EEPROM limits: unconfirmed ends on wrist_roll" in r.stderr, r.stderr
+        assert (sim.peek(5, "min_limit"), sim.peek(5, "max_limit")) == before and all_off(sim)
+    row = yaml.safe_load(out.read_text())["joints"][0]  # the recording is kept
+    assert row["name"] == "wrist_roll" and False in (row["evidence"]["confirmed_min"], row["evidence"]["confirmed_max"])

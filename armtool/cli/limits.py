@@ -134,16 +134,13 @@ def limits(
                 ranges = _auto(bus, guard, joints, params)
         rows = [L.convert(r, margin) for r in ranges]
         unconfirmed = [f"{r.joint.name} ({'min' if not r.evidence.get('confirmed_min', True) else 'max'})"
-                       for r in ranges if not r.confirmed]
+                       for r in ranges if not r.confirmed and r.method == "manual"]
         # ---- everything computed in memory first: no half-written outputs
         new_urdf = None
         if urdf_text is not None:
             new_urdf = L.patch_urdf(urdf_text, {r["name"]: (r["lower_rad"], r["upper_rad"]) for r in rows},
                                     allow_widen, str(urdf))
         doc_text = L.dump_yaml(L.limits_document(rows, port, proto, baud_rate))
-        plan: list[Any] = []
-        if write_eeprom:
-            plan = _eeprom_plan(bus, ranges, rows)
         _summary(rows, ranges)
         ends = [f"{r.joint.name} ({k[7:]})" for r in ranges for k in ("reason_min", "reason_max")
                 if "range end" in str(r.evidence.get(k, ""))]
@@ -166,8 +163,8 @@ def limits(
             elif urdf_out is not None:
                 L.write_atomic(urdf_out, new_urdf)
                 con.print(f"wrote {urdf_out}")
-        if write_eeprom:
-            _do_eeprom(bus, plan, yes, dry_run)
+        if write_eeprom:  # after the YAML: a refused EEPROM write must not lose the recording
+            _do_eeprom(bus, _eeprom_plan(bus, ranges, rows), yes, dry_run)
     finally:
         bus.close()
 
@@ -264,8 +261,10 @@ def _eeprom_plan(bus: Any, ranges: list[Any], rows: list[dict[str, Any]]) -> lis
 
     bad = [r.joint.name for r in ranges if not r.confirmed]
     if bad:
-        raise ArmtoolError(f"not writing EEPROM limits: unconfirmed ends on {', '.join(bad)}",
-                           hint="record again and hold each joint at each end for --min-dwell seconds")
+        raise ArmtoolError(f"not writing EEPROM limits: unconfirmed ends on {', '.join(bad)} "
+                           "(the limits YAML was written)",
+                           hint="manual: hold each joint at each end for --min-dwell seconds; auto: an end where no "
+                                "stop was found is the servo's range end (or the seam), record it with --mode manual")
     seam = [r.joint.name for r in ranges if r.crosses_seam]
     if seam:
         raise ArmtoolError(f"not writing EEPROM limits: the range of {', '.join(seam)} crosses the encoder seam",

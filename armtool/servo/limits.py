@@ -225,6 +225,7 @@ def speed_units(model: ServoModel, deg_s: float) -> int:
 
 
 Progress = Callable[[Joint, str, int, float], None]
+RANGE_END = "servo range end"
 
 
 def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress: Progress | None = None) -> JointRange:
@@ -278,7 +279,7 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
                     reason = f"stall (|load| {load_frac:.0%} of limit)"
                     break
                 if abs(pos - target) <= 2:
-                    reason = "servo range end (no stop before it)"
+                    reason = f"{RANGE_END} (no stop before it)"
                     break
             time.sleep(0.005)
         ends[direction] = (pos, reason)
@@ -292,7 +293,10 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
         while time.monotonic() < deadline and abs(bus.read(sid, "present_position") - goal) > 2:
             time.sleep(0.01)
     (lo, rlo), (hi, rhi) = ends[-1], ends[1]
+    # the servo's own range end is not a mechanical stop (no stop, or the seam): never confirmed,
+    # so --write-eeprom refuses it (SO-101 wrist_roll recorded 0..604 with 0 being the seam)
     return JointRange(joint, model, lo, hi, "auto", {
+        "confirmed_min": not rlo.startswith(RANGE_END), "confirmed_max": not rhi.startswith(RANGE_END),
         "reason_min": rlo, "reason_max": rhi, "torque_limit": cap, "torque_limit_percent": round(100 * p.torque_limit, 1),
         "speed": speed, "speed_deg_s": p.speed_deg_s,
         "max_load_fraction_of_limit": round(max_load, 3)})

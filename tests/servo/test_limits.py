@@ -156,3 +156,13 @@ def test_load_arm_errors(tmp_path: Path) -> None:
     assert L.parse_ids("1-3,7") == [1, 2, 3, 7]
     with pytest.raises(ArmtoolError):
         L.parse_ids("1,1")
+
+
+def test_auto_marks_a_servo_range_end_unconfirmed() -> None:
+    """SO-101 wrist_roll: its travel crosses the seam, the low seek ends at tick 0, which is no stop."""
+    [(r, _stops, trips)] = _auto("so101_arm.yaml", [5])
+    ends = {k: r.evidence[f"reason_{k}"] for k in ("min", "max")}
+    assert any(v.startswith(L.RANGE_END) for v in ends.values()), ends
+    for k, reason in ends.items():
+        assert r.evidence[f"confirmed_{k}"] == (not reason.startswith(L.RANGE_END))
+    assert not r.confirmed and trips == 0
