@@ -123,19 +123,37 @@ class JointRange:
 class ManualRecorder:
     """Samples present positions with torque off; unwraps 4096-tick seam crossings."""
 
-    def __init__(self, bus: ServoBus, joints: list[Joint], settle_ticks: int = 2, min_dwell_s: float = 0.3) -> None:
+    def __init__(self, bus: ServoBus, joints: list[Joint], settle_ticks: int = 2, min_dwell_s: float = 0.3,
+                 max_silence_s: float = 1.0) -> None:
         self.bus = bus
         self.joints = joints
         self.settle_ticks = settle_ticks
         self.min_dwell_s = min_dwell_s
+        self.max_silence_s = max_silence_s
         self.traces: dict[int, list[tuple[float, int]]] = {j.id: [] for j in joints}
         self.present: dict[int, int] = {}
+        self.missed: dict[int, int] = {j.id: 0 for j in joints}
         self._t0 = time.monotonic()
+        self._last_reply: dict[int, float] = {j.id: 0.0 for j in joints}
 
     def sample(self) -> None:
+        """One reading per joint. A person records for minutes: a reply lost now and then (noise,
+        a loaded machine) skips that joint until the next sample; only an ID silent for more than
+        `max_silence_s` ends the session. A lost port ends it at once."""
+        from armtool.servo.bus import CommError
+
         t = time.monotonic() - self._t0
         for j in self.joints:
-            raw = self.bus.read(j.id, "present_position")
+            try:
+                raw = self.bus.read(j.id, "present_position")
+            except CommError as exc:
+                self.missed[j.id] += 1
+                silent = t - self._last_reply[j.id]
+                if silent > self.max_silence_s:
+                    raise ArmtoolError(f"ID {j.id} ('{j.name}') has not answered for {silent:.1f} s: {exc.what}",
+                                       hint="check the cable and power of that servo") from None
+                continue
+            self._last_reply[j.id] = t
             model = self.bus.model(j.id)
             trace = self.traces[j.id]
             if model.wraps and trace:

@@ -89,6 +89,25 @@ def test_manual_stopped_early_marks_the_unreached_end_unconfirmed() -> None:
     assert r.raw_max < stops[1][1] - 50
 
 
+def test_manual_tolerates_a_lost_reply_but_not_a_silent_id() -> None:
+    arm = L.load_arm(FIXTURES / "ax12_arm.yaml")
+    joints = [j for j in arm.joints if j.id in (1, 2)]
+    with SimBus.start(FIXTURES / "ax12_arm.yaml") as sim, open_bus(sim.port_path, "dxl1", 1000000) as bus:
+        bus.identify([1, 2])
+        rec = L.ManualRecorder(bus, joints, max_silence_s=0.3)
+        rec.sample()
+        sim.faults.drop_next = bus.retries  # every try of the next read is lost: one whole sample of ID 1
+        rec.sample()
+        rec.sample()
+        assert rec.missed == {1: 1, 2: 0} and [len(rec.traces[i]) for i in (1, 2)] == [2, 3]
+        sim.faults.missing_ids = {2}
+        with pytest.raises(ArmtoolError, match=r"ID 2 \('shoulder_lift'\) has not answered for 0\.[3-9]"):
+            deadline = time.monotonic() + 5
+            while time.monotonic() < deadline:
+                rec.sample()
+                time.sleep(0.01)
+
+
 def test_manual_unwraps_the_4096_tick_seam() -> None:
     results, stops = _manual("so101_arm.yaml", [5], None, speed=300.0)
     (r,) = results
