@@ -37,12 +37,17 @@ class Feetech(Transport):
             chunk = port.readPort(256)
             if chunk:
                 self._buf.extend(chunk)
-                try:
-                    pkt = parse1(self._buf)
-                except Corrupt:
-                    raise CommError(f"ID {sid}: {what}: corrupt reply (checksum)", "corrupt", sid) from None
-                if pkt is not None and pkt.id == sid:
-                    return pkt.params, pkt.code
+                while True:  # every packet in the buffer: another ID's late reply may come first
+                    try:
+                        pkt = parse1(self._buf)
+                    except Corrupt as exc:
+                        if exc.frame[2] != sid:
+                            continue  # another servo's damaged packet: not our reply
+                        raise CommError(f"ID {sid}: {what}: corrupt reply (checksum)", "corrupt", sid) from None
+                    if pkt is None:
+                        break
+                    if pkt.id == sid:
+                        return pkt.params, pkt.code
             elif time.monotonic() > deadline:
                 kind = "corrupt" if self._buf else "timeout"
                 raise CommError(f"ID {sid}: {what}: " + ("no reply" if kind == "timeout" else "incomplete reply"), kind, sid)
