@@ -406,7 +406,7 @@ def urdf_joints(text: str) -> dict[str, UrdfJoint]:
         block = m.group(0)
         head = block[: block.index(">")]
         name, jtype = _NAME_RE.search(head), _TYPE_RE.search(head)
-        if not name:
+        if not name or not jtype:  # a URDF joint always has a type; a reference to one does not
             continue
         lim = _LIMIT_RE.search(block)
         lower = upper = None
@@ -419,9 +419,14 @@ def urdf_joints(text: str) -> dict[str, UrdfJoint]:
     return out
 
 
+_NOT_JOINTS_RE = re.compile(r"<!--.*?-->|<(transmission|ros2_control|gazebo)\b.*?</\1\s*>", re.S)
+
+
 def _blank_comments(text: str) -> str:
-    """Comments replaced by spaces of the same length, so offsets stay valid."""
-    return re.sub(r"<!--.*?-->", lambda m: " " * len(m.group(0)), text, flags=re.S)
+    """Comments, and the blocks whose <joint name> only refers to a joint (<transmission>,
+    <ros2_control>, <gazebo>), replaced by spaces of the same length, so offsets stay valid."""
+    text = re.sub(r"<!--.*?-->", lambda m: " " * len(m.group(0)), text, flags=re.S)
+    return _NOT_JOINTS_RE.sub(lambda m: " " * len(m.group(0)), text)
 
 
 def check_urdf_names(text: str, names: list[str], source: str) -> dict[str, UrdfJoint]:
@@ -452,7 +457,7 @@ def patch_urdf(text: str, limits: dict[str, tuple[float, float]], allow_widen: b
     for m in _JOINT_RE.finditer(blanked):
         head = m.group(0)[: m.group(0).index(">")]
         name = _NAME_RE.search(head)
-        if not name or name.group(2) not in limits:
+        if not name or not _TYPE_RE.search(head) or name.group(2) not in limits:
             continue
         lo, hi = limits[name.group(2)]
         lim = _LIMIT_RE.search(m.group(0))

@@ -185,3 +185,33 @@ def test_auto_marks_a_servo_range_end_unconfirmed() -> None:
     for k, reason in ends.items():
         assert r.evidence[f"confirmed_{k}"] == (not reason.startswith(L.RANGE_END))
     assert not r.confirmed and trips == 0
+
+
+TRANSMISSION = """<transmission name="t_{j}">
+    <type>transmission_interface/SimpleTransmission</type>
+    <joint name="{j}"><hardwareInterface>hardware_interface/PositionJointInterface</hardwareInterface></joint>
+    <actuator name="m_{j}"><mechanicalReduction>1</mechanicalReduction></actuator>
+  </transmission>"""
+
+
+@pytest.mark.parametrize("where", ["before", "after"])
+def test_patch_urdf_with_transmissions(where: str) -> None:
+    """<joint name> inside a <transmission> (no type) is a reference, not the joint: the limit goes
+    into the top-level joint, and the transmission is kept byte for byte."""
+    from lxml import etree
+
+    blocks = "\n  ".join(TRANSMISSION.format(j=j) for j in ("a", "b"))
+    text = URDF.replace("<robot", "<robot", 1)
+    if where == "before":
+        text = text.replace('  <joint name="a"', f"  {blocks}\n  <joint name=\"a\"", 1)
+    else:
+        text = text.replace("</robot>", f"  {blocks}\n</robot>")
+    assert text.count("<transmission") == 2
+    out = L.patch_urdf(text, {"a": (-1.25, 2.0), "b": (-0.5, 0.5)})
+    root = etree.fromstring(out.encode())
+    for name, (lo, hi) in {"a": (-1.25, 2.0), "b": (-0.5, 0.5)}.items():
+        (joint,) = root.xpath(f"/robot/joint[@name='{name}']")
+        assert (float(joint.find("limit").get("lower")), float(joint.find("limit").get("upper"))) == (lo, hi)
+    assert not root.xpath("//transmission//limit")
+    for j in ("a", "b"):
+        assert TRANSMISSION.format(j=j) in out
