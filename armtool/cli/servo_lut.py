@@ -286,7 +286,7 @@ def _progress(enabled: bool):  # type: ignore[no-untyped-def]
                              "load, temperature and voltage to a measurement CSV. Energises the servo (asks first).")
 def measure(
     port: str = typer.Option(..., "--port", help="Serial port of the servo bus (e.g. /dev/ttyUSB0)."),
-    sid: int = typer.Option(..., "--id", help="Servo ID."),
+    sid: int = typer.Option(..., "--id", min=0, max=252, help="Servo ID (0..252)."),
     reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual, csv:FILE or camera:DEVICE."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Measurement CSV to write (default: stdout)."),
     protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1 (AX), dxl2 (X series) or feetech (STS/SCS)."),
@@ -385,7 +385,7 @@ def measure(
 def check(
     table_path: Path = typer.Argument(..., metavar="LUT_JSON", help="Table from `servo-lut fit`."),
     port: str = typer.Option(..., "--port", help="Serial port of the servo bus."),
-    sid: int = typer.Option(..., "--id", help="Servo ID."),
+    sid: int = typer.Option(..., "--id", min=0, max=252, help="Servo ID (0..252)."),
     reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual or camera:DEVICE."),
     protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1, dxl2 or feetech."),
     baud: int = typer.Option(1_000_000, "--baud", help="Bus baud rate."),

@@ -62,12 +62,11 @@ def load_arm(path: Path) -> ArmFile:
         where = f"{path}: joints[{k}]"
         if not isinstance(e, dict) or "id" not in e:
             raise ArmtoolError("each joint needs an 'id'", where)
-        try:
-            sid = int(e["id"])
-            direction = int(e.get("direction", 1))
-            zero = None if e.get("zero_ticks") is None else int(e["zero_ticks"])
-        except (TypeError, ValueError):
-            raise ArmtoolError("id, zero_ticks and direction must be integers", where) from None
+        sid = _whole(e["id"], "id", where)
+        direction = _whole(e.get("direction", 1), "direction", where)
+        zero = None if e.get("zero_ticks") is None else _whole(e["zero_ticks"], "zero_ticks", where)
+        if not 0 <= sid <= 252:
+            raise ArmtoolError(f"id {sid} is outside 0..252", where, hint="servo IDs on a bus are 0..252")
         if direction not in (1, -1):
             raise ArmtoolError(f"direction must be 1 or -1, got {direction}", where)
         name = str(e.get("name", f"id{sid}"))
@@ -75,10 +74,29 @@ def load_arm(path: Path) -> ArmFile:
             raise ArmtoolError(f"joint '{name}' / id {sid} appears twice", where)
         seen_ids.add(sid)
         seen_names.add(name)
-        model = by_name(str(e["model"])) if e.get("model") else None
+        try:
+            model = by_name(str(e["model"])) if e.get("model") else None
+        except ArmtoolError as exc:
+            raise ArmtoolError(exc.what, where, exc.hint) from None
+        if model is not None and zero is not None and not 0 <= zero <= model.max_tick:
+            raise ArmtoolError(f"zero_ticks {zero} is outside 0..{model.max_tick} of a {model.name}", where)
         joints.append(Joint(name, sid, model, zero, direction))
     baud = bus.get("baud")
-    return ArmFile(joints, bus.get("protocol"), int(baud) if baud is not None else None)
+    protocol = bus.get("protocol")
+    if protocol is not None and protocol not in ("dxl1", "dxl2", "feetech"):
+        raise ArmtoolError(f"unknown protocol {protocol!r}", str(path), hint="dxl1, dxl2 or feetech")
+    return ArmFile(joints, protocol, None if baud is None else _whole(baud, "baud", str(path)))
+
+
+def _whole(value: Any, key: str, where: str) -> int:
+    """An integer from YAML: 3 or "3", never 1.7 (read as 1) nor `fast`."""
+    if isinstance(value, bool) or not isinstance(value, (int, str)):
+        if not (isinstance(value, float) and value.is_integer()):
+            raise ArmtoolError(f"'{key}' must be a whole number, got {value!r}", where)
+    try:
+        return int(value)
+    except ValueError:
+        raise ArmtoolError(f"'{key}' must be a whole number, got {value!r}", where) from None
 
 
 def parse_ids(text: str) -> list[int]:
@@ -400,7 +418,7 @@ class UrdfJoint:
     upper: float | None
 
 
-def urdf_joints(text: str) -> dict[str, UrdfJoint]:
+def urdf_joints(text: str, source: str = "URDF") -> dict[str, UrdfJoint]:
     out: dict[str, UrdfJoint] = {}
     for m in _JOINT_RE.finditer(_blank_comments(text)):
         block = m.group(0)
@@ -413,13 +431,22 @@ def urdf_joints(text: str) -> dict[str, UrdfJoint]:
         if lim:
             lo = re.search(_ATTR_RE.format("lower"), lim.group(0))
             hi = re.search(_ATTR_RE.format("upper"), lim.group(0))
-            lower = float(lo.group(3)) if lo else None
-            upper = float(hi.group(3)) if hi else None
+            lower = _urdf_float(lo.group(3), "lower", name.group(2), text, m.start(), source) if lo else None
+            upper = _urdf_float(hi.group(3), "upper", name.group(2), text, m.start(), source) if hi else None
         out[name.group(2)] = UrdfJoint(name.group(2), jtype.group(2) if jtype else "", lower, upper)
     return out
 
 
 _NOT_JOINTS_RE = re.compile(r"<!--.*?-->|<(transmission|ros2_control|gazebo)\b.*?</\1\s*>", re.S)
+
+
+def _urdf_float(value: str, attr: str, joint: str, text: str, offset: int, source: str) -> float:
+    try:
+        return float(value)
+    except ValueError:
+        line = text.count("\n", 0, offset) + 1
+        raise ArmtoolError(f"joint '{joint}': <limit {attr}=\"{value}\"> is not a number", f"{source}:{line}",
+                           hint="run xacro first (xacro arm.urdf.xacro > arm.urdf) and pass the URDF it writes") from None
 
 
 def _blank_comments(text: str) -> str:
@@ -430,7 +457,7 @@ def _blank_comments(text: str) -> str:
 
 
 def check_urdf_names(text: str, names: list[str], source: str) -> dict[str, UrdfJoint]:
-    joints = urdf_joints(text)
+    joints = urdf_joints(text, source)
     missing = [n for n in names if n not in joints]
     if missing:
         raise ArmtoolError(f"joint(s) {', '.join(missing)} not in {source}",

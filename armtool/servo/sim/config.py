@@ -93,6 +93,8 @@ def _number(d: dict[str, Any], key: str, default: Any, where: str, kind: type = 
     value = d.get(key, default)
     if value is None:
         return default
+    if kind is int and isinstance(value, float) and not value.is_integer():
+        raise ArmtoolError(f"'{key}' must be a whole number, got {value!r}", where)
     try:
         return kind(value)
     except (TypeError, ValueError):
@@ -118,14 +120,23 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
         if not 0 <= sid <= 252 or sid in seen:
             raise ArmtoolError(f"id {sid} is out of range 0..252 or repeated", where)
         seen.add(sid)
-        model = by_name(str(e.get("model", {"dxl1": "AX-12A", "dxl2": "XL430-W250", "feetech": "STS3215"}[protocol])))
+        try:
+            model = by_name(str(e.get("model", {"dxl1": "AX-12A", "dxl2": "XL430-W250", "feetech": "STS3215"}[protocol])))
+        except ArmtoolError as exc:
+            raise ArmtoolError(exc.what, where, exc.hint) from None
         if model.protocol != protocol:
             raise ArmtoolError(f"{model.name} speaks {model.protocol}, the bus is {protocol}", where)
         deg = model.deg_per_tick
-        if "stops_deg" in e:
-            lo, hi = (float(v) for v in e["stops_deg"])
-        elif "stops" in e:
-            lo, hi = (float(v) * deg for v in e["stops"])
+        key = "stops_deg" if "stops_deg" in e else "stops" if "stops" in e else None
+        if key is not None:
+            pair = e[key]
+            try:
+                if not isinstance(pair, (list, tuple)) or len(pair) != 2:
+                    raise ValueError
+                lo, hi = (float(v) * (1.0 if key == "stops_deg" else deg) for v in pair)
+            except (TypeError, ValueError):
+                raise ArmtoolError(f"'{key}' must be two numbers [low, high], got {pair!r}", where,
+                                   hint=f"e.g. {key}: [92, 914]" if key == "stops" else f"e.g. {key}: [27, 268]") from None
         else:
             lo, hi = 0.0, model.max_tick * deg
         if not lo < hi:
@@ -137,21 +148,34 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
         nl = _number(e, "nonlinearity", 0.010 if model.name.startswith("AX") else 0.0, where)
         servos.append(ServoSpec(sid, model, lo, hi, start_deg, nl, e.get("name")))
     faults_d = data.get("faults") or {}
+    if not isinstance(faults_d, dict):
+        raise ArmtoolError(f"'faults' must be a mapping, got {faults_d!r}", source, hint="faults: {missing_ids: [3]}")
     known = {f.name for f in fields(Faults)}
     unknown = set(faults_d) - known
     if unknown:
         raise ArmtoolError(f"unknown fault(s): {', '.join(sorted(unknown))}", source, hint="faults: " + ", ".join(sorted(known)))
-    faults = Faults(**{k: (set(v) if k == "missing_ids" else v) for k, v in faults_d.items()})
+    fwhere = f"{source}: faults"
+    ids = faults_d.get("missing_ids") or []
+    if not isinstance(ids, list) or not all(isinstance(i, int) and not isinstance(i, bool) for i in ids):
+        raise ArmtoolError(f"'missing_ids' must be a list of IDs, got {ids!r}", fwhere, hint="missing_ids: [3]")
+    faults = Faults(missing_ids=set(ids), drop_next=_number(faults_d, "drop_next", 0, fwhere, int),
+                    p_drop=_number(faults_d, "p_drop", 0.0, fwhere), corrupt_next=_number(faults_d, "corrupt_next", 0, fwhere, int),
+                    p_corrupt=_number(faults_d, "p_corrupt", 0.0, fwhere), echo=bool(faults_d.get("echo", False)),
+                    delay_s=_number(faults_d, "delay_s", 0.0, fwhere))
     enc = data.get("encoder")
     person_d = data.get("person")
     person = None
     if isinstance(person_d, dict):
-        person = PersonSpec(**{k: v for k, v in person_d.items() if k in {f.name for f in fields(PersonSpec)}})
+        pwhere = f"{source}: person"
+        person = PersonSpec(**{f.name: _number(person_d, f.name, getattr(PersonSpec, f.name), pwhere)
+                               for f in fields(PersonSpec) if f.name != "ids" and f.name in person_d})
+        if person_d.get("ids") is not None:
+            person.ids = [_number({"ids": i}, "ids", None, pwhere, int) for i in person_d["ids"]]
     rdt = data.get("return_delay", 0)
     return SimConfig(
-        protocol=protocol, servos=servos, baud=int(data.get("baud", 1_000_000)),
-        return_delay=None if rdt is None else int(rdt),
-        overload_time_s=float(data.get("overload_time_s", 1.0)), seed=int(data.get("seed", 0)),
-        encoder_noise_deg=float(enc.get("noise_deg", 0.0)) if isinstance(enc, dict) else 0.0,
+        protocol=protocol, servos=servos, baud=_number(data, "baud", 1_000_000, source, int),
+        return_delay=None if rdt is None else _number(data, "return_delay", 0, source, int),
+        overload_time_s=_number(data, "overload_time_s", 1.0, source), seed=_number(data, "seed", 0, source, int),
+        encoder_noise_deg=_number(enc, "noise_deg", 0.0, f"{source}: encoder") if isinstance(enc, dict) else 0.0,
         faults=faults, person=person, source=source,
     )
