@@ -55,7 +55,10 @@ def test_fit_end_to_end(dataset: Path, tmp_path: Path) -> None:
     assert truth["calibrated"]["position_rms_mm"] < 0.15 and truth["improvement"] > 25
     assert set(truth["bad_samples"]) <= set(summary["outliers"])
     assert summary["identifiability"]["identified"] == 30
-    assert summary["metrics"]["holdout_rms_px"]["calibrated"] < 0.3
+    # One bad sample falls in the hold-out here: it is named, the plain hold-out RMS shows it, and
+    # the figure without hold-out outliers shows the calibration itself.
+    metrics = summary["metrics"]
+    assert metrics["holdout_without_outliers_rms_px"]["calibrated"] < 0.3 < metrics["holdout_rms_px"]["calibrated"]
     assert (tmp_path / "res.png").read_bytes()[:4] == b"\x89PNG"
     # The corrected URDF keeps joint names and comments, and has the fitted kinematics.
     text = (out / "calibrated.urdf").read_text()
@@ -64,12 +67,19 @@ def test_fit_end_to_end(dataset: Path, tmp_path: Path) -> None:
 
     doc = yaml.safe_load((out / "calibration.yaml").read_text())
     assert doc["format"] == "armtool-calibration/1" and set(doc["joints"]) == {f"joint{i}" for i in range(1, 7)}
+    # calibrated.urdf is the calibrated robot: registered on the validation poses it matches the
+    # true robot (written by simulate) to the same accuracy as the fitted model.
+    from armtool.calib.truth import registered_errors
+
     calibrated = load_chain(out / "calibrated.urdf", "base_link", "tool0")
     true = load_chain(dataset / "truth" / "robot_true.urdf", "base_link", "tool0")
-    q = np.zeros(6)
-    moved = np.linalg.norm(calibrated.fk(q)[:3, 3] - load_chain(CLEAN_ARM, "base_link", "tool0").fk(q)[:3, 3])
-    assert moved > 1e-4  # corrections were written
+    nominal = load_chain(CLEAN_ARM, "base_link", "tool0")
     assert true.joint_names == calibrated.joint_names
+    Q = true.random(np.random.default_rng(5), 30)
+    F_true = np.stack([true.fk(q) for q in Q])
+    after = registered_errors(np.stack([calibrated.fk(q) for q in Q]), F_true)
+    before = registered_errors(np.stack([nominal.fk(q) for q in Q]), F_true)
+    assert after.position_rms_mm < 0.3 < 2.0 < before.position_rms_mm
     lint = armtool("lint", str(out / "calibrated.urdf"))
     assert "error" not in lint.stdout, lint.stdout
 
@@ -109,7 +119,38 @@ def test_missing_image_is_reported_by_check(dataset: Path, tmp_path: Path) -> No
     shutil.copytree(dataset, bad)
     (bad / "images" / "0004.png").write_bytes(b"not a png")
     result = armtool("calibrate", "check", str(bad))
+    assert result.returncode == 0  # one unreadable image is a warning: the fit can do without it
     assert "samples.csv:6" in result.stderr and "cannot read image" in result.stderr
+
+
+def test_tag_never_found_is_an_error(dataset: Path, tmp_path: Path) -> None:
+    bad = tmp_path / "bad"
+    shutil.copytree(dataset, bad)
+    text = (bad / "dataset.yaml").read_text().replace("id: 0\n", "id: 5\n", 1)
+    (bad / "dataset.yaml").write_text(text)
+    check = armtool("calibrate", "check", str(bad))
+    assert check.returncode == 1 and "usable in only 0 of 30" in check.stderr and "found ids: 0" in check.stderr
+    fit = armtool("calibrate", "fit", str(bad), "--out", str(tmp_path / "o"))
+    assert fit.returncode == 2 and "tag 5 not found (found ids: 0)" in fit.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_bad_output_paths_fail_before_the_work(dataset: Path, tmp_path: Path) -> None:
+    (tmp_path / "file").write_text("x")
+    r = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "file" / "sub"))
+    assert r.returncode == 2 and "is a file" in r.stderr
+    r = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--plot", str(tmp_path / "nodir" / "p.png"))
+    assert r.returncode == 2 and "--plot's directory does not exist" in r.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_validation_dataset_of_another_setup_is_refused(dataset: Path, tmp_path: Path) -> None:
+    other = tmp_path / "other"
+    r = runner.invoke(app, ["calibrate", "simulate", str(CLEAN_ARM), "--flange", "tool0", "-o", str(other),
+                            "--samples", "10", "--validation", "2", "--setup", "eye_in_hand"])
+    assert r.exit_code == 0, r.output
+    fit = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--validation", str(other))
+    assert fit.returncode == 2 and "setup (eye_in_hand vs eye_to_hand)" in fit.stderr
 
 
 def test_unknown_params_family(dataset: Path, tmp_path: Path) -> None:

@@ -9,6 +9,7 @@ file and row, so `armtool calibrate check` can list them all at once.
 from __future__ import annotations
 
 import csv
+import io
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -141,6 +142,9 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None) ->
     if size_m is not None and not (0.001 <= float(size_m) <= 2.0):
         problems.append(Problem(where, f"target.size_m is {size_m}: the black square's edge in metres", "e.g. 0.08 for an 80 mm tag"))
     samples_name = doc.get("samples", "samples.csv")
+    if not isinstance(samples_name, str):
+        problems.append(Problem(where, f"'samples' must be a file name, got {samples_name!r}", "e.g. samples: samples.csv"))
+        samples_name = "samples.csv"
 
     def file_in_root(name: str | None, what: str) -> Path:
         if name is None:
@@ -154,13 +158,20 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None) ->
     intrinsics = file_in_root(intr_name, "camera.intrinsics")
     samples_path = file_in_root(samples_name, "samples")
     hints: dict[str, Array] = {}
-    for key, value in (doc.get("hints") or {}).items():
+    raw_hints = doc.get("hints") or {}
+    if not isinstance(raw_hints, dict):
+        problems.append(Problem(where, f"'hints' must be a mapping, got {raw_hints!r}", "e.g. hints: {camera_in_base: {xyz: [...], rpy: [...]}}", "warning"))
+        raw_hints = {}
+    for key, value in raw_hints.items():
         pose = _hint_pose(value)
         if pose is None:
             problems.append(Problem(where, f"hint '{key}' needs xyz: [x, y, z] and rpy: [r, p, y]", severity="warning"))
         else:
             hints[key] = pose
     corners_name = doc.get("corners")
+    if corners_name is not None and not isinstance(corners_name, str):
+        problems.append(Problem(where, f"'corners' must be a file name, got {corners_name!r}", "e.g. corners: corners.csv"))
+        corners_name = None
     corners_file = (root / corners_name).resolve() if corners_name else None
     if corners_file is None and (root / "corners.csv").is_file():
         corners_file = (root / "corners.csv").resolve()
@@ -182,7 +193,10 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None) ->
 
 def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) -> None:
     where = _rel(ds.root, path)
-    with path.open(newline="", encoding="utf-8") as handle:
+    text = _text(path, where, ds.problems)
+    if text is None:
+        return
+    with io.StringIO(text, newline="") as handle:
         reader = csv.reader(handle)
         header = next(reader, None)
         if header is None:
@@ -233,6 +247,8 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
             if image_col is not None and row[image_col].strip():
                 image = (ds.root / row[image_col].strip()).resolve()
             ds.samples.append(Sample(sid, line, q, image))
+    if not ds.samples and not any(p.where.startswith(where) for p in ds.problems):
+        ds.problems.append(Problem(where, "samples.csv has a header but no rows", "one row per robot pose: id,image,<joint values in rad>"))
     if ds.samples:
         Q = np.stack([s.q for s in ds.samples])
         if float(np.abs(Q).max()) > 2 * math.pi + 0.5:
@@ -245,7 +261,10 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
 
 def _read_corners(ds: Dataset, path: Path) -> None:
     where = _rel(ds.root, path)
-    with path.open(newline="", encoding="utf-8") as handle:
+    text = _text(path, where, ds.problems)
+    if text is None:
+        return
+    with io.StringIO(text, newline="") as handle:
         reader = csv.DictReader(handle)
         fields = [f.strip() for f in (reader.fieldnames or [])]
         missing = [c for c in ["id", "tag_id", *CORNER_COLUMNS] if c not in fields]
@@ -269,6 +288,17 @@ def _read_corners(ds: Dataset, path: Path) -> None:
                 ds.problems.append(Problem(f"{where}:{line}", f"sample id '{row['id']}' is not in samples.csv"))
                 continue
             ds.corners[row["id"]] = uv
+
+
+def _text(path: Path, where: str, problems: list[Problem]) -> str | None:
+    try:
+        return path.read_bytes().decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = path.read_bytes()[: exc.start].count(b"\n") + 1
+        problems.append(Problem(f"{where}:{line}", "not UTF-8 text", "save the CSV as UTF-8"))
+    except OSError as exc:
+        problems.append(Problem(where, f"cannot read: {exc.strerror}"))
+    return None
 
 
 def require_ok(ds: Dataset) -> None:

@@ -37,9 +37,12 @@ class FitOptions:
     families_explicit: bool = False  # the user named them with --params: refuse to silently drop all
     holdout: float = 0.0
     seed: int = 0
-    f_scale_px: float = 1.0  # soft-L1 knee: residuals beyond it count less than quadratically
-    outlier_floor_px: float = 2.0  # a sample is an outlier above max(floor, factor × median RMS)
-    outlier_factor: float = 5.0
+    f_scale_px: float = 0.5  # soft-L1 knee: residuals beyond it count less than quadratically
+    # A sample is an outlier when its corner RMS exceeds max(floor, median + spread × 1.4826·MAD)
+    # of the inliers: a robust z-score, so a 5° reading error that the robust fit half absorbed
+    # (0.6-2 px against 0.1 px for good samples) still stands out, while noisy images raise the bar.
+    outlier_floor_px: float = 0.5
+    outlier_spread: float = 8.0
     qr_tolerance: float = 1e-6
     min_motion_rad: float = math.radians(20)
 
@@ -66,8 +69,9 @@ class CalibrationResult:
     rejected: dict[str, str]  # sample id -> detection reason
     warnings: list[str] = field(default_factory=list)
     fit_rms_px: tuple[float, float] = (math.nan, math.nan)  # before, after
-    holdout_rms_px: tuple[float, float] = (math.nan, math.nan)
+    holdout_rms_px: tuple[float, float] = (math.nan, math.nan)  # over every held-out sample
     iterations: int = 0
+    holdout_inlier_rms_px: tuple[float, float] = (math.nan, math.nan)  # without the held-out outliers
 
     def fitted_frames(self, handeye: bool = False) -> tuple[Array, Array]:
         return self.model.frames(self.x_handeye if handeye else self.x)
@@ -101,7 +105,7 @@ class Problem:
         return np.sqrt((r**2).mean(axis=1))
 
 
-def _solve(problem: Problem, x0: Array, free: list[int], robust: bool) -> tuple[Array, int]:
+def _solve(problem: Problem, x0: Array, free: list[int], robust: bool, f_scale: float = 0.5) -> tuple[Array, int]:
     def fun(z: Array) -> Array:
         x = x0.copy()
         x[free] = z
@@ -116,7 +120,7 @@ def _solve(problem: Problem, x0: Array, free: list[int], robust: bool) -> tuple[
     scale = np.full(len(free), 1e-3)
     m = problem.uv.size
     if robust or m < len(free):
-        res = least_squares(fun, x0[free], jac=jac, method="trf", loss="soft_l1" if robust else "linear", f_scale=1.0, x_scale=scale, max_nfev=200)
+        res = least_squares(fun, x0[free], jac=jac, method="trf", loss="soft_l1" if robust else "linear", f_scale=f_scale, x_scale=scale, max_nfev=200)
     else:
         res = least_squares(fun, x0[free], jac=jac, method="lm", x_scale=scale, max_nfev=400)
     x = x0.copy()
@@ -179,9 +183,13 @@ def calibrate(
     fit_samples = [s for s in usable if s.id not in holdout_ids]
     hold_samples = [s for s in usable if s.id in holdout_ids]
     if len(fit_samples) < 3:
+        from collections import Counter
+
+        common = Counter(rejected.values()).most_common(1)
+        why = f"; most images: {common[0][0]} ({common[0][1]} of {len(rejected)})" if common else ""
         raise ArmtoolError(
-            f"only {len(fit_samples)} sample(s) with a detected tag to fit",
-            hint="check the images with `armtool calibrate check`; 30-60 poses are recommended",
+            f"only {len(fit_samples)} sample(s) with a detected tag to fit{why}",
+            hint="check target.family/id/size_m in dataset.yaml and the images with `armtool calibrate check`",
         )
 
     def arrays(group: list[Sample]) -> tuple[Array, Array]:
@@ -207,7 +215,7 @@ def calibrate(
     frames = list(range(12))
 
     say("hand-eye-only fit (nominal robot)")
-    x_he, nfev = _solve(problem, x0, frames, robust=True)
+    x_he, nfev = _solve(problem, x0, frames, robust=True, f_scale=options.f_scale_px)
 
     say("identifiability of the parameters")
     candidates = model.indices(options.families)
@@ -242,11 +250,12 @@ def calibrate(
     inliers = list(range(len(fit_samples)))
     for _round in range(3):
         sub = Problem(model, camera, Q[inliers], uv[inliers], tag_points)
-        x, n = _solve(sub, x, free, robust=True)
+        x, n = _solve(sub, x, free, robust=True, f_scale=options.f_scale_px)
         nfev += n
         rms_all = problem.per_sample_rms(x)
         median = float(np.median(rms_all[inliers]))
-        limit = max(options.outlier_floor_px, options.outlier_factor * median)
+        mad = float(np.median(np.abs(rms_all[inliers] - median)))
+        limit = max(options.outlier_floor_px, median + options.outlier_spread * 1.4826 * mad)
         new = [k for k in inliers if rms_all[k] > limit]
         if not new:
             break
@@ -281,6 +290,7 @@ def calibrate(
         role = "outlier" if s.id in outliers else "fit"
         residuals.append(SampleResidual(s.id, role, float(before[k]), float(after[k]), outliers.get(s.id, "")))
     hold_before = hold_after = np.zeros(0)
+    keep = np.zeros(0, dtype=bool)
     if hold_samples:
         Qh, uvh = arrays(hold_samples)
         hp = Problem(model, camera, Qh, uvh, tag_points)
@@ -294,7 +304,11 @@ def calibrate(
                 outliers[s.id] = f"held-out residual {hold_after[k]:.1f} px RMS against a median of {median:.2f} px (row {s.row}: wrong joint reading or mislabeled image?)"
             role = "holdout" if keep[k] else "outlier"
             residuals.append(SampleResidual(s.id, role, float(hold_before[k]), float(hold_after[k]), outliers.get(s.id, "")))
-        hold_before, hold_after = hold_before[keep], hold_after[keep]
+        if (~keep).sum() * 3 > len(keep):
+            warnings.append(
+                f"{int((~keep).sum())} of {len(keep)} held-out samples disagree with the calibrated model: "
+                "the validation poses may come from another setup, or the fit does not generalise"
+            )
     for sid, reason in rejected.items():
         residuals.append(SampleResidual(sid, "rejected", math.nan, math.nan, reason))
 
@@ -306,7 +320,13 @@ def calibrate(
             f"the identification Jacobian is poorly conditioned ({ident.condition_number:.0f}): "
             "add poses with larger wrist rotations and tag tilts"
         )
+    if len(inliers) < 20:
+        warnings.append(f"only {len(inliers)} samples were fitted: 30-60 poses give a reliable calibration")
+    if options.families and Family.GAINS in options.families and any(model.params[i].kind == "gain" for i in free):
+        warnings.append("joint gains were fitted: a URDF cannot hold them, so apply `gain` from calibration.yaml in the driver")
+    kept = keep if hold_samples else np.zeros(0, dtype=bool)
     return CalibrationResult(
         model, x, x_he, free, sigma, ident, residuals, outliers, rejected, warnings,
         (rms(before[inliers]), rms(after[inliers])), (rms(hold_before), rms(hold_after)), nfev,
+        (rms(hold_before[kept]), rms(hold_after[kept])),
     )

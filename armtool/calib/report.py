@@ -56,6 +56,8 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
         "setup": model.setup.value,
         "frames": frames,
         "conventions": "origin_new = origin · SE3(exp(r), t) · motion(zero_offset); the reading q maps to gain·q + zero_offset",
+        "in_urdf": "origin corrections and zero offsets are already folded into calibrated.urdf: do not apply them again; "
+        "gains are not (a URDF cannot hold them): apply gain·q in the driver if it differs from 1",
         "joints": joints,
         "identifiability": {
             "identified": len(result.free),
@@ -68,6 +70,9 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
         "metrics": {
             "fit_rms_px": {"hand_eye_only": _num(result.fit_rms_px[0]), "calibrated": _num(result.fit_rms_px[1])},
             "holdout_rms_px": {"hand_eye_only": _num(result.holdout_rms_px[0]), "calibrated": _num(result.holdout_rms_px[1])},
+            "holdout_without_outliers_rms_px": {
+                "hand_eye_only": _num(result.holdout_inlier_rms_px[0]), "calibrated": _num(result.holdout_inlier_rms_px[1]),
+            },
         },
         "outliers": dict(result.outliers),
         "rejected": dict(result.rejected),

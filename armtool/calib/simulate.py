@@ -167,7 +167,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     from armtool.calib.apriltag import family_dictionary
     from armtool.calib.camera import save_intrinsics
     from armtool.calib.render import render_tag
-    from armtool.calib.urdf_out import corrected_text, expanded_text, joint_corrections
+    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections
     from armtool.ik.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
@@ -258,7 +258,9 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     _write_text(out / "dataset.yaml", yaml.safe_dump(manifest, sort_keys=False))
     # The truth, kept apart.
     corrections = joint_corrections(truth_model, x_true)
-    _write_text(out / "truth" / "robot_true.urdf", corrected_text(text, corrections, "robot.urdf"))
+    true_text = corrected_text(text, corrections, "robot.urdf")
+    check_reproduces(true_text, truth_model, x_true, "truth/robot_true.urdf")
+    _write_text(out / "truth" / "robot_true.urdf", true_text)
     k = x_true[12:].reshape(chain.n, 8)
     truth = {
         "note": "ground truth of this synthetic dataset; armtool calibrate fit never reads it",

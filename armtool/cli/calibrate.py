@@ -112,10 +112,16 @@ def check(
 
     ds, chain, camera = _load(dataset)
     if detect and chain is not None and camera is not None and ds.samples:
+        found = 0
         for sid, ob in _detect(ds, camera).items():
             if ob.corners_px is None:
                 row = next(s.row for s in ds.samples if s.id == sid)
                 ds.problems.append(Problem(f"samples.csv:{row}", f"sample {sid}: {ob.reason}", severity="warning"))
+            else:
+                found += 1
+        if found < max(3, len(ds.samples) // 2):
+            ds.problems.append(Problem("dataset.yaml", f"tag {ds.tag_id} ({ds.family}) was usable in only {found} of {len(ds.samples)} samples",
+                                       "check target.family, target.id and the images (the warnings above say what was seen)"))
     out = stderr()
     for p in ds.problems:
         color = "red" if p.severity == "error" else "yellow"
@@ -133,7 +139,7 @@ def check(
 def fit(
     dataset: Path = typer.Argument(..., help="Dataset directory (with dataset.yaml)."),
     out: Path = typer.Option(..., "--out", "-o", help="Directory for calibrated.urdf and calibration.yaml."),
-    params: str = typer.Option("origins,offsets", "--params", help="Kinematic parameter families to fit: origins, offsets, gains."),
+    params: Optional[str] = typer.Option(None, "--params", help="Kinematic parameter families to fit: origins, offsets, gains [default: origins,offsets]."),
     holdout: float = typer.Option(0.0, "--holdout", min=0.0, max=0.9, help="Fraction of samples kept out of the fit to validate it."),
     validation: Optional[Path] = typer.Option(None, "--validation", help="A second dataset of the same setup, used only to validate."),
     seed: int = typer.Option(0, "--seed", help="Random seed for the hold-out split."),
@@ -149,13 +155,12 @@ def fit(
     from armtool.calib.model import CalibModel
     from armtool.calib.report import calibration_document, residual_plot_png
     from armtool.fileio import write_atomic
-    from armtool.calib.urdf_out import corrected_text, expanded_text, joint_corrections
+    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections
     from armtool.console import stderr, write_stdout
 
-    explicit = params != "origins,offsets"
-    families = _families(params)
-    if out.exists() and not out.is_dir():
-        raise ArmtoolError("--out is a file", str(out), "pass a directory")
+    explicit = params is not None
+    families = _families(params or "origins,offsets")
+    _check_output_paths(out, plot)
     ds, chain, camera = _load(dataset)
     require_ok(ds)
     assert chain is not None and camera is not None
@@ -165,8 +170,7 @@ def fit(
     if validation is not None:
         vds, vchain, vcamera = _load(validation)
         require_ok(vds)
-        if vchain is None or vchain.joint_names != chain.joint_names:
-            raise ArmtoolError("the validation dataset's chain differs from the dataset's", str(validation))
+        _same_setup(ds, chain, camera, vds, vchain, vcamera, validation)
         from dataclasses import replace
 
         from armtool.calib.observations import Observation
@@ -195,18 +199,20 @@ def fit(
             FitOptions(families=families, families_explicit=explicit, holdout=holdout, seed=seed),
             ds.hints, holdout_ids=holdout_ids, progress=lambda msg: status.update(msg),
         )
-    # Everything computed: now write, each file atomically.
+    # Everything computed and checked first; then each file is written atomically.
     text = expanded_text(ds.urdf)
     new_urdf = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)
+    check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)
     doc = calibration_document(result, str(dataset), ds.urdf.name)
     truth_scores = _truth_scores(dataset, result)
     if truth_scores:
         doc["against_truth"] = truth_scores
-    out.mkdir(parents=True, exist_ok=True)
-    write_atomic(out / "calibrated.urdf", new_urdf)
-    write_atomic(out / "calibration.yaml", yaml.safe_dump(doc, sort_keys=False, allow_unicode=True))
+    outputs = {out / "calibrated.urdf": new_urdf, out / "calibration.yaml": yaml.safe_dump(doc, sort_keys=False, allow_unicode=True)}
     if plot is not None:
-        write_atomic(plot, residual_plot_png(result))
+        outputs[plot] = residual_plot_png(result)
+    out.mkdir(parents=True, exist_ok=True)
+    for path, data in outputs.items():
+        write_atomic(path, data)
     if output_format is ReportFormat.JSON:
         summary = {k: doc[k] for k in ("setup", "frames", "identifiability", "metrics", "outliers", "rejected", "warnings")}
         summary["schema_version"] = 1
@@ -214,6 +220,38 @@ def fit(
             summary["against_truth"] = truth_scores
         write_stdout(json.dumps(summary, indent=2))
     _print_report(result, truth_scores, out, plot)
+
+
+def _check_output_paths(out: Path, plot: Optional[Path]) -> None:
+    """Fail before the work, not after it: --out must be (or become) a directory, --plot's folder exist."""
+    for p in (out, *out.parents):
+        if p.exists():
+            if not p.is_dir():
+                raise ArmtoolError(f"--out cannot be created: {p} is a file", str(out), "pass a directory path")
+            break
+    if plot is not None and not plot.parent.is_dir():
+        raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
+
+
+def _same_setup(ds, chain, camera, vds, vchain, vcamera, where: Path) -> None:  # type: ignore[no-untyped-def]
+    """A validation dataset must share the robot chain, setup, camera and tag, or its residuals mean nothing."""
+    import numpy as np
+
+    differences = []
+    if vchain is None or vchain.joint_names != chain.joint_names:
+        differences.append("robot chain (joints)")
+    if vds.setup != ds.setup:
+        differences.append(f"setup ({vds.setup.value} vs {ds.setup.value})")
+    if vcamera is None or (vcamera.width, vcamera.height) != (camera.width, camera.height) or not np.allclose(vcamera.K, camera.K) \
+            or not np.allclose(np.resize(vcamera.dist, 5), np.resize(camera.dist, 5)):
+        differences.append("camera intrinsics")
+    if (vds.family, vds.tag_id, vds.size_m) != (ds.family, ds.tag_id, ds.size_m):
+        differences.append("target (family, id or size)")
+    if differences:
+        raise ArmtoolError(
+            "the validation dataset differs from the dataset in: " + ", ".join(differences), str(where),
+            "validate with poses of the same robot, camera and tag (a second session of the same setup)",
+        )
 
 
 def _truth_scores(dataset: Path, result) -> dict | None:  # type: ignore[no-untyped-def,type-arg]
@@ -250,6 +288,8 @@ def _print_report(result, truth, out: Path, plot: Optional[Path]) -> None:  # ty
     table.add_row("fit samples", f"{result.fit_rms_px[0]:.3f}", f"{result.fit_rms_px[1]:.3f}")
     if not math.isnan(result.holdout_rms_px[0]):
         table.add_row("held-out samples", f"{result.holdout_rms_px[0]:.3f}", f"{result.holdout_rms_px[1]:.3f}")
+        if result.holdout_inlier_rms_px != result.holdout_rms_px and not math.isnan(result.holdout_inlier_rms_px[0]):
+            table.add_row("held-out, outliers left out", f"{result.holdout_inlier_rms_px[0]:.3f}", f"{result.holdout_inlier_rms_px[1]:.3f}")
     if truth:
         b, a = truth["hand_eye_only"], truth["calibrated"]
         table.add_row("vs truth: position RMS / max (mm)", f"{b['position_rms_mm']:.3f} / {b['position_max_mm']:.3f}", f"{a['position_rms_mm']:.3f} / {a['position_max_mm']:.3f}")

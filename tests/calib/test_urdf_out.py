@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from armtool.calib.urdf_out import corrected_text, joint_corrections
+from armtool.calib.urdf_out import check_reproduces, corrected_text, joint_corrections
 from armtool.ik.chain import Chain, chain_from_xml
 from armtool.model.xmlsource import parse_xml
-from tests.calib.conftest import CLEAN_ARM, nominal_model
+from tests.calib.conftest import CLEAN_ARM, ROOT, nominal_model
 
 
 def test_written_urdf_has_the_fitted_kinematics(clean_chain: Chain) -> None:
@@ -48,3 +48,52 @@ def test_joint_without_origin_gets_one(clean_chain: Chain) -> None:
     new = corrected_text(text, joint_corrections(model, x), "r.urdf")
     assert '<origin xyz="0 0 0.001" rpy="0 0 0.01"/>' in new
     assert "<!-- no origin on purpose -->" in new
+
+
+def _random_corrections(model, seed: int = 0) -> np.ndarray:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(seed)
+    x = np.zeros(model.size)
+    k = x[12:].reshape(model.chain.n, 8)
+    k[:, :3] = rng.normal(scale=0.002, size=(model.chain.n, 3))
+    k[:, 3:6] = rng.normal(scale=0.003, size=(model.chain.n, 3))
+    k[:, 6] = rng.normal(scale=0.005, size=model.chain.n)
+    return x
+
+
+def test_everything_on_one_line(clean_chain: Chain) -> None:
+    # Expanded xacros and generated URDFs often hold many elements per line: each edit must land
+    # on its own joint's <origin>, not on the first <origin> of the line.
+    one_line = " ".join(CLEAN_ARM.read_text().split())
+    model = nominal_model(clean_chain)
+    x = _random_corrections(model, 1)
+    new = corrected_text(one_line, joint_corrections(model, x), "one_line.urdf")
+    check_reproduces(new, model, x, "one_line.urdf")
+    assert new.count("<inertial>") == one_line.count("<inertial>")
+
+
+def test_xacro_input_and_tricky_text() -> None:
+    from armtool.calib.urdf_out import expanded_text
+
+    xacro = ROOT / "fixtures" / "robots" / "xacro_arm" / "urdf" / "xacro_arm.urdf.xacro"
+    text = expanded_text(xacro)
+    # Comments, CDATA and a transmission's <joint> must not confuse the scanner.
+    text = text.replace("<robot", "<!-- <joint name='fake'><origin xyz='9 9 9'/></joint> -->\n<robot", 1)
+    root = parse_xml(text.encode())
+    chain = chain_from_xml(root)
+    model = nominal_model(chain)
+    x = _random_corrections(model, 2)
+    new = corrected_text(text, joint_corrections(model, x), "xacro_arm")
+    check_reproduces(new, model, x, "xacro_arm")
+    assert "<!-- <joint name='fake'><origin xyz='9 9 9'/></joint> -->" in new
+
+
+def test_a_wrong_result_is_refused(clean_chain: Chain) -> None:
+    import pytest
+
+    from armtool.errors import ArmtoolError
+
+    model = nominal_model(clean_chain)
+    x = _random_corrections(model, 3)
+    text = CLEAN_ARM.read_text()
+    with pytest.raises(ArmtoolError, match="does not reproduce"):
+        check_reproduces(text, model, x, "clean_arm.urdf")  # the nominal text: corrections missing
