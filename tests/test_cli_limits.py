@@ -102,7 +102,8 @@ def test_manual_with_the_simulated_person(tmp_path: Path) -> None:
         assert "joint ranges" in err  # the live table
 
 
-def test_sigint_during_auto_leaves_every_servo_torque_off(tmp_path: Path) -> None:
+@pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_signal_during_auto_leaves_every_servo_torque_off(tmp_path: Path, signum: int, code: int) -> None:
     out = tmp_path / "limits.yaml"
     with SimBus.start(AX_ARM) as sim:
         proc = subprocess.Popen([sys.executable, "-m", "armtool", "limits", "--port", sim.port_path, "--arm", str(AX_ARM),
@@ -115,11 +116,11 @@ def test_sigint_during_auto_leaves_every_servo_torque_off(tmp_path: Path) -> Non
             assert sim.peek(1, "torque_enable") == 1
             time.sleep(0.4)  # joint 1 is driving toward its stop
             assert sim.peek(1, "moving") == 1
-            proc.send_signal(signal.SIGINT)
+            proc.send_signal(signum)
             _, err = proc.communicate(timeout=10)
         finally:
             proc.kill()
-        assert proc.returncode == 130, err
+        assert proc.returncode == code, err
         assert all_off(sim)
         assert sim.peek(1, "torque_limit") == 1023 and sim.peek(1, "moving_speed") == 0  # RAM restored
         assert not out.exists()

@@ -116,9 +116,16 @@ def main() -> None:
             raise
         report_error(exc)
         sys.exit(ExitCode.ERROR)
-    except KeyboardInterrupt:
+    except SystemExit as exc:
+        # Typer turns an interrupt into exit code 130; a SIGTERM (the servo guard raises
+        # Terminated for it) should end with 143, as shells expect of a terminated process.
+        interrupt = getattr(exc.__context__, "__cause__", None)
+        if exc.code == 130 and isinstance(interrupt, KeyboardInterrupt):
+            sys.exit(getattr(interrupt, "exit_code", 130))
+        raise
+    except KeyboardInterrupt as exc:  # Ctrl-C: 130; SIGTERM (the servo guard's Terminated): 143
         sys.stderr.write("interrupted\n")
-        sys.exit(130)
+        sys.exit(getattr(exc, "exit_code", 130))
     except Exception as exc:  # a bug in armtool: say so plainly
         if debug:
             raise

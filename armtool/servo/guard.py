@@ -36,6 +36,8 @@ _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 class Terminated(KeyboardInterrupt):
     """SIGTERM, raised in the main thread like Ctrl-C so that cleanup runs the same way."""
 
+    exit_code = 128 + signal.SIGTERM  # 143, as shells report a process ended by SIGTERM
+
 
 class TorqueOffFailed(ArmtoolError):
     """Torque-off was not confirmed on some IDs: they may still be energised."""
