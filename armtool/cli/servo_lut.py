@@ -108,6 +108,8 @@ def fit(
     from armtool.servo.lut import Approach, Method, fit_table
     from armtool.servo.lut_meas import read_measurements
 
+    if monotone_tol is not None and not monotone_tol >= 0:
+        raise ArmtoolError(f"--monotone-tol must be ≥ 0 degrees, got {monotone_tol}", hint="leave it out for the default (1 tick or 4 standard errors)")
     meas = read_measurements(measurements, model)
     if meas.meta.get("complete") == "no":
         from armtool.console import stderr

@@ -411,6 +411,9 @@ def table_from_dict(doc: Any, source: str) -> LutTable:
                            f"{source}: knots")
     if any(b <= a for a, b in zip(kx, kx[1:])):
         raise ArmtoolError("knots.angle_deg is not strictly increasing", f"{source}: knots.angle_deg")
+    if any(b <= a for a, b in zip(ky, ky[1:])):
+        raise ArmtoolError("knots.command_ticks is not strictly increasing: the table would invert commands",
+                           f"{source}: knots.command_ticks", "rebuild the table with `armtool servo-lut fit`")
     domain = coef = None
     degree = None
     if method is Method.POLY:

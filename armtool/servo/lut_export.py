@@ -31,7 +31,16 @@ def c_identifier(name: str) -> str:
     ident = re.sub(r"[^0-9a-zA-Z_]", "_", name.strip())
     if not ident or ident[0].isdigit():
         raise ArmtoolError(f"'{name}' cannot be a C name", hint="use letters, digits and _, starting with a letter")
+    if ident.lower() in _C_KEYWORDS:
+        raise ArmtoolError(f"'{name}' is a C keyword", hint="choose another --name, e.g. shoulder_lut")
     return ident.lower()
+
+
+_C_KEYWORDS = frozenset(
+    "auto break case char const continue default do double else enum extern float for goto if inline int long "
+    "register restrict return short signed sizeof static struct switch typedef union unsigned void volatile while "
+    "bool true false uint8_t uint16_t uint32_t int16_t int32_t size_t".split()
+)
 
 
 def _centi(value: float, what: str) -> int:

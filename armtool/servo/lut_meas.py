@@ -174,13 +174,13 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
             raise ArmtoolError(f"approach '{approach}' is neither 'up' nor 'down'", where)
         repeat_value = _number(cell("repeat"), "repeat", where, False)
         repeat = None if repeat_value is None else int(repeat_value)
-        if repeat is not None:
-            key = (int(command), approach, repeat)
-            if key in seen:
-                raise ArmtoolError(f"duplicated command {int(command)} (approach {approach}, repeat {repeat}); "
-                                   f"first at line {seen[key]}", where,
-                                   hint="give each reading of a point its own repeat number, or drop the copy")
-            seen[key] = line
+        key = (int(command), approach, repeat)
+        if key in seen:
+            which = f"repeat {repeat}" if repeat is not None else "no repeat number"
+            raise ArmtoolError(f"duplicated command {int(command)} (approach {approach}, {which}); "
+                               f"first at line {seen[key]}", where,
+                               hint="give each reading of a point its own repeat number (a `repeat` column: 0, 1, ...), or drop the copy")
+        seen[key] = line
         settled_value = _number(cell("settled"), "settled", where, False)
         samples.append(Sample(
             line=line, command_ticks=int(command), reference_deg=reference * to_deg,

@@ -67,3 +67,46 @@ def test_cli_exit_2_without_internal_error(tmp_path: Path, args: list[str], what
                        text=True, timeout=60, stdin=subprocess.DEVNULL)
     assert r.returncode == 2 and what in r.stderr, r.stderr
     assert "internal error" not in r.stderr and "Traceback" not in r.stderr
+
+
+LUT_FIXTURE = Path(__file__).resolve().parents[2] / "fixtures" / "servo" / "lut" / "ax12a_meas.csv"
+
+
+def _armtool(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "armtool", *args], capture_output=True, text=True)
+
+
+def test_duplicated_command_without_repeat_column(tmp_path: Path) -> None:
+    from armtool.servo.lut_meas import parse_measurements
+
+    text = "# servo_model: AX-12A\n# reference: csv\ncommand_ticks,reference_deg\n100,30.1\n200,59.2\n100,30.3\n"
+    with pytest.raises(ArmtoolError) as info:
+        parse_measurements(text, "m.csv")
+    assert "duplicated command 100" in info.value.what and "first at line 4" in info.value.what
+    assert "m.csv:6" in (info.value.where or "")
+
+
+def test_negative_monotone_tolerance_is_refused(tmp_path: Path) -> None:
+    r = _armtool("servo-lut", "fit", str(LUT_FIXTURE), "-o", str(tmp_path / "t.json"), "--monotone-tol", "-1")
+    assert r.returncode == 2 and "--monotone-tol must be ≥ 0" in r.stderr
+    assert not (tmp_path / "t.json").exists()
+
+
+def test_table_with_decreasing_commands_is_refused(tmp_path: Path) -> None:
+    import json
+
+    table = tmp_path / "t.json"
+    assert _armtool("servo-lut", "fit", str(LUT_FIXTURE), "-o", str(table)).returncode == 0
+    doc = json.loads(table.read_text())
+    doc["knots"]["command_ticks"] = list(reversed(doc["knots"]["command_ticks"]))
+    table.write_text(json.dumps(doc))
+    r = _armtool("servo-lut", "apply", str(table), "--angles", "150")
+    assert r.returncode == 2 and "knots.command_ticks is not strictly increasing" in r.stderr
+
+
+@pytest.mark.parametrize("name, what", [("int", "is a C keyword"), ("9lives", "cannot be a C name")])
+def test_export_name_must_be_a_c_identifier(tmp_path: Path, name: str, what: str) -> None:
+    table = tmp_path / "t.json"
+    assert _armtool("servo-lut", "fit", str(LUT_FIXTURE), "-o", str(table)).returncode == 0
+    r = _armtool("servo-lut", "export", str(table), "--format", "c", "--name", name, "-o", str(tmp_path / "h.h"))
+    assert r.returncode == 2 and what in r.stderr and not (tmp_path / "h.h").exists()
