@@ -94,3 +94,17 @@ def test_params_restrict_the_fit(clean_chain: Chain) -> None:
     assert {result.model.params[i].kind for i in result.free} == {"frame", "offset"}
     # Offsets alone cannot explain 6-D origin errors (research: 4.7 -> 4.3 mm on UR5).
     assert score(result.model, result.x, p.truth).position_rms_mm > 0.5
+
+
+@pytest.mark.parametrize("joint", [0, 5])
+def test_a_wrong_reading_on_any_joint_is_named(clean_chain: Chain, joint: int) -> None:
+    # A wrist reading off by 5° moves the tag little in the image (~1 px once the robust fit has
+    # half absorbed it): the outlier rule must still catch it, and flag nothing else.
+    p = make_problem(clean_chain, n=40, seed=9)
+    samples = list(p.samples)
+    for k in (4, 21):
+        q = samples[k].q.copy()
+        q[joint] += math.radians(5.0)
+        samples[k] = replace(samples[k], q=q)
+    result = calibrate(p.model, p.camera, samples, p.observations, p.size_m)
+    assert set(result.outliers) == {"4", "21"}

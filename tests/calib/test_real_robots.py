@@ -25,3 +25,28 @@ def test_real_arm_calibrates_to_the_truth(robot: str) -> None:
     assert len(result.free) == count
     after = score(result.model, result.x, p.truth)
     assert after.position_rms_mm < 0.15 and after.rotation_rms_deg < 0.03
+
+
+def test_every_bad_sample_is_named_on_rendered_images(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """UR5, 40 rendered images, six bad rows (5° reading errors, mislabeled images). With seed 0
+    the earlier rule (max(2 px, 5 × median)) missed a wrist reading error here."""
+    import numpy as np
+
+    from armtool.calib.camera import load_intrinsics
+    from armtool.calib.dataset import load_dataset
+    from armtool.calib.model import CalibModel
+    from armtool.calib.observations import observe
+    from armtool.calib.simulate import SimulationSpec, simulate
+    from armtool.calib.truth import load_truth
+
+    path, base, flange, _ = CASES["ur5"]
+    out = tmp_path / "ds"
+    simulate(erd(path), out, base, flange, SimulationSpec(samples=40, validation=5, seed=0, bad_samples=6))
+    ds = load_dataset(out)
+    chain = load_chain(ds.urdf, ds.base_link, ds.flange_link)
+    camera = load_intrinsics(ds.intrinsics)
+    model = CalibModel(chain, ds.setup, np.eye(4), np.eye(4))
+    result = calibrate(model, camera, ds.samples, observe(ds, camera), ds.size_m)
+    truth = load_truth(out, model)
+    assert len(truth.bad_samples) == 6
+    assert set(result.outliers) == set(truth.bad_samples)
