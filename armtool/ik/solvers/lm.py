@@ -39,10 +39,12 @@ class LevenbergMarquardt(Solver):
     STALL = 5  # iterations without the try's best error falling by PROGRESS end a try
     FIRST_STALL = 8  # more patience from the caller's seed: 82 -> 86 % (Panda) first tries succeed
     PROGRESS = 0.5
-    TABLE_SIZE = 4096
-    TABLE_SEEDS = 8
-    BATCH_TABLE_SIZE = 1024  # restarts of many targets at once search a smaller table
+    TABLE_SIZE = 32768  # vs 4096: p99 iterations 59 -> 41 (Panda), 61 -> 54 (UR5)
+    TABLE_SEEDS = 16
+    BATCH_TABLE_SIZE = 1024  # restarts of many targets at once search a smaller table, by brute force
+    BATCH_TABLE_SEEDS = 8
     _table: tuple[Array, Array, Array] | None = None  # per instance, built on first restart
+    _tree: Any = None  # k-d tree over the table's pose features
 
     def __init__(self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
         super().__init__(chain, timeout, tolerance, seed, **options)
@@ -74,24 +76,27 @@ class LevenbergMarquardt(Solver):
         return x if info == 0 else np.linalg.solve(A, g)
 
     def _batch_nearest(self, targets: Array) -> Array:
-        """(m, TABLE_SEEDS) indices of the table configurations nearest each target, nearest first."""
+        """(m, BATCH_TABLE_SEEDS) indices of the first BATCH_TABLE_SIZE table configurations nearest
+        each target, nearest first."""
         assert self._table is not None
         _, F, F2 = (a[: self.BATCH_TABLE_SIZE] for a in self._table)
         d = F2[None, :] - 2.0 * (_pose_features(targets) @ F.T)  # squared distance up to |f|², which does not change the order
-        order = np.argpartition(d, self.TABLE_SEEDS, axis=1)[:, : self.TABLE_SEEDS]
+        order = np.argpartition(d, self.BATCH_TABLE_SEEDS, axis=1)[:, : self.BATCH_TABLE_SEEDS]
         return np.take_along_axis(order, np.argsort(np.take_along_axis(d, order, axis=1), axis=1), axis=1)
 
     def _restart_seeds(self, target: Array) -> list[Array]:
-        """Configurations whose tip pose is nearest the target (position, plus 0.2 m per unit of rotation)."""
+        """Configurations whose tip pose is nearest the target (position, plus 0.2 m per unit of rotation),
+        nearest first, from a k-d tree over the table (~70 µs a query at 32768 poses, brute force ~500)."""
         if self._table is None:
+            from scipy.spatial import cKDTree
+
             Q = self.chain.random(self.rng, self.TABLE_SIZE)  # self.rng is independent of any target stream
             T, _ = self.chain.fk_jacobian_batch(Q, jacobian=False)
             F = _pose_features(T)
             self._table = (Q, F, np.einsum("ij,ij->i", F, F))
-        Q, F, F2 = self._table
-        d = F2 - 2.0 * (F @ _pose_features(target[None])[0])
-        nearest = np.argpartition(d, self.TABLE_SEEDS)[: self.TABLE_SEEDS]
-        return list(Q[nearest[np.argsort(d[nearest])]])
+            self._tree = cKDTree(F)
+        _, nearest = self._tree.query(_pose_features(target[None])[0], k=self.TABLE_SEEDS)
+        return list(self._table[0][nearest])
 
     def solve(self, target: Array, seed: Array) -> IKResult:
         return self._solve(target, seed, self.timeout)
@@ -242,7 +247,7 @@ class LevenbergMarquardt(Solver):
         Q = np.minimum(np.maximum(seeds, lower), upper)  # answers, written back as targets finish
         iterations = np.zeros(N, dtype=int)
         restarts = np.zeros(N, dtype=int)  # per target: which table seed comes next
-        nearest = np.zeros((N, self.TABLE_SEEDS), dtype=int)
+        nearest = np.zeros((N, self.BATCH_TABLE_SEEDS), dtype=int)
         assert self._table is not None
         # The active (unsolved) targets, configuration index last ("SoA"): every numpy call works
         # on contiguous rows of length m, and the whole step is one FK + one batched solve.
@@ -298,7 +303,7 @@ class LevenbergMarquardt(Solver):
                 if first.size:  # nearest table poses, computed once per target on its first restart
                     nearest[first] = self._batch_nearest(targets[first])
                 count = restarts[r]
-                use = count < self.TABLE_SEEDS
+                use = count < self.BATCH_TABLE_SEEDS
                 seeds_r = self.rng.uniform(chain.lower, chain.upper, size=(r.size, n))
                 seeds_r[use] = self._table[0][nearest[r[use], count[use]]]
                 Qa[restart] = np.minimum(np.maximum(seeds_r, lower), upper)
