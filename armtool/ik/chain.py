@@ -219,12 +219,15 @@ class Chain:
                 p += Q[:, i] * sign * R[:, axis_col]
             else:
                 if J is not None:
-                    J[3:, i] = R[:, axis_col] * sign
+                    J[3:, i] = R[:, axis_col] if sign == 1.0 else R[:, axis_col] * sign
                 a, b = (axis_col + 1) % 3, (axis_col + 2) % 3
                 c, s_ = cos[i], sin[i]
-                col_a, col_b = R[:, a].copy(), R[:, b].copy()
-                R[:, a] = c * col_a + s_ * col_b
-                R[:, b] = c * col_b - s_ * col_a
+                col_a, col_b = R[:, a], R[:, b]  # views: col_b is updated in place after col_a's new value is formed
+                new_a = c * col_a
+                new_a += s_ * col_b
+                col_b *= c
+                col_b -= s_ * col_a
+                col_a[...] = new_a
             if frame is not None:
                 R = frame.T @ R
         p += self.tip_offset[:3, 3] @ R

@@ -304,8 +304,9 @@ class LevenbergMarquardt(Solver):
                     nearest[first] = self._batch_nearest(targets[first])
                 count = restarts[r]
                 use = count < self.BATCH_TABLE_SEEDS
-                seeds_r = self.rng.uniform(chain.lower, chain.upper, size=(r.size, n))
-                seeds_r[use] = self._table[0][nearest[r[use], count[use]]]
+                seeds_r = self._table[0][nearest[r, np.minimum(count, self.BATCH_TABLE_SEEDS - 1)]]
+                if not use.all():  # table seeds used up: uniform random ones
+                    seeds_r[~use] = self.rng.uniform(chain.lower, chain.upper, size=(int((~use).sum()), n))
                 Qa[restart] = np.minimum(np.maximum(seeds_r, lower), upper)
                 restarts[r] += 1
                 try_err[restart], since[restart], tries[restart] = np.inf, 0, 0
@@ -320,9 +321,10 @@ class LevenbergMarquardt(Solver):
                 iterations[i] += res.iterations
         Q = self._wrap(Q)
         ok, pos, rot = verify_batch(chain, Q, targets, self.tolerance)
+        # Plain Python values per row: indexing numpy arrays 1000 times costs more than the solve's last steps.
         return [
-            IKResult(bool(ok[i]), Q[i].copy(), float(pos[i]), float(rot[i]), int(iterations[i]), "" if ok[i] else "timeout")
-            for i in range(N)
+            IKResult(o, q, p, r, i, "" if o else "timeout")
+            for o, q, p, r, i in zip(ok.tolist(), Q, pos.tolist(), rot.tolist(), iterations.tolist())
         ]
 
 
