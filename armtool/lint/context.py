@@ -11,7 +11,7 @@ from lxml import etree
 
 from armtool.lint.finding import Finding
 from armtool.lint.locate import Locator, display_path
-from armtool.lint.numbers import numeric_texts, numeric_values, parse_floats
+from armtool.lint.numbers import all_plain, numeric_texts, numeric_values, parse_floats
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
 
@@ -170,7 +170,8 @@ class UrdfContext(FileContext):
         self._meshes: list[tuple[etree._Element, etree._Element, str, str | None, str | None]] | None = None
         self._inertias: list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]] | None = None
         self._inertial_of: dict[etree._Element, etree._Element] | None = None
-        self._texts: dict[int, dict[str, list[float] | None]] | None = None
+        self._texts: dict[int, set[str]] | None = None
+        self._plain: bool | None = None
         self.joints_by_child: dict[str, list[JointView]] = defaultdict(list)
         self.joints_by_parent: dict[str, list[JointView]] = defaultdict(list)
         for j in self.joints:
@@ -202,11 +203,17 @@ class UrdfContext(FileContext):
             self._numbers = numeric_values(self.root)
         return self._numbers
 
-    def numeric_texts(self) -> dict[int, dict[str, list[float] | None]]:
-        """{expected count: {text: parsed values}}, a superset of numeric_values()'s texts, once per file."""
+    def numeric_texts(self) -> dict[int, set[str]]:
+        """{expected count: distinct texts}, a superset of numeric_values()'s texts, once per file."""
         if self._texts is None:
             self._texts = numeric_texts(self.root)
         return self._texts
+
+    def numbers_plain(self) -> bool:
+        """True when every numeric text in the file is well formed and finite (most files)."""
+        if self._plain is None:
+            self._plain = all_plain(self.numeric_texts())
+        return self._plain
 
     def meshes(self) -> list[tuple[etree._Element, etree._Element, str, str | None, str | None]]:
         """(link, <mesh>, filename, resolved path or None, package that was not found) per mesh, once per file."""

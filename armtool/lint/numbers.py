@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
+from itertools import chain
 
 from lxml import etree
 
@@ -71,9 +73,9 @@ _IN_NAMED = tuple((attr, count) for tag in _NAMED for attr, count in NUMERIC_ATT
 assert sorted(sum(_PLAIN.values(), ()) + tuple(_NAMED)) == sorted(NUMERIC_ATTRS)
 
 
-def numeric_texts(root: etree._Element) -> dict[int, dict[str, list[float] | None]]:
-    """{expected count: {text: parsed values or None}}: a superset of the distinct texts that
-    numeric_values() reads, each under the count it would be read with.
+def numeric_texts(root: etree._Element) -> dict[int, set[str]]:
+    """{expected count: distinct texts}: a superset of the texts that numeric_values() reads,
+    each under the count it would be read with.
 
     Elements anywhere in the file are taken, and every attribute of a purely numeric tag: a text
     that is not a number here may be no numeric attribute at all, but one that numeric_values()
@@ -90,5 +92,23 @@ def numeric_texts(root: etree._Element) -> dict[int, dict[str, list[float] | Non
             raw = el.get(attr)
             if raw is not None:
                 by_count[count].add(raw)
-    return {count: {raw: parse_floats(raw) for raw in texts} for count, texts in by_count.items()}
+    return by_count
 
+
+def all_plain(texts: dict[int, set[str]]) -> bool:
+    """True if every text is `count` finite numbers: then no numeric attribute is malformed or
+    non-finite. parse_floats() for all texts at once, in C-level loops (map, sum); a sum that
+    is finite has no NaN or Inf among its terms (one that overflows answers False: look closer)."""
+    for count, items in texts.items():
+        if not items:
+            continue
+        tokens = list(map(str.split, items))
+        if set(map(len, tokens)) != {count}:
+            return False
+        try:
+            total = sum(map(float, chain.from_iterable(tokens)))
+        except ValueError:
+            return False
+        if not math.isfinite(total):
+            return False
+    return True

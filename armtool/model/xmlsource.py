@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import re
 from bisect import bisect_right
-from itertools import accumulate
 from pathlib import Path
 
 from lxml import etree
@@ -62,6 +61,8 @@ def declares_entities(root: etree._Element) -> bool:
     return dtd is not None and any(True for _ in dtd.iterentities())
 
 
+# The rest of a start tag: quoted values may hold '>'. No match: the tag never ends.
+_TAG_REST = re.compile(r"""[^"'>]*(?:(?:"[^"]*"|'[^']*')[^"'>]*)*>""")
 _ATTR_RE_CACHE: dict[str, re.Pattern[str]] = {}
 
 
@@ -79,16 +80,29 @@ class SourceText:
     def __init__(self, path: Path, text: str) -> None:
         self.path = path
         self.text = text
-        self._line_starts: list[int] | None = None
+        # Offsets of line starts, found on demand: a finding near the top of a long file (the root
+        # link's) needs only the first lines indexed, not the whole file.
+        self._line_starts = [0]
+        self._indexed_all = False
+
+    def _index_to(self, line: int | None = None, offset: int | None = None) -> list[int]:
+        """Line starts, known at least up to `line` and past `offset` (or the whole file)."""
+        starts = self._line_starts
+        if self._indexed_all:
+            return starts
+        find, append = self.text.find, starts.append
+        while (line is None or len(starts) < line) and (offset is None or starts[-1] <= offset):
+            i = find("\n", starts[-1])
+            if i < 0:
+                self._indexed_all = True
+                break
+            append(i + 1)
+        return starts
 
     @property
     def _starts(self) -> list[int]:
-        """Offset of each line's first character (built on first use, with C-level loops only)."""
-        if self._line_starts is None:
-            starts = list(accumulate(map((1).__add__, map(len, self.text.split("\n"))), initial=0))
-            starts.pop()  # the offset after the last line
-            self._line_starts = starts
-        return self._line_starts
+        """Offset of each line's first character."""
+        return self._index_to()
 
     @classmethod
     def read(cls, path: Path, data: bytes | None = None) -> SourceText:
@@ -98,13 +112,15 @@ class SourceText:
         return cls(path, data.decode("utf-8", errors="replace"))
 
     def line_offset(self, line: int) -> int:
-        idx = min(max(line, 1), len(self._starts)) - 1
-        return self._starts[idx]
+        line = max(line, 1)
+        starts = self._index_to(line=line)
+        return starts[min(line, len(starts)) - 1]
 
     def position(self, offset: int) -> tuple[int, int]:
         """1-based (line, column) of a character offset."""
-        idx = bisect_right(self._starts, offset) - 1
-        return idx + 1, offset - self._starts[idx] + 1
+        starts = self._index_to(offset=offset)
+        idx = bisect_right(starts, offset) - 1
+        return idx + 1, offset - starts[idx] + 1
 
     def start_tag_span(self, line: int, tag: str | None) -> tuple[int, int] | None:
         """Offsets of the start tag `<tag ...>` that covers `line` (any element's if tag is None).
@@ -124,17 +140,10 @@ class SourceText:
         if m is None:
             return None
         pos = m.start()
-        quote: str | None = None
-        for i in range(m.end(), len(self.text)):
-            ch = self.text[i]
-            if quote:
-                if ch == quote:
-                    quote = None
-            elif ch in "\"'":
-                quote = ch
-            elif ch == ">":
-                return (pos, i + 1) if i + 1 >= begin else None
-        return pos, len(self.text)
+        rest = _TAG_REST.match(self.text, m.end())  # up to the first '>' outside quotes
+        if rest is None:
+            return pos, len(self.text)
+        return (pos, rest.end()) if rest.end() >= begin else None
 
     def attr_value_span(self, line: int, tag: str | None, attr: str) -> tuple[int, int] | None:
         """Offsets of the value (inside the quotes) of `attr` in the start tag on `line`."""

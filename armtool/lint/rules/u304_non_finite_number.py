@@ -6,7 +6,13 @@ from collections.abc import Iterator
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.locate import local_tag
+from armtool.lint.numbers import parse_floats
 from armtool.lint.rule import Rule, Target
+
+
+def _finite(raw: str) -> bool:
+    values = parse_floats(raw)
+    return values is None or all(map(math.isfinite, values))
 
 
 class NonFiniteNumber(Rule):
@@ -34,8 +40,7 @@ class NonFiniteNumber(Rule):
             lowered = ctx.raw.lower()
             if b"nan" not in lowered and b"inf" not in lowered:
                 return  # no "nan" or "inf" anywhere in the file: nothing to parse
-        texts = ctx.numeric_texts()
-        if all(values is None or all(map(math.isfinite, values)) for by_text in texts.values() for values in by_text.values()):
+        if ctx.numbers_plain() or all(_finite(raw) for texts in ctx.numeric_texts().values() for raw in texts):
             return  # "inf" was in a name or a comment, not in a number
         for el, attr, raw, _count, values in ctx.numeric_values():
             if values and not all(map(math.isfinite, values)):

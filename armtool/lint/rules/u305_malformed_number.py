@@ -5,7 +5,13 @@ from collections.abc import Iterator
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.locate import local_tag
+from armtool.lint.numbers import parse_floats
 from armtool.lint.rule import Rule, Target
+
+
+def _has_count(raw: str, count: int) -> bool:
+    values = parse_floats(raw)
+    return values is not None and len(values) == count
 
 
 class MalformedNumber(Rule):
@@ -28,9 +34,11 @@ class MalformedNumber(Rule):
     code, name, severity, target = "U305", "malformed-number", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        texts = ctx.numeric_texts()
-        if all(values is not None and len(values) == count for count in texts for values in texts[count].values()):
+        if ctx.numbers_plain():
             return  # every numeric text in the file is well formed: no element needs a look
+        texts = ctx.numeric_texts()
+        if all(_has_count(raw, count) for count in texts for raw in texts[count]):
+            return  # some is not plain (1_000, inf) but each has the right count of numbers
         for el, attr, raw, count, values in ctx.numeric_values():
             if values is None:
                 problem = "is not a number" if count == 1 else "contains something that is not a number"

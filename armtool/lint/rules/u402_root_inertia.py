@@ -34,7 +34,7 @@ class RootInertia(Rule):
         link = ctx.link(roots[0])
         if link is None:
             return
-        inertial = ctx.inertial_of(link)
+        inertial = link.find("inertial")
         if inertial is not None:
             yield ctx.finding(
                 self,
