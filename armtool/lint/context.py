@@ -44,6 +44,8 @@ class JointView(NamedTuple):
     limit_el: etree._Element | None = None
     axis_el: etree._Element | None = None
     mimic_el: etree._Element | None = None
+    # The <limit>'s attributes (one lxml call; several rules read them): limit_el.get(k) is limits.get(k).
+    limits: dict[str, str] = {}
 
     @property
     def moves(self) -> bool:
@@ -127,6 +129,9 @@ class UrdfContext(FileContext):
         self.from_xacro = from_xacro
         self.links: list[etree._Element] = []
         self.joints: list[JointView] = []
+        self.transmissions: list[etree._Element] = []
+        # False when a <link> or <joint> is in an XML namespace: then `link/...` XPaths miss it.
+        self.plain_tags = True
         # One pass over the top level and over each joint's children; every rule reads the result.
         links, joints = self.links, self.joints
         for el in root:
@@ -135,14 +140,18 @@ class UrdfContext(FileContext):
                 continue  # comment or processing instruction
             if tag[0] == "{":
                 tag = tag.rsplit("}", 1)[-1]
+                if tag in ("link", "joint"):
+                    self.plain_tags = False
             if tag == "link":
                 links.append(el)
+            elif tag == "transmission":
+                self.transmissions.append(el)
             elif tag == "joint":
                 kids: dict[object, etree._Element] = {}
                 for c in el:
                     if c.tag not in kids:
                         kids[c.tag] = c
-                parent, child = kids.get("parent"), kids.get("child")
+                parent, child, limit = kids.get("parent"), kids.get("child"), kids.get("limit")
                 attrib = el.attrib
                 joints.append(
                     JointView(
@@ -153,21 +162,23 @@ class UrdfContext(FileContext):
                         child.get("link") if child is not None else None,
                         parent,
                         child,
-                        kids.get("limit"),
+                        limit,
                         kids.get("axis"),
                         kids.get("mimic"),
+                        dict(limit.items()) if limit is not None else {},
                     )
                 )
+        self.link_name: dict[etree._Element, str | None] = {el: el.get("name") for el in links}  # link.get("name")
         self._link_by_name: dict[str, etree._Element] = {}
-        for el in self.links:
-            self._link_by_name.setdefault(el.get("name") or "", el)
+        for el, name in self.link_name.items():
+            self._link_by_name.setdefault(name or "", el)
         self._joint_by_name: dict[str, JointView] = {}
         for j in self.joints:
             self._joint_by_name.setdefault(j.name or "", j)
         self.link_names = {n for n in self._link_by_name if n}
         self.joint_names = {n for n in self._joint_by_name if n}
         self._numbers: list[tuple[etree._Element, str, str, int, list[float] | None]] | None = None
-        self._meshes: list[tuple[etree._Element, etree._Element, str, str | None, str | None]] | None = None
+        self._meshes: list[tuple[etree._Element, str, str | None, str | None]] | None = None
         self._inertias: list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]] | None = None
         self._inertial_of: dict[etree._Element, etree._Element] | None = None
         self._texts: dict[int, set[str]] | None = None
@@ -180,20 +191,24 @@ class UrdfContext(FileContext):
             if j.parent is not None:
                 self.joints_by_parent[j.parent].append(j)
 
-    def xpath(self, expr: str) -> list[Any]:
+    def xpath(self, expr: str, **variables: str) -> Any:
         """Run an XPath query on the file (compiled once per process; attribute values come back as str).
 
         Most files have no problem a given rule looks for: one query in libxml2 tells a rule that
         nothing needs a closer look, faster than visiting each element from Python.
         """
-        return _compiled_xpath(expr)(self.root)  # type: ignore[no-any-return]
+        return _compiled_xpath(expr)(self.root, **variables)
+
+    def below_links(self, path: str) -> str:
+        """An XPath for `path` below every link (`link/path`; namespaced links too when there are any)."""
+        return ("link/" if self.plain_tags else "*[local-name()='link']/") + path
 
     def inertial_of(self, link: etree._Element) -> etree._Element | None:
         """The link's first <inertial> (what link.find("inertial") returns), indexed once per file."""
         index = self._inertial_of
         if index is None:
             index = self._inertial_of = {}
-            for inertial in reversed(self.xpath("*[local-name()='link']/inertial")):
+            for inertial in reversed(self.xpath(self.below_links("inertial"))):
                 index[inertial.getparent()] = inertial
         return index.get(link)
 
@@ -215,22 +230,27 @@ class UrdfContext(FileContext):
             self._plain = all_plain(self.numeric_texts())
         return self._plain
 
-    def meshes(self) -> list[tuple[etree._Element, etree._Element, str, str | None, str | None]]:
-        """(link, <mesh>, filename, resolved path or None, package that was not found) per mesh, once per file."""
+    def meshes(self) -> list[tuple[etree._Element, str, str | None, str | None]]:
+        """(<mesh>, filename, resolved path or None, package that was not found) per mesh of a link,
+        once per file. The mesh's link is mesh_link(mesh)."""
         if self._meshes is None:
             base = self.base_dir
             resolve = self.resolver.resolve
             out = []
             seen: dict[str, tuple[str | None, str | None]] = {"": (None, None)}  # visual and collision share meshes
             for mesh in self.xpath("link/*/geometry/mesh"):  # one path search for the file, in libxml2
-                link = mesh.getparent().getparent().getparent()
                 uri = mesh.get("filename") or ""
                 found = seen.get(uri)
                 if found is None:
                     found = seen[uri] = resolve(uri, base)
-                out.append((link, mesh, uri, *found))
+                out.append((mesh, uri, *found))
             self._meshes = out
         return self._meshes
+
+    @staticmethod
+    def mesh_link(mesh: etree._Element) -> etree._Element:
+        """The <link> of a mesh from meshes() (link/visual/geometry/mesh)."""
+        return mesh.getparent().getparent().getparent()  # type: ignore[union-attr]
 
     def inertias(self) -> list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]]:
         """(link, <inertia>, (ixx, iyy, izz, ixy, ixz, iyz), principal moments ascending), once per file."""
@@ -265,9 +285,9 @@ class UrdfContext(FileContext):
     def root_links(self) -> list[str]:
         """Links that are nobody's child, in file order."""
         roots: dict[str, None] = {}
-        for el in self.links:
-            name = el.get("name")
-            if name is not None and name not in self.joints_by_child:
+        children = self.joints_by_child
+        for name in self.link_name.values():
+            if name is not None and name not in children:
                 roots[name] = None
         return list(roots)
 
@@ -285,7 +305,7 @@ class UrdfContext(FileContext):
         limit = j.limit()
         if limit is None:
             return None
-        lo, hi = parse_floats(limit.get("lower", "0")), parse_floats(limit.get("upper", "0"))
+        lo, hi = parse_floats(j.limits.get("lower", "0")), parse_floats(j.limits.get("upper", "0"))
         if not lo or not hi or len(lo) != 1 or len(hi) != 1:
             return None
         if not (math.isfinite(lo[0]) and math.isfinite(hi[0])):

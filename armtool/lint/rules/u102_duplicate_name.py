@@ -26,11 +26,10 @@ class DuplicateName(Rule):
     code, name, severity, target = "U102", "duplicate-name", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        groups = (("link", ctx.links), ("joint", [j.el for j in ctx.joints]))
-        for kind, elements in groups:
+        groups = (("link", list(ctx.link_name.items())), ("joint", [(j.el, j.name) for j in ctx.joints]))
+        for kind, named in groups:
             first_of: dict[str, object] = {}
-            for el in elements:
-                name = el.get("name")
+            for el, name in named:
                 if name is None:
                     continue
                 if name in first_of:

@@ -27,12 +27,14 @@ class MissingRequired(Rule):
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         if not ctx.root.get("name"):
             yield ctx.finding(self, ctx.root, "<robot> has no name (urdfdom rejects it)", hint='add name="..." to <robot>')
-        for link in ctx.links:
-            if not link.get("name"):
+        for link, name in ctx.link_name.items():
+            if not name:
                 yield ctx.finding(self, link, "<link> has no name", hint="add name=\"...\"")
         for joint in ctx.joints:
             if not joint.name:
                 yield ctx.finding(self, joint.el, "<joint> has no name", hint="add name=\"...\"")
+            if joint.parent and joint.child:
+                continue  # both named (joint.parent is <parent link>, read once per file)
             for role in ("parent", "child"):
                 el = joint.parent_el if role == "parent" else joint.child_el
                 if el is None or not el.get("link"):

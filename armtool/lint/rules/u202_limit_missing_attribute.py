@@ -30,7 +30,7 @@ class LimitMissingAttribute(Rule):
             limit = joint.limit()
             if joint.type not in ("revolute", "prismatic") or limit is None:
                 continue
-            missing = [a for a in ("effort", "velocity") if limit.get(a) is None]
+            missing = [a for a in ("effort", "velocity") if joint.limits.get(a) is None]
             if missing:
                 yield ctx.finding(
                     self,

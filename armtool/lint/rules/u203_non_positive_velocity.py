@@ -31,12 +31,12 @@ class NonPositiveVelocity(Rule):
             limit = joint.limit()
             if limit is None or not joint.moves:
                 continue
-            value = parse_floats(limit.get("velocity"))
+            value = parse_floats(joint.limits.get("velocity"))
             if value and len(value) == 1 and value[0] <= 0:
                 yield ctx.finding(
                     self,
                     limit,
-                    f"joint '{joint.name}': velocity limit is {limit.get('velocity')}",
+                    f"joint '{joint.name}': velocity limit is {joint.limits.get('velocity')}",
                     attr="velocity",
                     hint="set the joint's real maximum speed (rad/s or m/s), e.g. velocity=\"2.0\"",
                 )

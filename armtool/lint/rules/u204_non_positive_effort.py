@@ -31,12 +31,12 @@ class NonPositiveEffort(Rule):
             limit = joint.limit()
             if limit is None or not joint.moves:
                 continue
-            value = parse_floats(limit.get("effort"))
+            value = parse_floats(joint.limits.get("effort"))
             if value and len(value) == 1 and value[0] <= 0:
                 yield ctx.finding(
                     self,
                     limit,
-                    f"joint '{joint.name}': effort limit is {limit.get('effort')}",
+                    f"joint '{joint.name}': effort limit is {joint.limits.get('effort')}",
                     attr="effort",
                     hint="set the actuator's rated torque (N·m) or force (N), e.g. effort=\"30\"",
                 )

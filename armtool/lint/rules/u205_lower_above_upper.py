@@ -30,12 +30,12 @@ class LowerAboveUpper(Rule):
             limit = joint.limit()
             if limit is None or joint.type not in ("revolute", "prismatic"):
                 continue
-            lo, hi = parse_floats(limit.get("lower", "0")), parse_floats(limit.get("upper", "0"))
+            lo, hi = parse_floats(joint.limits.get("lower", "0")), parse_floats(joint.limits.get("upper", "0"))
             if lo and hi and len(lo) == 1 and len(hi) == 1 and lo[0] > hi[0]:
                 yield ctx.finding(
                     self,
                     limit,
-                    f"joint '{joint.name}': lower limit {limit.get('lower', '0')} is above upper limit {limit.get('upper', '0')}",
+                    f"joint '{joint.name}': lower limit {joint.limits.get('lower', '0')} is above upper limit {joint.limits.get('upper', '0')}",
                     attr="lower",
                     hint="swap lower and upper",
                 )

@@ -31,8 +31,8 @@ class ContinuousWithLimits(Rule):
             limit = joint.limit()
             if joint.type != "continuous" or limit is None:
                 continue
-            present = [a for a in ("lower", "upper") if limit.get(a) is not None]
-            if present and all((parse_floats(limit.get(a)) or [1.0]) == [0.0] for a in present):
+            present = [a for a in ("lower", "upper") if joint.limits.get(a) is not None]
+            if present and all((parse_floats(joint.limits.get(a)) or [1.0]) == [0.0] for a in present):
                 continue  # lower="0" upper="0": a CAD exporter's placeholder, nothing was meant
             if present:
                 yield ctx.finding(

@@ -64,7 +64,16 @@ class RpyOutOfRange(Rule):
         bad = {raw for raw in {origin.get("rpy") for origin in ctx.root.iter("origin")} if _out_of_range(raw)}
         if not bad:
             return
+        hit = set()  # the top-level elements holding such an origin
+        for origin in ctx.root.iter("origin"):
+            if origin.get("rpy") in bad:
+                node, parent = origin, origin.getparent()
+                while parent is not None and parent is not ctx.root:
+                    node, parent = parent, parent.getparent()
+                hit.add(node)
         for top in [*ctx.links, *(j.el for j in ctx.joints)]:
+            if top not in hit:
+                continue
             for origin in top.iter("origin"):
                 if origin.get("rpy") in bad:
                     yield from self._check_origin(ctx, top, origin)

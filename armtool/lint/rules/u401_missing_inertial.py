@@ -45,8 +45,7 @@ class MissingInertial(Rule):
     code, name, severity, target = "U401", "missing-inertial", Severity.WARNING, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        for link in ctx.links:
-            name = link.get("name")
+        for link, name in ctx.link_name.items():
             if name is None or not ctx.is_moved(name) or carries_mass(ctx, name):
                 continue
             has_geometry = link.find("visual") is not None or link.find("collision") is not None

@@ -33,14 +33,15 @@ class NonPositiveMass(Rule):
     code, name, severity, target = "U403", "non-positive-mass", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        if not any(_not_positive(text) for text in set(ctx.xpath("*[local-name()='link']/inertial/mass/@value"))):
+        bad = sorted(text for text in set(ctx.xpath(ctx.below_links("inertial/mass/@value"))) if _not_positive(text))
+        if not bad:
             return  # every mass in the file is a positive number (or not a number: U305's)
-        seen: set[object] = set()
-        for mass in ctx.xpath("*[local-name()='link']/inertial/mass"):  # links in file order
+        # Only masses written as one of those texts (mass 0 on a fixed frame is common), in file order.
+        same = " or ".join(f"@value=$v{i}" for i in range(len(bad)))
+        for mass in ctx.xpath(ctx.below_links(f"inertial/mass[{same}]"), **{f"v{i}": t for i, t in enumerate(bad)}):
             link = mass.getparent().getparent()
-            if link in seen:
+            if link.find("inertial/mass") is not mass:
                 continue  # the first <inertial>'s <mass> counts, as link.find("inertial/mass") would
-            seen.add(link)
             value = parse_floats(mass.get("value"))
             if not value or len(value) != 1:
                 continue

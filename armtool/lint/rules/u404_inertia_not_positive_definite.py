@@ -38,6 +38,8 @@ class InertiaNotPositiveDefinite(Rule):
             scale = max(abs(m) for m in moments)
             if scale < ZERO_INERTIA:
                 continue
+            if moments[0] > RELATIVE_TOLERANCE * scale:
+                continue  # positive definite and not singular: most links
             name = link.get("name")
             shown = ", ".join(fmt(m) for m in moments)
             if moments[0] < -RELATIVE_TOLERANCE * scale:

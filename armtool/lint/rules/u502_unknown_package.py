@@ -30,7 +30,7 @@ class UnknownPackage(Rule):
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         reported: set[str] = set()
-        for _link, mesh, uri, _path, missing in ctx.meshes():
+        for mesh, uri, _path, missing in ctx.meshes():
             if not missing or missing in reported:
                 continue
             reported.add(missing)

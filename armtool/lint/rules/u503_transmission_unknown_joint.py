@@ -4,7 +4,6 @@ from collections.abc import Iterator
 
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
-from armtool.lint.locate import local_tag
 from armtool.lint.rule import Rule, Target
 from armtool.lint.suggest import did_you_mean
 
@@ -28,9 +27,7 @@ class TransmissionUnknownJoint(Rule):
     code, name, severity, target = "U503", "transmission-unknown-joint", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        for trans in ctx.root:
-            if local_tag(trans) != "transmission":
-                continue
+        for trans in ctx.transmissions:
             for joint in trans.findall("joint"):
                 name = joint.get("name")
                 if name is not None and name not in ctx.joint_names:

@@ -4,7 +4,6 @@ from collections.abc import Iterator
 
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
-from armtool.lint.locate import local_tag
 from armtool.lint.numbers import parse_floats
 from armtool.lint.rule import Rule, Target
 
@@ -30,9 +29,7 @@ class NonPositiveReduction(Rule):
     code, name, severity, target = "U504", "non-positive-reduction", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        for trans in ctx.root:
-            if local_tag(trans) != "transmission":
-                continue
+        for trans in ctx.transmissions:
             for red in trans.iter("mechanicalReduction"):
                 values = parse_floats(red.text)
                 if values and len(values) == 1 and values[0] < 0:
