@@ -48,3 +48,27 @@ def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+def read_yaml(path: Path | str, what: str = "") -> object:
+    """A YAML file's content, or an ArmtoolError that names the file and line and what it is."""
+    import yaml
+
+    from armtool.errors import ArmtoolError
+
+    path = Path(path)
+    label = f"{what} " if what else ""
+    try:
+        text = path.read_bytes().decode("utf-8-sig")
+    except FileNotFoundError:
+        raise ArmtoolError(f"{label}file not found", str(path), "check the path") from None
+    except OSError as exc:
+        raise ArmtoolError(f"cannot read {label}file: {exc.strerror or exc}", str(path)) from None
+    except UnicodeDecodeError:
+        raise ArmtoolError(f"{label}file is not UTF-8 text", str(path), "save it as UTF-8") from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
+        raise ArmtoolError(f"{label}file is not valid YAML: {getattr(exc, 'problem', None) or exc}", where) from None

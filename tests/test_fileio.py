@@ -70,3 +70,22 @@ def test_symlink_is_followed_and_kept(tmp_path: Path) -> None:
     link.symlink_to(real)
     write_atomic(link, "new")
     assert link.is_symlink() and real.read_text() == "new"
+
+
+def test_read_yaml_errors_name_the_file_and_line(tmp_path: Path) -> None:
+    from armtool.errors import ArmtoolError
+    from armtool.fileio import read_yaml
+
+    bad = tmp_path / "arm.yaml"
+    bad.write_text("joints:\n  - {id: 1\n  - x\n")
+    with pytest.raises(ArmtoolError) as info:
+        read_yaml(bad, "arm")
+    assert "arm file is not valid YAML" in info.value.what and str(bad) + ":" in (info.value.where or "")
+    with pytest.raises(ArmtoolError, match="file not found"):
+        read_yaml(tmp_path / "missing.yaml")
+    (tmp_path / "latin1.yaml").write_bytes("a: caf\xe9\n".encode("latin-1"))
+    with pytest.raises(ArmtoolError, match="not UTF-8"):
+        read_yaml(tmp_path / "latin1.yaml")
+    good = tmp_path / "ok.yaml"
+    good.write_text("a: 1\n")
+    assert read_yaml(good) == {"a": 1}

@@ -102,8 +102,6 @@ def _hint_pose(value: Any) -> Array | None:
 
 def load_dataset(directory: Path, chain_joint_names: list[str] | None = None) -> Dataset:
     """Read the manifest and samples; problems are collected, not raised (see `require_ok`)."""
-    import yaml
-
     root = directory.resolve()
     manifest = root / "dataset.yaml" if root.is_dir() else root
     if root.is_file():
@@ -111,11 +109,9 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None) ->
     where = _rel(root, manifest)
     if not manifest.is_file():
         raise ArmtoolError("no dataset.yaml", str(manifest), "pass a dataset directory (see `armtool calibrate simulate` for an example)")
-    try:
-        doc = yaml.safe_load(manifest.read_text(encoding="utf-8"))
-    except yaml.YAMLError as exc:
-        line = getattr(getattr(exc, "problem_mark", None), "line", None)
-        raise ArmtoolError(f"dataset.yaml is not valid YAML: {getattr(exc, 'problem', exc)}", f"{where}:{(line or 0) + 1}") from None
+    from armtool.fileio import read_yaml
+
+    doc = read_yaml(manifest, "dataset.yaml")
     if not isinstance(doc, dict):
         raise ArmtoolError("dataset.yaml must be a mapping", where)
     problems: list[Problem] = []

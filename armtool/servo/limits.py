@@ -42,15 +42,9 @@ class ArmFile:
 
 def load_arm(path: Path) -> ArmFile:
     """`joints: [{name, id, model, zero_ticks, direction}]` plus optional top-level protocol/baud."""
-    import yaml
+    from armtool.fileio import read_yaml
 
-    try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as exc:
-        raise ArmtoolError(f"cannot read {path}: {exc.strerror}") from None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        raise ArmtoolError(f"not valid YAML: {getattr(exc, 'problem', exc)}", f"{path}:{mark.line + 1}" if mark else str(path)) from None
+    data = read_yaml(path, "arm")
     if not isinstance(data, dict) or not isinstance(data.get("joints"), list) or not data["joints"]:
         raise ArmtoolError("arm file needs a 'joints' list", str(path),
                            hint="joints: [{name: shoulder, id: 1, model: AX-12A, zero_ticks: 512, direction: 1}]")

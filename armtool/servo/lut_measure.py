@@ -50,16 +50,9 @@ class Motion:
 
 def read_limits(path: Path, sid: int) -> tuple[int, int, str | None]:
     """(safe_min_ticks, safe_max_ticks, model) for `sid` from an `armtool limits` YAML file."""
-    import yaml
+    from armtool.fileio import read_yaml
 
-    try:
-        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise ArmtoolError(f"cannot read {path}: {exc.strerror or exc}") from None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        raise ArmtoolError(f"not valid YAML: {getattr(exc, 'problem', exc)}",
-                           f"{path}:{mark.line + 1}" if mark is not None else str(path)) from None
+    doc = read_yaml(path, "limits")
     joints = doc.get("joints") if isinstance(doc, dict) else None
     if not isinstance(joints, list):
         raise ArmtoolError("no 'joints' list", str(path), hint="write one with `armtool limits -o limits.yaml`")

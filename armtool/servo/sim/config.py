@@ -76,16 +76,9 @@ class SimConfig:
 
 
 def load_sim_config(path: Path) -> SimConfig:
-    import yaml
+    from armtool.fileio import read_yaml
 
-    try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as exc:
-        raise ArmtoolError(f"cannot read {path}: {exc.strerror}") from None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
-        raise ArmtoolError(f"not valid YAML: {getattr(exc, 'problem', exc)}", where) from None
+    data = read_yaml(path, "simulator config")
     return sim_config_from_dict(data, source=str(path))
 
 
