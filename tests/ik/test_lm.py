@@ -59,20 +59,21 @@ def test_bad_options_and_names() -> None:
 
 def _near_singular(chain, count: int, rng_seed: int = 7) -> np.ndarray:
     """Configurations whose Jacobian's smallest singular value is below 0.003 (targets near a singular pose)."""
-    Q = chain.random(np.random.default_rng(rng_seed), 4000)
+    Q = chain.random(np.random.default_rng(rng_seed), 8000)
     _, J = chain.fk_jacobian_batch(Q)
     smallest = np.linalg.svd(J, compute_uv=False)[:, -1]
     return Q[smallest < 0.003][:count]
 
 
-@pytest.mark.parametrize(("arm", "mean_limit", "max_limit"), [("panda", 20, 50), ("ur5", 25, 100)])
+@pytest.mark.parametrize(("arm", "mean_limit", "max_limit"), [("panda", 30, 150), ("ur5", 24, 100)])
 def test_near_singular_targets_take_few_iterations(arm: str, mean_limit: float, max_limit: int) -> None:
     # Around singular poses a monotone LM (reject a step that raises the error) crawls: on these
-    # targets it needed 23 (Panda) / 30 (UR5) iterations on average and up to 70 / 141.
+    # 40 targets it needed 68-142 (Panda) / 29 (UR5) iterations on average and up to 1562 / 140;
+    # this one 17 / 19, and at most 62 / 55.
     relative, base, tip = ARMS[arm]
     chain = load_chain(erd(relative), base, tip)
-    Q = _near_singular(chain, 20)
-    assert len(Q) == 20
+    Q = _near_singular(chain, 40)
+    assert len(Q) == 40
     solver = make_solver("lm", chain, timeout=0.5)  # no timeout in play: iterations are deterministic
     results = [solver.solve(t, chain.mid()) for t in chain.fk_batch(Q)]
     assert all(r.success for r in results)
