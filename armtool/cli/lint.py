@@ -46,7 +46,6 @@ def lint(
     from armtool.console import stderr, write_stdout
     from armtool.lint.config import load_config
     from armtool.lint.engine import LintOptions, lint_paths
-    from armtool.lint.fix import fixed_texts, safe_edits, unified_diff, write_atomic
     from armtool.lint.locate import display_path
     from armtool.output.base import LintReport
     from armtool.output.registry import formatter
@@ -66,7 +65,10 @@ def lint(
     )
     result = lint_paths(paths, options)
     findings = result.findings
-    pairs = safe_edits(findings)
+    if diff or fix:
+        from armtool.lint.fix import fixed_texts, safe_edits, unified_diff, write_atomic
+
+        pairs = safe_edits(findings)
 
     if diff:
         changes = fixed_texts(pairs)

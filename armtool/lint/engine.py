@@ -108,9 +108,10 @@ class LintResult(NamedTuple):
 
 
 def rules_for(target: Target) -> list[Rule]:
-    from armtool.lint.registry import rules_for as registered
+    """One instance of each rule that checks files of this kind (loader-reported ones excluded)."""
+    from armtool.lint.registry import checks_for
 
-    return [rule() for rule in registered(target)]
+    return [rule() for rule in checks_for(target)]
 
 
 def _file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:

@@ -87,6 +87,18 @@ def rules_for(target: Target) -> list[type[Rule]]:
     return [rule_class(code) for code, _, _ in RULE_TABLE if _TARGET_OF_LETTER[code[0]] is target]
 
 
+# Reported by the engine while it loads a file (bad XML, no <robot>, xacro failed, no URDF beside
+# an SRDF, ...); their check() finds nothing, so a lint run need not import them to run them.
+LOADER_CODES = frozenset({"U001", "U002", "U003", "X001", "S001", "S002", "K001", "K002"})
+
+
+def checks_for(target: Target) -> list[type[Rule]]:
+    """The rules whose check() looks at a loaded file of this kind, in code order."""
+    return [
+        rule_class(code) for code, _, _ in RULE_TABLE if _TARGET_OF_LETTER[code[0]] is target and code not in LOADER_CODES
+    ]
+
+
 def all_rules() -> tuple[type[Rule], ...]:
     return tuple(rule_class(code) for code, _, _ in RULE_TABLE)
 

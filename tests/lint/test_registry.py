@@ -35,3 +35,21 @@ def test_every_rule_module_is_registered() -> None:
     assert modules == registered
     for rule in RULES:
         assert rule.__module__.rsplit(".", 1)[-1].startswith(rule.code.lower() + "_")
+
+
+def test_loader_rules_check_nothing_and_are_the_engines_file_findings() -> None:
+    """Rules in LOADER_CODES are not run on loaded files (not even imported by a lint run): each
+    must find nothing in check(), and they are exactly the codes the engine reports while loading."""
+    import re
+    from pathlib import Path
+
+    from armtool.lint import engine
+    from armtool.lint.registry import LOADER_CODES, checks_for, rule_class, rules_for
+    from armtool.lint.rule import Target
+
+    for code in LOADER_CODES:
+        assert list(rule_class(code)().check(object())) == []
+    source = Path(engine.__file__).read_text(encoding="utf-8")
+    assert set(re.findall(r'_file_finding\(\s*"([A-Z]\d{3})"', source)) == LOADER_CODES
+    for target in Target:
+        assert [r.code for r in checks_for(target)] == [r.code for r in rules_for(target) if r.code not in LOADER_CODES]
