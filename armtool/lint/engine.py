@@ -153,7 +153,7 @@ class Linter:
             return self._load_xacro(path)
         data = self._read(path)
         try:
-            root = parse_xml(data)
+            root = parse_xml(data, keep_blank_text=False)
         except XmlSyntaxProblem as exc:
             return None, [_file_finding("U001", path, exc.line, exc.column, f"not well-formed XML: {exc.message}")]
         findings = []

