@@ -101,7 +101,9 @@ class LevenbergMarquardt(Solver):
     def solve(self, target: Array, seed: Array) -> IKResult:
         return self._solve(target, seed, self.timeout)
 
-    def _solve(self, target: Array, seed: Array, timeout: float) -> IKResult:
+    def _solve(self, target: Array, seed: Array, timeout: float, from_seed: bool = True) -> IKResult:
+        """solve() with its own budget; from_seed=False skips the try from the seed (the batch's tail:
+        its seeds are where a batch try just stalled) and starts from the nearest table pose."""
         chain = self.chain
         deadline = self.clock() + timeout
         pin, model, data, frame = chain._model()
@@ -120,6 +122,9 @@ class LevenbergMarquardt(Solver):
         iterations = 0
         best_q, best_err = q, math.inf
         restarts: list[Array] | None = None
+        if not from_seed:
+            restarts = self._restart_seeds(target)
+            q = restarts.pop(0)
         while True:
             # Local frame: J is the tip's body Jacobian and e = log6(T⁻¹·target) the body twist to the
             # target, both rotated by Rᵀ from the base frame, so JᵀJ and Jᵀe (and the step) are the same.
@@ -316,7 +321,7 @@ class LevenbergMarquardt(Solver):
             # timeouts each: one unreachable target must not hold up the whole batch.
             for j, i in enumerate(idx):
                 left = (deadline - self.clock()) / (idx.size - j)
-                res = self._solve(targets[i], Q[i], min(self.TAIL_TIMEOUTS * self.timeout, max(left, 0.0)))
+                res = self._solve(targets[i], Q[i], min(self.TAIL_TIMEOUTS * self.timeout, max(left, 0.0)), from_seed=False)
                 Q[i] = res.q
                 iterations[i] += res.iterations
         Q = self._wrap(Q)
