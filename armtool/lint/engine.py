@@ -320,6 +320,7 @@ class Linter:
 # Plain os.fork and pipes, not multiprocessing: its import and Pool cost ~35 ms, a fifth of
 # linting all 69 example-robot-data URDFs; here the parent lints too and one fork costs ~2 ms.
 PARALLEL_MIN_FILES = 16
+_TARGET_OF_KIND = {FileKind.SRDF: Target.SRDF, FileKind.KINEMATICS: Target.KINEMATICS}
 MAX_WORKERS = 8
 
 
@@ -349,7 +350,11 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
     import marshal
     import os
 
-    for target in Target:
+    kinds = {file_kind(path) for path in files}
+    targets = {_TARGET_OF_KIND.get(kind, Target.URDF) for kind in kinds}
+    if Target.SRDF in targets or Target.KINEMATICS in targets:
+        targets |= {Target.URDF, Target.SRDF}  # an SRDF's URDF, a kinematics.yaml's SRDF
+    for target in targets:
         linter._rules.setdefault(target, rules_for(target))  # imported once, before forking
     # Largest files first: a few big robots (Talos, Romeo) dominate the work.
     sizes = []
@@ -369,7 +374,10 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
     os.close(tasks_w)
     left = order[queued:]  # when the system gives pipes less room: the parent lints these itself
     children: list[tuple[int, int]] = []
+    import gc
+
     try:
+        gc.freeze()  # objects made so far are not collected: the children's pages stay shared
         for _ in range(workers - 1):
             results_r, results_w = os.pipe()
             pid = os.fork()
@@ -411,6 +419,7 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
         if errors:
             raise errors[min(errors)]  # the first failing file, as a serial run would report
     finally:
+        gc.unfreeze()  # back to normal collection (lint_paths may run in a long-lived process)
         os.close(tasks_r)
         for pid, results_r in children:  # only left on an exception in the parent
             os.close(results_r)
