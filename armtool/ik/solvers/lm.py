@@ -26,6 +26,9 @@ import numpy as np
 from armtool.ik.solver import Array, IKResult, Solver, rotation_error, verify_batch
 
 
+_THREADPOOLS: Any = None  # see LevenbergMarquardt._threadpools
+
+
 class LevenbergMarquardt(Solver):
     name = "lm"
     summary = "Levenberg–Marquardt with joint limits, error-scaled damping and random restarts (armtool's best)"
@@ -68,6 +71,7 @@ class LevenbergMarquardt(Solver):
         self._wrap_any = bool(cont.any())
         self._eye = np.asfortranarray(np.eye(chain.n))
         self._restart_seeds(np.eye(4))  # build the pose table now, not inside a timed solve
+        self._threadpools()  # and scan the BLAS libraries now, not inside a timed solve_batch
 
     def _dposv(self, A: Array, g: Array) -> Array:
         """Solve the damped normal equations (symmetric positive definite) with LAPACK's Cholesky
@@ -231,10 +235,19 @@ class LevenbergMarquardt(Solver):
         `timeout` seconds per target. BLAS runs single-threaded here: its matrices are tiny, and
         OpenBLAS threads only add overhead (10x on a busy machine).
         """
-        from threadpoolctl import threadpool_limits
-
-        with threadpool_limits(limits=1, user_api="blas"):
+        with self._threadpools().limit(limits=1, user_api="blas"):
             return self._solve_batch(targets, seeds)
+
+    @staticmethod
+    def _threadpools() -> Any:
+        """threadpoolctl's view of the loaded BLAS libraries, scanned once per process: a scan on every
+        call (threadpool_limits) cost 3-25 ms with the peers' libraries loaded, 25 % of a 1000-target batch."""
+        global _THREADPOOLS
+        if _THREADPOOLS is None:
+            from threadpoolctl import ThreadpoolController
+
+            _THREADPOOLS = ThreadpoolController()
+        return _THREADPOOLS
 
     def _solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
         targets = np.asarray(targets, dtype=float)
