@@ -402,11 +402,12 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
         errors: dict[int, BaseException] = {}
         for index, outcome in mine:
             (errors if isinstance(outcome, BaseException) else results)[index] = outcome  # type: ignore[index]
-        for pid, results_r in children:
+        while children:
+            pid, results_r = children[0]
             blob = _read_all(results_r)
+            children.pop(0)  # read to the end: the child has finished (or died)
             os.close(results_r)
             os.waitpid(pid, 0)
-            children = [c for c in children if c[0] != pid]
             if not blob:
                 raise RuntimeError("a lint worker process ended without reporting (killed?)")
             sent, failures = marshal.loads(blob)
