@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 from collections import defaultdict
 from collections.abc import Iterable
 from pathlib import Path
@@ -55,20 +54,10 @@ def unified_diff(path: Path, old: str, new: str, shown: str) -> str:
 
 
 def write_atomic(path: Path, text: str) -> None:
-    """Write to a temporary file beside `path`, then rename over it (keeps the file's mode)."""
-    import tempfile
+    """--fix rewrites the user's file: whole or not at all, mode kept, symlinks followed (armtool.fileio)."""
+    from armtool.fileio import write_atomic as write
 
-    mode = path.stat().st_mode
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
-            handle.write(text)
-        os.chmod(tmp, mode & 0o7777)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    write(path, text)
 
 
 __all__ = ["safe_edits", "fixed_texts", "unified_diff", "write_atomic", "FixSafety"]
