@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -161,7 +161,7 @@ def _find_rough(gray: NDArray[np.uint8], family: str, tag_id: int) -> tuple[list
     small: NDArray[np.uint8] | None = None
     for scale, refine in ((1, "none"), (2, "none"), (2, "apriltag")):
         if scale == 2 and small is None:
-            small = cv2.pyrDown(gray)
+            small = cast("NDArray[np.uint8]", cv2.pyrDown(gray))
         image = gray if small is None or scale == 1 else small
         corners, ids = _detect(image, family, refine)
         seen.update(ids)
@@ -211,7 +211,7 @@ def _refine(
             xn = (gx - K[0, 2] - K[0, 1] * yn) / K[0, 0]
             rays = np.stack([xn.reshape(-1), yn.reshape(-1), np.ones(xn.size)], axis=1)
             source = camera.project(rays).reshape(gx.shape + (2,)).astype(np.float32)
-            crop = cv2.remap(gray, source[..., 0], source[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+            crop = cast("NDArray[np.uint8]", cv2.remap(gray, source[..., 0], source[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE))
         else:
             x0, y0, x1, y1 = _crop_box(rough, pad_fraction, (w, h))
             crop = np.ascontiguousarray(gray[y0:y1, x0:x1])

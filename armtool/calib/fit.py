@@ -102,7 +102,8 @@ class Problem:
 
     def per_sample_rms(self, x: Array) -> Array:
         r = (self.predict(x) - self.uv).reshape(len(self.Q), 8)
-        return np.sqrt((r**2).mean(axis=1))
+        rms: Array = np.sqrt((r**2).mean(axis=1))
+        return rms
 
 
 def _solve(problem: Problem, x0: Array, free: list[int], robust: bool, f_scale: float = 0.5) -> tuple[Array, int]:

@@ -128,7 +128,8 @@ class CalibModel:
             else:
                 M[:, :3, :3] = se3.rotation_about(j.axis, value)
             T = T @ origins[i] @ M
-        return T @ self.chain.tip_offset
+        out: Array = T @ self.chain.tip_offset
+        return out
 
     def tag_in_camera(self, x: Array, Q: Array) -> Array:
         """cMt for every row of Q: (N,4,4)."""
@@ -136,12 +137,14 @@ class CalibModel:
         F = self.flange(x, Q)
         if self.setup is Setup.EYE_IN_HAND:
             F = se3.inv(F)
-        return L @ F @ R
+        out: Array = L @ F @ R
+        return out
 
     def corners_in_camera(self, x: Array, Q: Array, tag_points: Array) -> Array:
         """Tag corners in the camera frame: (N,4,3)."""
         C = self.tag_in_camera(x, Q)
-        return np.einsum("nij,kj->nki", C[:, :3, :3], tag_points) + C[:, None, :3, 3]
+        out: Array = np.einsum("nij,kj->nki", C[:, :3, :3], tag_points) + C[:, None, :3, 3]
+        return out
 
     def with_frames(self, L0: Array, R0: Array) -> CalibModel:
         return CalibModel(self.chain, self.setup, L0, R0, self.params)

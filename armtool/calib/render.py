@@ -16,6 +16,8 @@ the lens map is linear to ~1e-6 px.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -68,8 +70,8 @@ def tag_in_view(camera: CameraModel, cMt: Array, size_m: float, family: str = "t
 
 def _subsample_offsets(n: int) -> Array:
     """(n², 2) offsets in [0, 1) from a pixel's top-left corner: the n-rooks pattern of the module docstring."""
-    a, b = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    a, b = a.reshape(-1), b.reshape(-1)
+    ga, gb = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    a, b = ga.reshape(-1), gb.reshape(-1)
     return np.stack([(n * a + b + 0.5) / n**2, (n * b + a + 0.5) / n**2], axis=1)
 
 
@@ -145,7 +147,8 @@ def render_tag(
         ix = np.clip(np.floor((px_t + half_plate) / cell), -1, n_plate).astype(np.intp)
         iy = np.clip(np.floor((half_plate - py_t) / cell), -1, n_plate).astype(np.intp)
         ids = (iy + 1) * side + (ix + 1)
-        return np.where(np.isfinite(lam) & (lam > 0), ids, miss_id)
+        region: NDArray[np.intp] = np.where(np.isfinite(lam) & (lam > 0), ids, miss_id)
+        return region
 
     pad = int(np.ceil(4.0 * blur_sigma_px)) + 2
     x0 = max(int(np.floor(outline[:, 0].min())) - pad, 0)
@@ -183,14 +186,15 @@ def render_tag(
     illumination += v[:, None]
     image = reflect * illumination
     if blur_sigma_px > 0:
-        image = cv2.GaussianBlur(image, (0, 0), blur_sigma_px, borderType=cv2.BORDER_REFLECT)
+        image = cast("NDArray[np.float32]", cv2.GaussianBlur(image, (0, 0), blur_sigma_px, borderType=cv2.BORDER_REFLECT))
     if noise_sigma > 0:
         # OpenCV's generator, seeded from rng: 3 ms per frame against numpy's 10 ms.
         cv2.setRNGSeed(int(rng.integers(2**31 - 1)))
         noise = np.empty_like(image)
-        cv2.randn(noise, 0.0, float(noise_sigma))
+        cv2.randn(noise, 0.0, float(noise_sigma))  # type: ignore[call-overload]  # scalars work; OpenCV's stubs want arrays
         image += noise
-    return cv2.convertScaleAbs(cv2.max(image, 0.0), alpha=255.0)  # rounds and saturates to 0..255
+    clipped = cv2.max(image, 0.0)  # type: ignore[call-overload]  # scalar operand, as above
+    return cast("NDArray[np.uint8]", cv2.convertScaleAbs(clipped, alpha=255.0))  # rounds and saturates to 0..255
 
 
 def random_view_pose(
@@ -229,4 +233,5 @@ def _rotvec(r: Array) -> Array:
         return np.eye(3)
     k = r / angle
     K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+    R: Array = np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+    return R

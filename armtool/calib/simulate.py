@@ -21,10 +21,10 @@ from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 from armtool.ik.chain import Chain
 
-QUALITY = {  # research/calibration.md §2 image conditions
-    "good": {"blur": (0.5, 0.7), "noise": 1.5 / 255, "black": (0.06, 0.10), "white": (0.85, 0.9)},
-    "typical": {"blur": (0.8, 1.2), "noise": 3 / 255, "black": (0.08, 0.20), "white": (0.60, 0.90)},
-    "poor": {"blur": (1.4, 2.0), "noise": 6 / 255, "black": (0.15, 0.30), "white": (0.45, 0.70)},
+QUALITY: dict[str, dict[str, tuple[float, float]]] = {  # research/calibration.md §2 image conditions
+    "good": {"blur": (0.5, 0.7), "noise": (1.5 / 255, 1.5 / 255), "black": (0.06, 0.10), "white": (0.85, 0.9)},
+    "typical": {"blur": (0.8, 1.2), "noise": (3 / 255, 3 / 255), "black": (0.08, 0.20), "white": (0.60, 0.90)},
+    "poor": {"blur": (1.4, 2.0), "noise": (6 / 255, 6 / 255), "black": (0.15, 0.30), "white": (0.45, 0.70)},
 }
 
 
@@ -62,8 +62,8 @@ def default_camera(distortion: bool = False) -> CameraModel:
 
 
 def _random_unit(rng: np.random.Generator) -> Array:
-    v = rng.normal(size=3)
-    return v / np.linalg.norm(v)
+    v: Array = rng.normal(size=3)
+    return v / float(np.linalg.norm(v))
 
 
 def true_corrections(chain: Chain, spec: SimulationSpec, rng: np.random.Generator) -> Array:
@@ -211,7 +211,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     for i in range(spec.samples):
         img = render_tag(
             camera, C[i], spec.tag_size_m, spec.family, spec.tag_id,
-            blur_sigma_px=rng.uniform(*q_cfg["blur"]), noise_sigma=q_cfg["noise"],
+            blur_sigma_px=rng.uniform(*q_cfg["blur"]), noise_sigma=q_cfg["noise"][0],
             black=rng.uniform(*q_cfg["black"]), white=rng.uniform(*q_cfg["white"]), rng=rng,
         )
         if img is None:  # cannot happen: poses were chosen by the same visibility test
@@ -261,14 +261,14 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     true_text = corrected_text(text, corrections, "robot.urdf")
     check_reproduces(true_text, truth_model, x_true, "truth/robot_true.urdf")
     _write_text(out / "truth" / "robot_true.urdf", true_text)
-    k = x_true[12:].reshape(chain.n, 8)
+    true_k = x_true[12:].reshape(chain.n, 8)
     truth = {
         "note": "ground truth of this synthetic dataset; armtool calibrate fit never reads it",
         "setup": spec.setup.value,
         "left_frame": _pose_dict(L),
         "right_frame": _pose_dict(R),
         "joints": {
-            name: {"origin_t_m": k[i, :3].tolist(), "origin_r_rad": k[i, 3:6].tolist(), "offset_rad": float(k[i, 6])}
+            name: {"origin_t_m": true_k[i, :3].tolist(), "origin_r_rad": true_k[i, 3:6].tolist(), "offset_rad": float(true_k[i, 6])}
             for i, name in enumerate(chain.joint_names)
         },
         "bad_samples": bad,

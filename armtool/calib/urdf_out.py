@@ -102,7 +102,7 @@ def _set_attributes(tag: str, values: dict[str, str]) -> str:
     for attr, value in values.items():
         pattern = re.compile(r"(\s" + attr + r"\s*=\s*)(\"[^\"]*\"|'[^']*')")
         if pattern.search(body):
-            body = pattern.sub(lambda m, v=value: f'{m.group(1)}"{v}"', body, count=1)
+            body = pattern.sub(lambda m: f'{m.group(1)}"{value}"', body, count=1)  # noqa: B023 (used at once)
         else:
             body = body.rstrip() + f' {attr}="{value}"'
     return body + closing
@@ -172,5 +172,6 @@ def expanded_text(urdf: Path) -> str:
         from armtool.model.load import load_robot_xml
 
         root = load_robot_xml(urdf)
-        return '<?xml version="1.0"?>\n' + etree.tostring(root, encoding="unicode", pretty_print=True)
+        expanded: str = etree.tostring(root, encoding="unicode", pretty_print=True)
+        return '<?xml version="1.0"?>\n' + expanded
     return urdf.read_bytes().decode("utf-8")

@@ -6,11 +6,21 @@ import json
 import math
 from enum import Enum
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import typer
 
 from armtool.errors import ArmtoolError, ExitCode
+
+if TYPE_CHECKING:
+    from rich.progress import Progress
+
+    from armtool.calib.camera import CameraModel
+    from armtool.calib.dataset import Dataset
+    from armtool.calib.fit import CalibrationResult
+    from armtool.calib.model import Family
+    from armtool.calib.observations import Observation
+    from armtool.ik.chain import Chain
 
 app = typer.Typer(
     help="Fit a real arm's kinematic errors from AprilTag images and write a corrected URDF.",
@@ -36,7 +46,7 @@ class ReportFormat(str, Enum):
     JSON = "json"
 
 
-def _families(text: str) -> tuple:  # type: ignore[type-arg]
+def _families(text: str) -> tuple[Family, ...]:
     from armtool.calib.model import Family
 
     out = []
@@ -50,7 +60,7 @@ def _families(text: str) -> tuple:  # type: ignore[type-arg]
     return tuple(dict.fromkeys(out))
 
 
-def _load(dataset: Path):  # type: ignore[no-untyped-def]
+def _load(dataset: Path) -> tuple[Dataset, Chain | None, CameraModel | None]:
     """Dataset, chain and camera; the dataset re-read with the chain's joint names to check the CSV."""
     from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import Problem, load_dataset
@@ -83,7 +93,7 @@ def _load(dataset: Path):  # type: ignore[no-untyped-def]
     return ds, chain, camera
 
 
-def _progress_bar():  # type: ignore[no-untyped-def]
+def _progress_bar() -> Progress:
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
     from armtool.console import stderr
@@ -91,7 +101,7 @@ def _progress_bar():  # type: ignore[no-untyped-def]
     return Progress(TextColumn("{task.description:<18}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(), console=stderr(), transient=True)
 
 
-def _detect(ds, camera):  # type: ignore[no-untyped-def]
+def _detect(ds: Dataset, camera: CameraModel) -> dict[str, Observation]:
     from armtool.calib.observations import observe
 
     with _progress_bar() as bar:
@@ -175,7 +185,7 @@ def fit(
 
         from armtool.calib.observations import Observation
 
-        vobs = _detect(vds, vcamera)
+        vobs = _detect(vds, vcamera or camera)  # _same_setup refused a missing or different camera
         for s in vds.samples:
             sid = f"validation:{s.id}"
             samples.append(replace(s, id=sid))
@@ -207,7 +217,7 @@ def fit(
     truth_scores = _truth_scores(dataset, result)
     if truth_scores:
         doc["against_truth"] = truth_scores
-    outputs = {out / "calibrated.urdf": new_urdf, out / "calibration.yaml": yaml.safe_dump(doc, sort_keys=False, allow_unicode=True)}
+    outputs: dict[Path, str | bytes] = {out / "calibrated.urdf": new_urdf, out / "calibration.yaml": yaml.safe_dump(doc, sort_keys=False, allow_unicode=True)}
     if plot is not None:
         outputs[plot] = residual_plot_png(result)
     out.mkdir(parents=True, exist_ok=True)
@@ -233,7 +243,7 @@ def _check_output_paths(out: Path, plot: Optional[Path]) -> None:
         raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
 
 
-def _same_setup(ds, chain, camera, vds, vchain, vcamera, where: Path) -> None:  # type: ignore[no-untyped-def]
+def _same_setup(ds: Dataset, chain: Chain, camera: CameraModel, vds: Dataset, vchain: Chain | None, vcamera: CameraModel | None, where: Path) -> None:
     """A validation dataset must share the robot chain, setup, camera and tag, or its residuals mean nothing."""
     import numpy as np
 
@@ -254,7 +264,7 @@ def _same_setup(ds, chain, camera, vds, vchain, vcamera, where: Path) -> None:  
         )
 
 
-def _truth_scores(dataset: Path, result) -> dict | None:  # type: ignore[no-untyped-def,type-arg]
+def _truth_scores(dataset: Path, result: CalibrationResult) -> dict[str, Any] | None:
     """For simulated datasets only: errors against the known true robot on its validation poses."""
     from armtool.calib.truth import load_truth, score
 
@@ -273,7 +283,7 @@ def _truth_scores(dataset: Path, result) -> dict | None:  # type: ignore[no-unty
     }
 
 
-def _print_report(result, truth, out: Path, plot: Optional[Path]) -> None:  # type: ignore[no-untyped-def]
+def _print_report(result: CalibrationResult, truth: dict[str, Any] | None, out: Path, plot: Optional[Path]) -> None:
     from rich.markup import escape
     from rich.table import Table
 
