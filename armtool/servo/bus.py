@@ -15,7 +15,7 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Mapping
+from typing import Iterable, Mapping, Protocol, cast
 
 from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel, by_number, decode, encode, models_for
@@ -55,13 +55,29 @@ class StatusError(ArmtoolError):
         self.error = error
 
 
+class Port(Protocol):
+    """What a Transport uses of an opened port: dynamixel-sdk's PortHandler surface (`SerialPort`)."""
+
+    is_using: bool
+    tx_time_per_byte: float
+    timeout_ms: float
+
+    def clearPort(self) -> None: ...  # noqa: N802 - dynamixel-sdk's names
+
+    def writePort(self, packet: bytes) -> int | None: ...  # noqa: N802
+
+    def readPort(self, length: int) -> bytes: ...  # noqa: N802
+
+    def closePort(self) -> None: ...  # noqa: N802
+
+
 class Transport:
     """One protocol's transactions. Subclasses live in armtool/servo/protocols/."""
 
     name = ""
     label = ""
 
-    def __init__(self, port: SerialPort) -> None:
+    def __init__(self, port: Port) -> None:
         self.port = port
 
     # -- transactions: raise CommError(kind) when no valid reply; return the error byte otherwise
@@ -126,6 +142,7 @@ def _make_port_class() -> type:
         """PortHandler opened with an exclusive lock and an explicit reply timeout."""
 
         timeout_ms = DEFAULT_TIMEOUT_MS
+        is_open: bool  # set by PortHandler.__init__ (untyped)
 
         def setupPort(self, cflag_baud: int) -> bool:
             if self.is_open:
@@ -150,7 +167,8 @@ _PORT_CLASS: type | None = None
 class SerialPort:
     """Factory: an opened PortHandler (`.ser` is the pyserial object). Raises ArmtoolError."""
 
-    def __new__(cls, path: str, baud: int, timeout_ms: float = DEFAULT_TIMEOUT_MS):  # type: ignore[no-untyped-def]
+    # A factory: __new__ returns the PortHandler subclass, not a SerialPort, hence the ignore.
+    def __new__(cls, path: str, baud: int, timeout_ms: float = DEFAULT_TIMEOUT_MS) -> Port:  # type: ignore[misc]
         global _PORT_CLASS
         if _PORT_CLASS is None:
             _PORT_CLASS = _make_port_class()
@@ -163,7 +181,7 @@ class SerialPort:
             port.setBaudRate(baud)
         except Exception as exc:  # serial.SerialException, OSError
             raise _open_serial_error(path, exc) from None
-        return port
+        return cast(Port, port)  # PortHandler (dynamixel-sdk) is untyped: an instance of it is Any
 
 
 @dataclass

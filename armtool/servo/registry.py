@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 import importlib
+from typing import TYPE_CHECKING
 
 from armtool.errors import ArmtoolError
+
+if TYPE_CHECKING:
+    from armtool.servo.bus import Transport
 
 PROTOCOLS: dict[str, str] = {
     "dxl1": "armtool.servo.protocols.dxl1:Dxl1",
@@ -17,7 +21,7 @@ def protocol_names() -> list[str]:
     return list(PROTOCOLS)
 
 
-def transport_class(name: str) -> type:
+def transport_class(name: str) -> type[Transport]:
     if name not in PROTOCOLS:
         raise ArmtoolError(f"unknown protocol '{name}'", hint="protocols: " + ", ".join(PROTOCOLS))
     module, _, cls = PROTOCOLS[name].partition(":")

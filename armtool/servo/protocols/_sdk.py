@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from typing import Mapping
 
-from armtool.servo.bus import CommError, Transport
+from armtool.servo.bus import CommError, Port, Transport
 
 
 class SdkTransport(Transport):
@@ -12,7 +12,7 @@ class SdkTransport(Transport):
 
     version = 1.0
 
-    def __init__(self, port: Any) -> None:
+    def __init__(self, port: Port) -> None:
         super().__init__(port)
         from dynamixel_sdk import PacketHandler
 

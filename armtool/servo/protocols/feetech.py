@@ -8,9 +8,9 @@ keeps it at 3, and it has no SYNC_READ for 1.0), so the framing here is our own
 from __future__ import annotations
 
 import time
-from typing import Any, Mapping
+from typing import Mapping
 
-from armtool.servo.bus import CommError, Transport
+from armtool.servo.bus import CommError, Port, Transport
 from armtool.servo.packets import BROADCAST, PING, READ, SYNC_WRITE, WRITE, Corrupt, encode1, parse1
 
 # Status error bits (scservo_sdk protocol_packet_handler)
@@ -21,7 +21,7 @@ class Feetech(Transport):
     name = "feetech"
     label = "Feetech SCS/STS"
 
-    def __init__(self, port: Any) -> None:
+    def __init__(self, port: Port) -> None:
         super().__init__(port)
         self._buf = bytearray()
 
