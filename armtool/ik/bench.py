@@ -84,9 +84,10 @@ class SolverReport:
 
 
 def _joint_distance(chain: Chain, a: Array, b: Array) -> Array:
-    d = a - b
+    d: Array = a - b
     d = np.where(chain.continuous, (d + np.pi) % (2 * np.pi) - np.pi, d)
-    return np.linalg.norm(d, axis=-1)
+    norms: Array = np.linalg.norm(d, axis=-1)  # numpy's stubs: Any when axis is given
+    return norms
 
 
 def run_solver(
@@ -172,8 +173,11 @@ def run_bench(
 ) -> list[SolverReport]:
     targets = make_targets(chain, config)
     reports = []
+    tick: Callable[[int], None] | None  # annotated: mypy cannot infer a lambda with a default argument inline
     for solver in solvers:
-        reports.append(run_solver(chain, solver, targets, config, progress=(lambda k, s=solver: progress(s.name, k)) if progress else None))
+        tick = (lambda k, s=solver: progress(s.name, k)) if progress else None
+        reports.append(run_solver(chain, solver, targets, config, progress=tick))
     for solver in batch:
-        reports.append(run_solver(chain, solver, targets, config, batch=True, progress=(lambda k, s=solver: progress(s.name + " (batch)", k)) if progress else None))
+        tick = (lambda k, s=solver: progress(s.name + " (batch)", k)) if progress else None
+        reports.append(run_solver(chain, solver, targets, config, batch=True, progress=tick))
     return reports

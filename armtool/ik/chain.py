@@ -119,14 +119,14 @@ class Chain:
         self.tip_offset = tip_offset
         self.n = len(joints)
         self.joint_names = [j.name for j in joints]
-        self.lower = np.array([j.lower for j in joints])
-        self.upper = np.array([j.upper for j in joints])
-        self.continuous = np.array([j.kind == "continuous" for j in joints])
-        self.revolute = np.array([j.kind != "prismatic" for j in joints])
-        self._origins = np.stack([j.origin for j in joints])
-        self._axes = np.stack([j.axis for j in joints])
-        self._signs = np.array([1.0] * self.n)  # per joint: the sign of its axis in the batch plan
-        self._revolute_cols = None if self.revolute.all() else np.flatnonzero(self.revolute)
+        self.lower: Array = np.array([j.lower for j in joints])
+        self.upper: Array = np.array([j.upper for j in joints])
+        self.continuous: NDArray[np.bool_] = np.array([j.kind == "continuous" for j in joints])
+        self.revolute: NDArray[np.bool_] = np.array([j.kind != "prismatic" for j in joints])
+        self._origins: Array = np.stack([j.origin for j in joints])
+        self._axes: Array = np.stack([j.axis for j in joints])
+        self._signs: Array = np.array([1.0] * self.n)  # per joint: the sign of its axis in the batch plan
+        self._revolute_cols: NDArray[np.intp] | None = None if self.revolute.all() else np.flatnonzero(self.revolute)
         self._pin: Any = None
         self._plan: list[tuple[Array, Array, int, float, Array | None]] | None = None
 
@@ -169,7 +169,7 @@ class Chain:
         """(N, 4, 4) tip poses for (N, n) configurations, without Pinocchio."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         N = Q.shape[0]
-        T = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
+        T: Array = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
         for i, joint in enumerate(self.joints):
             T = T @ joint.origin
             M = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
@@ -251,7 +251,7 @@ class Chain:
         """Per joint: origin rotation (times a basis change for unaligned axes), origin translation,
         the column the axis lies on, its sign, and the basis change to undo after the motion."""
         if self._plan is None:
-            plan = []
+            plan: list[tuple[Array, Array, int, float, Array | None]] = []
             for j in self.joints:
                 o_R, o_p = j.origin[:3, :3].copy(), j.origin[:3, 3].copy()
                 col = int(np.argmax(np.abs(j.axis)))
@@ -263,7 +263,7 @@ class Chain:
                 plan.append((o_R @ B, o_p, 2, 1.0, B.T.copy()))
             self._plan = plan
             self._signs = np.array([step[3] for step in plan])
-        return self._plan  # type: ignore[no-any-return]
+        return self._plan
 
     # ---- helpers -----------------------------------------------------------------------------
     def within_limits(self, q: Array, tol: float = 1e-9) -> bool:
@@ -293,7 +293,9 @@ def _basis_with_z(axis: Array) -> Array:
 def axis_angle_batch(axis: Array, angles: Array) -> Array:
     """Rodrigues' rotation about a fixed unit axis for many angles: (N, 3, 3)."""
     x, y, z = axis
-    K = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+    K: Array = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+    s: Array
+    c: Array
     s, c = np.sin(angles)[:, None, None], np.cos(angles)[:, None, None]
     return np.eye(3) + s * K + (1 - c) * (K @ K)
 

@@ -44,7 +44,7 @@ def rotation_error(R: Array, R_target: Array) -> Array:
     # angle ≈ π: axis from the diagonal of (M + I)/2 = a aᵀ
     diag = np.clip((np.diag(M) + 1.0) / 2.0, 0.0, None)
     k = int(np.argmax(diag))
-    axis = (M[:, k] + np.eye(3)[:, k]) / 2.0 / math.sqrt(diag[k])
+    axis: Array = (M[:, k] + np.eye(3)[:, k]) / 2.0 / math.sqrt(diag[k])
     axis /= np.linalg.norm(axis)
     if np.dot(axis, v) < 0:
         axis = -axis
@@ -81,7 +81,7 @@ def pose_error(T: Array, target: Array) -> Array:
     return e
 
 
-def verify_batch(chain: Chain, Q: Array, targets: Array, tolerance: float) -> tuple[Array, Array, Array]:
+def verify_batch(chain: Chain, Q: Array, targets: Array, tolerance: float) -> tuple[NDArray[np.bool_], Array, Array]:
     """verify() for many answers at once, with numpy FK: (success mask, position errors, orientation errors)."""
     T, _ = chain.fk_jacobian_batch(Q, jacobian=False)
     e = pose_error_batch(T, targets)

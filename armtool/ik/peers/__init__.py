@@ -56,17 +56,17 @@ def path_urdf(root: etree._Element, chain: Chain) -> etree._Element:
     (rtb resolves `package://` mesh paths; KDL prints a warning on stdout when the root link has
     an <inertial>). Joints are copied whole: origin, axis, limits.
     """
-    by_child = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}  # type: ignore[union-attr]
+    by_child = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}
     joints: list[etree._Element] = []
     link = chain.tip
     while link != chain.base:
         joint = by_child[link]
         joints.append(joint)
-        link = joint.find("parent").get("link", "")  # type: ignore[union-attr]
+        link = joint.find("parent").get("link", "")
     out = etree.Element("robot", name=root.get("name", "robot"))
     etree.SubElement(out, "link", name=chain.base)
     for joint in reversed(joints):
-        etree.SubElement(out, "link", name=joint.find("child").get("link", ""))  # type: ignore[union-attr]
+        etree.SubElement(out, "link", name=joint.find("child").get("link", ""))
     for joint in reversed(joints):
         out.append(etree.fromstring(etree.tostring(joint)))
     return out

@@ -266,15 +266,16 @@ def _denavit_hartenberg(lines: list[tuple[Array, Array]], tip0: Array) -> tuple[
 def _any_normal(z: Array) -> Array:
     helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     x: Array = np.cross(z, helper)
-    return x / np.linalg.norm(x)
+    unit: Array = x / np.linalg.norm(x)  # numpy's stubs: Any for an array divided by a numpy scalar
+    return unit
 
 
 def _dh_fk(joints: tuple[DHJoint, ...], base: Array, tool: Array, q: list[float]) -> Array:
-    T = base.copy()
+    T: Array = base.copy()
     for j, qi in zip(joints, q):
         th = j.sign * qi + j.offset
         ct, st, ca, sa = math.cos(th), math.sin(th), math.cos(j.alpha), math.sin(j.alpha)
-        A = np.array([[ct, -st * ca, st * sa, j.a * ct], [st, ct * ca, -ct * sa, j.a * st], [0.0, sa, ca, j.d], [0.0, 0.0, 0.0, 1.0]])
+        A: Array = np.array([[ct, -st * ca, st * sa, j.a * ct], [st, ct * ca, -ct * sa, j.a * st], [0.0, sa, ca, j.d], [0.0, 0.0, 0.0, 1.0]])
         T = T @ A
     return T @ tool
 

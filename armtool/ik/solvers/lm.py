@@ -19,11 +19,14 @@ is what the protocol asks).
 from __future__ import annotations
 
 import math
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 from armtool.ik.solver import Array, IKResult, Solver, rotation_error, verify_batch
+
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
 
 
 _THREADPOOLS: Any = None  # see LevenbergMarquardt._threadpools
@@ -77,9 +80,9 @@ class LevenbergMarquardt(Solver):
         """Solve the damped normal equations (symmetric positive definite) with LAPACK's Cholesky
         directly: a quarter of np.linalg.solve's cost at this size."""
         _, x, info = self._lapack_dposv(A, g)
-        return x if info == 0 else np.linalg.solve(A, g)
+        return x if info == 0 else np.linalg.solve(A, g)  # type: ignore[return-value]  # numpy's stubs: solve() of float64 arrays is NDArray[floating]
 
-    def _batch_nearest(self, targets: Array) -> Array:
+    def _batch_nearest(self, targets: Array) -> NDArray[np.intp]:
         """(m, BATCH_TABLE_SEEDS) indices of the first BATCH_TABLE_SIZE table configurations nearest
         each target, nearest first."""
         assert self._table is not None
