@@ -102,7 +102,7 @@ def load_config(path: Path | None = None) -> LintConfig:
         raise ArmtoolError(f"cannot read config: {exc.strerror}", str(path)) from None
     if "armtool" not in text:
         return LintConfig(root=path.parent, source=path)  # not ours: skip the TOML parser's start-up cost
-    import tomllib
+    import tomllib  # type: ignore[import-not-found,unused-ignore]  # stdlib from 3.11; mypy checks for 3.10 (requires-python)
 
     try:
         data = tomllib.loads(text)

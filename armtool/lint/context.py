@@ -250,7 +250,7 @@ class UrdfContext(FileContext):
     @staticmethod
     def mesh_link(mesh: etree._Element) -> etree._Element:
         """The <link> of a mesh from meshes() (link/visual/geometry/mesh)."""
-        return mesh.getparent().getparent().getparent()  # type: ignore[union-attr]
+        return mesh.getparent().getparent().getparent()
 
     def inertias(self) -> list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]]:
         """(link, <inertia>, (ixx, iyy, izz, ixy, ixz, iyz), principal moments ascending), once per file."""
@@ -260,7 +260,7 @@ class UrdfContext(FileContext):
             out = []
             seen: set[etree._Element] = set()
             for inertia in self.xpath("link/inertial/inertia"):
-                link = inertia.getparent().getparent()  # type: ignore[union-attr]
+                link = inertia.getparent().getparent()
                 if link in seen:
                     continue  # the first <inertial> of a link counts, as link.find() would
                 seen.add(link)

@@ -320,7 +320,7 @@ class Linter:
 # Plain os.fork and pipes, not multiprocessing: its import and Pool cost ~35 ms, a fifth of
 # linting all 69 example-robot-data URDFs; here the parent lints too and one fork costs ~2 ms.
 PARALLEL_MIN_FILES = 16
-_TARGET_OF_KIND = {FileKind.SRDF: Target.SRDF, FileKind.KINEMATICS: Target.KINEMATICS}
+_TARGET_OF_KIND: dict[FileKind | None, Target] = {FileKind.SRDF: Target.SRDF, FileKind.KINEMATICS: Target.KINEMATICS}
 MAX_WORKERS = 8
 
 
@@ -401,7 +401,10 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
         results: dict[int, list[Finding]] = {}
         errors: dict[int, BaseException] = {}
         for index, outcome in mine:
-            (errors if isinstance(outcome, BaseException) else results)[index] = outcome  # type: ignore[index]
+            if isinstance(outcome, BaseException):
+                errors[index] = outcome
+            else:
+                results[index] = outcome
         while children:
             pid, results_r = children[0]
             blob = _read_all(results_r)
@@ -477,7 +480,7 @@ def _worker(linter: Linter, files: list[Path], tasks_r: int, results_w: int) -> 
 def _read_all(fd: int) -> bytes:
     import os
 
-    chunks = []
+    chunks: list[bytes] = []
     while True:
         chunk = os.read(fd, 1 << 20)
         if not chunk:

@@ -52,7 +52,7 @@ def numeric_values(root: etree._Element) -> list[tuple[etree._Element, str, str,
     for top in root.iterchildren("link", "joint"):
         for el in top.iter(*NUMERIC_ATTRS):  # lxml filters by tag in C
             attrib = el.attrib
-            for attr, count in NUMERIC_ATTRS[el.tag].items():  # type: ignore[index]
+            for attr, count in NUMERIC_ATTRS[el.tag].items():
                 raw = attrib.get(attr)
                 if raw is not None:
                     values = parsed[raw] if raw in parsed else parsed.setdefault(raw, parse_floats(raw))

@@ -21,7 +21,7 @@ class SrdfContext(FileContext):
         self.groups: dict[str, etree._Element] = {}
         for el in root:
             if local_tag(el) == "group" and el.get("name") and el.get("name") not in self.groups:
-                self.groups[el.get("name")] = el  # type: ignore[index]
+                self.groups[el.get("name")] = el
 
     def elements(self, tag: str) -> list[etree._Element]:
         return [el for el in self.root if local_tag(el) == tag]

@@ -84,7 +84,7 @@ def _tip(ctx: SrdfContext, group: str) -> str | None:
     """Where a group ends: its chain's tip_link, else its deepest link when all lie on one branch."""
     assert ctx.urdf is not None
     for el in ctx.groups[group]:
-        tip = el.get("tip_link")
+        tip: str | None = el.get("tip_link")
         if local_tag(el) == "chain" and tip in ctx.urdf.link_names:
             return tip
     links = ctx.group_links(group)

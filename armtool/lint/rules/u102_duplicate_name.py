@@ -1,10 +1,14 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.rule import Rule, Target
+
+if TYPE_CHECKING:
+    from lxml import etree
 
 
 class DuplicateName(Rule):
@@ -28,12 +32,12 @@ class DuplicateName(Rule):
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         groups = (("link", list(ctx.link_name.items())), ("joint", [(j.el, j.name) for j in ctx.joints]))
         for kind, named in groups:
-            first_of: dict[str, object] = {}
+            first_of: dict[str, etree._Element] = {}
             for el, name in named:
                 if name is None:
                     continue
                 if name in first_of:
-                    first = ctx.locator.place(first_of[name])  # type: ignore[arg-type]
+                    first = ctx.locator.place(first_of[name])
                     yield ctx.finding(
                         self,
                         el,
