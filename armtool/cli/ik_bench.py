@@ -63,7 +63,7 @@ def ik_bench(
             raise ArmtoolError("give either --group or --base/--tip, not both")
     root = load_robot_xml(urdf, _parse_xacro_args(xacro_arg), package_path)
     if group is not None and srdf is not None:
-        links = {j.get("name", ""): (j.find("parent").get("link", ""), j.find("child").get("link", ""))  # type: ignore[union-attr]
+        links = {j.get("name", ""): (j.find("parent").get("link", ""), j.find("child").get("link", ""))
                  for j in root.findall("joint") if j.find("parent") is not None and j.find("child") is not None}
         base, tip = group_chain(srdf, group, links)
     chain = chain_from_xml(root, base, tip, source=urdf.name)
@@ -97,7 +97,7 @@ def ik_bench(
         f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints; {samples} targets, seed {seed_mode.value}, "
         f"timeout {timeout * 1e3:g} ms, tolerance {tolerance:g}"
     )
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextColumn, TimeRemainingColumn
 
     reports = []
     runs = [(s, False) for s in [*built, *peer_list]]
@@ -108,7 +108,11 @@ def ik_bench(
         for solver, as_batch in runs:
             label = solver.name + (" (batch)" if as_batch else "")
             task = bar.add_task(label, total=samples)
-            reports.append(run_solver(chain, solver, targets, config, batch=as_batch, progress=lambda k, t=task: bar.advance(t, k)))
+
+            def advance(k: int, t: TaskID = task) -> None:
+                bar.advance(t, k)
+
+            reports.append(run_solver(chain, solver, targets, config, batch=as_batch, progress=advance))
     if output_format is BenchFormat.JSON:
         write_stdout(render_json(chain, config, reports))
     elif output_format is BenchFormat.CSV:

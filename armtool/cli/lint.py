@@ -80,7 +80,7 @@ def lint(
 
     if fix and pairs:
         changes = fixed_texts(pairs)
-        fixed = set()
+        fixed: set[int] = set()
         for path, (_old, new, applied) in changes.items():
             write_atomic(path, new)
             fixed.update(id(f) for f in applied)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import fnmatch
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -102,7 +103,10 @@ def load_config(path: Path | None = None) -> LintConfig:
         raise ArmtoolError(f"cannot read config: {exc.strerror}", str(path)) from None
     if "armtool" not in text:
         return LintConfig(root=path.parent, source=path)  # not ours: skip the TOML parser's start-up cost
-    import tomllib  # type: ignore[import-not-found,unused-ignore]  # stdlib from 3.11; mypy checks for 3.10 (requires-python)
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # Python 3.10 (Ubuntu 22.04, ROS 2 Humble): the same parser, from PyPI
+        import tomli as tomllib
 
     try:
         data = tomllib.loads(text)
