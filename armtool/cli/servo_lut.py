@@ -337,7 +337,7 @@ def measure(
                                    str(ref.path))
             reads = 1
         else:
-            commands = plan_commands(r_lo, r_hi, approach.value, b, points, step)  # type: ignore[arg-type]
+            commands = plan_commands(r_lo, r_hi, approach.value, b, points, step)
         deg = servo_model.deg_per_tick
         stderr().print(f"ID {sid}: {servo_model.name} on {port}; {len(commands)} points {commands[0]}..{commands[-1]} ticks "
                        f"({commands[0] * deg:.1f}..{commands[-1] * deg:.1f}°) inside {r_lo}..{r_hi} ({range_source}), "
@@ -361,7 +361,7 @@ def measure(
                 meta["reference_alignment"] = note
                 stderr().print(f"{ref.spec} aligned to the servo: {note}")
             task = bar.add_task("measuring", total=len(commands)) if bar is not None else None
-            run_measure(driver, ref, commands, approach.value, r_lo, r_hi,  # type: ignore[arg-type]
+            run_measure(driver, ref, commands, approach.value, r_lo, r_hi,
                         reads=reads, sweeps=sweeps, on_sample=samples.append,
                         progress=(lambda k, n: bar.update(task, completed=k, total=n)) if bar is not None else None)
         unsettled = sum(1 for s in samples if s.settled is False)

@@ -13,7 +13,7 @@ import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, cast
 
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
@@ -48,7 +48,8 @@ def load_arm(path: Path) -> ArmFile:
     if not isinstance(data, dict) or not isinstance(data.get("joints"), list) or not data["joints"]:
         raise ArmtoolError("arm file needs a 'joints' list", str(path),
                            hint="joints: [{name: shoulder, id: 1, model: AX-12A, zero_ticks: 512, direction: 1}]")
-    bus = data.get("bus") if isinstance(data.get("bus"), dict) else data
+    # cast: YAML is untyped data; the isinstance on the same line checks it (mypy cannot connect the two .get calls)
+    bus = cast("dict[str, Any]", data.get("bus")) if isinstance(data.get("bus"), dict) else data
     joints: list[Joint] = []
     seen_ids: set[int] = set()
     seen_names: set[str] = set()

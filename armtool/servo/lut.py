@@ -20,7 +20,7 @@ import math
 from dataclasses import asdict, dataclass, field, replace
 from enum import Enum
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Sequence, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -102,7 +102,7 @@ class Grid:
     command_ticks: tuple[int, ...]
 
     @property
-    def angles_deg(self) -> NDArray[np.float64]:
+    def angles_deg(self) -> NDArray[np.floating[Any]]:  # float64; numpy's stubs widen float * int array
         return self.start_deg + self.step_deg * np.arange(len(self.command_ticks))
 
 
@@ -431,7 +431,8 @@ def table_from_dict(doc: Any, source: str) -> LutTable:
     return LutTable(model=model, method=method, knots_deg=tuple(kx), knots_ticks=tuple(ky),
                     servo_id=int(sid) if isinstance(sid, int) else None, reference=str(doc.get("reference", "unknown")),
                     approach=str(doc.get("approach", "up")), poly_degree=degree, poly_domain=domain, poly_coef=coef,
-                    source=doc.get("source") if isinstance(doc.get("source"), dict) else {},
+                    # cast: JSON is untyped data; the isinstance on the same line checks it
+                    source=cast("dict[str, Any]", doc.get("source")) if isinstance(doc.get("source"), dict) else {},
                     fit_summary=doc.get("fit") if isinstance(doc.get("fit"), dict) else None)
 
 

@@ -133,9 +133,9 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
     lines = text.splitlines()
     first = 0
     while first < len(lines) and (not lines[first].strip() or lines[first].lstrip().startswith("#")):
-        key, sep, value = lines[first].lstrip().lstrip("#").partition(":")
-        if sep and key.strip():
-            meta[key.strip().lower()] = value.strip()
+        meta_key, sep, value = lines[first].lstrip().lstrip("#").partition(":")
+        if sep and meta_key.strip():
+            meta[meta_key.strip().lower()] = value.strip()
         first += 1
     if first == len(lines):
         raise ArmtoolError("no header row", source, hint="the first non-comment line names the columns: "
@@ -150,7 +150,7 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
     to_deg = 1.0 if "reference_deg" in index else 180.0 / math.pi
     ref_col = "reference_deg" if "reference_deg" in index else "reference_rad"
     samples: list[Sample] = []
-    seen: dict[tuple[int, str, int], int] = {}
+    seen: dict[tuple[int, str, int | None], int] = {}
     for offset, row in enumerate(rows[1:], start=2):
         line = first + offset
         where = f"{source}:{line}"

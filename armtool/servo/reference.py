@@ -194,7 +194,7 @@ class CameraReference:
         """The tag's rotation in the camera's own frame (arbitrary zero and sense), unwrapped."""
         import numpy as np
 
-        frame = None
+        frame: Any = None  # the capture's image (cv2 or a test's fake); the loop runs at least once
         for _ in range(max(1, self.settle_frames)):  # drop frames buffered while the servo moved
             ok, frame = self.cap.read()
             if not ok:

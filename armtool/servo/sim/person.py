@@ -7,9 +7,12 @@ hand (only while its torque is off) and rests on each stop for about dwell_s + 2
 
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Callable
 
 from armtool.servo.sim.config import PersonSpec
+
+if TYPE_CHECKING:
+    from armtool.servo.sim.bus import SimBus
 
 
 def _path(waypoints: list[tuple[float, float]]) -> Callable[[float], float]:
@@ -25,7 +28,7 @@ def _path(waypoints: list[tuple[float, float]]) -> Callable[[float], float]:
 
 
 class Person:
-    def __init__(self, sim: Any, spec: PersonSpec | None = None) -> None:
+    def __init__(self, sim: SimBus, spec: PersonSpec | None = None) -> None:
         self.sim = sim
         self.spec = spec or PersonSpec()
         self.done_at = 0.0  # sim time when every joint is back in the middle
