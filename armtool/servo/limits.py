@@ -488,12 +488,12 @@ def patch_urdf(text: str, limits: dict[str, tuple[float, float]], allow_widen: b
             for attr, value in (("lower", lo), ("upper", hi)):
                 pattern = re.compile(_ATTR_RE.format(attr))
                 if pattern.search(tag):
-                    tag = pattern.sub(lambda mm, v=value: f"{mm.group(1)}{mm.group(2)}{v:.6g}{mm.group(2)}", tag, count=1)
+                    tag = pattern.sub(lambda mm: f"{mm.group(1)}{mm.group(2)}{value:.6g}{mm.group(2)}", tag, count=1)  # noqa: B023 (runs at once)
                 else:
                     tag = re.sub(r"<limit\b", f'<limit {attr}="{value:.6g}"', tag, count=1)
             for attr, default in (("effort", "1.0"), ("velocity", "1.0")):
                 if not re.search(_ATTR_RE.format(attr), tag):
-                    tag = re.sub(r"\s*/?>$", lambda mm, a=attr, dv=default: f' {a}="{dv}"{mm.group(0)}', tag, count=1)
+                    tag = re.sub(r"\s*/?>$", lambda mm: f' {attr}="{default}"{mm.group(0)}', tag, count=1)  # noqa: B023 (runs at once)
             edits.append((m.start() + lim.start(), m.start() + lim.end(), tag))
         else:
             close = m.group(0).rfind("</joint")
