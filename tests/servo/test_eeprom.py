@@ -26,6 +26,22 @@ def test_plan_apply_verify(protocol: str) -> None:
         assert plan_writes(bus, {1: {"min_limit": 204, "max_limit": 678}}) == []
 
 
+def test_feetech_writes_survive_a_power_cycle() -> None:
+    # An STS servo accepts EEPROM writes while Lock = 1 but forgets them at power-up: the write
+    # only sticks because apply_writes unlocks first (and locks again after).
+    with SimBus.start(sim_config("feetech", (1,))) as sim, open_bus(sim.port_path, "feetech", 1000000) as bus:
+        bus.identify([1])
+        assert sim.peek(1, "lock") == 1
+        apply_writes(bus, plan_writes(bus, {1: {"min_limit": 204, "max_limit": 678}}))
+        sim.servo(1).power_cycle()
+        assert (sim.peek(1, "min_limit"), sim.peek(1, "max_limit")) == (204, 678)
+        # The same write made without the unlock is lost at power-up.
+        bus.write(1, "min_limit", 300)
+        assert sim.peek(1, "min_limit") == 300
+        sim.servo(1).power_cycle()
+        assert sim.peek(1, "min_limit") == 204
+
+
 def test_locked_ax_eeprom_fails_loudly() -> None:
     with SimBus.start(sim_config("dxl1", (1,))) as sim, open_bus(sim.port_path, "dxl1", 1000000) as bus:
         bus.identify([1])

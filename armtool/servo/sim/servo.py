@@ -48,6 +48,9 @@ class SimServo:
         self.theta = spec.start_deg
         self.mem = bytearray(self.model.table_size)
         self.reset_table()
+        # What survives a power cycle. Feetech STS servos take EEPROM writes while Lock = 1 but
+        # keep them in RAM only: they are lost at the next power-up (Feetech's memory table).
+        self.flash = bytearray(self.mem)
         self.vel = 0.0
         self.load = 0.0
         self.at_cap_s = 0.0
@@ -279,9 +282,21 @@ class SimServo:
                 new[reg.addr:reg.addr + reg.size] = encode(reg, goal, self.model.big_endian)
                 code = E_ANGLE if self.family == "ax" else OK
         self.mem[:] = new
+        for name, r in regs:
+            if r.eeprom and not (self.family == "sts" and self.get("lock")):
+                self.flash[r.addr:r.addr + r.size] = new[r.addr:r.addr + r.size]
         for name in names:
             self._after_write(name)
         return code
+
+    def power_cycle(self) -> None:
+        """Power off and on: EEPROM comes back from flash, RAM from its defaults, torque off."""
+        eeprom = [(r.addr, r.size) for r in self.model.table.values() if r.eeprom]
+        self.reset_table()
+        for addr, size in eeprom:
+            self.mem[addr:addr + size] = self.flash[addr:addr + size]
+        self._sync_present()
+        self.set("goal_position", self.get("present_position"))
 
     def _after_write(self, name: str) -> None:
         if name == "goal_position":
