@@ -14,14 +14,11 @@ from pathlib import Path
 from typing import Any, Iterator
 
 import pytest
-from typer.testing import CliRunner
 
-from armtool.cli import app
-from armtool.errors import ArmtoolError
 from armtool.servo.sim import SimBus
+from tests.test_cli_servo_lut import invoke
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="the simulator needs a pty")
-runner = CliRunner()
 FAST = ["--speed", "600", "--dwell", "0.01", "--yes"]
 
 
@@ -36,13 +33,6 @@ def sim() -> Iterator[SimBus]:
         yield bus
 
 
-def invoke(*args: str, stdin: str | None = None) -> tuple[int, str, str]:
-    result = runner.invoke(app, ["servo-lut", *args], input=stdin)
-    if isinstance(result.exception, ArmtoolError):
-        return 2, result.stdout, str(result.exception)
-    if result.exception is not None and not isinstance(result.exception, SystemExit):
-        raise result.exception
-    return result.exit_code, result.stdout, result.stderr
 
 
 def bus_args(sim: SimBus) -> list[str]:

@@ -76,12 +76,6 @@ class LevenbergMarquardt(Solver):
         self._restart_seeds(np.eye(4))  # build the pose table now, not inside a timed solve
         self._threadpools()  # and scan the BLAS libraries now, not inside a timed solve_batch
 
-    def _dposv(self, A: Array, g: Array) -> Array:
-        """Solve the damped normal equations (symmetric positive definite) with LAPACK's Cholesky
-        directly: a quarter of np.linalg.solve's cost at this size."""
-        _, x, info = self._lapack_dposv(A, g)
-        return x if info == 0 else np.linalg.solve(A, g)  # type: ignore[return-value]  # numpy's stubs: solve() of float64 arrays is NDArray[floating]
-
     def _batch_nearest(self, targets: Array) -> NDArray[np.intp]:
         """(m, BATCH_TABLE_SEEDS) indices of the first BATCH_TABLE_SIZE table configurations nearest
         each target, nearest first."""
