@@ -20,7 +20,7 @@ import numpy as np
 
 from armtool.calib import se3
 from armtool.calib.se3 import Array
-from armtool.ik.chain import Chain
+from armtool.ik.chain import Chain, axis_angle_batch
 
 
 class Setup(str, Enum):
@@ -126,7 +126,7 @@ class CalibModel:
             if j.kind == "prismatic":
                 M[:, :3, 3] = value[:, None] * j.axis
             else:
-                M[:, :3, :3] = se3.rotation_about(j.axis, value)
+                M[:, :3, :3] = axis_angle_batch(j.axis, value)
             T = T @ origins[i] @ M
         out: Array = T @ self.chain.tip_offset
         return out

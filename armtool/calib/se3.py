@@ -74,14 +74,6 @@ def inv(T: Array) -> Array:
     return out
 
 
-def rotation_about(axis: Array, angles: Array) -> Array:
-    """(N,3,3) rotations about one unit axis (Rodrigues), for many angles at once."""
-    K = skew(axis)
-    s = np.sin(angles)[:, None, None]
-    c = np.cos(angles)[:, None, None]
-    return np.eye(3) + s * K + (1.0 - c) * (K @ K)
-
-
 def pose_difference(A: Array, B: Array) -> tuple[float, float]:
     """(translation distance in m, rotation angle in rad) between two poses."""
     dt = float(np.linalg.norm(A[:3, 3] - B[:3, 3]))

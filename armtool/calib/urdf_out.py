@@ -20,6 +20,7 @@ from armtool.calib import se3
 from armtool.calib.model import CalibModel
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
+from armtool.ik.chain import axis_angle_batch
 from armtool.model.xmlsource import parse_xml
 
 
@@ -42,7 +43,7 @@ def joint_corrections(model: CalibModel, x: Array) -> dict[str, Array]:
         if j.kind == "prismatic":
             M[:3, 3] = offset * j.axis
         else:
-            M[:3, :3] = se3.rotation_about(j.axis, np.array([offset]))[0]
+            M[:3, :3] = axis_angle_batch(j.axis, np.array([offset]))[0]
         out[j.name] = D @ M
     return out
 
