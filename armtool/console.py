@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from rich.console import Console
+    from rich.progress import Progress
 
 _stderr: Console | None = None
 
@@ -19,6 +20,14 @@ def stderr() -> Console:
 
         _stderr = Console(stderr=True, highlight=False, soft_wrap=True)
     return _stderr
+
+
+def progress_bar(label_width: int = 18) -> Progress:
+    """The progress bar every long subcommand shows on stderr: label, bar, done/total, time left."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    return Progress(TextColumn(f"{{task.description:<{label_width}}}"), BarColumn(), MofNCompleteColumn(),
+                    TimeRemainingColumn(), console=stderr(), transient=True)
 
 
 def write_stdout(text: str) -> None:

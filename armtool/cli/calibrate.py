@@ -13,8 +13,6 @@ import typer
 from armtool.errors import ArmtoolError, ExitCode
 
 if TYPE_CHECKING:
-    from rich.progress import Progress
-
     from armtool.calib.camera import CameraModel
     from armtool.calib.dataset import Dataset
     from armtool.calib.fit import CalibrationResult
@@ -93,18 +91,11 @@ def _load(dataset: Path) -> tuple[Dataset, Chain | None, CameraModel | None]:
     return ds, chain, camera
 
 
-def _progress_bar() -> Progress:
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
-
-    from armtool.console import stderr
-
-    return Progress(TextColumn("{task.description:<18}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(), console=stderr(), transient=True)
-
-
 def _detect(ds: Dataset, camera: CameraModel) -> dict[str, Observation]:
     from armtool.calib.observations import observe
+    from armtool.console import progress_bar
 
-    with _progress_bar() as bar:
+    with progress_bar() as bar:
         task = bar.add_task("detecting tags" if ds.corners_file is None else "reading corners", total=len(ds.samples))
         return observe(ds, camera, progress=lambda done, total: bar.update(task, completed=done))
 
@@ -342,7 +333,7 @@ def simulate(
     from armtool.calib.model import Setup
     from armtool.calib.simulate import SimulationSpec
     from armtool.calib.simulate import simulate as run
-    from armtool.console import stderr
+    from armtool.console import progress_bar, stderr
     from armtool.ik.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
@@ -353,7 +344,7 @@ def simulate(
         base, flange = chain.base, chain.tip
     spec = SimulationSpec(samples=samples, validation=validation, setup=Setup(setup.value), seed=seed, quality=quality.value,
                           tag_size_m=tag_size, bad_samples=bad_samples, distortion=distortion)
-    with _progress_bar() as bar:
+    with progress_bar() as bar:
         task = bar.add_task("rendering", total=samples)
         summary = run(urdf, out, base, flange, spec, progress=lambda done, total: bar.update(task, completed=done))
     stderr().print(f"wrote {samples} images and dataset.yaml to {out}; ground truth in {out / 'truth'}")

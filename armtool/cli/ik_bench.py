@@ -97,14 +97,15 @@ def ik_bench(
         f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints; {samples} targets, seed {seed_mode.value}, "
         f"timeout {timeout * 1e3:g} ms, tolerance {tolerance:g}"
     )
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextColumn, TimeRemainingColumn
+    from rich.progress import TaskID
+
+    from armtool.console import progress_bar
 
     reports = []
     runs = [(s, False) for s in [*built, *peer_list]]
     if batch:
         runs += [(s, True) for s in built if type(s).solve_batch is not Solver.solve_batch]
-    with Progress(TextColumn("{task.description:<16}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
-                  console=stderr(), transient=True) as bar:
+    with progress_bar(label_width=16) as bar:
         for solver, as_batch in runs:
             label = solver.name + (" (batch)" if as_batch else "")
             task = bar.add_task(label, total=samples)

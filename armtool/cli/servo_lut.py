@@ -276,12 +276,9 @@ def _progress(enabled: bool):  # type: ignore[no-untyped-def]
 
     if not enabled:
         return nullcontext(None)
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+    from armtool.console import progress_bar
 
-    from armtool.console import stderr
-
-    return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
-                    console=stderr(), transient=True)
+    return progress_bar(label_width=0)
 
 
 @app.command("measure", help="Step a servo through its range and log command, present position, reference angle, "
