@@ -40,7 +40,7 @@ def robot_file(relative: str) -> Path:
 
 def run_case(robot: str, seed: int, samples: int, bad: int, workdir: Path, quality: str = "typical", setup: str = "eye_to_hand") -> dict[str, object]:
     from armtool.calib.camera import load_intrinsics
-    from armtool.calib.dataset import load_dataset, require_ok
+    from armtool.calib.dataset import load_dataset, read_samples, require_ok
     from armtool.calib.fit import FitOptions, calibrate
     from armtool.calib.model import CalibModel, Setup
     from armtool.calib.observations import observe
@@ -53,9 +53,9 @@ def run_case(robot: str, seed: int, samples: int, bad: int, workdir: Path, quali
     spec = SimulationSpec(samples=samples, seed=seed, bad_samples=bad, quality=quality, setup=Setup(setup))
     simulate(robot_file(rel), out, base, flange, spec)
     t0 = time.perf_counter()
-    ds = load_dataset(out)
+    ds = load_dataset(out, with_samples=False)
     chain = load_chain(ds.urdf, ds.base_link, ds.flange_link)
-    ds = load_dataset(out, chain.joint_names)
+    read_samples(ds, chain.joint_names)
     require_ok(ds)
     camera = load_intrinsics(ds.intrinsics)
     obs = observe(ds, camera)

@@ -57,6 +57,7 @@ class Dataset:
     samples: list[Sample]
     corners: dict[str, Array] = field(default_factory=dict)  # sample id -> (4,2) pixels, from corners.csv
     corners_file: Path | None = None
+    samples_file: Path | None = None
     hints: dict[str, Array] = field(default_factory=dict)  # "camera_in_base", "tag_in_flange", ... -> 4x4
     problems: list[Problem] = field(default_factory=list)
 
@@ -100,8 +101,12 @@ def _hint_pose(value: Any) -> Array | None:
         return None
 
 
-def load_dataset(directory: Path, chain_joint_names: list[str] | None = None) -> Dataset:
-    """Read the manifest and samples; problems are collected, not raised (see `require_ok`)."""
+def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *, with_samples: bool = True) -> Dataset:
+    """Read the manifest and samples; problems are collected, not raised (see `require_ok`).
+
+    With `with_samples=False` only the manifest is read: the caller loads the chain it names
+    first, then calls `read_samples` with the chain's joint names.
+    """
     root = directory.resolve()
     manifest = root / "dataset.yaml" if root.is_dir() else root
     if root.is_file():
@@ -177,14 +182,20 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None) ->
         int(tag_id) if tag_id is not None else 0, float(size_m) if size_m is not None else 0.0, [],
         corners_file=corners_file, hints=hints, problems=problems,
     )
-    if samples_path.is_file():
-        _read_samples(ds, samples_path, chain_joint_names)
-    if corners_file is not None:
-        if corners_file.is_file():
-            _read_corners(ds, corners_file)
-        else:
-            problems.append(Problem(where, f"corners file '{corners_name}' does not exist"))
+    ds.samples_file = samples_path
+    if corners_file is not None and not corners_file.is_file():
+        problems.append(Problem(where, f"corners file '{corners_name}' does not exist"))
+    if with_samples:
+        read_samples(ds, chain_joint_names)
     return ds
+
+
+def read_samples(ds: Dataset, chain_joint_names: list[str] | None = None) -> None:
+    """samples.csv (and corners.csv), checked against the chain's joints when they are given."""
+    if ds.samples_file is not None and ds.samples_file.is_file():
+        _read_samples(ds, ds.samples_file, chain_joint_names)
+    if ds.corners_file is not None and ds.corners_file.is_file():
+        _read_corners(ds, ds.corners_file)
 
 
 def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) -> None:

@@ -59,28 +59,23 @@ def _families(text: str) -> tuple[Family, ...]:
 
 
 def _load(dataset: Path) -> tuple[Dataset, Chain | None, CameraModel | None]:
-    """Dataset, chain and camera; the dataset re-read with the chain's joint names to check the CSV."""
+    """Dataset, chain and camera: the manifest first, then the chain it names, then the samples
+    checked against the chain's joints."""
     from armtool.calib.camera import load_intrinsics
-    from armtool.calib.dataset import Problem, load_dataset
+    from armtool.calib.dataset import Problem, load_dataset, read_samples
     from armtool.ik.chain import load_chain
 
-    ds = load_dataset(dataset)
+    ds = load_dataset(dataset, with_samples=False)
     chain = camera = None
     if ds.urdf.is_file() and ds.base_link and ds.flange_link:
         try:
             chain = load_chain(ds.urdf, ds.base_link, ds.flange_link)
         except ArmtoolError as exc:
             ds.problems.append(Problem(str(ds.urdf.name), exc.what, exc.hint or ""))
-    if chain is not None:
-        problems = [p for p in ds.problems if "samples" not in p.where]
-        ds = load_dataset(dataset, chain.joint_names)
-        listed = set(ds.joints)
-        if listed and listed != set(chain.joint_names):
-            ds.problems.append(Problem("dataset.yaml", f"robot.joints {sorted(listed)} differ from the chain's moving joints {chain.joint_names}",
-                                       f"list the joints between {ds.base_link} and {ds.flange_link}"))
-        for p in problems:
-            if p not in ds.problems:
-                ds.problems.append(p)
+    read_samples(ds, chain.joint_names if chain is not None else None)
+    if chain is not None and ds.joints and set(ds.joints) != set(chain.joint_names):
+        ds.problems.append(Problem("dataset.yaml", f"robot.joints {sorted(ds.joints)} differ from the chain's moving joints {chain.joint_names}",
+                                   f"list the joints between {ds.base_link} and {ds.flange_link}"))
     if ds.intrinsics.is_file():
         try:
             camera = load_intrinsics(ds.intrinsics)
