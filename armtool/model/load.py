@@ -1,4 +1,4 @@
-"""Read a URDF or xacro into an lxml tree, with errors that say which file and how to fix it."""
+"""Read a URDF, SRDF or their xacro into an lxml tree, with errors that say which file and how to fix it."""
 
 from __future__ import annotations
 
@@ -12,12 +12,9 @@ from armtool.model.packages import PackageResolver
 from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml
 
 
-def load_robot_xml(
-    path: Path, xacro_args: Mapping[str, str] | None = None, package_paths: Sequence[Path] = ()
-) -> etree._Element:
-    """The <robot> element of a .urdf, or of a .xacro after expansion."""
+def _load_xml(path: Path, xacro_args: Mapping[str, str] | None, package_paths: Sequence[Path], what: str) -> etree._Element:
     if not path.is_file():
-        raise ArmtoolError("no such file", str(path), "check the path to the URDF or xacro")
+        raise ArmtoolError("no such file", str(path), f"check the path to the {what} or its xacro")
     if path.name.lower().endswith(".xacro"):
         from armtool.model.xacro_source import XacroFailure, expand
 
@@ -37,5 +34,19 @@ def load_robot_xml(
         except OSError as exc:
             raise ArmtoolError(f"cannot read: {exc.strerror}", str(path)) from None
     if root.tag != "robot":
-        raise ArmtoolError(f"root element is <{root.tag}>, not <robot>", str(path), "pass a URDF file")
+        raise ArmtoolError(f"root element is <{root.tag}>, not <robot>", str(path), f"pass a {what} file")
     return root
+
+
+def load_robot_xml(
+    path: Path, xacro_args: Mapping[str, str] | None = None, package_paths: Sequence[Path] = ()
+) -> etree._Element:
+    """The <robot> element of a .urdf, or of a .xacro after expansion."""
+    return _load_xml(path, xacro_args, package_paths, "URDF")
+
+
+def load_srdf_xml(
+    path: Path, xacro_args: Mapping[str, str] | None = None, package_paths: Sequence[Path] = ()
+) -> etree._Element:
+    """The <robot> element of a .srdf, or of a .srdf.xacro after expansion (MoveIt 2 configs use both)."""
+    return _load_xml(path, xacro_args, package_paths, "SRDF")
