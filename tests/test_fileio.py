@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from armtool.errors import ArmtoolError
 from armtool.fileio import write_atomic
 
 
@@ -52,7 +53,7 @@ def test_failed_write_leaves_the_old_file(tmp_path: Path, monkeypatch: pytest.Mo
         raise OSError("disk full")
 
     monkeypatch.setattr(os, "replace", boom)
-    with pytest.raises(OSError):
+    with pytest.raises(ArmtoolError, match="disk full"):  # an OSError never escapes fileio
         write_atomic(target, "new")
     assert target.read_text() == "old" and [p.name for p in tmp_path.iterdir()] == ["keep.txt"]
 

@@ -8,6 +8,7 @@ from typing import Any, Optional
 
 import typer
 
+from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 
 
@@ -26,34 +27,36 @@ def limits(
     port: str = typer.Option(..., "--port", help="Serial port of the bus adapter (e.g. /dev/ttyUSB0)."),
     mode: Mode = typer.Option(..., "--mode", help="manual: you move the joints (torque off); auto: seek each stop at low torque."),
     protocol: Optional[ProtocolOption] = typer.Option(None, "--protocol", help="dxl1 (AX/MX), dxl2 (X series) or feetech (STS/SCS) [default: the arm file's, else dxl1]."),
-    baud: Optional[int] = typer.Option(None, "--baud", help="Baud rate [default: the arm file's, else 1000000]."),
-    ids: Optional[str] = typer.Option(None, "--ids", help="Servo IDs, e.g. 1,2,3 or 1-6 (or use --arm)."),
+    baud: Optional[int] = typer.Option(None, "--baud", callback=opt.baud(), help="Baud rate [default: the arm file's, else 1000000]."),
+    ids: Optional[str] = typer.Option(None, "--ids", callback=opt.id_list(0, 252), help="Servo IDs, e.g. 1,2,3 or 1-6 (or use --arm)."),
     model: Optional[str] = typer.Option(None, "--model", help="With --ids: the model every ID must be (e.g. AX-12A)."),
     arm: Optional[Path] = typer.Option(None, "--arm", help="Arm YAML: joints with name, id, model, zero_ticks, direction."),
     output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write the limits YAML here (default: stdout)."),
-    margin: float = typer.Option(2.0, "--margin", help="Degrees kept inside each recorded end."),
-    duration: Optional[float] = typer.Option(None, "--duration", help="Manual: record this many seconds (default: until Enter)."),
-    rate: float = typer.Option(50.0, "--rate", help="Manual: samples per second."),
-    min_dwell: float = typer.Option(0.3, "--min-dwell", help="Manual: seconds a joint must rest at an end to confirm it."),
-    torque_limit: float = typer.Option(30.0, "--torque-limit", help="Auto: torque (or PWM) limit in percent of full."),
-    speed: float = typer.Option(30.0, "--speed", help="Auto: seek speed in degrees per second."),
-    stall_window: float = typer.Option(0.12, "--stall-window", help="Auto: seconds without motion that, with high load, mean a stop."),
-    stall_load: float = typer.Option(70.0, "--stall-load", help="Auto: load, in percent of the torque limit, that means a stop."),
-    back_off: float = typer.Option(3.0, "--back-off", help="Auto: degrees to back off after each stop."),
-    max_seek: Optional[float] = typer.Option(None, "--max-seek", help="Auto: seconds per direction before giving up [default: range/speed x 1.5 + 2]."),
+    margin: float = typer.Option(2.0, "--margin", callback=opt.finite_float(0, 90, unit="degrees"), help="Degrees kept inside each recorded end."),
+    duration: Optional[float] = typer.Option(None, "--duration", callback=opt.seconds(), help="Manual: record this many seconds (default: until Enter)."),
+    rate: float = typer.Option(50.0, "--rate", callback=opt.positive_float(1000, "samples per second"), help="Manual: samples per second."),
+    min_dwell: float = typer.Option(0.3, "--min-dwell", callback=opt.seconds(3600, allow_zero=True), help="Manual: seconds a joint must rest at an end to confirm it."),
+    torque_limit: float = typer.Option(30.0, "--torque-limit", callback=opt.percent(), help="Auto: torque (or PWM) limit in percent of full."),
+    speed: float = typer.Option(30.0, "--speed", callback=opt.positive_float(10_000, "degrees per second"), help="Auto: seek speed in degrees per second."),
+    stall_window: float = typer.Option(0.12, "--stall-window", callback=opt.seconds(60), help="Auto: seconds without motion that, with high load, mean a stop."),
+    stall_load: float = typer.Option(70.0, "--stall-load", callback=opt.percent(), help="Auto: load, in percent of the torque limit, that means a stop."),
+    back_off: float = typer.Option(3.0, "--back-off", callback=opt.finite_float(0, 90, unit="degrees"), help="Auto: degrees to back off after each stop."),
+    max_seek: Optional[float] = typer.Option(None, "--max-seek", callback=opt.seconds(3600), help="Auto: seconds per direction before giving up [default: range/speed x 1.5 + 2]."),
     first_dir: str = typer.Option("-", "--first-dir", help="Auto: seek the low (-) or high (+) end first."),
     urdf: Optional[Path] = typer.Option(None, "--urdf", help="Write <limit lower upper> into this URDF (keeps its text and comments)."),
-    in_place: bool = typer.Option(False, "--in-place", help="With --urdf: edit it in place, leaving a .bak copy."),
+    in_place: bool = typer.Option(False, "--in-place", help="With --urdf: edit it in place, keeping the previous version "
+                                  "in FILE.bak (or FILE.bak.1, .2 ... when that exists: a backup is never overwritten)."),
     urdf_out: Optional[Path] = typer.Option(None, "--urdf-out", help="With --urdf: write the edited URDF here."),
     allow_widen: bool = typer.Option(False, "--allow-widen", help="Write URDF limits even where they are wider than the URDF's."),
     write_eeprom: bool = typer.Option(False, "--write-eeprom", help="Also write the safe range into the servos' angle-limit registers."),
     yes: bool = typer.Option(False, "--yes", "-y", help="Answer the safety and EEPROM prompts with yes (scripted use)."),
     dry_run: bool = typer.Option(False, "--dry-run", help="With --write-eeprom: show the EEPROM writes, do not make them."),
-    timeout_ms: float = typer.Option(25.0, "--timeout-ms", help="Reply timeout per transaction."),
+    timeout_ms: float = typer.Option(25.0, "--timeout-ms", callback=opt.positive_float(10_000, "milliseconds"), help="Reply timeout per transaction."),
 ) -> None:
     import sys
 
     from armtool.console import stderr, write_stdout
+    from armtool.fileio import backup_path, check_output_path, check_output_paths, rescue_write, write_with_backup
     from armtool.servo import limits as L
     from armtool.servo.bus import open_bus
     from armtool.servo.guard import TorqueGuard
@@ -62,12 +65,8 @@ def limits(
     # ---- arguments, before touching the bus
     if (ids is None) == (arm is None):
         raise ArmtoolError("give exactly one of --ids or --arm", hint="e.g. --ids 1,2,3 --model AX-12A, or --arm arm.yaml")
-    if margin < 0 or rate <= 0 or speed <= 0 or not 0 < torque_limit <= 100 or not 0 < stall_load <= 100:
-        raise ArmtoolError("--margin must be >= 0, --rate/--speed > 0, --torque-limit and --stall-load in (0, 100]")
     if first_dir not in ("-", "+"):
         raise ArmtoolError(f"--first-dir must be - or +, got '{first_dir}'")
-    if duration is not None and duration <= 0:
-        raise ArmtoolError(f"--duration must be > 0 seconds, got {duration}")
     if urdf is not None and in_place == (urdf_out is not None):
         raise ArmtoolError("with --urdf pass either --in-place or --urdf-out FILE")
     if urdf is None and (in_place or urdf_out is not None):
@@ -87,12 +86,12 @@ def limits(
         arm_file = L.load_arm(arm)
         joints = arm_file.joints
         proto = protocol.value if protocol else (arm_file.protocol or "dxl1")
-        baud_rate = baud or arm_file.baud or 1_000_000
+        baud_rate = baud if baud is not None else (arm_file.baud or 1_000_000)
     else:
         expected = by_name(model) if model else None
         joints = [L.Joint(f"id{i}", i, expected) for i in L.parse_ids(ids or "")]
         proto = protocol.value if protocol else "dxl1"
-        baud_rate = baud or 1_000_000
+        baud_rate = baud if baud is not None else 1_000_000
     for j in joints:
         if j.model is not None and j.model.protocol != proto:
             raise ArmtoolError(f"joint '{j.name}': {j.model.name} speaks {j.model.protocol}, not {proto}",
@@ -104,8 +103,11 @@ def limits(
         except OSError as exc:
             raise ArmtoolError(f"cannot read {urdf}: {exc.strerror}") from None
         L.check_urdf_names(urdf_text, [j.name for j in joints], str(urdf))
-    if output is not None and not output.parent.exists():
-        raise ArmtoolError(f"directory {output.parent} does not exist (for -o)")
+    # ---- every output checked before the bus is opened (nothing moves for a write that must fail)
+    check_output_paths({"-o": output, "--urdf-out": urdf_out}, inputs=[arm, urdf])
+    if in_place and urdf is not None:
+        check_output_path(urdf, "--in-place")
+        check_output_path(backup_path(urdf), "--in-place (backup)")
 
     # ---- the bus
     con = stderr()
@@ -116,6 +118,7 @@ def limits(
         bus.identify([j.id for j in joints], {j.id: j.model for j in joints if j.model is not None})
         for j in joints:
             j.model = bus.model(j.id)
+            _check_motion_options(j, margin, back_off)
         slow = [j.id for j in joints if bus.read(j.id, "return_delay") > 0]
         if slow:
             con.print(f"[yellow]warning:[/yellow] ID {', '.join(map(str, slow))}: Return Delay Time > 0 slows every reply; "
@@ -151,15 +154,18 @@ def limits(
             con.print(f"[yellow]unconfirmed ends[/yellow] (the joint did not rest there {min_dwell:g} s): "
                       + ", ".join(unconfirmed))
         if output is not None:
-            L.write_atomic(output, doc_text)
+            try:
+                L.write_atomic(output, doc_text)
+            except ArmtoolError as exc:  # the recording is kept: a run must not be repeated for a write
+                saved = rescue_write(output, doc_text, "armtool-limits")
+                raise ArmtoolError(f"{exc.what}; the limits were saved to {saved}", exc.where, exc.hint) from None
             con.print(f"wrote {output}")
         else:
             write_stdout(doc_text)
         if new_urdf is not None and urdf is not None:
             if in_place:
-                L.write_atomic(urdf.with_name(urdf.name + ".bak"), urdf_text or "")
-                L.write_atomic(urdf, new_urdf)
-                con.print(f"wrote {urdf} (previous version in {urdf.name}.bak)")
+                backup = write_with_backup(urdf, new_urdf, urdf_text or "")
+                con.print(f"wrote {urdf} (previous version in {backup.name})")
             elif urdf_out is not None:
                 L.write_atomic(urdf_out, new_urdf)
                 con.print(f"wrote {urdf_out}")
@@ -167,6 +173,17 @@ def limits(
             _do_eeprom(bus, _eeprom_plan(bus, ranges, rows), yes, dry_run)
     finally:
         bus.close()
+
+
+def _check_motion_options(joint: Any, margin_deg: float, back_off_deg: float) -> None:
+    """The options that bound motion against the servo's range, once its model is known."""
+    model = joint.model
+    if 2 * margin_deg >= model.range_deg:
+        raise ArmtoolError(f"--margin {margin_deg:g}° leaves nothing of the {model.name}'s {model.range_deg:g}° range "
+                           f"(joint '{joint.name}')", hint="a margin of a few degrees is usual (default 2)")
+    if back_off_deg >= model.range_deg / 2:
+        raise ArmtoolError(f"--back-off {back_off_deg:g}° is half the {model.name}'s {model.range_deg:g}° range or more "
+                           f"(joint '{joint.name}')", hint="a back-off of a few degrees is usual (default 3)")
 
 
 def _manual(bus: Any, guard: Any, joints: list[Any], duration: float | None, rate: float, min_dwell: float,

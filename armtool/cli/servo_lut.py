@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Optional
 
 import typer
 
+from armtool.cli import options as opt
 from armtool.errors import ArmtoolError, ExitCode
 
 if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
@@ -96,20 +97,22 @@ def fit(
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the table JSON here (default: stdout)."),
     method: MethodOption = typer.Option(MethodOption.PCHIP, "--method", help="pchip (monotone, default), linear or poly."),
     degree: int = typer.Option(3, "--degree", min=1, max=9, help="Polynomial degree for --method poly."),
-    holdout: float = typer.Option(0.2, "--holdout", help="Fraction of points kept out of the fit to test it (0 = none)."),
-    seed: int = typer.Option(0, "--seed", help="Random seed for choosing the held-out points."),
+    holdout: float = typer.Option(0.2, "--holdout", callback=opt.finite_float(0, 1, hi_open=True), help="Fraction of points kept out of the fit to test it (0 = none)."),
+    seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed for choosing the held-out points (any integer)."),
     approach: Optional[ApproachChoice] = typer.Option(None, "--approach", help="Use readings approached up, down, or the mean of both (default: what the file has)."),
     model: Optional[str] = typer.Option(None, "--model", help="Servo model if the CSV does not state it (AX-12A, XL430-W250, STS3215...)."),
-    monotone_tol: Optional[float] = typer.Option(None, "--monotone-tol", help="Degrees a reading may step back and count as noise [default: 1 tick or 4 standard errors]."),
-    grid_step: float = typer.Option(1.0, "--grid-step", help="Degrees between entries of the table's uniform grid."),
+    monotone_tol: Optional[float] = typer.Option(None, "--monotone-tol", callback=opt.finite_float(0, 90, unit="degrees"), help="Degrees a reading may step back and count as noise [default: 1 tick or 4 standard errors]."),
+    grid_step: float = typer.Option(1.0, "--grid-step", callback=opt.positive_float(360, "degrees"),
+                                    help="Degrees between entries of the table's uniform grid (at most 65536 entries)."),
 ) -> None:
     import json
 
     from armtool.servo.lut import Approach, Method, fit_table
     from armtool.servo.lut_meas import read_measurements
 
-    if monotone_tol is not None and not monotone_tol >= 0:
-        raise ArmtoolError(f"--monotone-tol must be ≥ 0 degrees, got {monotone_tol}", hint="leave it out for the default (1 tick or 4 standard errors)")
+    from armtool.fileio import check_output_paths
+
+    check_output_paths({"-o": output}, inputs=[measurements])
     meas = read_measurements(measurements, model)
     if meas.meta.get("complete") == "no":
         from armtool.console import stderr
@@ -117,22 +120,28 @@ def fit(
         stderr().print(f"[yellow]warning:[/yellow] {measurements} holds the readings of an interrupted run")
     table = fit_table(meas, Method(method.value), degree=degree, holdout=holdout, seed=seed,
                       approach=None if approach is None else Approach(approach.value), monotone_tol_deg=monotone_tol)
+    from armtool.servo.lut import check_table_document
+
     doc = table.to_dict(grid_step_deg=grid_step)
+    check_table_document(doc, "the fitted table")  # never write a table that would not read back
     print_fit_report(table)
-    _write(json.dumps(doc, indent=2) + "\n", output, "table")
+    _write(json.dumps(doc, indent=2, allow_nan=False) + "\n", output, "table")
 
 
 @app.command("export", help="Write the table as a C header (uint16_t on a uniform angle grid), CSV, JSON or YAML.")
 def export(
     table_path: Path = typer.Argument(..., metavar="LUT_JSON", help="Table from `servo-lut fit`."),
     output_format: ExportFormatOption = typer.Option(ExportFormatOption.C, "--format", help="c, csv, json or yaml."),
-    step: float = typer.Option(1.0, "--step", help="Degrees between grid entries (a whole number of hundredths for C)."),
+    step: float = typer.Option(1.0, "--step", callback=opt.positive_float(360, "degrees"), help="Degrees between grid entries (a whole number of hundredths for C)."),
     name: str = typer.Option("servo_lut", "--name", help="C array name (macros are its upper-case form)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
 ) -> None:
     from armtool.servo.lut import read_table
     from armtool.servo.lut_export import ExportFormat, render
 
+    from armtool.fileio import check_output_paths
+
+    check_output_paths({"-o": output}, inputs=[table_path])
     table = read_table(table_path)
     _write(render(table, ExportFormat(output_format.value), step_deg=step, name=name), output, output_format.value)
 
@@ -143,7 +152,7 @@ def apply(
     input_csv: Optional[Path] = typer.Argument(None, metavar="[CSV]", help="CSV with an angle column (- for stdin)."),
     angles: Optional[str] = typer.Option(None, "--angles", help="Comma-separated servo angles in degrees, instead of a CSV."),
     column: Optional[str] = typer.Option(None, "--column", help="Column to convert: angle_deg, or a joint column such as shoulder_rad."),
-    zero_deg: Optional[float] = typer.Option(None, "--zero-deg", help="Servo angle at joint zero: the column holds joint angles (needed for *_rad)."),
+    zero_deg: Optional[float] = typer.Option(None, "--zero-deg", callback=opt.finite_float(-3600, 3600, unit="degrees"), help="Servo angle at joint zero: the column holds joint angles (needed for *_rad)."),
     direction: int = typer.Option(1, "--direction", help="1 or -1: servo angle = zero + direction * joint angle."),
     clip: bool = typer.Option(False, "--clip", help="Clamp angles outside the measured range instead of refusing."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
@@ -158,14 +167,14 @@ def apply(
         raise ArmtoolError(f"--direction must be 1 or -1, got {direction}")
     if (angles is None) == (input_csv is None):
         raise ArmtoolError("give either a CSV or --angles", hint="e.g. armtool servo-lut apply lut.json --angles 90,150,210")
+    from armtool.fileio import check_output_paths
+
+    check_output_paths({"-o": output}, inputs=[table_path, input_csv])
     table = read_table(table_path)
     if angles is not None:
         values = []
         for i, text in enumerate(angles.split(",")):
-            try:
-                values.append(float(text))
-            except ValueError:
-                raise ArmtoolError(f"not a number: {text.strip()!r}", f"--angles value {i + 1}") from None
+            values.append(opt.check_float(text.strip(), f"--angles value {i + 1}", unit="degrees"))
         if zero_deg is not None:
             values = [zero_deg + direction * v for v in values]
         result = apply_list(table, values, clip=clip)
@@ -271,6 +280,43 @@ def _range(bus: ServoBus, sid: int, limits: Optional[Path], lo: Optional[int], h
     return lo, hi, source
 
 
+def _partial(output: Optional[Path]) -> Optional[Path]:
+    """Where an interrupted run keeps its readings (None when -o is stdout or a device)."""
+    if output is None or str(output) == "-" or (output.exists() and not output.is_file()):
+        return None
+    return output.with_name(output.name + ".partial")
+
+
+def _csv_reference_path(spec: str) -> Optional[Path]:
+    kind, _, arg = spec.partition(":")
+    return Path(arg) if kind.strip().lower() == "csv" and arg else None
+
+
+def _check_reference(spec: str, bus_port: str) -> None:
+    """Before anything opens: the reference is not the servo bus, and a typed one has a typist."""
+    import os
+    import sys
+
+    kind, _, arg = spec.partition(":")
+    kind = kind.strip().lower()
+    if kind == "encoder" and arg:
+        enc_port = arg.partition("@")[0]
+        if os.path.realpath(enc_port) == os.path.realpath(bus_port):
+            raise ArmtoolError(f"--reference encoder:{enc_port} is the servo bus (--port {bus_port})",
+                               hint="the encoder is a separate device on its own port, e.g. encoder:/dev/ttyACM1")
+    if kind == "manual" and not sys.stdin.isatty():
+        raise ArmtoolError("--reference manual asks you to type each angle, but stdin is not a terminal",
+                           hint="run it in a terminal, or use encoder:PORT or csv:FILE")
+
+
+def _check_motion_range(commands: list[int], lo: int, hi: int, backoff: int) -> None:
+    """Every planned command inside the range the user gave: refused before anything moves."""
+    outside = [c for c in commands if not lo <= c <= hi]
+    if outside:
+        raise ArmtoolError(f"planned commands {outside[:5]} lie outside the range {lo}..{hi} ticks",
+                           hint=f"with --backoff {backoff} the points must leave room inside --min/--max")
+
+
 def _progress(enabled: bool):  # type: ignore[no-untyped-def]
     from contextlib import nullcontext
 
@@ -289,21 +335,23 @@ def measure(
     reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual, csv:FILE or camera:DEVICE."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Measurement CSV to write (default: stdout)."),
     protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1 (AX), dxl2 (X series) or feetech (STS/SCS)."),
-    baud: int = typer.Option(1_000_000, "--baud", help="Bus baud rate."),
+    baud: int = typer.Option(1_000_000, "--baud", callback=opt.baud(), help="Bus baud rate."),
     model: Optional[str] = typer.Option(None, "--model", help="Refuse unless the servo is this model."),
     limits: Optional[Path] = typer.Option(None, "--limits", help="Limits YAML from `armtool limits`: measure inside safe_min/max_ticks."),
-    lo: Optional[int] = typer.Option(None, "--min", help="Lowest command in ticks (inside the mechanical stop)."),
-    hi: Optional[int] = typer.Option(None, "--max", help="Highest command in ticks (inside the mechanical stop)."),
-    points: Optional[int] = typer.Option(None, "--points", help="Number of commands, evenly spaced [default: 32]."),
-    step: Optional[int] = typer.Option(None, "--step", help="Ticks between commands (instead of --points)."),
+    lo: Optional[int] = typer.Option(None, "--min", callback=opt.ticks(), help="Lowest command in ticks (inside the mechanical stop)."),
+    hi: Optional[int] = typer.Option(None, "--max", callback=opt.ticks(), help="Highest command in ticks (inside the mechanical stop)."),
+    points: Optional[int] = typer.Option(None, "--points", callback=opt.int_range(2, 4096), help="Number of commands, evenly spaced [default: 32]."),
+    step: Optional[int] = typer.Option(None, "--step", callback=opt.int_range(1, 4095, "ticks"), help="Ticks between commands (instead of --points)."),
     approach: MeasureApproach = typer.Option(MeasureApproach.UP, "--approach", help="Reach each point moving up, down, or both (records hysteresis)."),
-    backoff: Optional[int] = typer.Option(None, "--backoff", help="Ticks to back off before approaching a point [default: ~3°]."),
-    reads: int = typer.Option(3, "--reads", min=1, help="Reference readings per point."),
-    sweeps: int = typer.Option(1, "--sweeps", min=1, help="Times to go through all points."),
-    speed: float = typer.Option(60.0, "--speed", help="Moving speed, degrees per second."),
-    torque_limit: float = typer.Option(50.0, "--torque-limit", help="RAM torque limit in percent (restored afterwards)."),
-    dwell: float = typer.Option(0.15, "--dwell", min=0.0, help="Seconds to wait after the servo stops before reading."),
-    settle_timeout: float = typer.Option(3.0, "--settle-timeout", min=0.1, help="Seconds to wait for a point to settle."),
+    backoff: Optional[int] = typer.Option(None, "--backoff", callback=opt.int_range(1, 4095, "ticks"),
+                                          help="Ticks to back off before approaching a point [default: ~3°]."),
+    reads: int = typer.Option(3, "--reads", callback=opt.int_range(1, 100), help="Reference readings per point."),
+    sweeps: int = typer.Option(1, "--sweeps", callback=opt.int_range(1, 100), help="Times to go through all points."),
+    speed: float = typer.Option(60.0, "--speed", callback=opt.positive_float(10_000, "degrees per second"), help="Moving speed, degrees per second."),
+    torque_limit: float = typer.Option(50.0, "--torque-limit", callback=opt.percent(), help="RAM torque limit in percent (restored afterwards)."),
+    dwell: float = typer.Option(0.15, "--dwell", callback=opt.seconds(60, allow_zero=True), help="Seconds to wait after the servo stops before reading."),
+    settle_timeout: float = typer.Option(3.0, "--settle-timeout", callback=opt.finite_float(0.1, 600, unit="seconds"),
+                                         help="Seconds to wait for a point to settle."),
     yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
 ) -> None:
     import time
@@ -315,8 +363,14 @@ def measure(
                                            speed_register, torque_register)
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 
+    from armtool.fileio import check_output_paths, rescue_write
+
     if points is not None and step is not None:
         raise ArmtoolError("give --points or --step, not both")
+    _check_reference(reference, port)
+    # every output checked before the servo moves: readings are never lost to an unwritable -o
+    check_output_paths({"-o": output, "-o (readings of an interrupted run)": _partial(output)},
+                       inputs=[limits, _csv_reference_path(reference)])
     ref = open_reference(reference, ask=_ask)
     samples: list[Sample] = []
     bus = None
@@ -335,6 +389,7 @@ def measure(
             reads = 1
         else:
             commands = plan_commands(r_lo, r_hi, approach.value, b, points, step)
+        _check_motion_range(commands, r_lo, r_hi, b)
         deg = servo_model.deg_per_tick
         stderr().print(f"ID {sid}: {servo_model.name} on {port}; {len(commands)} points {commands[0]}..{commands[-1]} ticks "
                        f"({commands[0] * deg:.1f}..{commands[-1] * deg:.1f}°) inside {r_lo}..{r_hi} ({range_source}), "
@@ -352,7 +407,7 @@ def measure(
             guard.set_ram(sid, "moving_speed", speed_register(servo_model, speed))
             guard.set_ram(sid, "torque_limit", cap)
             guard.torque_on(sid)
-            driver = Driver(bus, guard, sid, motion)
+            driver = Driver(bus, guard, sid, motion, bounds=(r_lo, r_hi))
             note = align_reference(driver, ref, r_lo, r_hi, "down" if approach.value == "down" else "up")
             if note is not None:
                 meta["reference_alignment"] = note
@@ -367,14 +422,19 @@ def measure(
                        + "; torque off")
     except BaseException:
         if samples and output is not None:
-            partial = output.with_name(output.name + ".partial")
-            _write(render_measurements({**meta, "complete": "no"}, samples), partial, "the readings so far to")
+            partial = rescue_write(output, render_measurements({**meta, "complete": "no"}, samples), "armtool-measure")
+            stderr().print(f"wrote the readings so far to {partial}")
         raise
     finally:
         ref.close()
         if bus is not None:
             bus.close()
-    _write(render_measurements(meta, samples), output, "measurements")
+    text = render_measurements(meta, samples)
+    try:
+        _write(text, output, "measurements")
+    except ArmtoolError as exc:  # the servo has moved: keep what it measured
+        saved = rescue_write(output, text, "armtool-measure")
+        raise ArmtoolError(f"{exc.what}; the readings were saved to {saved}", exc.where, exc.hint) from None
     if output is not None:
         stderr().print(f"next: armtool servo-lut fit {output} -o lut.json")
 
@@ -387,17 +447,18 @@ def check(
     sid: int = typer.Option(..., "--id", min=0, max=252, help="Servo ID (0..252)."),
     reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual or camera:DEVICE."),
     protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1, dxl2 or feetech."),
-    baud: int = typer.Option(1_000_000, "--baud", help="Bus baud rate."),
+    baud: int = typer.Option(1_000_000, "--baud", callback=opt.baud(), help="Bus baud rate."),
     limits: Optional[Path] = typer.Option(None, "--limits", help="Limits YAML [default: the table's measured command range]."),
-    lo: Optional[int] = typer.Option(None, "--min", help="Lowest command in ticks."),
-    hi: Optional[int] = typer.Option(None, "--max", help="Highest command in ticks."),
-    n: int = typer.Option(25, "--n", help="Number of random angles."),
-    seed: int = typer.Option(0, "--seed", help="Random seed for the angles."),
-    max_err: float = typer.Option(0.5, "--max-err", help="Exit 1 when the table's largest error exceeds this (degrees)."),
-    reads: int = typer.Option(3, "--reads", min=1, help="Reference readings averaged per point."),
-    speed: float = typer.Option(60.0, "--speed", help="Moving speed, degrees per second."),
-    torque_limit: float = typer.Option(50.0, "--torque-limit", help="RAM torque limit in percent (restored afterwards)."),
-    dwell: float = typer.Option(0.15, "--dwell", min=0.0, help="Seconds to wait after the servo stops before reading."),
+    lo: Optional[int] = typer.Option(None, "--min", callback=opt.ticks(), help="Lowest command in ticks."),
+    hi: Optional[int] = typer.Option(None, "--max", callback=opt.ticks(), help="Highest command in ticks."),
+    n: int = typer.Option(25, "--n", callback=opt.int_range(1, 1000), help="Number of random angles."),
+    seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed for the angles (any integer)."),
+    max_err: float = typer.Option(0.5, "--max-err", callback=opt.finite_float(0, 360, unit="degrees"),
+                                  help="Exit 1 when the table's largest error exceeds this (degrees)."),
+    reads: int = typer.Option(3, "--reads", callback=opt.int_range(1, 100), help="Reference readings averaged per point."),
+    speed: float = typer.Option(60.0, "--speed", callback=opt.positive_float(10_000, "degrees per second"), help="Moving speed, degrees per second."),
+    torque_limit: float = typer.Option(50.0, "--torque-limit", callback=opt.percent(), help="RAM torque limit in percent (restored afterwards)."),
+    dwell: float = typer.Option(0.15, "--dwell", callback=opt.seconds(60, allow_zero=True), help="Seconds to wait after the servo stops before reading."),
     output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text or json on stdout."),
     yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
 ) -> None:
@@ -410,6 +471,7 @@ def check(
                                            torque_register)
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 
+    _check_reference(reference, port)
     table = read_table(table_path)
     bus = _connect(port, protocol, baud, sid, None)
     ref = None
@@ -433,6 +495,7 @@ def check(
             raise ArmtoolError("check needs a live reference (encoder, manual or camera), not a file")
         angles = check_angles(table, n, seed, r_lo, r_hi)
         b = max(1, round(3.0 / servo_model.deg_per_tick))
+        _check_motion_range([int(table.command_ticks([a])[0]) for a in angles], r_lo, r_hi, 0)
         _confirm(f"Energise servo {sid} and move it to {n} angles between ticks {r_lo} and {r_hi}?", yes)
         motion = Motion(backoff_ticks=b, dwell_s=dwell, tolerance_ticks=2 if servo_model.ticks == 1024 else 6,
                         torque_cap=torque / servo_model.reg("torque_limit").hi)
@@ -440,7 +503,7 @@ def check(
             guard.set_ram(sid, "moving_speed", speed_register(servo_model, speed))
             guard.set_ram(sid, "torque_limit", torque)
             guard.torque_on(sid)
-            driver = Driver(bus, guard, sid, motion)
+            driver = Driver(bus, guard, sid, motion, bounds=(r_lo, r_hi))
             align_reference(driver, ref, r_lo, r_hi, "down" if table.approach == "down" else "up")
             task = bar.add_task("checking", total=n) if bar is not None else None
             result = run_check(driver, ref, table, angles, r_lo, r_hi, reads=reads,

@@ -7,13 +7,16 @@ from typing import Optional
 
 import typer
 
+from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 
 
 def servo_sim(
     config: Path = typer.Argument(..., help="Simulator YAML (protocol, joints with stops, faults); see fixtures/servo/."),
-    duration: Optional[float] = typer.Option(None, "--duration", help="Stop after this many seconds (default: until Ctrl-C)."),
-    port_file: Optional[Path] = typer.Option(None, "--port-file", help="Also write the bus port path to this file (for scripts)."),
+    duration: Optional[float] = typer.Option(None, "--duration", callback=opt.seconds(),
+                                             help="Stop after this many seconds (default: until Ctrl-C)."),
+    port_file: Optional[Path] = typer.Option(None, "--port-file", help="Also write the bus port path to this new file (for scripts); "
+                                             "removed at exit. An existing file is refused unless it is a stale port file."),
     person: bool = typer.Option(False, "--person", help="Start the scripted person: torque-off joints are moved to both stops."),
 ) -> None:
     """Prints the bus port path (line 1) and the encoder port path (line 2) on stdout."""
@@ -21,22 +24,24 @@ def servo_sim(
     import sys
 
     from armtool.console import stderr, write_stdout
+    from armtool.fileio import PortFile
     from armtool.servo.sim import PersonSpec, SimBus, load_sim_config
 
     if sys.platform == "win32":
         raise ArmtoolError("servo-sim needs pseudo-terminals (Linux or macOS)")
-    if duration is not None and not duration > 0:
-        raise ArmtoolError(f"--duration must be > 0 seconds, got {duration}")
     cfg = load_sim_config(config)
     if person and cfg.person is None:
         cfg.person = PersonSpec()
+    # the port file goes through armtool.fileio: never over a user's file or a device, removed
+    # at exit only if it is still the file written here
+    marker = PortFile(port_file) if port_file is not None else None
+    if marker is not None:
+        marker.claim()
     sim = SimBus.start(cfg)
     signal.signal(signal.SIGTERM, lambda *_: sim.stop())
     try:
-        if port_file is not None:
-            tmp = port_file.with_name(port_file.name + ".tmp")
-            tmp.write_text(sim.port_path + "\n")
-            tmp.replace(port_file)
+        if marker is not None:
+            marker.write(sim.port_path)
         write_stdout(sim.port_path)
         write_stdout(sim.encoder_port_path)
         ids = ", ".join(f"{s.id} {s.model.name}" for s in cfg.servos)
@@ -48,5 +53,5 @@ def servo_sim(
         pass
     finally:
         sim.stop()
-        if port_file is not None:
-            port_file.unlink(missing_ok=True)
+        if marker is not None:
+            marker.remove()

@@ -80,7 +80,10 @@ def load_arm(path: Path) -> ArmFile:
     protocol = bus.get("protocol")
     if protocol is not None and protocol not in ("dxl1", "dxl2", "feetech"):
         raise ArmtoolError(f"unknown protocol {protocol!r}", str(path), hint="dxl1, dxl2 or feetech")
-    return ArmFile(joints, protocol, None if baud is None else _whole(baud, "baud", str(path)))
+    rate = None if baud is None else _whole(baud, "baud", str(path))
+    if rate is not None and not 0 < rate <= 20_000_000:
+        raise ArmtoolError(f"baud must be a positive baud rate, got {rate}", str(path), hint="e.g. baud: 1000000")
+    return ArmFile(joints, protocol, rate)
 
 
 def _whole(value: Any, key: str, where: str) -> int:
@@ -95,22 +98,10 @@ def _whole(value: Any, key: str, where: str) -> int:
 
 
 def parse_ids(text: str) -> list[int]:
-    ids: list[int] = []
-    for part in text.split(","):
-        part = part.strip()
-        if not part:
-            continue
-        try:
-            if "-" in part:
-                a, b = (int(x) for x in part.split("-", 1))
-                ids.extend(range(a, b + 1))
-            else:
-                ids.append(int(part))
-        except ValueError:
-            raise ArmtoolError(f"--ids: '{part}' is not an ID or a range", hint="e.g. --ids 1,2,3 or --ids 1-6") from None
-    if not ids or any(not 0 <= i <= 252 for i in ids) or len(set(ids)) != len(ids):
-        raise ArmtoolError(f"--ids must list distinct IDs 0..252, got '{text}'")
-    return ids
+    """`--ids` as distinct IDs 0..252, bounded before any range is expanded."""
+    from armtool.cli.options import parse_id_list
+
+    return parse_id_list(text, "--ids", 0, 252)
 
 
 # ---------------------------------------------------------------- results

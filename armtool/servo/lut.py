@@ -32,6 +32,9 @@ from armtool.servo.models import ServoModel
 SCHEMA_VERSION = 1
 KIND = "armtool-servo-lut"
 MIN_POINTS = 4  # distinct commands a table needs (after averaging repeats)
+MAX_GRID = 65536  # entries of a uniform grid: the most a 16-bit index addresses (and 128 KiB of uint16)
+MAX_KNOTS = 65536  # knots a table read from disk may have (a fit has one per measured command)
+MAX_DEGREE = 9  # highest polynomial degree (`servo-lut fit --degree`)
 
 
 class Method(str, Enum):
@@ -147,14 +150,19 @@ class LutTable:
 
     def grid(self, step_deg: float) -> Grid:
         """The table on the angles start, start+step, ... inside the valid range (start a multiple of step)."""
-        if not step_deg > 0:
-            raise ArmtoolError(f"grid step must be > 0 degrees, got {step_deg:g}")
+        if not (math.isfinite(step_deg) and step_deg > 0):
+            raise ArmtoolError(f"grid step must be a finite number of degrees > 0, got {step_deg:g}")
         lo, hi = self.valid_range_deg
         first, last = math.ceil(lo / step_deg - 1e-9), math.floor(hi / step_deg + 1e-9)
         if last < first:
             raise ArmtoolError(f"grid step {step_deg:g}° is wider than the table's range {lo:.2f}..{hi:.2f}°")
+        if last - first + 1 > MAX_GRID:  # checked before any array is made
+            raise ArmtoolError(f"grid step {step_deg:g}° gives {last - first + 1} entries over {lo:.2f}..{hi:.2f}°, "
+                               f"more than {MAX_GRID}", hint=f"use a step of at least {(hi - lo) / MAX_GRID:.4g}°")
         angles = np.round(np.arange(first, last + 1) * step_deg, 9)
         ticks = self.command(np.clip(angles, lo, hi))
+        if not np.all(np.isfinite(ticks)):
+            raise ArmtoolError("the table gives no finite command on its grid", hint="rebuild it with `armtool servo-lut fit`")
         clipped = np.clip(np.rint(ticks), 0, self.model.max_tick).astype(int)
         return Grid(float(angles[0]), float(step_deg), tuple(int(t) for t in clipped))
 
@@ -406,9 +414,16 @@ def table_from_dict(doc: Any, source: str) -> LutTable:
         ky = [float(v) for v in need(knots, "command_ticks", "knots.command_ticks")]
     except (TypeError, ValueError):
         raise ArmtoolError("knots must be lists of numbers", f"{source}: knots") from None
-    if len(kx) != len(ky) or len(kx) < 2 or not all(math.isfinite(v) for v in kx + ky):
-        raise ArmtoolError("knots.angle_deg and knots.command_ticks must be equally long finite lists (2 or more)",
+    if len(kx) != len(ky) or not 2 <= len(kx) <= MAX_KNOTS or not all(math.isfinite(v) for v in kx + ky):
+        raise ArmtoolError(f"knots.angle_deg and knots.command_ticks must be equally long finite lists (2..{MAX_KNOTS})",
                            f"{source}: knots")
+    outside = [v for v in ky if not 0 <= v <= model.max_tick]
+    if outside:
+        raise ArmtoolError(f"knots.command_ticks has {outside[0]:g}, outside the {model.name}'s 0..{model.max_tick} ticks",
+                           f"{source}: knots.command_ticks", "rebuild the table with `armtool servo-lut fit`")
+    if any(abs(v) > 3 * model.range_deg for v in kx):
+        raise ArmtoolError(f"knots.angle_deg is far outside the {model.name}'s {model.range_deg:g}° range",
+                           f"{source}: knots.angle_deg", "angles are servo degrees (0 at tick 0)")
     if any(b <= a for a, b in zip(kx, kx[1:])):
         raise ArmtoolError("knots.angle_deg is not strictly increasing", f"{source}: knots.angle_deg")
     if any(b <= a for a, b in zip(ky, ky[1:])):
@@ -421,19 +436,79 @@ def table_from_dict(doc: Any, source: str) -> LutTable:
         try:
             dom = [float(v) for v in need(poly, "domain_deg", "poly.domain_deg")]
             coef = tuple(float(v) for v in need(poly, "coef", "poly.coef"))
-            degree = int(need(poly, "degree", "poly.degree"))
-        except (TypeError, ValueError):
-            raise ArmtoolError("poly.domain_deg/coef must be numbers", f"{source}: poly") from None
-        if len(dom) != 2:
-            raise ArmtoolError("poly.domain_deg must have two numbers", f"{source}: poly.domain_deg")
+            raw_degree = need(poly, "degree", "poly.degree")
+            if isinstance(raw_degree, bool) or not isinstance(raw_degree, int):
+                raise TypeError
+            degree = raw_degree
+        except (TypeError, ValueError, OverflowError):
+            raise ArmtoolError("poly.domain_deg/coef must be numbers and poly.degree a whole number", f"{source}: poly") from None
+        if len(dom) != 2 or not all(math.isfinite(v) for v in dom) or not dom[0] < dom[1]:
+            raise ArmtoolError("poly.domain_deg must be two finite numbers, low < high", f"{source}: poly.domain_deg")
+        if not 1 <= degree <= MAX_DEGREE or len(coef) != degree + 1 or not all(math.isfinite(c) for c in coef):
+            raise ArmtoolError(f"poly.coef must be {degree + 1} finite numbers for degree {degree} (1..{MAX_DEGREE})",
+                               f"{source}: poly")
         domain = (dom[0], dom[1])
-    sid = servo.get("id")
+        _check_poly_increasing(domain, coef, (kx[0], kx[-1]), model, source)
+    sid = servo.get("id") if isinstance(servo, dict) else None
+    if sid is not None and (isinstance(sid, bool) or not isinstance(sid, int) or not 0 <= sid <= 252):
+        raise ArmtoolError(f"servo.id must be an ID 0..252 or null, got {sid!r}", f"{source}: servo.id")
+    approach = doc.get("approach", "up")
+    if approach not in [a.value for a in Approach]:
+        raise ArmtoolError(f"approach must be one of {', '.join(a.value for a in Approach)}, got {approach!r}",
+                           f"{source}: approach")
+    reference = doc.get("reference", "unknown")
+    if not isinstance(reference, str) or len(reference) > 1000:
+        raise ArmtoolError("reference must be a short text", f"{source}: reference")
     return LutTable(model=model, method=method, knots_deg=tuple(kx), knots_ticks=tuple(ky),
-                    servo_id=int(sid) if isinstance(sid, int) else None, reference=str(doc.get("reference", "unknown")),
-                    approach=str(doc.get("approach", "up")), poly_degree=degree, poly_domain=domain, poly_coef=coef,
+                    servo_id=sid, reference=reference,
+                    approach=str(approach), poly_degree=degree, poly_domain=domain, poly_coef=coef,
                     # cast: JSON is untyped data; the isinstance on the same line checks it
                     source=cast("dict[str, Any]", doc.get("source")) if isinstance(doc.get("source"), dict) else {},
                     fit_summary=doc.get("fit") if isinstance(doc.get("fit"), dict) else None)
+
+
+def _check_poly_increasing(domain: tuple[float, float], coef: tuple[float, ...], span: tuple[float, float],
+                           model: ServoModel, source: str) -> None:
+    """A polynomial table must rise over its valid range and stay inside the servo's ticks, as a fitted one does."""
+    poly = np.polynomial.Polynomial(coef, domain=domain, window=[-1.0, 1.0])
+    dense = np.linspace(span[0], span[1], 2001)
+    with np.errstate(all="ignore"):
+        values, slope = poly(dense), poly.deriv()(dense)
+    if not (np.all(np.isfinite(values)) and np.all(np.isfinite(slope))):
+        raise ArmtoolError("the polynomial is not finite over the table's range", f"{source}: poly")
+    if np.any(slope <= 0):
+        where = dense[int(np.argmax(slope <= 0))]
+        raise ArmtoolError(f"the polynomial is not increasing near {where:.1f}°: it would command the same position "
+                           "for two angles", f"{source}: poly", "rebuild the table with `armtool servo-lut fit`")
+    if values.min() < -0.5 or values.max() > model.max_tick + 0.5:
+        raise ArmtoolError(f"the polynomial commands {values.min():.0f}..{values.max():.0f} ticks, outside the "
+                           f"{model.name}'s 0..{model.max_tick}", f"{source}: poly")
+
+
+def check_table_document(doc: dict[str, Any], source: str) -> LutTable:
+    """A table document as it will be written: it must read back as a valid table, and every
+    number in it must be finite (JSON has no NaN; a C header none either)."""
+    bad = _non_finite(doc)
+    if bad is not None:
+        raise ArmtoolError(f"the table has a non-finite number at {bad}", source,
+                           hint="this is a bug if the options were valid: report it")
+    return table_from_dict(doc, source)
+
+
+def _non_finite(value: Any, path: str = "") -> str | None:
+    if isinstance(value, float) and not math.isfinite(value):
+        return path or "top level"
+    if isinstance(value, dict):
+        for k, v in value.items():
+            found = _non_finite(v, f"{path}.{k}" if path else str(k))
+            if found is not None:
+                return found
+    if isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            found = _non_finite(v, f"{path}[{i}]")
+            if found is not None:
+                return found
+    return None
 
 
 def read_table(path: Path) -> LutTable:
@@ -444,10 +519,18 @@ def read_table(path: Path) -> LutTable:
     except (OSError, UnicodeDecodeError) as exc:
         raise ArmtoolError(f"cannot read {path}: {exc}") from None
     try:
-        doc = json.loads(text)
+        doc = json.loads(text, parse_constant=_refuse_constant)
     except json.JSONDecodeError as exc:
         raise ArmtoolError(f"not valid JSON: {exc.msg}", f"{path}:{exc.lineno}:{exc.colno}") from None
+    except ValueError as exc:
+        raise ArmtoolError(f"not valid JSON: {exc}", str(path), "JSON has no NaN or Infinity; rebuild the table") from None
+    except RecursionError:
+        raise ArmtoolError("JSON nested too deeply", str(path)) from None
     return table_from_dict(doc, str(path))
+
+
+def _refuse_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a number JSON allows")
 
 
 def nominal_command_ticks(model: ServoModel, angles_deg: NDArray[np.float64]) -> NDArray[np.int64]:

@@ -76,6 +76,8 @@ def read_limits(path: Path, sid: int) -> tuple[int, int, str | None]:
 def plan_commands(lo: int, hi: int, approach: ApproachMode, backoff: int, points: int | None = None,
                   step: int | None = None) -> list[int]:
     """Commands to measure, inside [lo, hi] with room to approach from the chosen side(s)."""
+    if backoff < 0:
+        raise ArmtoolError(f"--backoff must be at least 0 ticks, got {backoff}")
     first = lo + (backoff if approach in ("up", "both") else 0)
     last = hi - (backoff if approach in ("down", "both") else 0)
     if last - first < 3:
@@ -89,8 +91,17 @@ def plan_commands(lo: int, hi: int, approach: ApproachMode, backoff: int, points
         n = points if points is not None else 32
         if n < 2:
             raise ArmtoolError(f"--points must be at least 2, got {n}")
-        commands = sorted({int(round(v)) for v in np.linspace(first, last, n)})
+        commands = sorted({int(round(v)) for v in np.linspace(first, last, min(n, last - first + 1))})
+    assert_in_range(commands, lo, hi)
     return commands
+
+
+def assert_in_range(commands: list[int], lo: int, hi: int) -> None:
+    """Refuse any command outside the range the user gave (the motion layer's own guard)."""
+    outside = [c for c in commands if not lo <= c <= hi]
+    if outside:
+        raise ArmtoolError(f"refusing to command {outside[:5]}: outside the range {lo}..{hi} ticks",
+                           hint="check --min/--max and --backoff")
 
 
 @dataclass
@@ -103,6 +114,7 @@ class Driver:
     motion: Motion = field(default_factory=Motion)
     sleep: Callable[[float], None] = time.sleep
     last_goal: int | None = None
+    bounds: tuple[int, int] | None = None  # (lo, hi): no goal outside it is ever written
 
     def _telemetry(self) -> dict[str, int]:
         return dict(self.bus.read_many(self.sid, TELEMETRY))
@@ -110,6 +122,8 @@ class Driver:
     def goto(self, goal: int) -> tuple[bool, dict[str, int]]:
         """Command `goal` and wait until the servo has settled there; (settled, telemetry)."""
         m = self.motion
+        if self.bounds is not None:
+            assert_in_range([int(goal)], *self.bounds)
         self.bus.write(self.sid, "goal_position", int(goal), retry=True)
         self.last_goal = int(goal)
         start = time.monotonic()
@@ -328,4 +342,9 @@ def torque_register(model: Any, percent: float) -> int:
     if not 0 < percent <= 100:
         raise ArmtoolError(f"--torque-limit must be in (0, 100] percent, got {percent:g}")
     reg = model.reg("torque_limit")
-    return int(round(reg.hi * percent / 100.0))
+    value = int(round(reg.hi * percent / 100.0))
+    if value < 1:
+        raise ArmtoolError(f"--torque-limit {percent:g}% is less than one step of the {model.name}'s torque limit "
+                           f"register (1/{reg.hi} = {100.0 / reg.hi:.3f}%): the servo would not move",
+                           hint="the default is 50%; a few percent is the least that moves a horn")
+    return value

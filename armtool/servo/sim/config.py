@@ -20,6 +20,7 @@ the servo reports and regulates the pot reading, so only the encoder sees the tr
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
@@ -82,16 +83,26 @@ def load_sim_config(path: Path) -> SimConfig:
     return sim_config_from_dict(data, source=str(path))
 
 
-def _number(d: dict[str, Any], key: str, default: Any, where: str, kind: type = float) -> Any:
+def _number(d: dict[str, Any], key: str, default: Any, where: str, kind: type = float,
+            lo: float | None = None, hi: float | None = None, lo_open: bool = False) -> Any:
+    """`d[key]` as `kind`, finite and inside lo..hi (lo excluded with lo_open), or an error naming the key."""
+
     value = d.get(key, default)
     if value is None:
         return default
-    if kind is int and isinstance(value, float) and not value.is_integer():
-        raise ArmtoolError(f"'{key}' must be a whole number, got {value!r}", where)
+    if isinstance(value, bool) or (kind is int and isinstance(value, float) and not value.is_integer()):
+        raise ArmtoolError(f"'{key}' must be a {'whole ' if kind is int else ''}number, got {value!r}", where)
     try:
-        return kind(value)
-    except (TypeError, ValueError):
+        number = kind(value)
+    except (TypeError, ValueError, OverflowError):
         raise ArmtoolError(f"'{key}' must be a number, got {value!r}", where) from None
+    bad = not math.isfinite(number) or (lo is not None and (number <= lo if lo_open else number < lo)) \
+        or (hi is not None and number > hi)
+    if bad:
+        span = f"{'>' if lo_open else '>='} {lo:g}" if lo is not None else ""
+        span += (" and " if span and hi is not None else "") + (f"<= {hi:g}" if hi is not None else "")
+        raise ArmtoolError(f"'{key}' must be a finite number{' ' + span if span else ''}, got {value!r}", where)
+    return number
 
 
 def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
@@ -110,7 +121,7 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
         if not isinstance(e, dict) or "id" not in e:
             raise ArmtoolError("each joint needs an 'id'", where)
         sid = _number(e, "id", None, where, int)
-        if not 0 <= sid <= 252 or sid in seen:
+        if sid is None or not 0 <= sid <= 252 or sid in seen:
             raise ArmtoolError(f"id {sid} is out of range 0..252 or repeated", where)
         seen.add(sid)
         try:
@@ -127,6 +138,8 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
                 if not isinstance(pair, (list, tuple)) or len(pair) != 2:
                     raise ValueError
                 lo, hi = (float(v) * (1.0 if key == "stops_deg" else deg) for v in pair)
+                if not (math.isfinite(lo) and math.isfinite(hi)):
+                    raise ValueError
             except (TypeError, ValueError):
                 raise ArmtoolError(f"'{key}' must be two numbers [low, high], got {pair!r}", where,
                                    hint=f"e.g. {key}: [92, 914]" if key == "stops" else f"e.g. {key}: [27, 268]") from None
@@ -134,11 +147,13 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
             lo, hi = 0.0, model.max_tick * deg
         if not lo < hi:
             raise ArmtoolError(f"stops must be [low, high] with low < high, got [{lo}, {hi}]", where)
+        if lo < -model.range_deg or hi > 2 * model.range_deg:
+            raise ArmtoolError(f"stops [{lo:g}, {hi:g}]° are far outside the {model.name}'s {model.range_deg:g}° range", where)
         start = _number(e, "start", None, where)
         start_deg = (lo + hi) / 2 if start is None else start * deg
         if not lo <= start_deg <= hi:
             raise ArmtoolError("start lies outside the stops", where)
-        nl = _number(e, "nonlinearity", 0.010 if model.name.startswith("AX") else 0.0, where)
+        nl = _number(e, "nonlinearity", 0.010 if model.name.startswith("AX") else 0.0, where, lo=0.0, hi=0.1)
         servos.append(ServoSpec(sid, model, lo, hi, start_deg, nl, e.get("name")))
     faults_d = data.get("faults") or {}
     if not isinstance(faults_d, dict):
@@ -151,24 +166,37 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
     ids = faults_d.get("missing_ids") or []
     if not isinstance(ids, list) or not all(isinstance(i, int) and not isinstance(i, bool) for i in ids):
         raise ArmtoolError(f"'missing_ids' must be a list of IDs, got {ids!r}", fwhere, hint="missing_ids: [3]")
-    faults = Faults(missing_ids=set(ids), drop_next=_number(faults_d, "drop_next", 0, fwhere, int),
-                    p_drop=_number(faults_d, "p_drop", 0.0, fwhere), corrupt_next=_number(faults_d, "corrupt_next", 0, fwhere, int),
-                    p_corrupt=_number(faults_d, "p_corrupt", 0.0, fwhere), echo=bool(faults_d.get("echo", False)),
-                    delay_s=_number(faults_d, "delay_s", 0.0, fwhere))
+    faults = Faults(missing_ids=set(ids), drop_next=_number(faults_d, "drop_next", 0, fwhere, int, 0),
+                    p_drop=_number(faults_d, "p_drop", 0.0, fwhere, lo=0.0, hi=1.0),
+                    corrupt_next=_number(faults_d, "corrupt_next", 0, fwhere, int, 0),
+                    p_corrupt=_number(faults_d, "p_corrupt", 0.0, fwhere, lo=0.0, hi=1.0),
+                    echo=bool(faults_d.get("echo", False)), delay_s=_number(faults_d, "delay_s", 0.0, fwhere, lo=0.0, hi=10.0))
     enc = data.get("encoder")
     person_d = data.get("person")
     person = None
+    if person_d is not None and not isinstance(person_d, dict):
+        raise ArmtoolError(f"'person' must be a mapping, got {person_d!r}", source, hint="person: {speed_deg_s: 90}")
     if isinstance(person_d, dict):
         pwhere = f"{source}: person"
-        person = PersonSpec(**{f.name: _number(person_d, f.name, getattr(PersonSpec, f.name), pwhere)
-                               for f in fields(PersonSpec) if f.name != "ids" and f.name in person_d})
+        unknown = set(person_d) - {f.name for f in fields(PersonSpec)}
+        if unknown:
+            raise ArmtoolError(f"unknown key(s): {', '.join(sorted(map(str, unknown)))}", pwhere,
+                               hint="start_s, speed_deg_s, dwell_s, overshoot_deg, ids")
+        bounds = {"start_s": (0.0, 3600.0, False), "speed_deg_s": (0.0, 100_000.0, True), "dwell_s": (0.0, 3600.0, False),
+                  "overshoot_deg": (0.0, 360.0, False)}
+        person = PersonSpec(**{name: _number(person_d, name, getattr(PersonSpec, name), pwhere, float, lo, hi, lo_open)
+                               for name, (lo, hi, lo_open) in bounds.items() if name in person_d})
         if person_d.get("ids") is not None:
-            person.ids = [_number({"ids": i}, "ids", None, pwhere, int) for i in person_d["ids"]]
+            if not isinstance(person_d["ids"], list):
+                raise ArmtoolError(f"'ids' must be a list of IDs, got {person_d['ids']!r}", pwhere)
+            person.ids = [_number({"ids": i}, "ids", None, pwhere, int, 0, 252) for i in person_d["ids"]]
     rdt = data.get("return_delay", 0)
     return SimConfig(
-        protocol=protocol, servos=servos, baud=_number(data, "baud", 1_000_000, source, int),
-        return_delay=None if rdt is None else _number(data, "return_delay", 0, source, int),
-        overload_time_s=_number(data, "overload_time_s", 1.0, source), seed=_number(data, "seed", 0, source, int),
-        encoder_noise_deg=_number(enc, "noise_deg", 0.0, f"{source}: encoder") if isinstance(enc, dict) else 0.0,
+        protocol=protocol, servos=servos, baud=_number(data, "baud", 1_000_000, source, int, 1, 20_000_000),
+        # Return Delay Time is one register byte: 0..254 (2 us units, 508 us at most)
+        return_delay=None if rdt is None else _number(data, "return_delay", 0, source, int, 0, 254),
+        overload_time_s=_number(data, "overload_time_s", 1.0, source, float, 0.0, 3600.0, True),
+        seed=_number(data, "seed", 0, source, int),
+        encoder_noise_deg=_number(enc, "noise_deg", 0.0, f"{source}: encoder", float, 0.0, 90.0) if isinstance(enc, dict) else 0.0,
         faults=faults, person=person, source=source,
     )

@@ -1,0 +1,193 @@
+"""One validation layer for command-line options: every number finite and inside its documented
+range, checked while the command line is parsed, with the flag named in the message.
+
+Why at parse time: a bad value must fail before a file is read, a port opened or a servo
+moved, and `nan` must never slip through a comparison (`nan < 0` and `nan > 0` are both
+false, so `--margin nan` passed `margin < 0` and wrote a range with no margin).
+
+Use as a typer callback (the flag is taken from the option itself):
+
+    from armtool.cli import options as opt
+
+    margin: float = typer.Option(2.0, "--margin", callback=opt.finite_float(0, 30, unit="degrees"))
+    timeout: float = typer.Option(25.0, "--timeout-ms", callback=opt.positive_float(10_000, unit="ms"))
+    duration: Optional[float] = typer.Option(None, "--duration", callback=opt.seconds())
+    baud: int = typer.Option(1_000_000, "--baud", callback=opt.baud())
+    seed: int = typer.Option(0, "--seed", callback=opt.seed())      # any integer; negatives mapped
+    ids: Optional[str] = typer.Option(None, "--ids", callback=opt.id_list(0, 252))
+    count: int = typer.Option(25, "--n", callback=opt.int_range(1, 10_000))
+
+A callback returns the value unchanged (the seed callback maps a negative seed to a
+non-negative one, see `seed_value`); None (an optional option left out) passes through. A bad
+value raises `ArmtoolError("--margin must be a finite number of degrees >= 0 and <= 30, got nan")`,
+which `armtool.cli.main` prints as `error: ...` with exit code 2, like every other input error.
+
+The same checks without typer, for values that come from elsewhere (a config file, another
+option): `check_float(value, flag, ...)`, `check_int(value, flag, lo, hi)`,
+`parse_id_list(text, flag, lo, hi)`, `seed_value(value)`.
+
+This module imports nothing heavy (no numpy): `armtool lint --help` stays fast.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, Optional, TypeVar
+
+import typer
+
+from armtool.errors import ArmtoolError
+
+T = TypeVar("T")
+
+MAX_SECONDS = 7 * 24 * 3600.0  # the longest wait any option accepts: a week
+MAX_BAUD = 20_000_000  # above every serial servo bus (Dynamixel X: 4.5 Mbps, P series: 10.5 Mbps)
+MAX_IDS_TEXT = 10_000  # characters of an --ids list; the IDs themselves are bounded by lo..hi
+SEED_MODULUS = 2**64  # negative seeds are taken modulo this (numpy's generators need seeds >= 0)
+
+
+def _flag(param: typer.CallbackParam) -> str:
+    """The option's long name (`--margin`), else its first name."""
+    opts = list(getattr(param, "opts", []) or [])
+    longs = [o for o in opts if o.startswith("--")]
+    return str((longs or opts or [param.name])[0])
+
+
+def _range_text(lo: float | None, hi: float | None, lo_open: bool, hi_open: bool) -> str:
+    parts = []
+    if lo is not None:
+        parts.append(f"{'>' if lo_open else '≥'} {lo:g}")
+    if hi is not None:
+        parts.append(f"{'<' if hi_open else '≤'} {hi:g}")
+    return " and ".join(parts)
+
+
+def check_float(value: float | str, flag: str, lo: float | None = None, hi: float | None = None, *,
+                lo_open: bool = False, hi_open: bool = False, unit: str = "") -> float:
+    """`value` (a number, or text such as "1.5") as a float if it is finite and inside the range,
+    else an ArmtoolError naming `flag`: "--margin must be ≥ 0 and ≤ 90 degrees, got -1"."""
+    bounds = _range_text(lo, hi, lo_open, hi_open)
+    tail = f"{' ' + bounds if bounds else ''}{' ' + unit if unit else ''}"
+    try:
+        number = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ArmtoolError(f"{flag} must be a number{tail}, got {value!r}") from None
+    if not math.isfinite(number):
+        raise ArmtoolError(f"{flag} must be a finite number{tail}, got {str(value).strip()}")
+    ok = lo is None or (number > lo if lo_open else number >= lo)
+    ok = ok and (hi is None or (number < hi if hi_open else number <= hi))
+    if not ok:
+        raise ArmtoolError(f"{flag} must be{tail}, got {number:g}")
+    return number
+
+
+def check_int(value: int, flag: str, lo: int | None = None, hi: int | None = None, unit: str = "") -> int:
+    """`value` if it is a whole number inside lo..hi, else an ArmtoolError naming `flag`."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ArmtoolError(f"{flag} must be a whole number, got {value!r}")
+    if (lo is not None and value < lo) or (hi is not None and value > hi):
+        span = f"{lo if lo is not None else '...'}..{hi if hi is not None else '...'}"
+        raise ArmtoolError(f"{flag} must be in {span}{f' {unit}' if unit else ''}, got {value}")
+    return value
+
+
+def seed_value(value: int) -> int:
+    """Any integer as a seed numpy accepts: negatives are taken modulo 2**64 (so -1 works)."""
+    return value % SEED_MODULUS if value < 0 else value
+
+
+def parse_id_list(text: str, flag: str = "--ids", lo: int = 0, hi: int = 252) -> list[int]:
+    """`1,2,3`, `1-6` or a mix, as distinct IDs in lo..hi. Every bound is checked before a
+    range is expanded, so `1-100000000000` is refused at once instead of filling memory."""
+    if len(text) > MAX_IDS_TEXT:
+        raise ArmtoolError(f"{flag} is {len(text)} characters long", hint=f"IDs are {lo}..{hi}; use ranges such as 1-6")
+    ids: list[int] = []
+    for part in text.split(","):
+        part = part.strip()
+        if not part:
+            continue
+        try:
+            if "-" in part:
+                a_text, b_text = part.split("-", 1)
+                a, b = int(a_text), int(b_text)
+            else:
+                a = b = int(part)
+        except ValueError:
+            raise ArmtoolError(f"{flag}: '{part}' is not an ID or a range", hint="e.g. 1,2,3 or 1-6") from None
+        if not (lo <= a <= hi and lo <= b <= hi):
+            raise ArmtoolError(f"{flag}: '{part}' is outside {lo}..{hi}", hint=f"servo IDs on a bus are {lo}..{hi}")
+        if b < a:
+            raise ArmtoolError(f"{flag}: range '{part}' runs backwards", hint=f"write it {b}-{a}")
+        ids.extend(range(a, b + 1))
+        if len(ids) > hi - lo + 1:
+            break  # more IDs than exist: a repeat, reported below
+    if not ids:
+        raise ArmtoolError(f"{flag} lists no ID", hint="e.g. 1,2,3 or 1-6")
+    seen: set[int] = set()
+    for i in ids:
+        if i in seen:
+            raise ArmtoolError(f"{flag}: ID {i} is listed twice")
+        seen.add(i)
+    return ids
+
+
+# --------------------------------------------------------------------------------------------
+# typer callbacks
+
+
+def _optional(check: Callable[[T, str], T]) -> Callable[[typer.CallbackParam, Optional[T]], Optional[T]]:
+    def callback(param: typer.CallbackParam, value: Optional[T]) -> Optional[T]:
+        return None if value is None else check(value, _flag(param))
+
+    return callback
+
+
+def finite_float(lo: float | None = None, hi: float | None = None, *, lo_open: bool = False, hi_open: bool = False,
+                 unit: str = "") -> Callable[[typer.CallbackParam, Optional[float]], Optional[float]]:
+    """A finite float inside the range (closed ends unless `lo_open`/`hi_open`)."""
+    return _optional(lambda v, flag: check_float(v, flag, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit))
+
+
+def positive_float(hi: float | None = None, unit: str = "") -> Callable[[typer.CallbackParam, Optional[float]], Optional[float]]:
+    """A finite float > 0 (and <= hi)."""
+    return finite_float(0.0, hi, lo_open=True, unit=unit)
+
+
+def percent(lo_open: bool = True) -> Callable[[typer.CallbackParam, Optional[float]], Optional[float]]:
+    """A percentage in (0, 100] (or [0, 100] with lo_open=False)."""
+    return finite_float(0.0, 100.0, lo_open=lo_open, unit="percent")
+
+
+def seconds(hi: float = MAX_SECONDS, allow_zero: bool = False) -> Callable[[typer.CallbackParam, Optional[float]], Optional[float]]:
+    """A duration in seconds: finite, > 0 (>= 0 with allow_zero), at most `hi` (a week by default)."""
+    return finite_float(0.0, hi, lo_open=not allow_zero, unit="seconds")
+
+
+def int_range(lo: int | None = None, hi: int | None = None, unit: str = "") -> Callable[[typer.CallbackParam, Optional[int]], Optional[int]]:
+    """A whole number in lo..hi."""
+    return _optional(lambda v, flag: check_int(v, flag, lo, hi, unit))
+
+
+def ticks(lo: int = 0, hi: int = 4095) -> Callable[[typer.CallbackParam, Optional[int]], Optional[int]]:
+    """A servo position in register ticks (0..4095 covers every supported model; the command
+    checks the servo's own range once it knows the model)."""
+    return int_range(lo, hi, "ticks")
+
+
+def baud() -> Callable[[typer.CallbackParam, Optional[int]], Optional[int]]:
+    """A baud rate: a whole number > 0 (0 is refused, never read as "the default")."""
+    return int_range(1, MAX_BAUD, "baud")
+
+
+def seed() -> Callable[[typer.CallbackParam, Optional[int]], Optional[int]]:
+    """Any integer; a negative one is mapped by `seed_value`."""
+    return _optional(lambda v, flag: seed_value(check_int(v, flag)))
+
+
+def id_list(lo: int = 0, hi: int = 252) -> Callable[[typer.CallbackParam, Optional[str]], Optional[str]]:
+    """An ID list (`1,2,3`, `1-6`), checked by `parse_id_list`; the text is returned unchanged."""
+    def check(text: str, flag: str) -> str:
+        parse_id_list(text, flag, lo, hi)
+        return text
+
+    return _optional(check)
