@@ -122,7 +122,7 @@ def fit(
                       approach=None if approach is None else Approach(approach.value), monotone_tol_deg=monotone_tol)
     from armtool.servo.lut import check_table_document
 
-    doc = table.to_dict(grid_step_deg=grid_step)
+    doc = table.to_dict(grid_step_deg=grid_step, flag="--grid-step")
     check_table_document(doc, "the fitted table")  # never write a table that would not read back
     print_fit_report(table)
     _write(json.dumps(doc, indent=2, allow_nan=False) + "\n", output, "table")

@@ -148,16 +148,17 @@ class LutTable:
                                f"value {bad[0] + 1}", hint="measure a wider range, or pass --clip to clamp to the range")
         return np.clip(np.rint(y), 0, self.model.max_tick).astype(np.int64)
 
-    def grid(self, step_deg: float) -> Grid:
-        """The table on the angles start, start+step, ... inside the valid range (start a multiple of step)."""
+    def grid(self, step_deg: float, flag: str = "grid step") -> Grid:
+        """The table on the angles start, start+step, ... inside the valid range (start a multiple
+        of step). `flag` names the option the step came from in messages."""
         if not (math.isfinite(step_deg) and step_deg > 0):
-            raise ArmtoolError(f"grid step must be a finite number of degrees > 0, got {step_deg:g}")
+            raise ArmtoolError(f"{flag} must be a finite number of degrees > 0, got {step_deg:g}")
         lo, hi = self.valid_range_deg
         first, last = math.ceil(lo / step_deg - 1e-9), math.floor(hi / step_deg + 1e-9)
         if last < first:
-            raise ArmtoolError(f"grid step {step_deg:g}° is wider than the table's range {lo:.2f}..{hi:.2f}°")
+            raise ArmtoolError(f"{flag} {step_deg:g}° is wider than the table's range {lo:.2f}..{hi:.2f}°")
         if last - first + 1 > MAX_GRID:  # checked before any array is made
-            raise ArmtoolError(f"grid step {step_deg:g}° gives {last - first + 1} entries over {lo:.2f}..{hi:.2f}°, "
+            raise ArmtoolError(f"{flag} {step_deg:g}° gives {last - first + 1} entries over {lo:.2f}..{hi:.2f}°, "
                                f"more than {MAX_GRID}", hint=f"use a step of at least {(hi - lo) / MAX_GRID:.4g}°")
         angles = np.round(np.arange(first, last + 1) * step_deg, 9)
         ticks = self.command(np.clip(angles, lo, hi))
@@ -166,7 +167,7 @@ class LutTable:
         clipped = np.clip(np.rint(ticks), 0, self.model.max_tick).astype(int)
         return Grid(float(angles[0]), float(step_deg), tuple(int(t) for t in clipped))
 
-    def to_dict(self, grid_step_deg: float | None = 1.0) -> dict[str, Any]:
+    def to_dict(self, grid_step_deg: float | None = 1.0, flag: str = "grid step") -> dict[str, Any]:
         doc: dict[str, Any] = {
             "schema_version": SCHEMA_VERSION,
             "kind": KIND,
@@ -182,7 +183,7 @@ class LutTable:
                 "note": "numpy.polynomial.Polynomial(coef, domain=domain_deg, window=[-1, 1])"},
         }
         if grid_step_deg is not None:
-            g = self.grid(grid_step_deg)
+            g = self.grid(grid_step_deg, flag)
             doc["grid"] = {"start_deg": g.start_deg, "step_deg": g.step_deg, "command_ticks": list(g.command_ticks)}
         if self.report is not None:
             doc["fit"] = _jsonable(asdict(self.report))

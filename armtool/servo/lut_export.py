@@ -141,20 +141,20 @@ def render_csv(grid: Grid) -> str:
     return out.getvalue()
 
 
-def export_document(table: LutTable, step_deg: float) -> dict[str, Any]:
+def export_document(table: LutTable, step_deg: float, flag: str = "--step") -> dict[str, Any]:
     """The table's JSON document with the grid at `step_deg`."""
-    return table.to_dict(grid_step_deg=step_deg)
+    return table.to_dict(grid_step_deg=step_deg, flag=flag)
 
 
 def render(table: LutTable, fmt: ExportFormat, step_deg: float = 1.0, name: str = "servo_lut") -> str:
     """The table as text in `fmt`; the grid runs over the measured range every `step_deg`."""
     if fmt is ExportFormat.C:
-        return render_c(table, table.grid(step_deg), name)
+        return render_c(table, table.grid(step_deg, "--step"), name)
     if fmt is ExportFormat.CSV:
-        return render_csv(table.grid(step_deg))
+        return render_csv(table.grid(step_deg, "--step"))
     doc = export_document(table, step_deg)
     if fmt is ExportFormat.JSON:
-        return json.dumps(doc, indent=2) + "\n"
+        return json.dumps(doc, indent=2, allow_nan=False) + "\n"
     import yaml
 
     return str(yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100))

@@ -69,6 +69,7 @@ class SimBus:
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._serve, name="servo-sim", daemon=True)
         self.person: Any = None
+        self.error: Exception | None = None  # set when the serving thread failed
         self.last_internal_error: str | None = None
 
     # -- lifecycle
@@ -122,8 +123,12 @@ class SimBus:
                 setattr(self, name, -1)
 
     def wait(self, seconds: float | None = None) -> None:
-        """Serve until stop() or `seconds` elapse (the CLI's foreground loop)."""
+        """Serve until stop() or `seconds` elapse (the CLI's foreground loop); raises
+        ArmtoolError if the serving thread failed."""
         self._stop.wait(seconds)
+        if self.error is not None:
+            what = self.error.what if isinstance(self.error, ArmtoolError) else f"{type(self.error).__name__}: {self.error}"
+            raise ArmtoolError(f"the simulator stopped: {what}", self.config.source)
 
     # -- time and physics
     def now(self) -> float:
@@ -181,6 +186,15 @@ class SimBus:
 
     # -- the serving thread
     def _serve(self) -> None:
+        """The serving loop; an unexpected error stops the simulator and is raised by `wait()`
+        instead of printing a thread traceback."""
+        try:
+            self._serve_loop()
+        except Exception as exc:  # noqa: BLE001 - reported by wait(), in the main thread
+            self.error = exc
+            self._stop.set()
+
+    def _serve_loop(self) -> None:
         fds = [self._master, self._enc_master]
         while not self._stop.is_set():
             try:

@@ -29,6 +29,11 @@ from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel, by_name
 
 
+# registers the simulated servo drives (armtool/servo/sim/servo.py): a model without one cannot be simulated
+SIM_REGISTERS = ("torque_enable", "torque_limit", "goal_position", "present_position", "moving_speed",
+                 "min_limit", "max_limit", "return_delay", "status_return_level")
+
+
 @dataclass
 class Faults:
     """Injected faults; counters (`*_next`) are consumed one per reply. Mutable from tests."""
@@ -130,6 +135,10 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
             raise ArmtoolError(exc.what, where, exc.hint) from None
         if model.protocol != protocol:
             raise ArmtoolError(f"{model.name} speaks {model.protocol}, the bus is {protocol}", where)
+        missing = [name for name in SIM_REGISTERS if not model.has(name)]
+        if missing:
+            raise ArmtoolError(f"the simulator does not support the {model.name} (it has no {', '.join(missing)} register)",
+                               where, hint="simulate an AX-12A (dxl1), XL430-W250 (dxl2) or STS3215 (feetech)")
         deg = model.deg_per_tick
         key = "stops_deg" if "stops_deg" in e else "stops" if "stops" in e else None
         if key is not None:
