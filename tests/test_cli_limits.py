@@ -217,3 +217,37 @@ def test_write_eeprom_refuses_a_range_end_but_keeps_the_yaml(tmp_path: Path) -> 
         assert (sim.peek(5, "min_limit"), sim.peek(5, "max_limit")) == before and all_off(sim)
     row = yaml.safe_load(out.read_text())["joints"][0]  # the recording is kept
     assert row["name"] == "wrist_roll" and False in (row["evidence"]["confirmed_min"], row["evidence"]["confirmed_max"])
+
+
+def test_in_place_twice_keeps_the_original_in_bak(tmp_path: Path) -> None:
+    """Issue 14: a second --in-place run rewrote .bak and lost the original URDF."""
+    arm = sub_arm(tmp_path, [5])
+    urdf = tmp_path / "arm.urdf"
+    original = (FIXTURES / "ax12_arm.urdf").read_text()
+    urdf.write_text(original)
+    with SimBus.start(AX_ARM) as sim:
+        base = ["limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
+                "--urdf", str(urdf), "--in-place"]
+        first = armtool(*base)
+        assert first.returncode == 0, first.stderr
+        after_first = urdf.read_text()
+        second = armtool(*base, "--margin", "3")
+        assert second.returncode == 0, second.stderr
+        assert "arm.urdf.bak.1" in second.stderr
+    assert (tmp_path / "arm.urdf.bak").read_text() == original
+    assert (tmp_path / "arm.urdf.bak.1").read_text() == after_first
+
+
+def test_unwritable_output_is_found_before_anything_moves(tmp_path: Path) -> None:
+    """Issue 14: -o into a missing directory (or one that is a file) failed after the recording."""
+    arm = sub_arm(tmp_path, [5])
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with SimBus.start(AX_ARM) as sim:
+        goal = sim.peek(5, "goal_position")
+        for out in (tmp_path / "missing" / "limits.yaml", blocker / "limits.yaml"):
+            r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes",
+                        "--speed", "300", "-o", str(out))
+            assert r.returncode == 2 and "(for -o" in r.stderr, r.stderr
+            assert sim.peek(5, "goal_position") == goal and all_off(sim)
+            assert sim.servo(5).overload_trips == 0

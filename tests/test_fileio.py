@@ -90,3 +90,100 @@ def test_read_yaml_errors_name_the_file_and_line(tmp_path: Path) -> None:
     good = tmp_path / "ok.yaml"
     good.write_text("a: 1\n")
     assert read_yaml(good) == {"a": 1}
+
+
+# ---------------------------------------------------------------- issue 14: one write path
+
+
+def test_os_errors_become_messages_naming_the_path(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    with pytest.raises(ArmtoolError, match="cannot write") as info:
+        write_atomic(tmp_path / "missing" / "out.txt", "x")
+    assert "does not exist" in (info.value.hint or "")
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(ArmtoolError, match="cannot write"):
+        write_atomic(blocker / "out.txt", "x")
+    with pytest.raises(ArmtoolError, match="is a directory"):
+        write_atomic(tmp_path, "x")
+
+    def denied(src: str, dst: str) -> None:
+        raise PermissionError(13, "Permission denied")
+
+    target = tmp_path / "ro.urdf"
+    target.write_text("old")
+    monkeypatch.setattr(os, "replace", denied)
+    with pytest.raises(ArmtoolError, match="Permission denied") as info:
+        write_atomic(target, "new")
+    assert "permissions" in (info.value.hint or "") and target.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+
+
+def test_check_output_paths(tmp_path: Path) -> None:
+    from armtool.fileio import check_output_paths
+
+    source = tmp_path / "in.csv"
+    source.write_text("data")
+    link = tmp_path / "link.csv"
+    link.symlink_to(source)
+    check_output_paths({"-o": tmp_path / "out.json", "--plot": None, "--log": "-"}, inputs=[source, None])
+    with pytest.raises(ArmtoolError, match="is also an input"):
+        check_output_paths({"-o": link}, inputs=[source])
+    with pytest.raises(ArmtoolError, match="is a directory"):
+        check_output_paths({"-o": tmp_path})
+    with pytest.raises(ArmtoolError, match="does not exist"):
+        check_output_paths({"-o": tmp_path / "nope" / "x"})
+    with pytest.raises(ArmtoolError, match="is not a directory"):
+        check_output_paths({"-o": source / "x"})
+    with pytest.raises(ArmtoolError, match="name the same file"):
+        check_output_paths({"-o": tmp_path / "a", "--urdf-out": tmp_path / "a"})
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    check_output_paths({"-o": fifo, "--log": fifo})  # a pipe is written in place, by anyone
+
+
+def test_check_output_refuses_an_unwritable_directory(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from armtool.fileio import check_output_path
+
+    real_access = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode: False if str(p) == str(tmp_path) else real_access(p, mode))
+    with pytest.raises(ArmtoolError, match="is not writable"):
+        check_output_path(tmp_path / "out.yaml", "-o")
+
+
+def test_backups_are_numbered_never_overwritten(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import armtool.fileio as fileio
+
+    target = tmp_path / "arm.urdf"
+    target.write_text("v0")
+    for k in range(3):
+        fileio.write_with_backup(target, f"v{k + 1}", target.read_text())
+    assert [(tmp_path / n).read_text() for n in ("arm.urdf.bak", "arm.urdf.bak.1", "arm.urdf.bak.2")] == ["v0", "v1", "v2"]
+    monkeypatch.setattr(fileio, "MAX_BACKUPS", 3)
+    with pytest.raises(ArmtoolError, match="already has 3 backups"):
+        fileio.backup_path(target)
+
+
+def test_rescue_write_falls_back_to_the_temporary_directory(tmp_path: Path) -> None:
+    from armtool.fileio import rescue_write
+
+    beside = rescue_write(tmp_path / "m.csv", "readings")
+    assert beside == tmp_path / "m.csv.partial" and beside.read_text() == "readings"
+    elsewhere = rescue_write(tmp_path / "missing" / "m.csv", "readings", "armtool-test")
+    try:
+        assert elsewhere.read_text() == "readings" and elsewhere.name.startswith("armtool-test-")
+    finally:
+        elsewhere.unlink()
+
+
+def test_port_file_claims_only_free_or_stale_paths(tmp_path: Path) -> None:
+    from armtool.fileio import PortFile
+
+    mine = tmp_path / "port"
+    mine.write_text("/dev/pts/3\n")
+    assert PortFile.looks_like_ours(mine)
+    notes = tmp_path / "notes.txt"
+    notes.write_text("/dev/pts/3\nand more\n")
+    assert not PortFile.looks_like_ours(notes)
+    with pytest.raises(ArmtoolError, match="not a port file"):
+        PortFile(notes).claim()
+    assert notes.read_text() == "/dev/pts/3\nand more\n"

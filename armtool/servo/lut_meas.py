@@ -199,6 +199,8 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
             servo_id = int(meta["servo_id"])
         except ValueError:
             raise ArmtoolError(f"servo_id '{meta['servo_id']}' is not a whole number", f"{source}: servo_id") from None
+        if not 0 <= servo_id <= 252:
+            raise ArmtoolError(f"servo_id {servo_id} is outside 0..252", f"{source}: servo_id")
     return Measurements(source=source, model=servo, samples=tuple(samples), servo_id=servo_id,
                         reference=meta.get("reference", "unknown"), meta=meta)
 

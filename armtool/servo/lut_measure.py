@@ -64,6 +64,8 @@ def read_limits(path: Path, sid: int) -> tuple[int, int, str | None]:
                 value = joint.get(key)
                 if not isinstance(value, (int, float)) or isinstance(value, bool):
                     raise ArmtoolError(f"'{key}' is missing or not a number", where)
+                if not (math.isfinite(value) and float(value).is_integer() and 0 <= value <= 4095):
+                    raise ArmtoolError(f"'{key}' must be a whole number of ticks 0..4095, got {value!r}", where)
                 values.append(int(value))
             if values[0] >= values[1]:
                 raise ArmtoolError(f"safe_min_ticks {values[0]} is not below safe_max_ticks {values[1]}", where)

@@ -251,6 +251,16 @@ def test_table_read_back_is_validated_like_a_fitted_one(table: Path, tmp_path: P
     assert not header.exists()
 
 
+@pytest.mark.parametrize("value", [".nan", ".inf", "1.5", "-3", "true", "5000"])
+def test_limits_file_ticks_are_validated(tmp_path: Path, value: str) -> None:
+    from armtool.servo.lut_measure import read_limits
+
+    path = tmp_path / "limits.yaml"
+    path.write_text(f"joints:\n  - {{id: 1, safe_min_ticks: {value}, safe_max_ticks: 900}}\n")
+    with pytest.raises(ArmtoolError, match="safe_min_ticks"):
+        read_limits(path, 1)
+
+
 def test_table_with_nan_is_refused(table: Path, tmp_path: Path) -> None:
     bad = tmp_path / "nan.json"
     bad.write_text(table.read_text().replace('"knots": {\n    "angle_deg": [\n', '"knots": {\n    "angle_deg": [\n      NaN,\n', 1))
@@ -467,7 +477,10 @@ def _paths(doc: Any, prefix: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
     return out
 
 
-def _mutate(doc: Any, data: st.DataObject) -> Any:
+YAML_VALUES = st.one_of(JSON_VALUES, st.floats(), st.sampled_from([".nan", "1e400", -1, 10**12]))
+
+
+def _mutate(doc: Any, data: st.DataObject, values: st.SearchStrategy[Any] = JSON_VALUES) -> Any:
     doc = copy.deepcopy(doc)
     paths = _paths(doc)
     for _ in range(data.draw(st.integers(1, 3))):
@@ -479,13 +492,13 @@ def _mutate(doc: Any, data: st.DataObject) -> Any:
             if data.draw(st.booleans()) and isinstance(parent, dict):
                 del parent[path[-1]]
             else:
-                parent[path[-1]] = data.draw(JSON_VALUES)
+                parent[path[-1]] = data.draw(values)
         except (KeyError, IndexError, TypeError):
             pass
     return doc
 
 
-@HYPO
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(data=st.data())
 def test_mutated_tables(table: Path, tmp_path_factory: pytest.TempPathFactory, data: st.DataObject) -> None:
     doc = _mutate(json.loads(table.read_text()), data)
@@ -511,7 +524,7 @@ def test_mutated_sim_configs(data: st.DataObject) -> None:
     doc = yaml.safe_load((FIXTURES / "ax12_arm.yaml").read_text())
     doc.update({"faults": {"p_drop": 0.0, "delay_s": 0.0}, "person": {"speed_deg_s": 90, "dwell_s": 0.5}})
     try:
-        cfg = sim_config_from_dict(_mutate(doc, data), "sim.yaml")
+        cfg = sim_config_from_dict(_mutate(doc, data, YAML_VALUES), "sim.yaml")
     except ArmtoolError:
         return
     assert cfg.servos and (cfg.person is None or cfg.person.speed_deg_s > 0)
@@ -529,8 +542,8 @@ def test_mutated_limits_and_arm_files(tmp_path_factory: pytest.TempPathFactory, 
                                                        "safe_max_ticks": 900}]}
     folder = tmp_path_factory.mktemp("yaml")
     lim, arm = folder / "limits.yaml", folder / "arm.yaml"
-    lim.write_text(yaml.safe_dump(_mutate(limits, data)))
-    arm.write_text(yaml.safe_dump(_mutate(yaml.safe_load((FIXTURES / "ax12_arm.yaml").read_text()), data)))
+    lim.write_text(yaml.safe_dump(_mutate(limits, data, YAML_VALUES)))
+    arm.write_text(yaml.safe_dump(_mutate(yaml.safe_load((FIXTURES / "ax12_arm.yaml").read_text()), data, YAML_VALUES)))
     try:
         lo, hi, _ = read_limits(lim, 1)
         assert 0 <= lo < hi <= 4095
