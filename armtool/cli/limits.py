@@ -55,6 +55,8 @@ def limits(
 ) -> None:
     import sys
 
+    from rich.markup import escape
+
     from armtool.console import stderr, write_stdout
     from armtool.fileio import backup_path, check_output_path, check_output_paths, rescue_write, write_with_backup
     from armtool.servo import limits as L
@@ -165,7 +167,7 @@ def limits(
         if new_urdf is not None and urdf is not None:
             if in_place:
                 backup = write_with_backup(urdf, new_urdf, urdf_text or "")
-                con.print(f"wrote {urdf} (previous version in {backup.name})")
+                con.print(escape(f"wrote {urdf} (previous version in {backup.name})"))
             elif urdf_out is not None:
                 L.write_atomic(urdf_out, new_urdf)
                 con.print(f"wrote {urdf_out}")

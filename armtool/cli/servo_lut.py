@@ -363,6 +363,8 @@ def measure(
                                            speed_register, torque_register)
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 
+    from rich.markup import escape
+
     from armtool.fileio import check_output_paths, rescue_write
 
     if points is not None and step is not None:
@@ -423,7 +425,7 @@ def measure(
     except BaseException:
         if samples and output is not None:
             partial = rescue_write(output, render_measurements({**meta, "complete": "no"}, samples), "armtool-measure")
-            stderr().print(f"wrote the readings so far to {partial}")
+            stderr().print(f"wrote the readings so far to {escape(str(partial))}")
         raise
     finally:
         ref.close()

@@ -159,7 +159,7 @@ class LutTable:
             raise ArmtoolError(f"{flag} {step_deg:g}° is wider than the table's range {lo:.2f}..{hi:.2f}°")
         if last - first + 1 > MAX_GRID:  # checked before any array is made
             raise ArmtoolError(f"{flag} {step_deg:g}° gives {last - first + 1} entries over {lo:.2f}..{hi:.2f}°, "
-                               f"more than {MAX_GRID}", hint=f"use a step of at least {(hi - lo) / MAX_GRID:.4g}°")
+                               f"more than {MAX_GRID}", hint=f"use a step of at least {(hi - lo) / (MAX_GRID - 2):.4g}°")
         angles = np.round(np.arange(first, last + 1) * step_deg, 9)
         ticks = self.command(np.clip(angles, lo, hi))
         if not np.all(np.isfinite(ticks)):

@@ -425,6 +425,30 @@ def test_apply_options(table: Path, angles: list[Any], zero: Any, direction: str
     _ok_codes(code, err)
 
 
+@settings(max_examples=12, deadline=None)
+@given(values=st.lists(NUMBERS, min_size=7, max_size=7), ids=st.text(alphabet="0123456789-,", max_size=12))
+def test_limits_options(tmp_path_factory: pytest.TempPathFactory, values: list[Any], ids: str) -> None:
+    """Whatever the numbers, the command ends with a message (here: at the missing port at the latest)."""
+    flags = ["--margin", "--rate", "--torque-limit", "--speed", "--stall-window", "--back-off", "--timeout-ms"]
+    args = [a for flag, v in zip(flags, values) for a in (flag, str(v))]
+    start = time.monotonic()
+    code, _, err = run("limits", "--port", "/nonexistent/port", "--ids", ids or "1", "--mode", "auto", "--yes", *args)
+    _ok_codes(code, err)
+    assert code == 2 and time.monotonic() - start < 5
+
+
+@settings(max_examples=12, deadline=None)
+@given(values=st.lists(NUMBERS, min_size=8, max_size=8))
+def test_measure_options(values: list[Any]) -> None:
+    flags = ["--min", "--max", "--points", "--backoff", "--speed", "--torque-limit", "--dwell", "--baud"]
+    args = [a for flag, v in zip(flags, values) for a in (flag, str(v))]
+    start = time.monotonic()
+    code, _, err = run("servo-lut", "measure", "--port", "/nonexistent/port", "--id", "1", "--reference",
+                       "encoder:/nonexistent/enc", "--yes", *args)
+    _ok_codes(code, err)
+    assert code == 2 and time.monotonic() - start < 5
+
+
 @HYPO
 @given(lo=st.integers(-5000, 5000), width=st.integers(-10, 5000), margin=st.floats(allow_nan=True, allow_infinity=True),
        zero=st.one_of(st.none(), st.integers(-5000, 5000)), direction=st.sampled_from([1, -1]),
