@@ -10,8 +10,7 @@ A board is given on the command line as a short spec (`parse_board`):
   `cornerSubPix`, which blur does not move.
 * `aprilgrid:COLSxROWS:TAG:GAP[:FAMILY]`: a grid of AprilTags (OpenCV's `aruco.GridBoard`) of
   edge TAG metres (the black square) with GAP metres between tags, ids 0, 1, 2, … row by row
-  from the top-left; FAMILY defaults to tag36h11. (Kalibr's `tagSpacing` is GAP / TAG.) Its
-  tag corners come from armtool's AprilTag detector (`armtool.calib.apriltag`: edge-fitted
+  from the top-left; FAMILY defaults to tag36h11. Its tag corners come from armtool's AprilTag detector (`armtool.calib.apriltag`: edge-fitted
   corners, the half-pixel convention corrected).
 
 Board frame (OpenCV's): origin at the top-left corner of the board's pattern, x right, y down
