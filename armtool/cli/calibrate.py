@@ -345,3 +345,7 @@ def simulate(
     stderr().print(f"wrote {samples} images and dataset.yaml to {out}; ground truth in {out / 'truth'}")
     if summary["bad_samples"]:
         stderr().print(f"bad samples mixed in: {summary['bad_samples']}")
+
+
+from armtool.cli import calibrate_extra  # noqa: E402  (`calibrate camera` and `calibrate import-bag`)
+calibrate_extra.register(app)
