@@ -6,7 +6,7 @@ import re
 from collections.abc import Iterable, Iterator, Sequence
 from enum import Enum
 from pathlib import Path
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from armtool.errors import ArmtoolError
 from armtool.lint.config import LintConfig
@@ -17,6 +17,9 @@ from armtool.lint.registry import rule_class
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
 from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml
+
+if TYPE_CHECKING:  # xacro_source is imported on use (xacro costs start-up time)
+    from armtool.model.xacro_source import XacroFailure
 
 SKIP_DIRS = {".git", ".hg", ".svn", ".venv", "venv", "node_modules", "__pycache__", "build", "install", "log"}
 MAX_BYTES = 256 * 1024 * 1024
@@ -119,6 +122,13 @@ def _file_finding(code: str, path: Path, line: int, column: int, message: str, h
     return Finding(display_path(path), line, column, rule.code, rule.name, rule.severity, message, hint)
 
 
+def xacro_finding(exc: XacroFailure) -> Finding:
+    """X001 at the include or macro call of the expanded file that leads to xacro's error."""
+    finding = _file_finding("X001", exc.path, exc.line, 1, f"xacro failed: {exc.message}", exc.hint)
+    related = tuple((display_path(loc.path), loc.line) for loc in exc.trail)
+    return finding._replace(related=related) if related else finding
+
+
 def _read(path: Path) -> bytes:
     try:
         size = path.stat().st_size
@@ -177,8 +187,7 @@ class Linter:
         try:
             expansion = expand(path, self.options.xacro_args, self.resolver)
         except XacroFailure as exc:
-            return None, [_file_finding("X001", exc.path, exc.line, 1, f"xacro failed: {exc.message}",
-                                        "fix the xacro, or pass --xacro-arg NAME:=VALUE / --package-path DIR")]
+            return None, [xacro_finding(exc)]
         root = expansion.root
         if local_tag(root) != "robot":
             return None, [_file_finding("U002", path, 1, 1, f"expanded root element is <{local_tag(root)}>, not <robot>")]
