@@ -127,7 +127,7 @@ class PackageResolver:
         own = package_root(near)
         if own is not None and package_name(own) == name:
             return own
-        levels = []
+        levels: list[Path] = []
         if own is not None:
             # up from the package, to the repository's root at most; never the home or root directory
             home = Path.home()
