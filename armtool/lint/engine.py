@@ -140,13 +140,6 @@ def _cause(path: Path, findings: list[Finding]) -> str:
     return f"{display_path(path)} could not be loaded: {first.code} {first.message}"
 
 
-_ROBOT_PARTS = ("link", "joint")
-
-
-def _defines_robot_parts(root: etree._Element) -> bool:
-    return any(local_tag(el) in _ROBOT_PARTS for el in root.iter(etree.Element))
-
-
 _SRDF_TAGS = re.compile(rb"<(group|virtual_joint|disable_collisions|group_state|end_effector|passive_joint)[\s/>]")
 _LINK_TAG = re.compile(rb"<link[\s/>]")
 
@@ -234,8 +227,8 @@ class Linter:
             return None, [expansion]
         root = expansion.root
         if local_tag(root) != "robot":
-            if not _defines_robot_parts(root):
-                return None, []  # an include file or macro library with another root (<gripper>): not a robot
+            if not any(isinstance(el.tag, str) for el in root):
+                return None, []  # macros or arguments only, under another root (<gripper>): an include file
             return None, [_file_finding("U002", path, 1, 1, f"expanded root element is <{local_tag(root)}>, not <robot>")]
         ctx = UrdfContext(path.resolve(), root, Locator(path.resolve(), expansion.origins), self.resolver, from_xacro=True)
         return ctx, []
@@ -324,26 +317,24 @@ class Linter:
         if given is not None:
             ctx, findings = self.load_srdf(given, pair=False)
             return ctx, "" if ctx is not None else _cause(given, findings)
-        usable: list[SrdfContext] = []
         failure = ""
-        for cand in srdf_candidates(path):
-            if not cand.path.is_file():
-                continue
-            ctx, findings = self.load_srdf(cand.path, pair=False)
-            if ctx is not None:
-                if cand.why.startswith("named"):
-                    return ctx, ""
-                usable.append(ctx)
-            elif findings and not failure:
-                failure = _cause(cand.path, findings)
-        unique = list({c.path: c for c in usable}.values())
-        if len(unique) == 1:
-            return unique[0], ""
-        covering = [c for c in unique if set(groups) <= set(c.groups)]
-        if len(covering) == 1:
-            return covering[0], ""
-        if unique:
-            return None, "several SRDFs beside it: " + ", ".join(c.path.name for c in unique)
+        for tier in srdf_candidates(path):
+            usable: dict[Path, SrdfContext] = {}
+            for cand in tier:
+                if not cand.path.is_file():
+                    continue
+                ctx, findings = self.load_srdf(cand.path, pair=False)
+                if ctx is not None:
+                    usable.setdefault(ctx.path, ctx)
+                elif findings and not failure:
+                    failure = _cause(cand.path, findings)
+            if len(usable) == 1:
+                return next(iter(usable.values())), ""
+            covering = [c for c in usable.values() if set(groups) <= set(c.groups)]
+            if len(covering) == 1:
+                return covering[0], ""
+            if usable:
+                return None, "several SRDFs beside it: " + ", ".join(sorted(c.path.name for c in usable))
         return None, failure or "no SRDF found beside it"
 
     def lint_kinematics(self, path: Path) -> list[Finding]:

@@ -140,13 +140,13 @@ def urdf_candidates(srdf: Path, robot_name: str | None, resolver: PackageResolve
     return out
 
 
-def srdf_candidates(kinematics: Path) -> list[Candidate]:
-    """SRDFs (or SRDF xacros) a kinematics.yaml may belong to, best first."""
-    out: list[Candidate] = []
+def srdf_candidates(kinematics: Path) -> list[list[Candidate]]:
+    """SRDFs (or SRDF xacros) a kinematics.yaml may belong to, in tiers, nearest first: the one
+    .setup_assistant names, those beside it, those in the package's srdf/ directory."""
+    tiers: list[list[Candidate]] = []
     setup = read_setup_assistant(kinematics.parent)
     if setup is not None and setup.srdf_relative:
-        out.append(Candidate(setup.package_dir / setup.srdf_relative, {}, "named by .setup_assistant"))
-    for place in (kinematics.parent, kinematics.parent.parent / "srdf", kinematics.parent.parent / "config"):
-        for path in _files(place, SRDF_SUFFIXES):
-            out.append(Candidate(path, {}, "found beside it"))
-    return out
+        tiers.append([Candidate(setup.package_dir / setup.srdf_relative, {}, "named by .setup_assistant")])
+    for place in (kinematics.parent, kinematics.parent.parent / "srdf"):
+        tiers.append([Candidate(path, {}, "found beside it") for path in _files(place, SRDF_SUFFIXES)])
+    return tiers

@@ -13,6 +13,9 @@ from armtool.lint.locate import Locator, display_path, local_tag
 from armtool.lint.rule import Rule, Target
 
 
+_SRDF_ONLY = frozenset({"S103"})  # rules that compare the SRDF with itself, not with the URDF
+
+
 class SrdfContext(FileContext):
     target = Target.SRDF
 
@@ -27,7 +30,7 @@ class SrdfContext(FileContext):
 
     def finding(self, rule: Rule | type[Rule], el: etree._Element, message: str, **kwargs: Any) -> Finding:
         """A finding that says which URDF the SRDF was checked against (it was found, not given)."""
-        if self.urdf is not None:
+        if self.urdf is not None and rule.code not in _SRDF_ONLY and self.urdf.path.name not in message:
             message = f"{message} (URDF: {display_path(self.urdf.path)})"
         return super().finding(rule, el, message, **kwargs)
 
