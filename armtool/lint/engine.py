@@ -370,7 +370,9 @@ class Linter:
 
     def lint_file(self, path: Path) -> list[Finding]:
         kind = file_kind(path)
-        if kind is None and path.is_file():
+        if kind is None and path.suffix.lower() in (".yaml", ".yml"):
+            kind = FileKind.KINEMATICS  # named on the command line: its content decides (MoveIt's or not)
+        elif kind is None and path.is_file():
             kind = sniff_kind(self._read(path))
         if kind is FileKind.SRDF:
             return self.lint_srdf(path)
