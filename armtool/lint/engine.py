@@ -28,6 +28,9 @@ SKIP_DIRS = {".git", ".hg", ".svn", ".venv", "venv", "node_modules", "__pycache_
 MAX_BYTES = 256 * 1024 * 1024
 
 
+STDIN = Path("-")  # `armtool lint -`: a robot description (URDF or SRDF) read from standard input
+
+
 class FileKind(str, Enum):
     URDF = "urdf"
     XACRO = "xacro"
@@ -52,7 +55,9 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
     """Files named on the command line (any extension is taken as asked) and robot files below directories."""
     out: list[Path] = []
     for path in paths:
-        if path.is_dir():
+        if path == STDIN:
+            out.append(path)
+        elif path.is_dir():
             found = sorted(_walk(path))
             if not found:
                 raise ArmtoolError(
@@ -100,7 +105,9 @@ class LintOptions:
         urdf: Path | None = None,
         srdf: Path | None = None,
         config: LintConfig | None = None,
+        stdin: bytes | None = None,
     ) -> None:
+        self.stdin = stdin  # the bytes of `-`
         self.xacro_args = dict(xacro_args or {})
         self.package_paths = list(package_paths)
         self.urdf = urdf
@@ -174,7 +181,13 @@ class Linter:
 
     def _read(self, path: Path) -> bytes:
         """The file's bytes; inline ignore comments are read from them too, not from a second read."""
-        data = _read(path)
+        if path == STDIN:
+            data = self.options.stdin or b""
+            if b"<xacro:" in data:
+                raise ArmtoolError("standard input holds a xacro document; xacro needs its file for includes",
+                                   "-", "pass the .xacro file itself, or pipe xacro's output: xacro FILE | armtool lint -")
+        else:
+            data = _read(path)
         self.suppressions.prime(display_path(path), data)
         return data
 
@@ -334,7 +347,7 @@ class Linter:
             if len(covering) == 1:
                 return covering[0], ""
             if usable:
-                return None, "several SRDFs beside it: " + ", ".join(sorted(c.path.name for c in usable))
+                return None, "several SRDFs beside it: " + ", ".join(sorted(p.name for p in usable))
         return None, failure or "no SRDF found beside it"
 
     def lint_kinematics(self, path: Path) -> list[Finding]:
@@ -369,7 +382,7 @@ class Linter:
             yield from rule.check(ctx)
 
     def lint_file(self, path: Path) -> list[Finding]:
-        kind = file_kind(path)
+        kind = file_kind(path) if path != STDIN else sniff_kind(self._read(path))
         if kind is None and path.suffix.lower() in (".yaml", ".yml"):
             kind = FileKind.KINEMATICS  # named on the command line: its content decides (MoveIt's or not)
         elif kind is None and path.is_file():
