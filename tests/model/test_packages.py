@@ -48,8 +48,9 @@ def test_relative_ros_package_path_is_taken_from_the_working_directory(tmp_path:
 
 
 def test_sibling_package_is_found_from_the_tree_around_the_file(tmp_path: Path) -> None:
-    # a MoveIt config includes $(find robot_description) from the same repository, no --package-path
-    description = make_package(tmp_path / "repo" / "robot_description", "robot_description")
-    config = make_package(tmp_path / "repo" / "robot_moveit_config", "robot_moveit_config")
+    # a MoveIt config includes $(find ...) of a package of the same repository, no --package-path;
+    # the folder is not the package's name (moveit_resources/panda_description)
+    description = make_package(tmp_path / "repo" / "panda_description", "moveit_resources_panda_description")
+    config = make_package(tmp_path / "repo" / "panda_moveit_config", "moveit_resources_panda_moveit_config")
     (config / "config").mkdir()
-    assert PackageResolver().find("robot_description", near=config / "config") == description
+    assert PackageResolver().find("moveit_resources_panda_description", near=config / "config") == description
