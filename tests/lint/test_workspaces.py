@@ -275,3 +275,8 @@ def test_expand_prints_armtools_expansion(tmp_path: Path) -> None:
     assert result.exit_code == 0 and '<link name="left_base"/>' in result.stdout
     bad = CliRunner().invoke(app, ["expand", str(main.with_name("missing.xacro"))])
     assert isinstance(bad.exception, ArmtoolError)  # main() prints it and exits 2
+
+
+def test_lint_help_keeps_bracketed_text() -> None:
+    result = CliRunner().invoke(app, ["lint", "--help"], env={"COLUMNS": "200"})
+    assert "[default: error]" in result.stdout  # rich markup would eat it unescaped
