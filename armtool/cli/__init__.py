@@ -61,6 +61,9 @@ def build_app() -> typer.Typer:
     full.command("lint", help=LINT_HELP)(lint_cmd.lint)
     full.command("lint-urdf", help="Alias of `armtool lint`.")(lint_cmd.lint)
     full.command("rules", help="List the lint rules, or show one rule's documentation.")(rules_cmd.rules)
+    from armtool.cli import expand as expand_cmd
+
+    full.command("expand", help=expand_cmd.HELP)(expand_cmd.expand)
     full.command("ik-bench", help="Compare IK solvers on your robot: success, speed, accuracy, repeatability.")(ik_bench_cmd.ik_bench)
     from armtool.cli import calibrate as calibrate_cmd
 

@@ -25,11 +25,13 @@ def _parse_xacro_args(items: list[str]) -> dict[str, str]:
 
 
 def lint(
-    paths: List[Path] = typer.Argument(..., help="URDF, xacro, SRDF or kinematics.yaml files, or directories to search."),
+    paths: List[Path] = typer.Argument(
+        ..., help="URDF, xacro, SRDF or kinematics.yaml files, or directories to search; - reads a URDF or SRDF from stdin."
+    ),
     output_format: Optional[OutputFormat] = typer.Option(
         None, "--format", help="Output format (default: text; github inside GitHub Actions)."
     ),
-    fail_on: Optional[Severity] = typer.Option(None, "--fail-on", help="Lowest severity that makes the exit code 1 [default: error]."),
+    fail_on: Optional[Severity] = typer.Option(None, "--fail-on", help="Lowest severity that makes the exit code 1 \\[default: error]."),
     exit_zero: bool = typer.Option(False, "--exit-zero", help="Exit 0 even when problems are found."),
     fix: bool = typer.Option(False, "--fix", help="Apply safe fixes in place (text edits; comments and layout kept)."),
     diff: bool = typer.Option(False, "--diff", help="Show the safe fixes as a unified diff; write nothing."),
@@ -60,8 +62,10 @@ def lint(
         cfg.ignore += [s.strip() for s in ignore.split(",") if s.strip()]
     if fail_on is not None:
         cfg.fail_on = fail_on
+    stdin = sys.stdin.buffer.read() if any(str(p) == "-" for p in paths) else None
     options = LintOptions(
-        xacro_args=_parse_xacro_args(xacro_arg), package_paths=list(package_path), urdf=urdf, srdf=srdf, config=cfg
+        xacro_args=_parse_xacro_args(xacro_arg), package_paths=list(package_path), urdf=urdf, srdf=srdf, config=cfg,
+        stdin=stdin,
     )
     result = lint_paths(paths, options)
     findings = result.findings

@@ -1,4 +1,10 @@
-"""`[tool.armtool.lint]` in pyproject.toml: select, ignore, per-file-ignores, severity, fail-on."""
+"""Lint configuration: `[tool.armtool.lint]` in pyproject.toml, or `[lint]` in armtool.toml (for
+repositories without a pyproject.toml; armtool.toml wins when a directory has both).
+
+Keys: select, ignore, per-file-ignores, severity, fail-on; and for real ROS repositories
+package-paths (relative to the config file), xacro-args (glob = {name = value}), urdf
+(SRDF glob = URDF path) and srdf (kinematics.yaml glob = SRDF path).
+"""
 
 from __future__ import annotations
 
@@ -12,7 +18,8 @@ from armtool.errors import ArmtoolError
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.registry import CODES, NAMES
 
-_KEYS = {"select", "ignore", "per-file-ignores", "severity", "fail-on"}
+_KEYS = {"select", "ignore", "per-file-ignores", "severity", "fail-on", "package-paths", "xacro-args", "urdf", "srdf"}
+CONFIG_NAMES = ("armtool.toml", "pyproject.toml")
 
 
 def _valid_selector(sel: str) -> bool:
@@ -36,6 +43,29 @@ class LintConfig:
         self.fail_on = Severity.ERROR
         self.root = root if root is not None else Path.cwd()
         self.source = source
+        self.package_paths: list[Path] = []
+        self.xacro_args: dict[str, dict[str, str]] = {}
+        self.urdf: dict[str, Path] = {}
+        self.srdf: dict[str, Path] = {}
+
+    def _matches(self, pattern: str, path: Path) -> bool:
+        rel = _relative(path, self.root)
+        return fnmatch.fnmatch(rel, pattern) or fnmatch.fnmatch(path.name, pattern)
+
+    def xacro_args_for(self, path: Path) -> dict[str, str]:
+        """xacro arguments of every glob that matches the file, in the order written."""
+        out: dict[str, str] = {}
+        for pattern, args in self.xacro_args.items():
+            if self._matches(pattern, path):
+                out.update(args)
+        return out
+
+    def urdf_for(self, srdf: Path) -> Path | None:
+        """The URDF the config pairs with this SRDF (the first matching glob)."""
+        return next((urdf for pattern, urdf in self.urdf.items() if self._matches(pattern, srdf)), None)
+
+    def srdf_for(self, kinematics: Path) -> Path | None:
+        return next((srdf for pattern, srdf in self.srdf.items() if self._matches(pattern, kinematics)), None)
 
     def keeps(self, finding: Finding) -> bool:
         if not any(selector_matches(s, finding) for s in self.select):
@@ -66,11 +96,33 @@ def _relative(path: Path, root: Path) -> str:
 
 
 def find_pyproject(start: Path) -> Path | None:
+    """The nearest armtool.toml or pyproject.toml at or above `start`."""
     for directory in [start, *start.parents]:
-        candidate = directory / "pyproject.toml"
-        if candidate.is_file():
-            return candidate
+        for name in CONFIG_NAMES:
+            candidate = directory / name
+            if candidate.is_file():
+                return candidate
     return None
+
+
+def _paths_table(value: Any, key: str, where: str, root: Path) -> dict[str, Path]:
+    if not isinstance(value, dict) or not all(isinstance(v, str) for v in value.values()):
+        raise ArmtoolError(f"'{key}' must be a table of glob = \"path\"", where, f'e.g. {key} = {{ "config/*.srdf" = "urdf/arm.urdf.xacro" }}')
+    return {str(k): root / v for k, v in value.items()}
+
+
+def _xacro_args(value: Any, where: str) -> dict[str, dict[str, str]]:
+    hint = 'e.g. xacro-args = { "urdf/ur.urdf.xacro" = { name = "ur", ur_type = "ur5e" } }'
+    if not isinstance(value, dict):
+        raise ArmtoolError("'xacro-args' must be a table of glob = { name = value }", where, hint)
+    out: dict[str, dict[str, str]] = {}
+    for pattern, args in value.items():
+        if isinstance(args, list) and all(isinstance(a, str) and ":=" in a for a in args):
+            args = dict(a.split(":=", 1) for a in args)
+        if not isinstance(args, dict) or not all(isinstance(v, (str, int, float, bool)) for v in args.values()):
+            raise ArmtoolError(f"'xacro-args.{pattern}' must be a table of name = value", where, hint)
+        out[str(pattern)] = {str(k): (str(v).lower() if isinstance(v, bool) else str(v)) for k, v in args.items()}
+    return out
 
 
 def _selectors(value: Any, key: str, where: str) -> list[str]:
@@ -92,7 +144,7 @@ def _severity(value: Any, where: str) -> Severity:
 
 
 def load_config(path: Path | None = None) -> LintConfig:
-    """Read the config from `path`, or from the nearest pyproject.toml above the working directory."""
+    """Read the config from `path`, or from the nearest armtool.toml / pyproject.toml above the working directory."""
     if path is None:
         path = find_pyproject(Path.cwd())
         if path is None:
@@ -101,7 +153,8 @@ def load_config(path: Path | None = None) -> LintConfig:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise ArmtoolError(f"cannot read config: {exc.strerror}", str(path)) from None
-    if "armtool" not in text:
+    own_file = path.name == "armtool.toml"
+    if not own_file and "armtool" not in text:
         return LintConfig(root=path.parent, source=path)  # not ours: skip the TOML parser's start-up cost
     if sys.version_info >= (3, 11):
         import tomllib
@@ -112,10 +165,10 @@ def load_config(path: Path | None = None) -> LintConfig:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ArmtoolError(f"invalid TOML: {exc}", str(path)) from None
-    section = data.get("tool", {}).get("armtool", {}).get("lint")
+    section = data.get("lint") if own_file else data.get("tool", {}).get("armtool", {}).get("lint")
     if section is None:
         return LintConfig(root=path.parent, source=path)
-    where = f"{path} [tool.armtool.lint]"
+    where = f"{path} [lint]" if own_file else f"{path} [tool.armtool.lint]"
     if not isinstance(section, dict):
         raise ArmtoolError("[tool.armtool.lint] must be a table", where)
     unknown = set(section) - _KEYS
@@ -138,6 +191,15 @@ def load_config(path: Path | None = None) -> LintConfig:
         cfg.severity[sel] = _severity(value, where)
     if "fail-on" in section:
         cfg.fail_on = _severity(section["fail-on"], where)
+    paths = section.get("package-paths", [])
+    if isinstance(paths, str):
+        paths = [paths]
+    if not isinstance(paths, list) or not all(isinstance(p, str) for p in paths):
+        raise ArmtoolError("'package-paths' must be a list of directories", where, 'e.g. package-paths = ["src"]')
+    cfg.package_paths = [path.parent / p for p in paths]
+    cfg.xacro_args = _xacro_args(section.get("xacro-args", {}), where)
+    cfg.urdf = _paths_table(section.get("urdf", {}), "urdf", where, path.parent)
+    cfg.srdf = _paths_table(section.get("srdf", {}), "srdf", where, path.parent)
     return cfg
 
 

@@ -6,7 +6,9 @@ import re
 from collections.abc import Iterable, Iterator, Sequence
 from enum import Enum
 from pathlib import Path
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
+
+from lxml import etree
 
 from armtool.errors import ArmtoolError
 from armtool.lint.config import LintConfig
@@ -18,8 +20,15 @@ from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
 from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml
 
+if TYPE_CHECKING:  # imported on use (xacro costs start-up time; SRDF support is not always needed)
+    from armtool.lint.srdf_context import SrdfContext
+    from armtool.model.xacro_source import Expansion, XacroFailure
+
 SKIP_DIRS = {".git", ".hg", ".svn", ".venv", "venv", "node_modules", "__pycache__", "build", "install", "log"}
 MAX_BYTES = 256 * 1024 * 1024
+
+
+STDIN = Path("-")  # `armtool lint -`: a robot description (URDF or SRDF) read from standard input
 
 
 class FileKind(str, Enum):
@@ -46,7 +55,9 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
     """Files named on the command line (any extension is taken as asked) and robot files below directories."""
     out: list[Path] = []
     for path in paths:
-        if path.is_dir():
+        if path == STDIN:
+            out.append(path)
+        elif path.is_dir():
             found = sorted(_walk(path))
             if not found:
                 raise ArmtoolError(
@@ -94,7 +105,9 @@ class LintOptions:
         urdf: Path | None = None,
         srdf: Path | None = None,
         config: LintConfig | None = None,
+        stdin: bytes | None = None,
     ) -> None:
+        self.stdin = stdin  # the bytes of `-`
         self.xacro_args = dict(xacro_args or {})
         self.package_paths = list(package_paths)
         self.urdf = urdf
@@ -119,6 +132,33 @@ def _file_finding(code: str, path: Path, line: int, column: int, message: str, h
     return Finding(display_path(path), line, column, rule.code, rule.name, rule.severity, message, hint)
 
 
+def xacro_finding(exc: XacroFailure) -> Finding:
+    """X001 at the include or macro call of the expanded file that leads to xacro's error."""
+    finding = _file_finding("X001", exc.path, exc.line, 1, f"xacro failed: {exc.message}", exc.hint)
+    related = tuple((display_path(loc.path), loc.line) for loc in exc.trail)
+    return finding._replace(related=related) if related else finding
+
+
+def _cause(path: Path, findings: list[Finding]) -> str:
+    """Why a counterpart file could not be used, from the findings its loading produced."""
+    first = next((f for f in findings if f.severity.value == "error"), findings[0] if findings else None)
+    if first is None:
+        return f"{display_path(path)} is not a robot description with links"
+    return f"{display_path(path)} could not be loaded: {first.code} {first.message}"
+
+
+_SRDF_TAGS = re.compile(rb"<(group|virtual_joint|disable_collisions|group_state|end_effector|passive_joint)[\s/>]")
+_LINK_TAG = re.compile(rb"<link[\s/>]")
+
+
+def sniff_kind(data: bytes) -> FileKind:
+    """The kind of a file whose name does not say (PR2's srdf/robot.xml, a robot_description on
+    stdin): an SRDF has groups, states or collision pairs and no links; anything else is a URDF."""
+    if _SRDF_TAGS.search(data) and not _LINK_TAG.search(data):
+        return FileKind.SRDF
+    return FileKind.URDF
+
+
 def _read(path: Path) -> bytes:
     try:
         size = path.stat().st_size
@@ -134,23 +174,37 @@ class Linter:
         from armtool.lint.suppress import SuppressionIndex
 
         self.options = options
-        self.resolver = PackageResolver(options.package_paths)
-        self._urdf_cache: dict[Path, UrdfContext | None] = {}
+        self.resolver = PackageResolver([*options.package_paths, *options.config.package_paths])
+        self._urdf_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], tuple[UrdfContext | None, list[Finding]]] = {}
         self._rules: dict[Target, list[Rule]] = {}
         self.suppressions = SuppressionIndex()
 
     def _read(self, path: Path) -> bytes:
         """The file's bytes; inline ignore comments are read from them too, not from a second read."""
-        data = _read(path)
+        if path == STDIN:
+            data = self.options.stdin or b""
+            if b"<xacro:" in data:
+                raise ArmtoolError("standard input holds a xacro document; xacro needs its file for includes",
+                                   "-", "pass the .xacro file itself, or pipe xacro's output: xacro FILE | armtool lint -")
+        else:
+            data = _read(path)
         self.suppressions.prime(display_path(path), data)
         return data
 
+    # ---- per-file settings ------------------------------------------------
+    def xacro_args_for(self, path: Path, extra: dict[str, str] | None = None) -> dict[str, str]:
+        """xacro arguments for one file: the config's for its glob, then `extra` (.setup_assistant),
+        then --xacro-arg (the command line wins)."""
+        args = dict(self.options.config.xacro_args_for(path))
+        args.update(extra or {})
+        args.update(self.options.xacro_args)
+        return args
+
     # ---- URDF and xacro -------------------------------------------------
-    def load_urdf(self, path: Path) -> tuple[UrdfContext | None, list[Finding]]:
+    def load_urdf(self, path: Path, extra_args: dict[str, str] | None = None) -> tuple[UrdfContext | None, list[Finding]]:
         """Parse a URDF or expand a xacro. Returns the context (None if unusable) and loader findings."""
-        kind = file_kind(path)
-        if kind is FileKind.XACRO or path.name.lower().endswith(".xacro"):
-            return self._load_xacro(path)
+        if path.name.lower().endswith(".xacro"):
+            return self._load_xacro(path, extra_args)
         data = self._read(path)
         try:
             root = parse_xml(data, keep_blank_text=False)
@@ -170,17 +224,24 @@ class Linter:
             return None, findings
         return UrdfContext(path, root, Locator(path, data=data), self.resolver, raw=data), findings
 
-    def _load_xacro(self, path: Path) -> tuple[UrdfContext | None, list[Finding]]:
+    def _expand(self, path: Path, extra_args: dict[str, str] | None = None) -> Expansion | Finding:
+        """xacro's expansion of `path`, or the X001 finding that says why it failed."""
         from armtool.model.xacro_source import XacroFailure, expand
 
         self._read(path)
         try:
-            expansion = expand(path, self.options.xacro_args, self.resolver)
+            return expand(path, self.xacro_args_for(path, extra_args), self.resolver)
         except XacroFailure as exc:
-            return None, [_file_finding("X001", exc.path, exc.line, 1, f"xacro failed: {exc.message}",
-                                        "fix the xacro, or pass --xacro-arg NAME:=VALUE / --package-path DIR")]
+            return xacro_finding(exc)
+
+    def _load_xacro(self, path: Path, extra_args: dict[str, str] | None = None) -> tuple[UrdfContext | None, list[Finding]]:
+        expansion = self._expand(path, extra_args)
+        if isinstance(expansion, Finding):
+            return None, [expansion]
         root = expansion.root
         if local_tag(root) != "robot":
+            if not any(isinstance(el.tag, str) for el in root):
+                return None, []  # macros or arguments only, under another root (<gripper>): an include file
             return None, [_file_finding("U002", path, 1, 1, f"expanded root element is <{local_tag(root)}>, not <robot>")]
         ctx = UrdfContext(path.resolve(), root, Locator(path.resolve(), expansion.origins), self.resolver, from_xacro=True)
         return ctx, []
@@ -194,64 +255,65 @@ class Linter:
         return findings + list(self._run(ctx, Target.URDF))
 
     # ---- SRDF --------------------------------------------------------------
-    def _urdf_for_srdf(self, srdf: Path, robot_name: str | None) -> Path | None:
-        if self.options.urdf is not None:
-            return self.options.urdf
-        here = srdf.parent
-        places = [here, here.parent]
-        try:
-            places += sorted(p for p in here.parent.iterdir() if p.is_dir() and p != here)
-        except OSError:
-            pass
-        candidates: list[Path] = []
-        for place in places:
-            try:
-                candidates += sorted(p for p in place.iterdir() if p.is_file() and file_kind(p) in (FileKind.URDF, FileKind.XACRO))
-            except OSError:
-                continue
-        # The SRDF's own file name is the strongest hint (anymal-kinova.srdf says robot "anymal"),
-        # then a file named like its robot, then a URDF that declares that robot name.
-        for stem in (srdf.name.split(".")[0], robot_name):
-            for cand in candidates:
-                if stem and cand.name.split(".")[0] == stem:
-                    return cand
-        if robot_name:
-            pattern = re.compile(rb"<robot[^>]*\sname\s*=\s*[\"']" + re.escape(robot_name.encode()) + rb"[\"']")
-            for cand in candidates:
-                try:
-                    head = cand.read_bytes()[:4096]
-                except OSError:
-                    continue
-                if pattern.search(head):
-                    return cand
-        same_dir = [c for c in candidates if c.parent == here and file_kind(c) is FileKind.URDF]
-        return same_dir[0] if len(same_dir) == 1 else None
-
-    def _urdf_model(self, path: Path) -> UrdfContext | None:
-        key = path.resolve()
+    def _urdf_model(self, path: Path, extra_args: dict[str, str] | None = None) -> tuple[UrdfContext | None, list[Finding]]:
+        key = (path.resolve(), tuple(sorted((extra_args or {}).items())))
         if key not in self._urdf_cache:
-            self._urdf_cache[key] = self.load_urdf(path)[0]
+            self._urdf_cache[key] = self.load_urdf(path, extra_args)
         return self._urdf_cache[key]
 
-    def load_srdf(self, path: Path) -> tuple[FileContext | None, list[Finding]]:
+    def _urdf_for_srdf(self, srdf: Path, robot_name: str | None) -> tuple[UrdfContext | None, str | None]:
+        """The URDF an SRDF describes, or None and why not."""
+        from armtool.lint.pairing import urdf_candidates
+
+        given = self.options.urdf or self.options.config.urdf_for(srdf)
+        if given is not None:
+            ctx, findings = self._urdf_model(given)
+            return ctx, None if ctx is not None else _cause(given, findings)
+        first_failure: str | None = None
+        for cand in urdf_candidates(srdf, robot_name, self.resolver):
+            if not cand.path.is_file():
+                first_failure = first_failure or f"{display_path(cand.path)} ({cand.why}) does not exist"
+                continue
+            ctx, findings = self._urdf_model(cand.path, cand.xacro_args)
+            if ctx is not None and ctx.links:
+                return ctx, None
+            if ctx is None and findings and first_failure is None:
+                first_failure = _cause(cand.path, findings) + f" ({cand.why})"
+        return None, first_failure or "no URDF found beside it"
+
+    def load_srdf(self, path: Path, *, pair: bool = True) -> tuple[SrdfContext | None, list[Finding]]:
+        """The SRDF (a .srdf.xacro expanded like URDF xacros), paired with its URDF. None with no
+        findings for an SRDF xacro that only defines macros: nothing to check on its own."""
         from armtool.lint.srdf_context import SrdfContext
 
-        data = self._read(path)
-        try:
-            root = parse_xml(data)
-        except XmlSyntaxProblem as exc:
-            return None, [_file_finding("S001", path, exc.line, exc.column, f"not well-formed XML: {exc.message}")]
+        if path.name.lower().endswith(".xacro"):
+            expansion = self._expand(path)
+            if isinstance(expansion, Finding):
+                return None, [expansion]
+            root = expansion.root
+            if local_tag(root) == "robot" and not any(isinstance(el.tag, str) for el in root):
+                return None, []
+            locator = Locator(path.resolve(), expansion.origins)
+            path = path.resolve()
+        else:
+            data = self._read(path)
+            try:
+                root = parse_xml(data)
+            except XmlSyntaxProblem as exc:
+                return None, [_file_finding("S001", path, exc.line, exc.column, f"not well-formed XML: {exc.message}")]
+            locator = Locator(path, data=data)
         if local_tag(root) != "robot":
             return None, [_file_finding("S001", path, root.sourceline or 1, 1, f"root element is <{local_tag(root)}>, not <robot>")]
         findings: list[Finding] = []
-        urdf_path = self._urdf_for_srdf(path, root.get("name"))
-        urdf = self._urdf_model(urdf_path) if urdf_path is not None else None
-        if urdf is None:
-            why = "no URDF found beside it" if urdf_path is None else f"its URDF {display_path(urdf_path)} could not be loaded"
-            findings.append(_file_finding("S002", path, root.sourceline or 1, 1,
-                                          f"cannot check names and limits against the robot: {why}",
-                                          "pass --urdf PATH (a .urdf or .urdf.xacro)"))
-        return SrdfContext(path, root, Locator(path, data=data), urdf), findings
+        urdf: UrdfContext | None = None
+        if pair:
+            urdf, why = self._urdf_for_srdf(path, root.get("name"))
+            if urdf is None:
+                findings.append(_file_finding("S002", path, root.sourceline or 1, 1,
+                                              f"cannot check names and limits against the robot: {why}",
+                                              "pass --urdf PATH (a .urdf or .urdf.xacro), or set it for this file in "
+                                              "[tool.armtool.lint.urdf]"))
+        return SrdfContext(path, root, locator, urdf), findings
 
     def lint_srdf(self, path: Path) -> list[Finding]:
         ctx, findings = self.load_srdf(path)
@@ -260,17 +322,38 @@ class Linter:
         return findings + list(self._run(ctx, Target.SRDF))
 
     # ---- kinematics.yaml -----------------------------------------------------
-    def _srdf_for_kinematics(self, path: Path) -> Path | None:
-        if self.options.srdf is not None:
-            return self.options.srdf
-        candidates = sorted(p for p in path.parent.glob("*.srdf"))
-        return candidates[0] if len(candidates) == 1 else None
+    def _srdf_for_kinematics(self, path: Path, groups: list[str]) -> tuple[SrdfContext | None, str]:
+        """The SRDF whose groups a kinematics.yaml configures, or None and why not."""
+        from armtool.lint.pairing import srdf_candidates
+
+        given = self.options.srdf or self.options.config.srdf_for(path)
+        if given is not None:
+            ctx, findings = self.load_srdf(given, pair=False)
+            return ctx, "" if ctx is not None else _cause(given, findings)
+        failure = ""
+        for tier in srdf_candidates(path):
+            usable: dict[Path, SrdfContext] = {}
+            for cand in tier:
+                if not cand.path.is_file():
+                    continue
+                ctx, findings = self.load_srdf(cand.path, pair=False)
+                if ctx is not None:
+                    usable.setdefault(ctx.path, ctx)
+                elif findings and not failure:
+                    failure = _cause(cand.path, findings)
+            if len(usable) == 1:
+                return next(iter(usable.values())), ""
+            covering = [c for c in usable.values() if set(groups) <= set(c.groups)]
+            if len(covering) == 1:
+                return covering[0], ""
+            if usable:
+                return None, "several SRDFs beside it: " + ", ".join(sorted(p.name for p in usable))
+        return None, failure or "no SRDF found beside it"
 
     def lint_kinematics(self, path: Path) -> list[Finding]:
         import yaml
 
-        from armtool.lint.kinematics_context import KinematicsContext, read_groups
-        from armtool.lint.srdf_context import SrdfContext
+        from armtool.lint.kinematics_context import KinematicsContext, is_moveit_kinematics, read_groups
 
         text = self._read(path).decode("utf-8", "replace")
         try:
@@ -280,15 +363,13 @@ class Linter:
             line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
             problem = getattr(exc, "problem", None) or str(exc)
             return [_file_finding("K001", path, line, col, f"invalid YAML: {problem}")]
+        if not is_moveit_kinematics(groups):
+            return []  # named *kinematics.yaml, but not MoveIt's (UR's calibration, Franka's parameters)
         findings: list[Finding] = []
-        srdf_path = self._srdf_for_kinematics(path)
-        srdf_ctx = None
-        if srdf_path is not None:
-            loaded, _ = self.load_srdf(srdf_path)
-            srdf_ctx = loaded if isinstance(loaded, SrdfContext) else None
+        srdf_ctx, why = self._srdf_for_kinematics(path, [g.name for g in groups])
         if srdf_ctx is None:
-            findings.append(_file_finding("K002", path, 1, 1, "cannot check group names: no SRDF found beside it",
-                                          "pass --srdf PATH"))
+            findings.append(_file_finding("K002", path, 1, 1, f"cannot check group names: {why}",
+                                          "pass --srdf PATH, or set it for this file in [tool.armtool.lint.srdf]"))
         ctx = KinematicsContext(path, groups, srdf_ctx)
         return findings + list(self._run(ctx, Target.KINEMATICS))
 
@@ -301,7 +382,11 @@ class Linter:
             yield from rule.check(ctx)
 
     def lint_file(self, path: Path) -> list[Finding]:
-        kind = file_kind(path)
+        kind = file_kind(path) if path != STDIN else sniff_kind(self._read(path))
+        if kind is None and path.suffix.lower() in (".yaml", ".yml"):
+            kind = FileKind.KINEMATICS  # named on the command line: its content decides (MoveIt's or not)
+        elif kind is None and path.is_file():
+            kind = sniff_kind(self._read(path))
         if kind is FileKind.SRDF:
             return self.lint_srdf(path)
         if kind is FileKind.KINEMATICS:

@@ -76,6 +76,12 @@ def read_groups(text: str) -> list[GroupSettings]:
     return groups
 
 
+def is_moveit_kinematics(groups: list[GroupSettings]) -> bool:
+    """A MoveIt kinematics.yaml sets a solver per group (`kinematics_solver*` keys); files merely
+    named so (UR's default_kinematics.yaml calibration, Franka's kinematic parameters) do not."""
+    return any(key.startswith("kinematics_solver") for group in groups for key in group.settings)
+
+
 def as_number(value: object) -> float | None:
     """A YAML value as a finite float, or None (strings, booleans, lists, NaN and infinities are not numbers)."""
     import math

@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from lxml import etree
 
 from armtool.lint.context import FileContext, UrdfContext
-from armtool.lint.locate import Locator, local_tag
-from armtool.lint.rule import Target
+from armtool.lint.finding import Finding
+from armtool.lint.locate import Locator, display_path, local_tag
+from armtool.lint.rule import Rule, Target
+
+
+_SRDF_ONLY = frozenset({"S103"})  # rules that compare the SRDF with itself, not with the URDF
 
 
 class SrdfContext(FileContext):
@@ -22,6 +27,12 @@ class SrdfContext(FileContext):
         for el in root:
             if local_tag(el) == "group" and el.get("name") and el.get("name") not in self.groups:
                 self.groups[el.get("name")] = el
+
+    def finding(self, rule: Rule | type[Rule], el: etree._Element, message: str, **kwargs: Any) -> Finding:
+        """A finding that says which URDF the SRDF was checked against (it was found, not given)."""
+        if self.urdf is not None and rule.code not in _SRDF_ONLY and self.urdf.path.name not in message:
+            message = f"{message} (URDF: {display_path(self.urdf.path)})"
+        return super().finding(rule, el, message, **kwargs)
 
     def elements(self, tag: str) -> list[etree._Element]:
         return [el for el in self.root if local_tag(el) == tag]

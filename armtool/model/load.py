@@ -21,9 +21,7 @@ def _load_xml(path: Path, xacro_args: Mapping[str, str] | None, package_paths: S
         try:
             root = expand(path, xacro_args or {}, PackageResolver(package_paths)).root
         except XacroFailure as exc:
-            raise ArmtoolError(
-                f"xacro failed: {exc.message}", f"{exc.path}:{exc.line}", "pass --xacro-arg NAME:=VALUE or fix the xacro"
-            ) from None
+            raise ArmtoolError(f"xacro failed: {exc.message}", f"{exc.path}:{exc.line}", exc.hint) from None
     else:
         try:
             root = parse_xml(path.read_bytes())

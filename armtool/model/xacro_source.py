@@ -32,11 +32,44 @@ _LOCK = threading.Lock()
 
 
 class XacroFailure(Exception):
-    def __init__(self, message: str, path: Path, line: int = 1) -> None:
+    """xacro could not expand a file. `path:line` is the innermost place in the expanded (top) file
+    that leads to the error (the include or macro call, or the element itself); `trail` lists the
+    places xacro was at, outermost first (calls and includes through other files)."""
+
+    def __init__(
+        self,
+        message: str,
+        path: Path,
+        line: int = 1,
+        trail: tuple[SourceLine, ...] = (),
+        missing_package: str | None = None,
+        missing_arg: str | None = None,
+    ) -> None:
         super().__init__(message)
         self.message = message
         self.path = path
         self.line = line
+        self.trail = trail
+        self.missing_package = missing_package
+        self.missing_arg = missing_arg
+
+    @property
+    def hint(self) -> str:
+        """What the user can pass or change, naming the option that supplies it."""
+        if self.missing_package:
+            return (f"pass --package-path DIR (a directory holding package '{self.missing_package}', "
+                    "found by the <name> in its package.xml) or set ROS_PACKAGE_PATH")
+        if self.missing_arg:
+            return f"pass --xacro-arg {self.missing_arg}:=VALUE (or give the <xacro:arg> a default)"
+        return "fix the xacro, or pass --xacro-arg NAME:=VALUE / --package-path DIR"
+
+
+class _MissingPackage(Exception):
+    """Raised by our $(find) so that the failure names the package (xacro wraps it)."""
+
+    def __init__(self, name: str) -> None:
+        super().__init__(f"package '{name}' not found for $(find {name})")
+        self.name = name
 
 
 @dataclass
@@ -62,7 +95,9 @@ def _checked_source(path: Path) -> tuple[Path, etree._Element] | None:
     return path, root
 
 
-def _annotate(doc: Any, source: tuple[Path, etree._Element], files: list[Path]) -> None:
+def _annotate(doc: Any, source: tuple[Path, etree._Element], files: list[Path], directives: dict[Any, str]) -> None:
+    """Tag each element with `file index:line`; xacro's own directives (which refuse unknown
+    attributes) go into `directives` instead, so that errors inside an include can name its line."""
     path, root = source
     lx_elements = list(root.iter(etree.Element))
     dom_elements = doc.getElementsByTagName("*")
@@ -72,8 +107,36 @@ def _annotate(doc: Any, source: tuple[Path, etree._Element], files: list[Path]) 
     files.append(path)
     for lx, dom in zip(lx_elements, dom_elements):
         if dom.tagName in _DIRECTIVES:
+            directives[dom] = f"{idx}:{lx.sourceline}"
             continue
         dom.setAttribute(SRC_ATTR, f"{idx}:{lx.sourceline}")
+
+
+_FRAMES_ATTR = "_armtool_frames"
+
+
+def _src_of(node: Any, directives: dict[Any, str]) -> str | None:
+    if getattr(node, "nodeType", None) != 1:  # an element
+        return None
+    src = node.getAttribute(SRC_ATTR)
+    return src or directives.get(node)
+
+
+def _tracked(frames: list[str], src: str | None, fn: Any, *args: Any) -> Any:  # noqa: ANN401
+    """Run one of xacro's steps with `src` on the stack of places; an exception leaving it carries
+    the stack as it was where it was raised (xacro's own stacks have files, not lines)."""
+    if src:
+        frames.append(src)
+    try:
+        return fn(*args)
+    except Exception as exc:
+        if getattr(exc, _FRAMES_ATTR, None) is None:
+            with contextlib.suppress(AttributeError):
+                setattr(exc, _FRAMES_ATTR, tuple(frames))
+        raise
+    finally:
+        if src:
+            frames.pop()
 
 
 @contextlib.contextmanager
@@ -82,14 +145,24 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
 
     orig_parse = xacro.parse
     orig_call = xacro.handle_macro_call
+    orig_eval_all = xacro.eval_all
+    orig_include = xacro.process_include
     orig_find = substitution_args._eval_find
+    directives: dict[Any, str] = {}
+    frames: list[str] = []
 
     def parse(inp: Any, filename: str | None = None) -> Any:  # noqa: ANN401
         source = _checked_source(Path(filename).resolve()) if inp is None and filename else None
         doc = orig_parse(inp, filename)
         if source is not None:
-            _annotate(doc, source, files)
+            _annotate(doc, source, files, directives)
         return doc
+
+    def eval_all(node: Any, macros: Any, symbols: Any) -> Any:  # noqa: ANN401
+        return _tracked(frames, _src_of(node, directives), orig_eval_all, node, macros, symbols)
+
+    def process_include(elt: Any, macros: Any, symbols: Any, func: Any) -> Any:  # noqa: ANN401
+        return _tracked(frames, _src_of(elt, directives), orig_include, elt, macros, symbols, func)
 
     def handle_macro_call(node: Any, macros: Any, symbols: Any) -> Any:
         src = None
@@ -98,7 +171,7 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
             node.removeAttribute(SRC_ATTR)
         parent = node.parentNode
         before = list(parent.childNodes) if parent is not None else []
-        done = orig_call(node, macros, symbols)
+        done = _tracked(frames, src, orig_call, node, macros, symbols)
         if done and src and parent is not None:
             seen = {id(n) for n in before}
             for child in parent.childNodes:
@@ -114,19 +187,21 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     def eval_find(pkg: str) -> str:
         found = resolver.find(pkg, top.parent)
         if found is None:
-            raise xacro.XacroException(
-                f"cannot find package '{pkg}' for $(find {pkg}); pass --package-path or set ROS_PACKAGE_PATH"
-            )
+            raise _MissingPackage(pkg)
         return str(found)
 
     xacro.parse = parse
     xacro.handle_macro_call = handle_macro_call
+    xacro.eval_all = eval_all
+    xacro.process_include = process_include
     substitution_args._eval_find = eval_find
     try:
         yield
     finally:
         xacro.parse = orig_parse
         xacro.handle_macro_call = orig_call
+        xacro.eval_all = orig_eval_all
+        xacro.process_include = orig_include
         substitution_args._eval_find = orig_find
 
 
@@ -136,6 +211,83 @@ def _parse_loc(value: str, files: list[Path]) -> SourceLine | None:
         return SourceLine(files[int(idx)], int(line))
     except (ValueError, IndexError):
         return None
+
+
+def _message(exc: BaseException) -> str:
+    """xacro's message once: its XacroException repeats the wrapped exception (and for $(...) errors
+    prefixes the class repr); the wrapped one is shown by itself, then xacro's context suffix."""
+    from xacro import XacroException
+    from xacro.substitution_args import ArgException
+
+    if isinstance(exc, RecursionError):
+        return "macro recursion too deep"
+    if not isinstance(exc, XacroException):
+        return str(exc) or type(exc).__name__
+    inner = exc.exc
+    head = str(exc.args[0]) if exc.args and exc.args[0] else ""
+    if isinstance(inner, ArgException):
+        text = f"undefined substitution argument '{inner}' ($(arg {inner}))"
+    elif isinstance(inner, _MissingPackage):
+        text = str(inner)
+    elif isinstance(inner, OSError) or inner is None:
+        text = head or type(exc).__name__
+    else:
+        inner_text = _message(inner)
+        text = inner_text if not head or head.startswith("<class") or inner_text in head else f"{head} {inner_text}"
+    macros = [m.body.getAttribute("name") for m in getattr(exc, "macros", None) or () if getattr(m, "body", None)]
+    if macros:
+        text += f" of macro '{macros[0]}'"
+    suffix = " ".join(str(exc.suffix or "").split())
+    return f"{text} ({suffix})" if suffix else text
+
+
+def _cause(exc: BaseException, kind: type[BaseException]) -> BaseException | None:
+    seen = 0
+    node: BaseException | None = exc
+    while node is not None and seen < 20:
+        if isinstance(node, kind):
+            return node
+        node = getattr(node, "exc", None) or node.__cause__ or node.__context__
+        seen += 1
+    return None
+
+
+def _failure(exc: BaseException, top: Path, files: list[Path]) -> XacroFailure:
+    """One XacroFailure in the file that was expanded: at the innermost include or macro call (or
+    element) of that file on the way to the error, with the rest of the way in the message."""
+    from xacro.substitution_args import ArgException
+
+    frames = getattr(exc, _FRAMES_ATTR, None) or ()
+    trail = tuple(loc for loc in (_parse_loc(f, files) for f in frames) if loc)
+    if isinstance(exc, XacroFailure):  # a malformed included file, found by our parser
+        message = exc.message
+        inner: SourceLine | None = SourceLine(exc.path, exc.line) if exc.path != top else None
+        if exc.path == top:
+            return exc
+    else:
+        message = _message(exc)
+        inner = trail[-1] if trail and trail[-1].path != top else None
+    in_top = [loc for loc in trail if loc.path == top]
+    line = in_top[-1].line if in_top else 1
+    if inner is not None:
+        message += f" (at {_shown(inner.path)}:{inner.line})"
+    package = _cause(exc, _MissingPackage)
+    arg = _cause(exc, ArgException)
+    return XacroFailure(
+        message, top, line, trail,
+        missing_package=package.name if isinstance(package, _MissingPackage) else None,
+        missing_arg=str(arg) if arg is not None else None,
+    )
+
+
+def _shown(path: Path) -> str:
+    import os
+
+    try:
+        rel = os.path.relpath(path)
+    except ValueError:
+        return str(path)
+    return str(path) if rel.startswith("..") else rel
 
 
 def expand(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> Expansion:
@@ -150,14 +302,8 @@ def expand(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> Ex
         try:
             doc = xacro.process_file(str(path), mappings=dict(args), verbosity=0)
             text = doc.toxml()
-        except XacroFailure:
-            raise
         except Exception as exc:  # xacro raises many types; all become one clear failure
-            where = Path(xacro.filestack[-1]) if getattr(xacro, "filestack", None) and xacro.filestack[-1] else path
-            message = str(exc) or type(exc).__name__
-            if isinstance(exc, RecursionError):
-                message = "macro recursion too deep"
-            raise XacroFailure(message, where) from None
+            raise _failure(exc, path, files) from None
         finally:
             with contextlib.suppress(Exception):
                 xacro.init_stacks(None)

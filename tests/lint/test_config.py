@@ -69,3 +69,46 @@ def test_cli_select_fail_on_and_exit_zero(tmp_path: Path) -> None:
     assert runner.invoke(app, ["lint", "--select", "U301", str(path)]).exit_code == 0
     assert runner.invoke(app, ["lint", "--select", "U301", "--fail-on", "warning", str(path)]).exit_code == 1
     assert runner.invoke(app, ["lint", "--exit-zero", str(path)]).exit_code == 0
+
+
+XACRO_ROBOT = """<robot name="$(arg name)" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="name" default=""/>
+  <link name="base"/>
+</robot>
+"""
+
+
+def test_per_file_xacro_args_package_paths_and_urdf_pairing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "urdf").mkdir()
+    (tmp_path / "urdf" / "ur.urdf.xacro").write_text(XACRO_ROBOT.replace("<link", '<xacro:include filename="$(find ur_meshes)/m.xacro"/>\n  <link'))
+    meshes = tmp_path / "vendor" / "ur_meshes"
+    meshes.mkdir(parents=True)
+    (meshes / "package.xml").write_text("<package><name>ur_meshes</name></package>")
+    (meshes / "m.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"/>')
+    (tmp_path / "srdf").mkdir()
+    (tmp_path / "srdf" / "robot.srdf").write_text('<robot name="ur"><group name="g"><link name="base"/></group></robot>')
+    toml = """[lint]
+package-paths = ["vendor"]
+[lint.xacro-args]
+"urdf/*.urdf.xacro" = { name = "ur" }
+[lint.urdf]
+"srdf/robot.srdf" = "urdf/ur.urdf.xacro"
+"""
+    (tmp_path / "armtool.toml").write_text(toml)
+    monkeypatch.chdir(tmp_path)
+    assert lint_paths([tmp_path], LintOptions(config=load_config())).findings == []
+    (tmp_path / "armtool.toml").write_text("[lint]\n")  # without the settings: X001 and S002
+    assert {f.code for f in lint_paths([tmp_path], LintOptions(config=load_config())).findings} == {"X001", "S002"}
+
+
+def test_pyproject_takes_the_same_keys(tmp_path: Path) -> None:
+    (tmp_path / "pyproject.toml").write_text('[tool.armtool.lint]\nxacro-args = { "*.xacro" = ["name:=r"] }\n')
+    cfg = load_config(tmp_path / "pyproject.toml")
+    assert cfg.xacro_args_for(tmp_path / "a" / "robot.urdf.xacro") == {"name": "r"}
+
+
+def test_bad_xacro_args_table_is_a_clear_error(tmp_path: Path) -> None:
+    (tmp_path / "armtool.toml").write_text('[lint]\nxacro-args = { "*.xacro" = 3 }\n')
+    with pytest.raises(ArmtoolError) as err:
+        load_config(tmp_path / "armtool.toml")
+    assert "armtool.toml" in (err.value.where or "")

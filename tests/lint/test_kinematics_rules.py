@@ -182,3 +182,33 @@ def test_codes_helper_on_several_findings(tmp_path: Path) -> None:
         "  kinematics_solver_timeout: 0\n"
     )
     assert codes(lint_yaml(tmp_path, text)) == [("K102", 2), ("K104", 3), ("K105", 4), ("K101", 5), ("K103", 6)]
+
+
+@pytest.mark.parametrize("plugin", [
+    "moveit_opw_kinematics_plugin/MoveItOPWKinematicsPlugin",
+    "prbt_manipulator/IKFastKinematicsPlugin",  # an IKFast plugin of any name
+    "fanuc_m10ia_ikfast_manipulator_plugin::IKFastKinematicsPlugin",
+    "pick_ik/PickIkPlugin",
+    "bio_ik/BioIKKinematicsPlugin",
+    "cached_ik_kinematics_plugin/CachedKDLKinematicsPlugin",
+    "lma_kinematics_plugin/LMAKinematicsPlugin",
+    "srv_kinematics_plugin/SrvKinematicsPlugin",
+    "my_robot_kinematics/MyAnalyticPlugin",  # a plugin of the workspace: pluginlib's package/Class pattern
+])
+def test_k102_real_plugins_pass(tmp_path: Path, plugin: str) -> None:
+    assert lint_yaml(tmp_path, f"arm:\n  kinematics_solver: {plugin}\n") == []
+
+
+@pytest.mark.parametrize("plugin, meant", [
+    ("kdl_kinematic_plugin/KDLKinematicsPlugin", "kdl_kinematics_plugin/KDLKinematicsPlugin"),
+    ("pick_ik/PickIKPlugin", "pick_ik/PickIkPlugin"),
+    ("trac_ik_kinematics_plugin/KDLKinematicsPlugin", "trac_ik_kinematics_plugin/TRAC_IKKinematicsPlugin"),
+])
+def test_k102_near_misses_are_reported_with_the_real_name(tmp_path: Path, plugin: str, meant: str) -> None:
+    (f,) = lint_yaml(tmp_path, f"arm:\n  kinematics_solver: {plugin}\n")
+    assert f.code == "K102" and f"did you mean '{meant}'" in f.message
+
+
+def test_k102_no_unrelated_suggestion(tmp_path: Path) -> None:
+    (f,) = lint_yaml(tmp_path, "arm:\n  kinematics_solver: OPW\n")  # not a pluginlib name at all
+    assert f.code == "K102" and "did you mean" not in f.message

@@ -293,7 +293,8 @@ def test_s106_value_outside_limits(tmp_path: Path) -> None:
     found = lint_srdf(tmp_path, ARM, _state("joint1=0", "joint2=1.6", "joint3=0"))
     (f,) = found
     assert (f.code, f.line, f.severity) == ("S106", 3, Severity.ERROR)
-    assert f.message == "group_state 'home': joint 'joint2' = 1.6 is outside its limits [-1.5, 1.5] rad"
+    assert f.message.startswith("group_state 'home': joint 'joint2' = 1.6 is outside its limits [-1.5, 1.5] rad")
+    assert f.message.endswith("arm.urdf)")  # names the URDF it was checked against
 
 
 def test_s106_degrees_typed_for_radians(tmp_path: Path) -> None:
@@ -330,7 +331,7 @@ def test_s107_missing_joint(tmp_path: Path) -> None:
     found = lint_srdf(tmp_path, ARM, _state("joint1=0", "joint3=0"))
     (f,) = found
     assert (f.code, f.line, f.severity) == ("S107", 3, Severity.WARNING)
-    assert f.message == "group_state 'home' gives no value for joint of group 'arm': 'joint2'"
+    assert f.message.startswith("group_state 'home' gives no value for joint of group 'arm': 'joint2' (URDF: ")
 
 
 def test_s107_skips_fixed_mimic_and_passive_joints(tmp_path: Path) -> None:

@@ -93,7 +93,7 @@ def test_find_package_resolves_through_package_path(tmp_path: Path) -> None:
     main = tmp_path / "robot.urdf.xacro"
     main.write_text(MAIN.replace('filename="macros.xacro"', 'filename="$(find arm_description)/macros.xacro"'))
     (f,) = [f for f in lint_paths([main], LintOptions()).findings if f.code == "X001"]
-    assert "arm_description" in f.message and "--package-path" in f.message
+    assert "arm_description" in f.message and f.hint is not None and "--package-path" in f.hint
     found = lint_paths([main], LintOptions(package_paths=[tmp_path / "pkgs"])).findings
     assert "X001" not in {f.code for f in found}
 

@@ -9,8 +9,10 @@ from armtool.lint.rule import Rule, Target
 class SrdfNotFound(Rule):
     """
     What it does:
-    Reports a kinematics.yaml whose SRDF was not found (`--srdf`, or the only .srdf in the
-    same directory), so its group names could not be checked.
+    Reports a MoveIt kinematics.yaml whose SRDF was not found (`--srdf`, the `srdf` table of
+    the configuration, the SRDF named by `.setup_assistant`, the only SRDF or SRDF xacro beside
+    it or in the package's `srdf/`, or the one of several that defines all its groups), so its
+    group names could not be checked; it says why.
 
     Why is this bad?
     A group name that the SRDF lacks means MoveIt never uses these solver settings.

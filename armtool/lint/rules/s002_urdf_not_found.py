@@ -10,9 +10,12 @@ class UrdfNotFound(Rule):
     """
     What it does:
     Reports an SRDF whose URDF was not found or could not be loaded, so names and limits
-    could not be checked. armtool looks for `--urdf`, then for a .urdf/.xacro named like the
-    SRDF's robot (or the SRDF file) in its directory, its parent and the parent's
-    subdirectories (the `config/` + `urdf/` layout of MoveIt and description packages).
+    could not be checked, and says why (not found, or the xacro error that stopped it).
+    armtool looks for `--urdf`, the `urdf` table of the configuration, the URDF named by
+    MoveIt's `.setup_assistant` (package, relative path, xacro arguments), then a .urdf/.xacro
+    named like the SRDF (or its robot) in its directory, its parent and the parent's
+    subdirectories (the `config/` + `urdf/` layout), `<robot>.urdf.xacro` and `.urdf` first.
+    A file that defines no links (`<robot>.ros2_control.xacro`) is never taken.
 
     Why is this bad?
     Most SRDF mistakes are names that do not match the URDF; without it they stay hidden.

@@ -11,7 +11,9 @@ from armtool.lint.rule import Rule, Target
 class NonPositiveEffort(Rule):
     """
     What it does:
-    Reports a joint limit with effort="0" or a negative effort.
+    Reports a joint limit with effort="0" or a negative effort. When every moving joint has
+    effort="0" (ROS-Industrial's convention for a kinematics-only model), the model is reported
+    once, at info level.
 
     Why is this bad?
     Controllers and simulators clamp the commanded torque or force to the effort limit:
@@ -27,6 +29,12 @@ class NonPositiveEffort(Rule):
     code, name, severity, target = "U204", "non-positive-effort", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        from armtool.lint import kinematics_only
+
+        if kinematics_only.all_efforts_zero(ctx):
+            if not kinematics_only.has_no_inertials(ctx):  # else U401's one finding says it already
+                yield ctx.finding(self, ctx.root, kinematics_only.description(ctx)).with_severity(Severity.INFO)
+            return
         for joint in ctx.joints:
             limit = joint.limit()
             if limit is None or not joint.moves:

@@ -45,6 +45,11 @@ class MissingInertial(Rule):
     code, name, severity, target = "U401", "missing-inertial", Severity.WARNING, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
+        from armtool.lint import kinematics_only
+
+        if kinematics_only.has_no_inertials(ctx):
+            yield ctx.finding(self, ctx.root, kinematics_only.description(ctx)).with_severity(Severity.INFO)
+            return
         for link, name in ctx.link_name.items():
             if name is None or not ctx.is_moved(name) or carries_mass(ctx, name):
                 continue

@@ -1,0 +1,49 @@
+"""`armtool expand FILE.xacro`: the document armtool checks, as armtool's own xacro expansion made it.
+
+Users see what `lint` saw: the same xacro arguments, package lookup (package.xml names,
+--package-path, ROS variables, the tree around the file) and per-file settings from the config.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from armtool.errors import ArmtoolError
+
+HELP = "Print a xacro file expanded as armtool expands it for lint and ik-bench (URDF or SRDF xacro)."
+
+
+def expand(
+    path: Path = typer.Argument(..., help="A .xacro file (URDF or SRDF)."),
+    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: List[Path] = typer.Option(
+        [], "--package-path", help="Directory holding ROS packages, for package:// and $(find) (repeatable)."
+    ),
+    config: Optional[Path] = typer.Option(None, "--config", help="armtool.toml or pyproject.toml (default: nearest one)."),
+) -> None:
+    from lxml import etree
+
+    from armtool.cli.lint import _parse_xacro_args
+    from armtool.console import write_stdout
+    from armtool.lint.config import load_config
+    from armtool.model.packages import PackageResolver
+    from armtool.model.xacro_source import XacroFailure
+    from armtool.model.xacro_source import expand as run_xacro
+
+    if not path.is_file():
+        raise ArmtoolError("no such file", str(path), "check the path to the .xacro file")
+    cfg = load_config(config)
+    args = {**cfg.xacro_args_for(path), **_parse_xacro_args(xacro_arg)}
+    resolver = PackageResolver([*package_path, *cfg.package_paths])
+    try:
+        expansion = run_xacro(path, args, resolver)
+    except XacroFailure as exc:
+        from armtool.lint.locate import display_path
+
+        raise ArmtoolError(f"xacro failed: {exc.message}", f"{display_path(exc.path)}:{exc.line}", exc.hint) from None
+    etree.indent(expansion.root, space="  ")  # one element per line, as `xacro` prints it
+    text = etree.tostring(expansion.root, encoding="unicode")
+    write_stdout('<?xml version="1.0"?>\n' + text)

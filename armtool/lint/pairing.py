@@ -1,0 +1,152 @@
+"""Which URDF an SRDF describes, and which SRDF a kinematics.yaml belongs to.
+
+As a user of the package would find them: MoveIt's `.setup_assistant` file (it names the URDF's
+package, relative path and xacro arguments, and the SRDF), then the package's own layout
+(`config/<robot>.urdf.xacro` beside `config/<robot>.srdf`, `urdf/` and `srdf/` beside `config/`).
+Candidates are returned best first; the engine takes the first that loads as a robot with links
+(a `<robot>.ros2_control.xacro` defines none and is never the URDF).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import NamedTuple
+
+from armtool.model.packages import PackageResolver
+
+URDF_SUFFIXES = (".urdf.xacro", ".urdf", ".xacro")
+SRDF_SUFFIXES = (".srdf", ".srdf.xacro")
+
+
+class Candidate(NamedTuple):
+    path: Path
+    xacro_args: dict[str, str]
+    why: str  # how it was found, for messages ("named by .setup_assistant")
+
+
+class SetupAssistant(NamedTuple):
+    """What a MoveIt config package's .setup_assistant says (ROS 1 and ROS 2 key spellings)."""
+
+    package_dir: Path
+    urdf_package: str | None
+    urdf_relative: str | None
+    urdf_xacro_args: dict[str, str]
+    srdf_relative: str | None
+
+
+def parse_xacro_args(text: str) -> dict[str, str]:
+    """`a:=1 b:=2` (as .setup_assistant and the xacro command line write them) as a dict."""
+    out: dict[str, str] = {}
+    for item in text.split():
+        name, sep, value = item.partition(":=")
+        if sep and name:
+            out[name] = value
+    return out
+
+
+def _section(data: dict[object, object], name: str) -> dict[object, object]:
+    for key, value in data.items():
+        if str(key).lower() == name and isinstance(value, dict):
+            return value
+    return {}
+
+
+def read_setup_assistant(start: Path) -> SetupAssistant | None:
+    """The .setup_assistant of the MoveIt config package that holds `start` (a directory)."""
+    for directory in [start, *start.parents][:4]:
+        marker = directory / ".setup_assistant"
+        if marker.is_file():
+            break
+        if (directory / "package.xml").is_file():
+            return None  # the package root, and no .setup_assistant in it
+    else:
+        return None
+    import yaml
+
+    try:
+        data = yaml.safe_load(marker.read_text(encoding="utf-8", errors="replace"))
+    except (OSError, yaml.YAMLError):
+        return None
+    if not isinstance(data, dict):
+        return None
+    config = _section(data, "moveit_setup_assistant_config")
+    urdf, srdf = _section(config, "urdf"), _section(config, "srdf")
+    args = urdf.get("xacro_args")
+    return SetupAssistant(
+        directory,
+        str(urdf["package"]) if urdf.get("package") else None,
+        str(urdf["relative_path"]) if urdf.get("relative_path") else None,
+        parse_xacro_args(str(args)) if args else {},
+        str(srdf["relative_path"]) if srdf.get("relative_path") else None,
+    )
+
+
+def _files(directory: Path, suffixes: tuple[str, ...]) -> list[Path]:
+    try:
+        return sorted(p for p in directory.iterdir() if p.is_file() and p.name.lower().endswith(suffixes))
+    except OSError:
+        return []
+
+
+def _stem(path: Path) -> str:
+    return path.name.split(".")[0]
+
+
+def _urdf_rank(path: Path) -> int:
+    """.urdf.xacro and .urdf name robots; a plain .xacro may be anything (macros, ros2_control)."""
+    name = path.name.lower()
+    if name.endswith((".urdf.xacro", ".urdf")):
+        return 0
+    return 1 if name.count(".") == 1 else 2  # `robot.xacro` before `robot.ros2_control.xacro`
+
+
+def urdf_candidates(srdf: Path, robot_name: str | None, resolver: PackageResolver) -> list[Candidate]:
+    """URDFs an SRDF may describe, best first."""
+    out: list[Candidate] = []
+    setup = read_setup_assistant(srdf.parent)
+    if setup is not None and setup.urdf_package and setup.urdf_relative:
+        pkg = resolver.find(setup.urdf_package, srdf.parent)
+        if pkg is not None:
+            out.append(Candidate(pkg / setup.urdf_relative, setup.urdf_xacro_args, "named by .setup_assistant"))
+    here = srdf.parent
+    places = [here, here.parent]
+    try:
+        places += sorted(p for p in here.parent.iterdir() if p.is_dir() and p != here and not p.name.startswith("."))
+    except OSError:
+        pass
+    found: list[Path] = []
+    for place in places:
+        found += [p for p in _files(place, URDF_SUFFIXES) if not p.name.lower().endswith(".srdf.xacro")]
+    ranked: list[Path] = []
+    # The SRDF's own file name is the strongest hint (anymal-kinova.srdf says robot "anymal"),
+    # then a file named like its robot, then a file that declares that robot name.
+    for stem in dict.fromkeys(s for s in (_stem(srdf), robot_name) if s):
+        ranked += sorted((p for p in found if _stem(p) == stem), key=_urdf_rank)
+    if robot_name:
+        pattern = re.compile(rb"<robot[^>]*\sname\s*=\s*[\"']" + re.escape(robot_name.encode()) + rb"[\"']")
+        for cand in sorted(found, key=_urdf_rank):
+            try:
+                head = cand.read_bytes()[:4096]
+            except OSError:
+                continue
+            if pattern.search(head):
+                ranked.append(cand)
+    same_dir = [c for c in found if c.parent == here and c.name.lower().endswith(".urdf")]
+    if len(same_dir) == 1:
+        ranked.append(same_dir[0])
+    for path in dict.fromkeys(ranked):
+        out.append(Candidate(path, {}, "found beside the SRDF"))
+    return out
+
+
+def srdf_candidates(kinematics: Path) -> list[list[Candidate]]:
+    """SRDFs (or SRDF xacros) a kinematics.yaml may belong to, in tiers, nearest first: the one
+    .setup_assistant names, those beside it, those in the package's srdf/ directory."""
+    tiers: list[list[Candidate]] = []
+    setup = read_setup_assistant(kinematics.parent)
+    if setup is not None and setup.srdf_relative:
+        tiers.append([Candidate(setup.package_dir / setup.srdf_relative, {}, "named by .setup_assistant")])
+    for place in (kinematics.parent, kinematics.parent.parent / "srdf"):
+        tiers.append([Candidate(path, {}, "found beside it") for path in _files(place, SRDF_SUFFIXES)])
+    return tiers
