@@ -9,7 +9,7 @@ validation poses, the true URDF) goes to `truth/`, which `armtool calibrate fit`
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +49,8 @@ class SimulationSpec:
     bad_samples: int = 0  # wrong rows mixed in: a joint reading off by 5°, or a mislabeled image
     joint_noise_deg: float = 0.0
     distortion: bool = False
+    xacro_args: dict[str, str] = field(default_factory=dict)  # for a .xacro robot
+    package_paths: tuple[Path, ...] = ()
 
     @property
     def distances(self) -> tuple[float, float]:
@@ -167,7 +169,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     from armtool.calib.apriltag import family_dictionary
     from armtool.calib.camera import save_intrinsics
     from armtool.calib.render import render_tag
-    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections
+    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections, relocate_meshes
     from armtool.ik.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
@@ -177,7 +179,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     if out.exists() and any(out.iterdir()):
         raise ArmtoolError("output directory is not empty", str(out), "choose a new directory, nothing was written")
     rng = np.random.default_rng(spec.seed)
-    chain = chain_from_xml(load_robot_xml(urdf), base, flange, source=urdf.name)
+    chain = chain_from_xml(load_robot_xml(urdf, spec.xacro_args, spec.package_paths), base, flange, source=urdf.name)
     camera = default_camera(spec.distortion)
     nominal = CalibModel(chain, spec.setup, np.eye(4), np.eye(4))
     L, R, pool = _place(nominal, spec, rng)
@@ -199,7 +201,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     out.mkdir(parents=True, exist_ok=True)
     (out / "images").mkdir()
     (out / "truth").mkdir()
-    text = expanded_text(urdf)
+    text = relocate_meshes(expanded_text(urdf, spec.xacro_args, spec.package_paths), urdf.parent, out)
     _write_text(out / "robot.urdf", text)
     save_intrinsics(camera, out / "camera.yaml")
     q_cfg = QUALITY[spec.quality]
@@ -260,7 +262,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     corrections = joint_corrections(truth_model, x_true)
     true_text = corrected_text(text, corrections, "robot.urdf")
     check_reproduces(true_text, truth_model, x_true, "truth/robot_true.urdf")
-    _write_text(out / "truth" / "robot_true.urdf", true_text)
+    _write_text(out / "truth" / "robot_true.urdf", relocate_meshes(true_text, out, out / "truth"))
     true_k = x_true[12:].reshape(chain.n, 8)
     truth = {
         "note": "ground truth of this synthetic dataset; armtool calibrate fit never reads it",

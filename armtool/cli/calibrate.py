@@ -6,7 +6,7 @@ import json
 import math
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Optional
+from typing import TYPE_CHECKING, Any, List, Optional
 
 import typer
 
@@ -58,18 +58,24 @@ def _families(text: str) -> tuple[Family, ...]:
     return tuple(dict.fromkeys(out))
 
 
-def _load(dataset: Path) -> tuple[Dataset, Chain | None, CameraModel | None]:
+XACRO_ARG_HELP = "xacro argument NAME:=VALUE for a .xacro robot (repeatable; overrides the dataset's robot.xacro_args)."
+PACKAGE_PATH_HELP = "Directory holding ROS packages for package:// and $(find) (repeatable; searched before the dataset's robot.package_paths)."
+
+
+def _load(dataset: Path, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None) -> tuple[Dataset, Chain | None, CameraModel | None]:
     """Dataset, chain and camera: the manifest first, then the chain it names, then the samples
-    checked against the chain's joints."""
+    checked against the chain's joints. Command-line xacro arguments and package paths are merged
+    over the dataset's own (robot.xacro_args, robot.package_paths)."""
     from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import Problem, load_dataset, read_samples
     from armtool.ik.chain import load_chain
 
     ds = load_dataset(dataset, with_samples=False)
+    ds.xacro_args, ds.package_paths = ds.robot_sources(xacro_args, package_paths)
     chain = camera = None
     if ds.urdf.is_file() and ds.base_link and ds.flange_link:
         try:
-            chain = load_chain(ds.urdf, ds.base_link, ds.flange_link)
+            chain = load_chain(ds.urdf, ds.base_link, ds.flange_link, xacro_args=ds.xacro_args, package_paths=ds.package_paths)
         except ArmtoolError as exc:
             ds.problems.append(Problem(str(ds.urdf.name), exc.what, exc.hint or ""))
     read_samples(ds, chain.joint_names if chain is not None else None)
@@ -99,14 +105,17 @@ def _detect(ds: Dataset, camera: CameraModel) -> dict[str, Observation]:
 def check(
     dataset: Path = typer.Argument(..., help="Dataset directory (with dataset.yaml)."),
     detect: bool = typer.Option(True, "--detect/--no-detect", help="Also look for the tag in every image."),
+    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
+    package_path: List[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
 ) -> None:
     """Validate a dataset: files, joints, units, images, and the tag in every image."""
     from rich.markup import escape
 
     from armtool.calib.dataset import Problem
+    from armtool.cli.lint import _parse_xacro_args
     from armtool.console import stderr
 
-    ds, chain, camera = _load(dataset)
+    ds, chain, camera = _load(dataset, _parse_xacro_args(xacro_arg), list(package_path))
     if detect and chain is not None and camera is not None and ds.samples:
         found = 0
         for sid, ob in _detect(ds, camera).items():
@@ -141,6 +150,8 @@ def fit(
     seed: int = typer.Option(0, "--seed", help="Random seed for the hold-out split."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write a PNG of per-sample residuals before and after."),
     output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
+    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
+    package_path: List[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
 ) -> None:
     """Calibrate: per-joint origin corrections and zero offsets, with the camera and tag frames."""
     import numpy as np
@@ -151,20 +162,23 @@ def fit(
     from armtool.calib.model import CalibModel
     from armtool.calib.report import calibration_document, residual_plot_png
     from armtool.fileio import write_atomic
-    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections
+    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections, relocate_meshes
     from armtool.console import stderr, write_stdout
+
+    from armtool.cli.lint import _parse_xacro_args
 
     explicit = params is not None
     families = _families(params or "origins,offsets")
+    cli_args, cli_paths = _parse_xacro_args(xacro_arg), list(package_path)
     _check_output_paths(out, plot)
-    ds, chain, camera = _load(dataset)
+    ds, chain, camera = _load(dataset, cli_args, cli_paths)
     require_ok(ds)
     assert chain is not None and camera is not None
     observations = _detect(ds, camera)
     samples = list(ds.samples)
     holdout_ids: set[str] | None = None
     if validation is not None:
-        vds, vchain, vcamera = _load(validation)
+        vds, vchain, vcamera = _load(validation, cli_args, cli_paths)
         require_ok(vds)
         _same_setup(ds, chain, camera, vds, vchain, vcamera, validation)
         from dataclasses import replace
@@ -196,8 +210,8 @@ def fit(
             ds.hints, holdout_ids=holdout_ids, progress=lambda msg: status.update(msg),
         )
     # Everything computed and checked first; then each file is written atomically.
-    text = expanded_text(ds.urdf)
-    new_urdf = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)
+    text = expanded_text(ds.urdf, ds.xacro_args, ds.package_paths)
+    new_urdf = relocate_meshes(corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name), ds.urdf.parent, out)
     check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)
     doc = calibration_document(result, str(dataset), ds.urdf.name)
     truth_scores = _truth_scores(dataset, result)
@@ -323,6 +337,8 @@ def simulate(
     bad_samples: int = typer.Option(0, "--bad-samples", min=0, help="Wrong rows to mix in (joint off by 5°, mislabeled image)."),
     distortion: bool = typer.Option(False, "--distortion", help="Give the camera lens distortion."),
     seed: int = typer.Option(0, "--seed", help="Random seed."),
+    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages for package:// and $(find) (repeatable)."),
 ) -> None:
     """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
     from armtool.calib.model import Setup
@@ -332,13 +348,16 @@ def simulate(
     from armtool.ik.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
+    from armtool.cli.lint import _parse_xacro_args
+
     if not tag_size > 0:
         raise ArmtoolError(f"--tag-size must be > 0, got {tag_size}")
+    args, paths = _parse_xacro_args(xacro_arg), list(package_path)
     if base is None or flange is None:
-        chain = chain_from_xml(load_robot_xml(urdf), base, flange, source=urdf.name)
+        chain = chain_from_xml(load_robot_xml(urdf, args, paths), base, flange, source=urdf.name)
         base, flange = chain.base, chain.tip
     spec = SimulationSpec(samples=samples, validation=validation, setup=Setup(setup.value), seed=seed, quality=quality.value,
-                          tag_size_m=tag_size, bad_samples=bad_samples, distortion=distortion)
+                          tag_size_m=tag_size, bad_samples=bad_samples, distortion=distortion, xacro_args=args, package_paths=tuple(paths))
     with progress_bar() as bar:
         task = bar.add_task("rendering", total=samples)
         summary = run(urdf, out, base, flange, spec, progress=lambda done, total: bar.update(task, completed=done))
