@@ -109,7 +109,7 @@ def _hint_pose(value: Any) -> Array | None:
 
 def _robot_sources(doc: dict[str, Any], root: Path, where: str, problems: list[Problem]) -> tuple[dict[str, str], list[Path]]:
     """robot.xacro_args (NAME: VALUE) and robot.package_paths (directories, relative to the dataset)."""
-    robot = doc.get("robot") if isinstance(doc.get("robot"), dict) else {}
+    robot: dict[str, Any] = doc["robot"] if isinstance(doc.get("robot"), dict) else {}
     raw_args = robot.get("xacro_args") or {}
     args: dict[str, str] = {}
     if not isinstance(raw_args, dict):
