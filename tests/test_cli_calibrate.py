@@ -292,3 +292,51 @@ def test_simulate_on_the_ur_xacro_with_its_documented_arguments(tmp_path: Path) 
     assert ok.exit_code == 0, ok.output
     text = (out / "robot.urdf").read_text()
     assert "package://ur_description/meshes/ur5e/" in text  # package:// kept as the source had it
+
+
+# -- UR calibration YAML (issue 12 part 3) -----------------------------------------------------------
+
+UR_KINEMATICS = REALWORLD / "Universal_Robots_ROS2_Description" / "config" / "ur5e" / "default_kinematics.yaml"
+
+
+def test_ur_kinematics_on_a_non_ur_arm_is_refused_before_the_work(dataset: Path, tmp_path: Path) -> None:
+    given = tmp_path / "kin.yaml"
+    given.write_text("kinematics:\n  hash: calib_1\n")
+    r = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--ur-kinematics", str(tmp_path / "ur.yaml"),
+                "--ur-kinematics-in", str(given))
+    assert r.returncode == 2 and "needs a Universal Robots arm" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "o").exists() and not (tmp_path / "ur.yaml").exists()
+
+
+@pytest.mark.skipif(not UR_XACRO.is_file(), reason="shared/realworld corpus absent")
+def test_ur_kinematics_yaml_reproduces_the_fit_through_the_ur_xacro(tmp_path: Path) -> None:
+    import yaml
+
+    from armtool.model.load import load_robot_xml
+    from armtool.ik.chain import chain_from_xml
+
+    ds = tmp_path / "ur"
+    ok = runner.invoke(app, ["calibrate", "simulate", str(UR_XACRO), "--flange", "tool0", "-o", str(ds), "--samples", "16",
+                             "--validation", "2", "--xacro-arg", "name:=ur", "--xacro-arg", "ur_type:=ur5e", "--seed", "3"])
+    assert ok.exit_code == 0, ok.output
+    # The dataset names the UR xacro itself, with its arguments: the hash comes from kinematics_params.
+    manifest = yaml.safe_load((ds / "dataset.yaml").read_text())
+    manifest["robot"]["urdf"] = str(UR_XACRO.resolve())
+    manifest["robot"]["xacro_args"] = {"name": "ur", "ur_type": "ur5e", "kinematics_params": str(UR_KINEMATICS.resolve())}
+    (ds / "dataset.yaml").write_text(yaml.safe_dump(manifest))
+    written = tmp_path / "my_robot_calibration.yaml"
+    fit = runner.invoke(app, ["calibrate", "fit", str(ds), "--out", str(tmp_path / "o"), "--ur-kinematics", str(written)])
+    assert fit.exit_code == 0, fit.output
+    doc = yaml.safe_load(written.read_text())["kinematics"]
+    assert doc["hash"] == yaml.safe_load(UR_KINEMATICS.read_text())["kinematics"]["hash"]
+    assert list(doc) == ["shoulder", "upper_arm", "forearm", "wrist_1", "wrist_2", "wrist_3", "hash"]
+    assert "kinematics_params:=" in written.read_text()
+    # The UR description expanded with the written file is the calibrated robot.
+    expanded = chain_from_xml(load_robot_xml(UR_XACRO, {"name": "ur", "ur_type": "ur5e", "kinematics_params": str(written)}),
+                              "base_link", "tool0", source="ur.urdf.xacro")
+    calibrated = load_chain(tmp_path / "o" / "calibrated.urdf", "base_link", "tool0")
+    nominal = chain_from_xml(load_robot_xml(UR_XACRO, {"name": "ur", "ur_type": "ur5e"}), "base_link", "tool0", source="ur.urdf.xacro")
+    Q = calibrated.random(np.random.default_rng(0), 20)
+    worst = max(float(np.abs(expanded.fk(q) - calibrated.fk(q)).max()) for q in Q)
+    moved = max(float(np.abs(nominal.fk(q) - calibrated.fk(q))[:3, 3].max()) for q in Q)
+    assert worst < 1e-9 and moved > 1e-4

@@ -152,6 +152,14 @@ def fit(
     output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
     xacro_arg: List[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
     package_path: List[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
+    ur_kinematics: Optional[Path] = typer.Option(
+        None, "--ur-kinematics",
+        help="Universal Robots arm: also write its calibration YAML (default_kinematics.yaml format) here; use it as kinematics_params:=FILE.",
+    ),
+    ur_kinematics_in: Optional[Path] = typer.Option(
+        None, "--ur-kinematics-in",
+        help="The robot's current UR kinematics YAML, whose hash is kept [default: the dataset's kinematics_params xacro argument].",
+    ),
 ) -> None:
     """Calibrate: per-joint origin corrections and zero offsets, with the camera and tag frames."""
     import numpy as np
@@ -174,6 +182,7 @@ def fit(
     ds, chain, camera = _load(dataset, cli_args, cli_paths)
     require_ok(ds)
     assert chain is not None and camera is not None
+    ur_joints, ur_hash = _ur_inputs(ds, chain, ur_kinematics, ur_kinematics_in)
     observations = _detect(ds, camera)
     samples = list(ds.samples)
     holdout_ids: set[str] | None = None
@@ -220,6 +229,10 @@ def fit(
     outputs: dict[Path, str | bytes] = {out / "calibrated.urdf": new_urdf, out / "calibration.yaml": yaml.safe_dump(doc, sort_keys=False, allow_unicode=True)}
     if plot is not None:
         outputs[plot] = residual_plot_png(result)
+    if ur_kinematics is not None and ur_joints is not None and ur_hash is not None:
+        from armtool.calib.ur_kinematics import ur_kinematics_yaml
+
+        outputs[ur_kinematics] = ur_kinematics_yaml(new_urdf, ur_joints, ur_hash, "calibrated.urdf")
     out.mkdir(parents=True, exist_ok=True)
     for path, data in outputs.items():
         write_atomic(path, data)
@@ -230,6 +243,32 @@ def fit(
             summary["against_truth"] = truth_scores
         write_stdout(json.dumps(summary, indent=2))
     _print_report(result, truth_scores, out, plot)
+    if ur_kinematics is not None:
+        stderr().print(f"wrote {ur_kinematics}: pass it to the UR description as kinematics_params:={ur_kinematics}")
+
+
+def _ur_inputs(ds: Dataset, chain: Chain, out: Optional[Path], given: Optional[Path]) -> tuple[dict[str, str] | None, str | None]:
+    """For --ur-kinematics, checked before the fit: the chain is a UR arm's, and the hash to keep
+    (from --ur-kinematics-in, or the file the dataset's kinematics_params xacro argument names)."""
+    from armtool.calib.ur_kinematics import kinematics_params_path, read_hash, ur_joint_names
+
+    if out is None:
+        if given is not None:
+            raise ArmtoolError("--ur-kinematics-in needs --ur-kinematics", hint="add --ur-kinematics FILE for the calibrated file")
+        return None, None
+    if out.parent != Path("") and not out.parent.is_dir():
+        raise ArmtoolError("--ur-kinematics's directory does not exist", str(out), "create it, or write the file elsewhere")
+    joints = ur_joint_names(chain.joint_names, str(ds.urdf))
+    if given is None:
+        value = ds.xacro_args.get("kinematics_params")
+        if value is None:
+            raise ArmtoolError(
+                "--ur-kinematics needs the robot's current kinematics file, to keep its hash",
+                hint="pass --ur-kinematics-in FILE (the robot's default_kinematics.yaml, or ur_calibration's output), "
+                "or --xacro-arg kinematics_params:=FILE",
+            )
+        given = kinematics_params_path(value, ds.root, ds.package_paths)
+    return joints, read_hash(given)
 
 
 def _check_output_paths(out: Path, plot: Optional[Path]) -> None:
