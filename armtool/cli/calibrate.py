@@ -237,7 +237,7 @@ def fit(
     for path, data in outputs.items():
         write_atomic(path, data)
     if output_format is ReportFormat.JSON:
-        summary = {k: doc[k] for k in ("setup", "frames", "identifiability", "metrics", "outliers", "rejected", "warnings")}
+        summary = {k: doc[k] for k in ("setup", "frames", "identifiability", "zero_offsets", "metrics", "outliers", "rejected", "warnings")}
         summary["schema_version"] = 1
         if truth_scores:
             summary["against_truth"] = truth_scores
@@ -353,6 +353,23 @@ def _print_report(result: CalibrationResult, truth: dict[str, Any] | None, out: 
         con.print(f"  [dim]dropped[/dim] {escape(result.model.params[i].name)}: {escape(why)}")
     if len(ident.dropped) > len(shown):
         con.print(f"  [dim]… {len(ident.dropped) - len(shown)} more in calibration.yaml[/dim]")
+    if result.zero_offsets:
+        zt = Table(title="zero offsets (encoder zero corrections, already in calibrated.urdf)", title_justify="left")
+        zt.add_column("joint")
+        zt.add_column("offset °", justify="right")
+        zt.add_column("± °", justify="right")
+        zt.add_column("use to re-zero the encoder?")
+        for z in result.zero_offsets:
+            if not z.identified:
+                zt.add_row(escape(z.joint), "-", "-", "[dim]not identified (trades with a camera/tag frame)[/dim]")
+                continue
+            plus = f"{math.degrees(z.uncertainty_rad):.2f}" if z.uncertainty_rad < math.pi else "unbounded"
+            verdict = "yes" if z.physical else "[red]no[/red]: not separable from " + escape(", ".join(p.parameter for p in z.partners[:2]) or "other parameters")
+            zt.add_row(escape(z.joint), f"{math.degrees(z.value_rad):+.3f}", plus, verdict)
+        con.print(zt)
+        if not all(z.physical for z in result.zero_offsets if z.identified):
+            con.print("  [dim]offsets marked 'no' only balance origin errors the poses cannot separate from them; "
+                      "calibrated.urdf is right as a whole, but do not re-zero encoders on them (calibration.yaml: zero_offsets)[/dim]")
     for sid, why in result.outliers.items():
         con.print(f"[yellow]outlier[/yellow] sample {escape(sid)}: {escape(why)}")
     for sid, why in result.rejected.items():
