@@ -39,11 +39,13 @@ def test_eye_in_hand_views_on_a_5_dof_arm(robot: str) -> None:
 
 
 def test_eye_in_hand_5_dof_calibrates() -> None:
-    chain = load_chain(erd("so_arm_description/urdf/so101.urdf"), "base_link", "gripper_frame_link")
+    """The views found for a 5-DOF arm make a good calibration (clean_arm cut at link5: 0.2 m links;
+    SO-101's fit works too but is slow, its 3-6 cm wrist makes the problem nearly degenerate)."""
+    chain = load_chain(CLEAN_ARM, "base_link", "link5")
     p = make_problem(chain, n=40, seed=0, setup=Setup.EYE_IN_HAND)
     result = calibrate(p.model, p.camera, p.samples, p.observations, p.size_m)
     before, after = score(result.model, result.x_handeye, p.truth), score(result.model, result.x, p.truth)
-    assert after.position_rms_mm < before.position_rms_mm / 3
+    assert before.position_rms_mm > 2 and after.position_rms_mm < 0.1
 
 
 def test_simulate_eye_in_hand_on_a_5_dof_arm_from_the_command_line(tmp_path: Path) -> None:
