@@ -194,3 +194,149 @@ def test_fit_from_pre_detected_corners(dataset: Path, tmp_path: Path) -> None:
     result = runner.invoke(app, ["calibrate", "fit", str(copy), "--out", str(tmp_path / "o"), "--format", "json"])
     assert result.exit_code == 0, result.output
     assert json.loads(result.stdout)["against_truth"]["calibrated"]["position_rms_mm"] < 0.15
+
+
+# -- xacro robots, package paths and mesh paths (issue 10 items 15 and 17) ------------------------
+
+REALWORLD = ROOT / ".." / "shared" / "realworld"
+UR_XACRO = REALWORLD / "Universal_Robots_ROS2_Description" / "urdf" / "ur.urdf.xacro"
+
+
+def _xacro_arm(tmp: Path) -> tuple[Path, Path]:
+    """clean_arm as a xacro that needs an argument (no default), a package found only through a
+    package path (its directory is not named after it), and a relative mesh path."""
+    parts = tmp / "parts_dir"
+    parts.mkdir(parents=True)
+    (parts / "package.xml").write_text("<package><name>calib_test_parts</name></package>\n")
+    (parts / "tool.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:property name="tool_z" value="$(arg tool_length)"/></robot>\n'
+    )
+    robot_dir = tmp / "robot" / "urdf"
+    (robot_dir / "meshes").mkdir(parents=True)
+    (robot_dir / "meshes" / "base.stl").write_bytes(b"solid base\nendsolid base\n")
+    text = CLEAN_ARM.read_text()
+    text = text.replace('<robot name="clean_arm">',
+                        '<robot name="clean_arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+                        '  <xacro:include filename="$(find calib_test_parts)/tool.xacro"/>')
+    text = text.replace("package://clean_arm/meshes/base.stl", "meshes/base.stl")
+    tool = text.index('<joint name="tool0_joint"')
+    origin = text.index("<origin", tool)
+    end = text.index("/>", origin)
+    text = text[:origin] + '<origin xyz="0 0 ${tool_z}" rpy="0 0 0"' + text[end:]
+    xacro = robot_dir / "arm.urdf.xacro"
+    xacro.write_text(text)
+    return xacro, parts
+
+
+def test_simulate_takes_xacro_args_and_package_paths(tmp_path: Path) -> None:
+    xacro, parts = _xacro_arm(tmp_path)
+    out = tmp_path / "ds"
+    bare = armtool("calibrate", "simulate", str(xacro), "--flange", "tool0", "-o", str(out), "--samples", "4")
+    assert bare.returncode == 2 and "Traceback" not in bare.stderr
+    for option in ("--xacro-arg", "--package-path"):  # the hint names options this command has
+        if option in bare.stderr:
+            assert option in armtool("calibrate", "simulate", "--help").stdout
+    ok = runner.invoke(app, ["calibrate", "simulate", str(xacro), "--flange", "tool0", "-o", str(out), "--samples", "12",
+                             "--validation", "2", "--xacro-arg", "tool_length:=0.1", "--package-path", str(parts)])
+    assert ok.exit_code == 0, ok.output
+    robot = (out / "robot.urdf").read_text()
+    assert 'xyz="0 0 0.1"' in robot
+    # The dataset's robot.urdf lives elsewhere: its relative mesh path must still find the file.
+    import re
+
+    mesh = re.search(r'<mesh filename="([^"]+)"', robot).group(1)  # type: ignore[union-attr]
+    assert (out / mesh).resolve() == (xacro.parent / "meshes" / "base.stl").resolve()
+
+
+def test_check_and_fit_take_xacro_args_from_the_dataset_and_the_command_line(dataset: Path, tmp_path: Path) -> None:
+    import yaml
+
+    xacro, parts = _xacro_arm(tmp_path)
+    ds = tmp_path / "ds"
+    shutil.copytree(dataset, ds)
+    manifest = yaml.safe_load((ds / "dataset.yaml").read_text())
+    manifest["robot"]["urdf"] = str(Path("..") / xacro.relative_to(tmp_path))
+    (ds / "dataset.yaml").write_text(yaml.safe_dump(manifest))
+    missing = armtool("calibrate", "check", str(ds), "--no-detect")
+    assert missing.returncode == 1 and "--xacro-arg" in missing.stderr
+    assert "--xacro-arg" in armtool("calibrate", "check", "--help").stdout
+    cli = armtool("calibrate", "check", str(ds), "--no-detect", "--xacro-arg", "tool_length:=0.1", "--package-path", str(parts))
+    assert cli.returncode == 0, cli.stderr
+    # The dataset names them (package paths relative to the dataset); the command line overrides.
+    manifest["robot"]["xacro_args"] = {"tool_length": 0.1}
+    manifest["robot"]["package_paths"] = [str(Path("..") / "parts_dir")]
+    (ds / "dataset.yaml").write_text(yaml.safe_dump(manifest))
+    assert armtool("calibrate", "check", str(ds), "--no-detect").returncode == 0
+    out = tmp_path / "out"
+    fit = runner.invoke(app, ["calibrate", "fit", str(ds), "--out", str(out), "--xacro-arg", "tool_length:=0.1"])
+    assert fit.exit_code == 0, fit.output
+    calibrated = load_chain(out / "calibrated.urdf", "base_link", "tool0")
+    assert calibrated.n == 6
+    import re
+
+    mesh = re.search(r'<mesh filename="([^"]+)"', (out / "calibrated.urdf").read_text()).group(1)  # type: ignore[union-attr]
+    assert (out / mesh).resolve() == (xacro.parent / "meshes" / "base.stl").resolve()
+    # The command line wins over the dataset: its bad value breaks the expansion that the
+    # dataset's 0.1 makes work.
+    wrong = armtool("calibrate", "check", str(ds), "--no-detect", "--xacro-arg", "tool_length:=oops")
+    assert wrong.returncode != 0
+
+
+@pytest.mark.skipif(not UR_XACRO.is_file(), reason="shared/realworld corpus absent")
+def test_simulate_on_the_ur_xacro_with_its_documented_arguments(tmp_path: Path) -> None:
+    out = tmp_path / "ur"
+    bare = armtool("calibrate", "simulate", str(UR_XACRO), "--flange", "tool0", "-o", str(out), "--samples", "4")
+    assert bare.returncode == 2 and "--xacro-arg" in bare.stderr and not out.exists()
+    ok = runner.invoke(app, ["calibrate", "simulate", str(UR_XACRO), "--flange", "tool0", "-o", str(out), "--samples", "6",
+                             "--validation", "2", "--xacro-arg", "name:=ur", "--xacro-arg", "ur_type:=ur5e"])
+    assert ok.exit_code == 0, ok.output
+    text = (out / "robot.urdf").read_text()
+    assert "package://ur_description/meshes/ur5e/" in text  # package:// kept as the source had it
+
+
+# -- UR calibration YAML (issue 12 part 3) -----------------------------------------------------------
+
+UR_KINEMATICS = REALWORLD / "Universal_Robots_ROS2_Description" / "config" / "ur5e" / "default_kinematics.yaml"
+
+
+def test_ur_kinematics_on_a_non_ur_arm_is_refused_before_the_work(dataset: Path, tmp_path: Path) -> None:
+    given = tmp_path / "kin.yaml"
+    given.write_text("kinematics:\n  hash: calib_1\n")
+    r = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--ur-kinematics", str(tmp_path / "ur.yaml"),
+                "--ur-kinematics-in", str(given))
+    assert r.returncode == 2 and "needs a Universal Robots arm" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "o").exists() and not (tmp_path / "ur.yaml").exists()
+
+
+@pytest.mark.skipif(not UR_XACRO.is_file(), reason="shared/realworld corpus absent")
+def test_ur_kinematics_yaml_reproduces_the_fit_through_the_ur_xacro(tmp_path: Path) -> None:
+    import yaml
+
+    from armtool.model.load import load_robot_xml
+    from armtool.ik.chain import chain_from_xml
+
+    ds = tmp_path / "ur"
+    ok = runner.invoke(app, ["calibrate", "simulate", str(UR_XACRO), "--flange", "tool0", "-o", str(ds), "--samples", "16",
+                             "--validation", "2", "--xacro-arg", "name:=ur", "--xacro-arg", "ur_type:=ur5e", "--seed", "3"])
+    assert ok.exit_code == 0, ok.output
+    # The dataset names the UR xacro itself, with its arguments: the hash comes from kinematics_params.
+    manifest = yaml.safe_load((ds / "dataset.yaml").read_text())
+    manifest["robot"]["urdf"] = str(UR_XACRO.resolve())
+    manifest["robot"]["xacro_args"] = {"name": "ur", "ur_type": "ur5e", "kinematics_params": str(UR_KINEMATICS.resolve())}
+    (ds / "dataset.yaml").write_text(yaml.safe_dump(manifest))
+    written = tmp_path / "my_robot_calibration.yaml"
+    fit = runner.invoke(app, ["calibrate", "fit", str(ds), "--out", str(tmp_path / "o"), "--ur-kinematics", str(written)])
+    assert fit.exit_code == 0, fit.output
+    doc = yaml.safe_load(written.read_text())["kinematics"]
+    assert doc["hash"] == yaml.safe_load(UR_KINEMATICS.read_text())["kinematics"]["hash"]
+    assert list(doc) == ["shoulder", "upper_arm", "forearm", "wrist_1", "wrist_2", "wrist_3", "hash"]
+    assert "kinematics_params:=" in written.read_text()
+    # The UR description expanded with the written file is the calibrated robot.
+    expanded = chain_from_xml(load_robot_xml(UR_XACRO, {"name": "ur", "ur_type": "ur5e", "kinematics_params": str(written)}),
+                              "base_link", "tool0", source="ur.urdf.xacro")
+    calibrated = load_chain(tmp_path / "o" / "calibrated.urdf", "base_link", "tool0")
+    nominal = chain_from_xml(load_robot_xml(UR_XACRO, {"name": "ur", "ur_type": "ur5e"}), "base_link", "tool0", source="ur.urdf.xacro")
+    Q = calibrated.random(np.random.default_rng(0), 20)
+    worst = max(float(np.abs(expanded.fk(q) - calibrated.fk(q)).max()) for q in Q)
+    moved = max(float(np.abs(nominal.fk(q) - calibrated.fk(q))[:3, 3].max()) for q in Q)
+    assert worst < 1e-9 and moved > 1e-4

@@ -60,6 +60,12 @@ class Dataset:
     samples_file: Path | None = None
     hints: dict[str, Array] = field(default_factory=dict)  # "camera_in_base", "tag_in_flange", ... -> 4x4
     problems: list[Problem] = field(default_factory=list)
+    xacro_args: dict[str, str] = field(default_factory=dict)  # robot.xacro_args: for a .xacro robot.urdf
+    package_paths: list[Path] = field(default_factory=list)  # robot.package_paths, resolved against the dataset
+
+    def robot_sources(self, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None) -> tuple[dict[str, str], list[Path]]:
+        """xacro arguments and package paths for robot.urdf: the command line's over the dataset's."""
+        return {**self.xacro_args, **(xacro_args or {})}, [*(package_paths or []), *self.package_paths]
 
     @property
     def errors(self) -> list[Problem]:
@@ -99,6 +105,31 @@ def _hint_pose(value: Any) -> Array | None:
         return se3.xyz_rpy(xyz, rpy)
     except (TypeError, KeyError, ValueError):
         return None
+
+
+def _robot_sources(doc: dict[str, Any], root: Path, where: str, problems: list[Problem]) -> tuple[dict[str, str], list[Path]]:
+    """robot.xacro_args (NAME: VALUE) and robot.package_paths (directories, relative to the dataset)."""
+    robot: dict[str, Any] = doc["robot"] if isinstance(doc.get("robot"), dict) else {}
+    raw_args = robot.get("xacro_args") or {}
+    args: dict[str, str] = {}
+    if not isinstance(raw_args, dict):
+        problems.append(Problem(where, f"robot.xacro_args must be a mapping NAME: VALUE, got {raw_args!r}", "e.g. xacro_args: {ur_type: ur5e, name: ur}"))
+    else:
+        for k, v in raw_args.items():
+            args[str(k)] = ("true" if v else "false") if isinstance(v, bool) else str(v)
+    raw_paths = robot.get("package_paths") or []
+    if isinstance(raw_paths, str):
+        raw_paths = [raw_paths]
+    paths: list[Path] = []
+    if not isinstance(raw_paths, list):
+        problems.append(Problem(where, f"robot.package_paths must be a list of directories, got {raw_paths!r}", "e.g. package_paths: [../src]"))
+    else:
+        for item in raw_paths:
+            path = (root / str(item)).resolve()
+            if not path.is_dir():
+                problems.append(Problem(where, f"robot.package_paths entry '{item}' is not a directory", f"paths are relative to {root}"))
+            paths.append(path)
+    return args, paths
 
 
 def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *, with_samples: bool = True) -> Dataset:
@@ -158,6 +189,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     urdf = file_in_root(urdf_name, "robot.urdf")
     intrinsics = file_in_root(intr_name, "camera.intrinsics")
     samples_path = file_in_root(samples_name, "samples")
+    xacro_args, package_paths = _robot_sources(doc, root, where, problems)
     hints: dict[str, Array] = {}
     raw_hints = doc.get("hints") or {}
     if not isinstance(raw_hints, dict):
@@ -180,7 +212,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     ds = Dataset(
         root, setup, urdf, base, flange, [str(j) for j in joints], intrinsics, rectified, str(family),
         int(tag_id) if tag_id is not None else 0, float(size_m) if size_m is not None else 0.0, [],
-        corners_file=corners_file, hints=hints, problems=problems,
+        corners_file=corners_file, hints=hints, problems=problems, xacro_args=xacro_args, package_paths=package_paths,
     )
     ds.samples_file = samples_path
     if corners_file is not None and not corners_file.is_file():

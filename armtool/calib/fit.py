@@ -26,6 +26,7 @@ from armtool.calib.identify import Identifiability, analyse
 from armtool.calib.model import CalibModel, Family, Setup
 from armtool.calib.observations import Observation
 from armtool.calib.se3 import Array
+from armtool.calib.zero_offsets import ZeroOffset, analyse_offsets
 from armtool.errors import ArmtoolError
 
 log = logging.getLogger(__name__)
@@ -72,6 +73,7 @@ class CalibrationResult:
     holdout_rms_px: tuple[float, float] = (math.nan, math.nan)  # over every held-out sample
     iterations: int = 0
     holdout_inlier_rms_px: tuple[float, float] = (math.nan, math.nan)  # without the held-out outliers
+    zero_offsets: list[ZeroOffset] = field(default_factory=list)  # which offsets are physical encoder corrections
 
     def fitted_frames(self, handeye: bool = False) -> tuple[Array, Array]:
         return self.model.frames(self.x_handeye if handeye else self.x)
@@ -284,6 +286,8 @@ def calibrate(
     except np.linalg.LinAlgError:
         sigma = np.full(len(free), math.nan)
 
+    say("which zero offsets the data determines")
+    zero_offsets = analyse_offsets(model, final.jacobian(x, candidates), candidates, ident, x, dict(zip(free, (float(v) for v in sigma))))
     residuals: list[SampleResidual] = []
     before = problem.per_sample_rms(x_he)
     after = problem.per_sample_rms(x)
@@ -329,5 +333,5 @@ def calibrate(
     return CalibrationResult(
         model, x, x_he, free, sigma, ident, residuals, outliers, rejected, warnings,
         (rms(before[inliers]), rms(after[inliers])), (rms(hold_before), rms(hold_after)), nfev,
-        (rms(hold_before[kept]), rms(hold_after[kept])),
+        (rms(hold_before[kept]), rms(hold_after[kept])), zero_offsets,
     )

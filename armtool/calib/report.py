@@ -34,6 +34,7 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
         frames = {"camera_in_base": _pose(se3.inv(L)), "tag_in_flange": _pose(R)}
     else:
         frames = {"camera_in_flange": _pose(se3.inv(L)), "tag_in_base": _pose(R)}
+    offsets = {z.joint: z for z in result.zero_offsets}
     joints: dict[str, Any] = {}
     for j_index, j in enumerate(model.chain.joints):
         base = 12 + 8 * j_index
@@ -45,6 +46,10 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
             ]
         entry["zero_offset"] = round(float(result.x[base + 6]), 12)
         entry["sigma_zero_offset"] = _num(sigma[base + 6]) if base + 6 in free else None
+        z = offsets.get(j.name)
+        if z is not None:
+            entry["zero_offset_physical"] = z.physical
+            entry["zero_offset_uncertainty"] = _num(z.uncertainty_rad)
         entry["gain"] = round(1.0 + float(result.x[base + 7]), 12)
         entry["sigma_gain"] = _num(sigma[base + 7]) if base + 7 in free else None
         joints[j.name] = entry
@@ -59,6 +64,7 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
         "in_urdf": "origin corrections and zero offsets are already folded into calibrated.urdf: do not apply them again; "
         "gains are not (a URDF cannot hold them): apply gain·q in the driver if it differs from 1",
         "joints": joints,
+        "zero_offsets": zero_offsets_section(result),
         "identifiability": {
             "identified": len(result.free),
             "candidates": len(result.free) + len(ident.dropped),
@@ -82,6 +88,25 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
         ],
         "warnings": list(result.warnings),
     }
+
+
+def zero_offsets_section(result: CalibrationResult) -> dict[str, Any]:
+    """Per revolute joint: whether its fitted zero offset is a physical encoder correction."""
+    out: dict[str, Any] = {
+        "meaning": "physical: true means the value can be used to re-zero the encoder (uncertainty = noise and the origin "
+        "errors it cannot be told from); physical: false means it only balances origin errors the data cannot separate "
+        "from it: it is correct inside calibrated.urdf, not as an encoder correction",
+    }
+    for z in result.zero_offsets:
+        out[z.joint] = {
+            "value_deg": round(math.degrees(z.value_rad), 6),
+            "uncertainty_deg": _num(round(math.degrees(z.uncertainty_rad), 6)),
+            "physical": z.physical,
+            "trades_with": [{"parameter": p.parameter, ("deg_per_mm" if p.unit == "m" else "deg_per_deg"):
+                             round(math.degrees(p.coefficient) * 1e-3 if p.unit == "m" else p.coefficient, 6)} for p in z.partners[:5]],
+            "note": z.note,
+        }
+    return out
 
 
 def residual_plot_png(result: CalibrationResult) -> bytes:

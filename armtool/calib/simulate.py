@@ -9,7 +9,7 @@ validation poses, the true URDF) goes to `truth/`, which `armtool calibrate fit`
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +49,8 @@ class SimulationSpec:
     bad_samples: int = 0  # wrong rows mixed in: a joint reading off by 5°, or a mislabeled image
     joint_noise_deg: float = 0.0
     distortion: bool = False
+    xacro_args: dict[str, str] = field(default_factory=dict)  # for a .xacro robot
+    package_paths: tuple[Path, ...] = ()
 
     @property
     def distances(self) -> tuple[float, float]:
@@ -88,8 +90,13 @@ def _look_at(eye: Array, target: Array, up: Array) -> Array:
     return se3.make(np.column_stack([x, y, z]), eye)
 
 
-def _place(model0: CalibModel, spec: SimulationSpec, rng: np.random.Generator) -> tuple[Array, Array, Array]:
-    """(L, R, Q_pool): measurement frames of the true setup and a pool of random joint vectors."""
+def _place(model0: CalibModel, spec: SimulationSpec, rng: np.random.Generator, camera: CameraModel | None = None) -> tuple[Array, Array, Array]:
+    """(L, R, Q_pool): measurement frames of the true setup and a pool of joint vectors.
+
+    Eye-to-hand: a camera looking at the middle of the workspace, random joint vectors. Eye-in-hand:
+    the tag is put where the flange camera looks in many reachable poses, and the pool holds those
+    poses (`_eye_in_hand_views`), so any arm that can point its camera works, 5-DOF ones included.
+    """
     chain = model0.chain
     Q = chain.random(rng, 40000)
     F = model0.flange(np.zeros(model0.size), Q)
@@ -103,37 +110,58 @@ def _place(model0: CalibModel, spec: SimulationSpec, rng: np.random.Generator) -
         bMc = _look_at(eye, centre, np.array([0.0, 0.0, 1.0]))
         return se3.inv(bMc), fMt, Q
     fMc = se3.xyz_rpy([0.04, 0.0, 0.03], [0.0, 0.0, 0.0])
-    low = centre.copy()
-    low[2] = float(np.percentile(P[:, 2], 20))
-    bMt = se3.xyz_rpy(low, [0.0, 0.0, 0.3])  # flat on the table, facing up
-    return se3.inv(fMc), bMt, Q
+    bMt, views = _eye_in_hand_views(model0, fMc, camera or default_camera(spec.distortion), spec, rng, Q, 3 * (spec.samples + spec.validation))
+    return se3.inv(fMc), bMt, views
 
 
-def _poses_by_ik(model: CalibModel, camera: CameraModel, spec: SimulationSpec, rng: np.random.Generator, count: int) -> Array:
-    """Joint vectors that put a hand-held camera where it sees the fixed tag: random views, then IK.
+def _good_views(bMc: Array, bMt: Array, camera: CameraModel, spec: SimulationSpec) -> Array:
+    """Mask of camera poses that see the tag's centre well: in range, not too oblique, well inside the image."""
+    v = bMt[:3, 3] - bMc[:, :3, 3]
+    dist = np.linalg.norm(v, axis=1)
+    pc = np.einsum("nji,nj->ni", bMc[:, :3, :3], v)  # tag centre in camera coordinates
+    z = np.maximum(pc[:, 2], 1e-9)
+    u = camera.K[0, 0] * pc[:, 0] / z + camera.K[0, 2]
+    w = camera.K[1, 1] * pc[:, 1] / z + camera.K[1, 2]
+    facing = -(v @ bMt[:3, 2]) / np.maximum(dist, 1e-9)  # cos(angle between the tag normal and the ray)
+    lo, hi = spec.distances
+    mask: Array = (
+        (pc[:, 2] > 0) & (dist > lo) & (dist < hi) & (facing > math.cos(math.radians(spec.max_tilt_deg)))
+        & (np.abs(u - camera.width / 2) < 0.38 * camera.width) & (np.abs(w - camera.height / 2) < 0.38 * camera.height)
+    )
+    return mask
 
-    A random joint vector almost never points a flange camera at one spot on the table (0.04 %
-    of them for a 6-DOF arm), so views are drawn first and the arm is solved into them.
+
+def _eye_in_hand_views(model: CalibModel, fMc: Array, camera: CameraModel, spec: SimulationSpec, rng: np.random.Generator, Q: Array, count: int) -> tuple[Array, Array]:
+    """(bMt, joint vectors) for a camera on the flange: sample, place the tag, then explore.
+
+    No IK on 6-D camera poses (an arm with fewer than six joints reaches almost none of them):
+    random joint vectors give reachable camera poses; candidate tags are put on the optical axis
+    of some of them, facing that camera, and the one most other poses see well is kept; then the
+    good poses are perturbed joint-wise to find more, until `count` are found or the search stops.
     """
-    from armtool.calib.render import random_view_pose
-    from armtool.ik.registry import make_solver
-
     chain = model.chain
-    solver = make_solver("lm", chain, timeout=0.003, tolerance=1e-6, seed=spec.seed)
-    L, R = model.L0, model.R0  # cMf, bMt
-    reach = float(np.linalg.norm(model.flange(np.zeros(model.size), chain.random(rng, 5000))[:, :3, 3], axis=1).max())
-    out: list[Array] = []
-    for _ in range(count * 20):
-        cMt = random_view_pose(camera, rng, distance_m=spec.distances, max_tilt_deg=spec.max_tilt_deg)
-        target = R @ se3.inv(cMt) @ L  # bMf = bMt · tMc · cMf
-        if np.linalg.norm(target[:3, 3]) > 0.95 * reach:  # out of reach: skip the IK timeout
-            continue
-        result = solver.solve(target, chain.random(rng))
-        if result.success:
-            out.append(result.q)
-            if len(out) == count:
-                break
-    return np.array(out).reshape(-1, chain.n)
+    bMc = model.flange(np.zeros(model.size), Q) @ fMc
+    best_mask, best_tag = None, None
+    for k in rng.choice(len(Q), size=min(300, len(Q)), replace=False):
+        normal = -bMc[k, :3, 2]
+        centre = bMc[k, :3, 3] + bMc[k, :3, 2] * rng.uniform(*spec.distances)
+        x = np.cross(normal, [0.0, 0.0, 1.0] if abs(normal[2]) < 0.9 else [1.0, 0.0, 0.0])
+        x /= np.linalg.norm(x)
+        bMt = se3.make(np.column_stack([x, np.cross(normal, x), normal]), centre)
+        mask = _good_views(bMc, bMt, camera, spec)
+        if best_mask is None or mask.sum() > best_mask.sum():
+            best_mask, best_tag = mask, bMt
+    assert best_mask is not None and best_tag is not None
+    views = Q[best_mask]
+    lower, upper = chain.lower, chain.upper
+    for _round in range(20):
+        if len(views) >= count or len(views) == 0:
+            break
+        seeds = views[rng.integers(len(views), size=4000)]
+        trial = np.clip(seeds + rng.normal(scale=0.25, size=seeds.shape), lower, upper)
+        ok = _good_views(model.flange(np.zeros(model.size), trial) @ fMc, best_tag, camera, spec)
+        views = np.concatenate([views, trial[ok]])
+    return best_tag, views
 
 
 def _visible(model: CalibModel, x: Array, camera: CameraModel, Q: Array, spec: SimulationSpec) -> Array:
@@ -167,7 +195,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     from armtool.calib.apriltag import family_dictionary
     from armtool.calib.camera import save_intrinsics
     from armtool.calib.render import render_tag
-    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections
+    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections, relocate_meshes
     from armtool.ik.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
@@ -177,21 +205,19 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     if out.exists() and any(out.iterdir()):
         raise ArmtoolError("output directory is not empty", str(out), "choose a new directory, nothing was written")
     rng = np.random.default_rng(spec.seed)
-    chain = chain_from_xml(load_robot_xml(urdf), base, flange, source=urdf.name)
+    chain = chain_from_xml(load_robot_xml(urdf, spec.xacro_args, spec.package_paths), base, flange, source=urdf.name)
     camera = default_camera(spec.distortion)
     nominal = CalibModel(chain, spec.setup, np.eye(4), np.eye(4))
-    L, R, pool = _place(nominal, spec, rng)
+    L, R, pool = _place(nominal, spec, rng, camera)
     x_true = np.zeros(nominal.size)
     x_true[12:] = true_corrections(chain, spec, rng).ravel()
     truth_model = nominal.with_frames(L, R)
-    if spec.setup is Setup.EYE_IN_HAND:
-        pool = _poses_by_ik(truth_model, camera, spec, rng, 3 * (spec.samples + spec.validation))
     visible = _visible(truth_model, x_true, camera, pool, spec)
     need = spec.samples + spec.validation
     if len(visible) < need:
         raise ArmtoolError(
             f"only {len(visible)} of {len(pool)} candidate poses show the tag well; {need} are needed",
-            hint="lower --samples, or widen the distance range",
+            hint="lower --samples or --validation, or name with --flange a link that can point the camera (eye_in_hand) or the tag (eye_to_hand) at the other",
         )
     chosen = rng.choice(visible, size=need, replace=False)
     Q_fit, Q_val = pool[chosen[: spec.samples]], pool[chosen[spec.samples :]]
@@ -199,7 +225,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     out.mkdir(parents=True, exist_ok=True)
     (out / "images").mkdir()
     (out / "truth").mkdir()
-    text = expanded_text(urdf)
+    text = relocate_meshes(expanded_text(urdf, spec.xacro_args, spec.package_paths), urdf.parent, out)
     _write_text(out / "robot.urdf", text)
     save_intrinsics(camera, out / "camera.yaml")
     q_cfg = QUALITY[spec.quality]
@@ -260,7 +286,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     corrections = joint_corrections(truth_model, x_true)
     true_text = corrected_text(text, corrections, "robot.urdf")
     check_reproduces(true_text, truth_model, x_true, "truth/robot_true.urdf")
-    _write_text(out / "truth" / "robot_true.urdf", true_text)
+    _write_text(out / "truth" / "robot_true.urdf", relocate_meshes(true_text, out, out / "truth"))
     true_k = x_true[12:].reshape(chain.n, 8)
     truth = {
         "note": "ground truth of this synthetic dataset; armtool calibrate fit never reads it",

@@ -10,7 +10,7 @@ Joint gains have no place in a URDF: they are reported in calibration.yaml for t
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -150,6 +150,35 @@ def corrected_text(text: str, corrections: dict[str, Array], source: str = "URDF
     return text
 
 
+def relocate_meshes(text: str, source_dir: Path, out_dir: Path) -> str:
+    """Rewrite relative `<mesh>`/`<texture>` filenames so they still resolve from `out_dir`.
+
+    A relative filename (`assets/base.stl`) is relative to the URDF's own directory; once the
+    URDF is written elsewhere it points at nothing. It becomes the relative path from `out_dir`
+    to the same file. `package://`, `file://` and other URIs, and absolute paths, stay as written.
+    """
+    import os
+
+    edits: list[tuple[int, int, str]] = []
+    for name, start, end, _depth, _closing in _start_tags(text):
+        if name not in ("mesh", "texture"):
+            continue
+        tag = text[start:end]
+        m = re.search(r"\sfilename\s*=\s*(\"[^\"]*\"|'[^']*')", tag)
+        if m is None:
+            continue
+        value = m.group(1)[1:-1]
+        if not value or "://" in value or os.path.isabs(value):
+            continue
+        target = os.path.normpath(os.path.join(os.path.abspath(source_dir), value))
+        new = os.path.relpath(target, os.path.abspath(out_dir)).replace(os.sep, "/")
+        if new != value:
+            edits.append((start, end, _set_attributes(tag, {"filename": new})))
+    for start, end, replacement in sorted(edits, reverse=True):
+        text = text[:start] + replacement + text[end:]
+    return text
+
+
 def check_reproduces(text: str, model: CalibModel, x: Array, source: str) -> None:
     """Refuse to write a URDF whose kinematics differ from the fitted model (gains aside)."""
     from armtool.ik.chain import chain_from_xml
@@ -167,12 +196,12 @@ def check_reproduces(text: str, model: CalibModel, x: Array, source: str) -> Non
         )
 
 
-def expanded_text(urdf: Path) -> str:
+def expanded_text(urdf: Path, xacro_args: Mapping[str, str] | None = None, package_paths: Sequence[Path] = ()) -> str:
     """The URDF text to edit: the file itself, or a xacro's expansion."""
     if urdf.name.lower().endswith(".xacro"):
         from armtool.model.load import load_robot_xml
 
-        root = load_robot_xml(urdf)
+        root = load_robot_xml(urdf, xacro_args, package_paths)
         expanded: str = etree.tostring(root, encoding="unicode", pretty_print=True)
         return '<?xml version="1.0"?>\n' + expanded
     return urdf.read_bytes().decode("utf-8")

@@ -6,7 +6,7 @@ import json
 import math
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Optional
+from typing import TYPE_CHECKING, Any, List, Optional
 
 import typer
 
@@ -58,18 +58,24 @@ def _families(text: str) -> tuple[Family, ...]:
     return tuple(dict.fromkeys(out))
 
 
-def _load(dataset: Path) -> tuple[Dataset, Chain | None, CameraModel | None]:
+XACRO_ARG_HELP = "xacro argument NAME:=VALUE for a .xacro robot (repeatable; overrides the dataset's robot.xacro_args)."
+PACKAGE_PATH_HELP = "Directory holding ROS packages for package:// and $(find) (repeatable; searched before the dataset's robot.package_paths)."
+
+
+def _load(dataset: Path, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None) -> tuple[Dataset, Chain | None, CameraModel | None]:
     """Dataset, chain and camera: the manifest first, then the chain it names, then the samples
-    checked against the chain's joints."""
+    checked against the chain's joints. Command-line xacro arguments and package paths are merged
+    over the dataset's own (robot.xacro_args, robot.package_paths)."""
     from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import Problem, load_dataset, read_samples
     from armtool.ik.chain import load_chain
 
     ds = load_dataset(dataset, with_samples=False)
+    ds.xacro_args, ds.package_paths = ds.robot_sources(xacro_args, package_paths)
     chain = camera = None
     if ds.urdf.is_file() and ds.base_link and ds.flange_link:
         try:
-            chain = load_chain(ds.urdf, ds.base_link, ds.flange_link)
+            chain = load_chain(ds.urdf, ds.base_link, ds.flange_link, xacro_args=ds.xacro_args, package_paths=ds.package_paths)
         except ArmtoolError as exc:
             ds.problems.append(Problem(str(ds.urdf.name), exc.what, exc.hint or ""))
     read_samples(ds, chain.joint_names if chain is not None else None)
@@ -99,14 +105,17 @@ def _detect(ds: Dataset, camera: CameraModel) -> dict[str, Observation]:
 def check(
     dataset: Path = typer.Argument(..., help="Dataset directory (with dataset.yaml)."),
     detect: bool = typer.Option(True, "--detect/--no-detect", help="Also look for the tag in every image."),
+    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
+    package_path: List[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
 ) -> None:
     """Validate a dataset: files, joints, units, images, and the tag in every image."""
     from rich.markup import escape
 
     from armtool.calib.dataset import Problem
+    from armtool.cli.lint import _parse_xacro_args
     from armtool.console import stderr
 
-    ds, chain, camera = _load(dataset)
+    ds, chain, camera = _load(dataset, _parse_xacro_args(xacro_arg), list(package_path))
     if detect and chain is not None and camera is not None and ds.samples:
         found = 0
         for sid, ob in _detect(ds, camera).items():
@@ -141,6 +150,16 @@ def fit(
     seed: int = typer.Option(0, "--seed", help="Random seed for the hold-out split."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write a PNG of per-sample residuals before and after."),
     output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
+    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
+    package_path: List[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
+    ur_kinematics: Optional[Path] = typer.Option(
+        None, "--ur-kinematics",
+        help="Universal Robots arm: also write its calibration YAML (default_kinematics.yaml format) here; use it as kinematics_params:=FILE.",
+    ),
+    ur_kinematics_in: Optional[Path] = typer.Option(
+        None, "--ur-kinematics-in",
+        help="The robot's current UR kinematics YAML, whose hash is kept [default: the dataset's kinematics_params xacro argument].",
+    ),
 ) -> None:
     """Calibrate: per-joint origin corrections and zero offsets, with the camera and tag frames."""
     import numpy as np
@@ -151,20 +170,24 @@ def fit(
     from armtool.calib.model import CalibModel
     from armtool.calib.report import calibration_document, residual_plot_png
     from armtool.fileio import write_atomic
-    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections
+    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections, relocate_meshes
     from armtool.console import stderr, write_stdout
+
+    from armtool.cli.lint import _parse_xacro_args
 
     explicit = params is not None
     families = _families(params or "origins,offsets")
+    cli_args, cli_paths = _parse_xacro_args(xacro_arg), list(package_path)
     _check_output_paths(out, plot)
-    ds, chain, camera = _load(dataset)
+    ds, chain, camera = _load(dataset, cli_args, cli_paths)
     require_ok(ds)
     assert chain is not None and camera is not None
+    ur_joints, ur_hash = _ur_inputs(ds, chain, ur_kinematics, ur_kinematics_in)
     observations = _detect(ds, camera)
     samples = list(ds.samples)
     holdout_ids: set[str] | None = None
     if validation is not None:
-        vds, vchain, vcamera = _load(validation)
+        vds, vchain, vcamera = _load(validation, cli_args, cli_paths)
         require_ok(vds)
         _same_setup(ds, chain, camera, vds, vchain, vcamera, validation)
         from dataclasses import replace
@@ -196,8 +219,8 @@ def fit(
             ds.hints, holdout_ids=holdout_ids, progress=lambda msg: status.update(msg),
         )
     # Everything computed and checked first; then each file is written atomically.
-    text = expanded_text(ds.urdf)
-    new_urdf = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)
+    text = expanded_text(ds.urdf, ds.xacro_args, ds.package_paths)
+    new_urdf = relocate_meshes(corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name), ds.urdf.parent, out)
     check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)
     doc = calibration_document(result, str(dataset), ds.urdf.name)
     truth_scores = _truth_scores(dataset, result)
@@ -206,16 +229,46 @@ def fit(
     outputs: dict[Path, str | bytes] = {out / "calibrated.urdf": new_urdf, out / "calibration.yaml": yaml.safe_dump(doc, sort_keys=False, allow_unicode=True)}
     if plot is not None:
         outputs[plot] = residual_plot_png(result)
+    if ur_kinematics is not None and ur_joints is not None and ur_hash is not None:
+        from armtool.calib.ur_kinematics import ur_kinematics_yaml
+
+        outputs[ur_kinematics] = ur_kinematics_yaml(new_urdf, ur_joints, ur_hash, "calibrated.urdf")
     out.mkdir(parents=True, exist_ok=True)
     for path, data in outputs.items():
         write_atomic(path, data)
     if output_format is ReportFormat.JSON:
-        summary = {k: doc[k] for k in ("setup", "frames", "identifiability", "metrics", "outliers", "rejected", "warnings")}
+        summary = {k: doc[k] for k in ("setup", "frames", "identifiability", "zero_offsets", "metrics", "outliers", "rejected", "warnings")}
         summary["schema_version"] = 1
         if truth_scores:
             summary["against_truth"] = truth_scores
         write_stdout(json.dumps(summary, indent=2))
     _print_report(result, truth_scores, out, plot)
+    if ur_kinematics is not None:
+        stderr().print(f"wrote {ur_kinematics}: pass it to the UR description as kinematics_params:={ur_kinematics}")
+
+
+def _ur_inputs(ds: Dataset, chain: Chain, out: Optional[Path], given: Optional[Path]) -> tuple[dict[str, str] | None, str | None]:
+    """For --ur-kinematics, checked before the fit: the chain is a UR arm's, and the hash to keep
+    (from --ur-kinematics-in, or the file the dataset's kinematics_params xacro argument names)."""
+    from armtool.calib.ur_kinematics import kinematics_params_path, read_hash, ur_joint_names
+
+    if out is None:
+        if given is not None:
+            raise ArmtoolError("--ur-kinematics-in needs --ur-kinematics", hint="add --ur-kinematics FILE for the calibrated file")
+        return None, None
+    if out.parent != Path("") and not out.parent.is_dir():
+        raise ArmtoolError("--ur-kinematics's directory does not exist", str(out), "create it, or write the file elsewhere")
+    joints = ur_joint_names(chain.joint_names, str(ds.urdf))
+    if given is None:
+        value = ds.xacro_args.get("kinematics_params")
+        if value is None:
+            raise ArmtoolError(
+                "--ur-kinematics needs the robot's current kinematics file, to keep its hash",
+                hint="pass --ur-kinematics-in FILE (the robot's default_kinematics.yaml, or ur_calibration's output), "
+                "or --xacro-arg kinematics_params:=FILE",
+            )
+        given = kinematics_params_path(value, ds.root, ds.package_paths)
+    return joints, read_hash(given)
 
 
 def _check_output_paths(out: Path, plot: Optional[Path]) -> None:
@@ -300,6 +353,23 @@ def _print_report(result: CalibrationResult, truth: dict[str, Any] | None, out: 
         con.print(f"  [dim]dropped[/dim] {escape(result.model.params[i].name)}: {escape(why)}")
     if len(ident.dropped) > len(shown):
         con.print(f"  [dim]… {len(ident.dropped) - len(shown)} more in calibration.yaml[/dim]")
+    if result.zero_offsets:
+        zt = Table(title="zero offsets (encoder zero corrections, already in calibrated.urdf)", title_justify="left")
+        zt.add_column("joint")
+        zt.add_column("offset °", justify="right")
+        zt.add_column("± °", justify="right")
+        zt.add_column("use to re-zero the encoder?")
+        for z in result.zero_offsets:
+            if not z.identified:
+                zt.add_row(escape(z.joint), "-", "-", "[dim]not identified (trades with a camera/tag frame)[/dim]")
+                continue
+            plus = f"{math.degrees(z.uncertainty_rad):.2f}" if z.uncertainty_rad < math.pi else "unbounded"
+            verdict = "yes" if z.physical else "[red]no[/red]: not separable from " + escape(", ".join(p.parameter for p in z.partners[:2]) or "other parameters")
+            zt.add_row(escape(z.joint), f"{math.degrees(z.value_rad):+.3f}", plus, verdict)
+        con.print(zt)
+        if not all(z.physical for z in result.zero_offsets if z.identified):
+            con.print("  [dim]offsets marked 'no' only balance origin errors the poses cannot separate from them; "
+                      "calibrated.urdf is right as a whole, but do not re-zero encoders on them (calibration.yaml: zero_offsets)[/dim]")
     for sid, why in result.outliers.items():
         con.print(f"[yellow]outlier[/yellow] sample {escape(sid)}: {escape(why)}")
     for sid, why in result.rejected.items():
@@ -323,6 +393,8 @@ def simulate(
     bad_samples: int = typer.Option(0, "--bad-samples", min=0, help="Wrong rows to mix in (joint off by 5°, mislabeled image)."),
     distortion: bool = typer.Option(False, "--distortion", help="Give the camera lens distortion."),
     seed: int = typer.Option(0, "--seed", help="Random seed."),
+    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages for package:// and $(find) (repeatable)."),
 ) -> None:
     """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
     from armtool.calib.model import Setup
@@ -332,13 +404,16 @@ def simulate(
     from armtool.ik.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
+    from armtool.cli.lint import _parse_xacro_args
+
     if not tag_size > 0:
         raise ArmtoolError(f"--tag-size must be > 0, got {tag_size}")
+    args, paths = _parse_xacro_args(xacro_arg), list(package_path)
     if base is None or flange is None:
-        chain = chain_from_xml(load_robot_xml(urdf), base, flange, source=urdf.name)
+        chain = chain_from_xml(load_robot_xml(urdf, args, paths), base, flange, source=urdf.name)
         base, flange = chain.base, chain.tip
     spec = SimulationSpec(samples=samples, validation=validation, setup=Setup(setup.value), seed=seed, quality=quality.value,
-                          tag_size_m=tag_size, bad_samples=bad_samples, distortion=distortion)
+                          tag_size_m=tag_size, bad_samples=bad_samples, distortion=distortion, xacro_args=args, package_paths=tuple(paths))
     with progress_bar() as bar:
         task = bar.add_task("rendering", total=samples)
         summary = run(urdf, out, base, flange, spec, progress=lambda done, total: bar.update(task, completed=done))

@@ -16,7 +16,7 @@ from armtool.calib.camera import CameraModel
 from armtool.calib.dataset import Sample
 from armtool.calib.model import CalibModel, Setup
 from armtool.calib.observations import Observation
-from armtool.calib.simulate import SimulationSpec, _place, _poses_by_ik, _visible, default_camera, true_corrections
+from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_corrections
 from armtool.calib.truth import Truth
 from armtool.ik.chain import Chain
 
@@ -36,14 +36,12 @@ def make_problem(chain: Chain, n: int = 40, noise_px: float = 0.05, seed: int = 
     rng = np.random.default_rng(seed)
     nominal = CalibModel(chain, setup, np.eye(4), np.eye(4))
     camera = default_camera()
-    L, R, pool = _place(nominal, spec, rng)
+    L, R, pool = _place(nominal, spec, rng, camera)
     if freeze_joint is not None:
         pool[:, freeze_joint] = 0.3
     x_true = np.zeros(nominal.size)
     x_true[12:] = true_corrections(chain, spec, rng).ravel()
     true_model = nominal.with_frames(L, R)
-    if setup is Setup.EYE_IN_HAND:
-        pool = _poses_by_ik(true_model, camera, spec, rng, 2 * (n + 20))
     visible = _visible(true_model, x_true, camera, pool[:8000], spec)
     chosen = rng.choice(visible, size=n + 20, replace=False)
     Q, Q_val = pool[chosen[:n]], pool[chosen[n:]]

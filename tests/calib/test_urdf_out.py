@@ -97,3 +97,17 @@ def test_a_wrong_result_is_refused(clean_chain: Chain) -> None:
     text = CLEAN_ARM.read_text()
     with pytest.raises(ArmtoolError, match="does not reproduce"):
         check_reproduces(text, model, x, "clean_arm.urdf")  # the nominal text: corrections missing
+
+
+def test_relocate_meshes_keeps_relative_paths_resolving(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from armtool.calib.urdf_out import relocate_meshes
+
+    text = ('<robot name="r"><link name="a"><visual><geometry><mesh filename="assets/a.stl" scale="1 1 1"/></geometry></visual>'
+            '<collision><geometry><mesh filename="package://pkg/meshes/a.stl"/></geometry></collision>'
+            "<visual><geometry><mesh filename='/abs/b.stl'/></geometry></visual>"
+            '<visual><geometry><mesh filename="file:///abs/c.stl"/></geometry></visual></link></robot>')
+    src, out = tmp_path / "robot", tmp_path / "out" / "calib"
+    new = relocate_meshes(text, src, out)
+    assert 'filename="../../robot/assets/a.stl" scale="1 1 1"' in new
+    assert 'filename="package://pkg/meshes/a.stl"' in new and "filename='/abs/b.stl'" in new and 'filename="file:///abs/c.stl"' in new
+    assert relocate_meshes(text, src, src) == text
