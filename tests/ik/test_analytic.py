@@ -167,8 +167,21 @@ def test_solutions_outside_the_limits_are_dropped() -> None:
 def test_panda_has_no_closed_form() -> None:
     relative, base, tip = ARMS["panda"]
     chain = load_chain(erd(relative), base, tip)
-    with pytest.raises(ArmtoolError, match=r"robot 'panda' has 7 joints; closed form needs 6R with a spherical wrist or three parallel axes \(UR-type\)"):
+    with pytest.raises(ArmtoolError, match=r"the chain has 7 joints; closed form needs 6R with a spherical wrist or three parallel axes \(UR-type\)") as info:
         make_solver("analytic", chain)
+    assert "gripper" not in (info.value.hint or ""), "panda_joint7 is an arm joint, not a gripper's"
+
+
+def test_gripper_hint_only_for_gripper_joints() -> None:
+    """A 6R arm with a finger joint after it: the hint names the finger joint (item 12 of issue 10)."""
+    from armtool.ik.chain import ChainJoint
+
+    chain = dh_chain(UR_LIKE, name="with_finger")
+    finger = ChainJoint("finger_joint", "prismatic", np.eye(4), np.array([1.0, 0.0, 0.0]), 0.0, 0.04)
+    with_finger = Chain(chain.name, chain.base, chain.tip, [*chain.joints, finger], chain.tip_offset)
+    with pytest.raises(ArmtoolError, match="the chain has 7 joints") as info:
+        make_solver("analytic", with_finger)
+    assert "finger_joint look like a gripper's" in (info.value.hint or "")
 
 
 def test_general_6r_names_the_failed_checks() -> None:
@@ -176,7 +189,7 @@ def test_general_6r_names_the_failed_checks() -> None:
     with pytest.raises(ArmtoolError) as info:
         make_solver("analytic", chain)
     text = str(info.value)
-    assert "robot 'skew' (6R) has no supported closed form" in text
+    assert "the chain (6R) has no supported closed form" in text
     assert "UR-type: axis 2∥3: no" in text and "spherical wrist: axes 4,5 intersect: no" in text
 
 
@@ -298,7 +311,7 @@ def test_spherical_wrist_singularity() -> None:
 def test_nearly_parallel_axes_are_refused() -> None:
     """Axes 2 and 3 parallel within the detection tolerance but not exactly: the model would miss by ~1e-7."""
     almost = [UR_LIKE[0], (0.05, 0.40, 5e-7), *UR_LIKE[2:]]
-    with pytest.raises(ArmtoolError, match=r"robot 'synthetic' is UR-type only within 1e-06 rad / 1e-06 m: the closed-form model misses"):
+    with pytest.raises(ArmtoolError, match=r"the chain is UR-type only within 1e-06 rad / 1e-06 m: the closed-form model misses"):
         make_solver("analytic", dh_chain(almost))
 
 

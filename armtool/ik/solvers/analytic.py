@@ -60,7 +60,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
+from armtool.ik.chain import Chain, looks_like_gripper_joint
 from armtool.ik.solver import Array, IKResult, Solver
 
 ANGLE_TOL = 1e-6  # rad: axes parallel
@@ -171,13 +171,15 @@ def detect(chain: Chain) -> Geometry:
     """The closed-form family of a chain and its DH model, or ArmtoolError naming what was checked."""
     need = "closed form needs 6R with a spherical wrist or three parallel axes (UR-type)"
     hint = "use a numerical solver such as lm (`--solvers lm`)"
+    where = f"{chain.base} → {chain.tip}"
     if chain.n != 6:
-        if chain.n > 6:
-            hint = f"if the joints after '{chain.joint_names[5]}' belong to a gripper or tool, end the chain there (--tip); else {hint}"
-        raise ArmtoolError(f"robot '{chain.name}' has {chain.n} joints; {need}", where=f"{chain.base} → {chain.tip}", hint=hint)
+        extra = chain.joint_names[6:]
+        if extra and all(looks_like_gripper_joint(name) for name in extra):
+            hint = f"joints {', '.join(extra)} look like a gripper's: end the chain before them (--tip); else {hint}"
+        raise ArmtoolError(f"the chain has {chain.n} joints; {need}", where=where, hint=hint)
     prismatic = [j.name for j in chain.joints if j.kind == "prismatic"]
     if prismatic:
-        raise ArmtoolError(f"robot '{chain.name}': joint '{prismatic[0]}' is prismatic; {need}", where=f"{chain.base} → {chain.tip}", hint=hint)
+        raise ArmtoolError(f"the chain's joint '{prismatic[0]}' is prismatic; {need}", where=where, hint=hint)
     lines, tip0 = axis_lines(chain)
     checks = _checks(lines)
     kinds: tuple[GeometryKind, ...] = ("ur", "spherical-wrist")
@@ -189,7 +191,7 @@ def detect(chain: Chain) -> Geometry:
             if geometry.model_error <= MODEL_TOL:
                 return geometry
             approximate = approximate or (
-                f"robot '{chain.name}' is {_TITLES[kind]} only within {ANGLE_TOL:g} rad / {LENGTH_TOL:g} m: the closed-form"
+                f"the chain is {_TITLES[kind]} only within {ANGLE_TOL:g} rad / {LENGTH_TOL:g} m: the closed-form"
                 f" model misses the URDF's FK by {geometry.model_error:.2g} (limit {MODEL_TOL:g})"
             )
     if approximate:
@@ -198,7 +200,7 @@ def detect(chain: Chain) -> Geometry:
         f"{_TITLES[kind]}: " + ", ".join(f"{label}: no ({value})" for label, ok, value in checks[kind] if not ok) for kind in kinds
     )
     raise ArmtoolError(
-        f"robot '{chain.name}' (6R) has no supported closed form; {need}: {failed}",
+        f"the chain (6R) has no supported closed form; {need}: {failed}",
         where=f"{chain.base} → {chain.tip}",
         hint=hint,
     )
