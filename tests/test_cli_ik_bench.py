@@ -133,3 +133,29 @@ def test_realworld_gen3_lite_group_joint_order() -> None:
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
     assert (doc["base"], doc["tip"], doc["joints"]) == ("base_link", "tool_frame", [f"joint_{i}" for i in range(1, 7)])
+
+
+def test_position_only_ik_from_kinematics_yaml(tmp_path: Path) -> None:
+    """position_only_ik: true → targets and checks on position; every numerical solver runs (free virtual wrist)."""
+    from tests.ik.test_group import ARM
+
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(ARM)
+    srdf = tmp_path / "arm.srdf"
+    srdf.write_text('<robot name="arm"><group name="arm"><chain base_link="base" tip_link="tool_frame"/></group></robot>')
+    kin = tmp_path / "kinematics.yaml"
+    kin.write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  position_only_ik: true\n")
+    result = runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin),
+                                 "--samples", "20", "--solvers", "lm,dls,analytic", "--no-batch", "--format", "json"])
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    assert doc["config"]["position_only"] is True and doc["joints"] == ["j1", "j2", "j3"]
+    rows = {r["solver"]: r for r in doc["solvers"]}
+    assert rows["lm"]["success_rate"] >= 0.9 and rows["dls"]["applicable"]
+    assert rows["analytic"]["applicable"] is False and "position-only" in rows["analytic"]["reason"]
+    assert "position only (position_only_ik" in result.stderr
+    # Without position_only_ik the 3-joint arm cannot reach the same targets' orientations from the mid seed as often:
+    kin.write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n")
+    full = json.loads(runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin),
+                                          "--samples", "20", "--solvers", "lm", "--no-batch", "--format", "json"]).stdout)
+    assert full["config"]["position_only"] is False

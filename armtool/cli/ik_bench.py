@@ -80,19 +80,27 @@ def ik_bench(
     if timeout is None:
         timeout = settings.timeout_s or 0.005
     position_only = settings.position_only
+    # Position-only: every solver gets the chain with a free (virtual) wrist at the tip.
+    solve_chain = chain.with_free_orientation() if position_only else chain
     names = [s.strip() for s in solvers.split(",") if s.strip()] if solvers else solver_names()
     built: list[Solver] = []
     rows_na: list[NotApplicable] = []
     for name in names:
+        if position_only and not solver_class(name).position_only_capable:
+            rows_na.append(NotApplicable(name, "it solves full poses of the real chain only; this group is position-only (position_only_ik)"))
+            continue
         solver_class(name)  # an unknown name is a usage error, not "not applicable"
         try:
-            built.append(make_solver(name, chain, timeout=timeout, tolerance=tolerance, seed=seed))
+            built.append(make_solver(name, solve_chain, timeout=timeout, tolerance=tolerance, seed=seed))
         except ArmtoolError as exc:  # e.g. no closed form for this chain: its row says so, the others run
             rows_na.append(NotApplicable(name, exc.what + (f" (hint: {exc.hint})" if exc.hint else "")))
     peer_list = []
     if peers:
         wanted = peer_names() if peers.strip() == "all" else [p.strip() for p in peers.split(",")]
         for name in wanted:
+            if position_only:
+                rows_na.append(NotApplicable(name, "peers solve full poses only; this group is position-only (position_only_ik)"))
+                continue
             peer = make_peer(name, chain, root, timeout=timeout, tolerance=tolerance)
             if isinstance(peer, str):
                 stderr().print(f"[yellow]peer {escape(name)} skipped:[/yellow] {escape(peer)}")
@@ -100,14 +108,15 @@ def ik_bench(
                 peer_list.append(peer)
     config = BenchConfig(samples=samples, rng_seed=seed, seed_mode=SeedMode(seed_mode.value), timeout=timeout,
                          tolerance=tolerance, position_only=position_only)
-    targets = make_targets(chain, config)
+    targets = make_targets(solve_chain, config)
     for row in rows_na:
         stderr().print(f"[yellow]{escape(row.solver)} not applicable:[/yellow] {escape(row.reason)}")
     stderr().print(escape(
         f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
         + (f", {how}" if how else "") + f"; {samples} targets, seed {seed_mode.value}, "
         f"timeout {timeout * 1e3:g} ms, tolerance {tolerance:g}"
-        + ("; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position" if position_only else "")
+        + ("; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position, the solvers"
+           " get the chain with a free virtual wrist at the tip" if position_only else "")
     ))
     from rich.progress import TaskID
 
@@ -125,7 +134,7 @@ def ik_bench(
             def advance(k: int, t: TaskID = task) -> None:
                 bar.advance(t, k)
 
-            reports.append(run_solver(chain, solver, targets, config, batch=as_batch, progress=advance))
+            reports.append(run_solver(solve_chain, solver, targets, config, batch=as_batch, progress=advance))
     reports += rows_na
     if output_format is BenchFormat.JSON:
         write_stdout(render_json(chain, config, reports))

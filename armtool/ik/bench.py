@@ -47,6 +47,8 @@ class Targets:
 def make_targets(chain: Chain, config: BenchConfig) -> Targets:
     rng = np.random.default_rng(config.rng_seed)
     q_true = chain.random(rng, config.samples)
+    if chain.free_orientation:  # position-only: the virtual wrist at zero, far from its gimbal lock
+        q_true[:, chain.n - chain.free_orientation :] = 0.0
     poses = chain.fk_batch(q_true)
     if config.seed_mode is SeedMode.RANDOM:
         seeds = chain.random(rng, config.samples)
@@ -95,8 +97,10 @@ class NotApplicable:
 
 
 def _joint_distance(chain: Chain, a: Array, b: Array) -> Array:
-    d: Array = a - b
-    d = np.where(chain.continuous, (d + np.pi) % (2 * np.pi) - np.pi, d)
+    """Euclidean joint distance over the real joints (not a position-only chain's virtual wrist)."""
+    m = chain.n - chain.free_orientation
+    d: Array = a[..., :m] - b[..., :m]
+    d = np.where(chain.continuous[:m], (d + np.pi) % (2 * np.pi) - np.pi, d)
     norms: Array = np.linalg.norm(d, axis=-1)  # numpy's stubs: Any when axis is given
     return norms
 

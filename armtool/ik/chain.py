@@ -171,6 +171,22 @@ class Chain:
         self._revolute_cols: NDArray[np.intp] | None = None if self.revolute.all() else np.flatnonzero(self.revolute)
         self._pin: Any = None
         self._plan: list[tuple[Array, Array, int, float, Array | None]] | None = None
+        self.free_orientation = 0  # trailing virtual joints that make the tip's orientation free (position-only IK)
+
+    def with_free_orientation(self) -> Chain:
+        """This chain plus three virtual continuous joints (about x, y, z) turning the tip in place.
+
+        Position-only IK (MoveIt's position_only_ik) as a full-pose problem every solver can take:
+        any orientation is reachable at any position the arm reaches, so a pose solution of this
+        chain, without its last three joints, is a position solution of the real one.
+        """
+        joints = list(self.joints)
+        for k, axis in enumerate(("x", "y", "z")):
+            origin = self.tip_offset if k == 0 else np.eye(4)
+            joints.append(ChainJoint(f"{self.tip}_free_r{axis}", "continuous", origin, np.eye(3)[k], -math.pi, math.pi))
+        free = Chain(self.name, self.base, self.tip, joints, np.eye(4))
+        free.free_orientation = 3
+        return free
 
     # ---- Pinocchio model ----------------------------------------------------------
     def _model(self) -> Any:

@@ -115,6 +115,9 @@ class Solver:
     name: ClassVar[str]
     summary: ClassVar[str]
     options: ClassVar[dict[str, Any]] = {}
+    # False for solvers whose method needs the real chain (closed forms): they cannot take a
+    # position-only chain (Chain.with_free_orientation) and are reported as not applicable.
+    position_only_capable: ClassVar[bool] = True
 
     def __init__(self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
         if not timeout > 0:

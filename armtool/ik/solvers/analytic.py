@@ -340,6 +340,7 @@ class Analytic(Solver):
     name = "analytic"
     summary = "closed form for UR-type and spherical-wrist 6R arms (detected from the URDF): every solution, ~45 µs"
     options: ClassVar[dict[str, Any]] = {}
+    position_only_capable: ClassVar[bool] = False
 
     def __init__(self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
         super().__init__(chain, timeout=timeout, tolerance=tolerance, seed=seed, **options)
