@@ -110,6 +110,9 @@ def build_app() -> typer.Typer:
     from armtool.cli import servo_sim as servo_sim_cmd
 
     full.command("servo-sim", help="Simulate a Dynamixel/Feetech servo bus on a pseudo-terminal (tests, demos).")(servo_sim_cmd.servo_sim)
+    from armtool.cli import tree as tree_cmd
+
+    full.command("tree", help=tree_cmd.HELP)(tree_cmd.tree)
     from armtool.cli import limits as limits_cmd
 
     full.command("limits", help="Record each joint's real range over a Dynamixel/Feetech bus; write limits YAML, URDF limits, EEPROM.")(limits_cmd.limits)
