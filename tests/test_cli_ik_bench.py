@@ -159,3 +159,17 @@ def test_position_only_ik_from_kinematics_yaml(tmp_path: Path) -> None:
     full = json.loads(runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin),
                                           "--samples", "20", "--solvers", "lm", "--no-batch", "--format", "json"]).stdout)
     assert full["config"]["position_only"] is False
+
+
+def test_missing_peer_hint_keeps_its_brackets(tmp_path: Path, monkeypatch: object) -> None:
+    """The install hint "pip install 'armtool[peers]'" printed through rich must keep '[peers]' (issue 10 item 19)."""
+    import armtool.ik.peers as peers
+
+    entry = peers.PEERS["ikpy"]
+    monkeypatch.setitem(peers.PEERS, "ikpy", (entry[0], "no_such_module_for_armtool_test", entry[2]))  # type: ignore[attr-defined]
+    urdf = tmp_path / "planar.urdf"
+    urdf.write_text(PLANAR_2R)
+    result = runner.invoke(app, ["ik-bench", str(urdf), "--samples", "5", "--solvers", "lm", "--no-batch", "--peers", "ikpy",
+                                 "--format", "json"])
+    assert result.exit_code == 0, result.output
+    assert "pip install 'armtool[peers]'" in result.stderr
