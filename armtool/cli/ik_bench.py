@@ -51,7 +51,7 @@ def ik_bench(
     from armtool.ik.chain import chain_from_xml, default_base_tip
     from armtool.ik.group import GroupSettings, group_chain, group_settings
     from armtool.ik.peers import make_peer, peer_names
-    from armtool.ik.registry import make_solver, solver_class, solver_names
+    from armtool.ik.registry import solver_class, solver_names
     from armtool.ik.report import render_csv, render_json, render_table
     from armtool.ik.solver import Solver
     from armtool.model.load import load_robot_xml, load_srdf_xml
@@ -86,12 +86,13 @@ def ik_bench(
     built: list[Solver] = []
     rows_na: list[NotApplicable] = []
     for name in names:
-        if position_only and not solver_class(name).position_only_capable:
+        # An unknown name is a usage error (exit 2); a solver that cannot take this chain gets an n/a row.
+        cls = solver_class(name)
+        if position_only and not cls.position_only_capable:
             rows_na.append(NotApplicable(name, "it solves full poses of the real chain only; this group is position-only (position_only_ik)"))
             continue
-        solver_class(name)  # an unknown name is a usage error, not "not applicable"
         try:
-            built.append(make_solver(name, solve_chain, timeout=timeout, tolerance=tolerance, seed=seed))
+            built.append(cls(solve_chain, timeout=timeout, tolerance=tolerance, seed=seed))
         except ArmtoolError as exc:  # e.g. no closed form for this chain: its row says so, the others run
             rows_na.append(NotApplicable(name, exc.what + (f" (hint: {exc.hint})" if exc.hint else "")))
     peer_list = []

@@ -65,13 +65,13 @@ def _urdf_tree(urdf: etree._Element) -> tuple[dict[str, _Joint], list[str]]:
     return joints, order
 
 
-def _groups(srdf: etree._Element, source: str) -> dict[str, etree._Element]:
+def _groups(srdf: etree._Element) -> dict[str, etree._Element]:
     return {el.get("name", ""): el for el in srdf.findall("group") if el.get("name")}
 
 
 def group_chain(srdf: etree._Element, group: str, urdf: etree._Element, source: str = "SRDF") -> GroupChain:
     """The chain MoveIt's IK plugin gets for `group` of an SRDF (already expanded) on a URDF (already expanded)."""
-    groups = _groups(srdf, source)
+    groups = _groups(srdf)
     if group not in groups:
         names = sorted(groups)
         raise ArmtoolError(
@@ -84,8 +84,7 @@ def group_chain(srdf: etree._Element, group: str, urdf: etree._Element, source: 
     virtual = {el.get("name", ""): el for el in srdf.findall("virtual_joint")}
     members: set[str] = set()
     _collect(groups, group, joints, links, by_child, virtual, members, (), source)
-    fixed_virtual = [v for v in members if v in virtual]
-    members -= set(fixed_virtual)
+    members -= set(virtual)  # a fixed virtual joint: its parent frame coincides with the root link
     if not members:
         raise ArmtoolError(f"group '{group}' has no joint of the URDF", source, "pass --base and --tip, or fix the group")
     index = {name: i for i, name in enumerate(order)}
