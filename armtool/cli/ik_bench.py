@@ -25,11 +25,11 @@ class SeedModeOption(str, Enum):
 
 def ik_bench(
     urdf: Path = typer.Argument(..., help="URDF or xacro of the robot."),
-    base: Optional[str] = typer.Option(None, "--base", help="Base link of the chain (default: the root)."),
-    tip: Optional[str] = typer.Option(None, "--tip", help="Tip link (default: end of the longest chain)."),
-    group: Optional[str] = typer.Option(None, "--group", help="MoveIt group whose chain to use (needs --srdf)."),
-    srdf: Optional[Path] = typer.Option(None, "--srdf", help="SRDF that defines --group."),
-    kinematics_yaml: Optional[Path] = typer.Option(None, "--kinematics-yaml", help="MoveIt kinematics.yaml: the group's timeout."),
+    base: Optional[str] = typer.Option(None, "--base", help="Base link of the chain (default: the root link)."),
+    tip: Optional[str] = typer.Option(None, "--tip", help="Tip link (default: the arm's end before any gripper joint, at a tool frame such as tool0 or *_tcp if there is one)."),
+    group: Optional[str] = typer.Option(None, "--group", help="MoveIt group whose chain to use, built as MoveIt builds it (needs --srdf)."),
+    srdf: Optional[Path] = typer.Option(None, "--srdf", help="SRDF (or .srdf.xacro, expanded with --xacro-arg/--package-path) that defines --group."),
+    kinematics_yaml: Optional[Path] = typer.Option(None, "--kinematics-yaml", help="MoveIt kinematics.yaml: the group's kinematics_solver_timeout and position_only_ik."),
     solvers: Optional[str] = typer.Option(None, "--solvers", help="Comma-separated built-in solvers (default: all)."),
     peers: Optional[str] = typer.Option(None, "--peers", help="Comma-separated peer solvers, or 'all' (needs armtool[peers])."),
     batch: bool = typer.Option(True, "--batch/--no-batch", help="Also time one vectorized solve_batch call per solver that has one."),
