@@ -40,3 +40,14 @@ def test_errors_keep_brackets(monkeypatch: object) -> None:
     report_error(ArmtoolError("joint 'a[1]' is odd", "robot[2].urdf:3", "pip install 'armtool[peers]'"))
     text = buf.getvalue()
     assert "joint 'a[1]' is odd (robot[2].urdf:3)" in text and "pip install 'armtool[peers]'" in text
+
+
+def test_say_prints_plain_text(monkeypatch: object) -> None:
+    from rich.console import Console
+
+    import armtool.console as console
+
+    buf = io.StringIO()
+    monkeypatch.setattr(console, "_stderr", Console(file=buf, width=300, highlight=False))  # type: ignore[attr-defined]
+    console.say("pip install 'armtool[peers]' for [bold]x[/bold]", label="peer skipped:", style="yellow")
+    assert buf.getvalue().strip() == "peer skipped: pip install 'armtool[peers]' for [bold]x[/bold]"

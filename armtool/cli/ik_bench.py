@@ -46,7 +46,7 @@ def ik_bench(
     from rich.markup import escape
 
     from armtool.cli.lint import _parse_xacro_args
-    from armtool.console import stderr, write_stdout
+    from armtool.console import say, stderr, write_stdout
     from armtool.ik.bench import BenchConfig, NotApplicable, SeedMode, SolverReport, make_targets, run_solver
     from armtool.ik.chain import chain_from_xml, default_base_tip
     from armtool.ik.group import GroupSettings, group_chain, group_settings
@@ -104,14 +104,14 @@ def ik_bench(
                 continue
             peer = make_peer(name, chain, root, timeout=timeout, tolerance=tolerance)
             if isinstance(peer, str):
-                stderr().print(f"[yellow]peer {escape(name)} skipped:[/yellow] {escape(peer)}")
+                say(peer, label=f"peer {name} skipped:", style="yellow")
             else:
                 peer_list.append(peer)
     config = BenchConfig(samples=samples, rng_seed=seed, seed_mode=SeedMode(seed_mode.value), timeout=timeout,
                          tolerance=tolerance, position_only=position_only)
     targets = make_targets(solve_chain, config)
     for row in rows_na:
-        stderr().print(f"[yellow]{escape(row.solver)} not applicable:[/yellow] {escape(row.reason)}")
+        say(row.reason, label=f"{row.solver} not applicable:", style="yellow")
     stderr().print(escape(
         f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
         + (f", {how}" if how else "") + f"; {samples} targets, seed {seed_mode.value}, "
