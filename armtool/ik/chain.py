@@ -102,8 +102,34 @@ def looks_like_gripper_joint(name: str) -> bool:
     return bool(_GRIPPER_JOINT.search(name))
 
 
-def _is_gripper_joint(joint: _UrdfJoint) -> bool:
-    return joint.type != "fixed" and (looks_like_gripper_joint(joint.name) or joint.el.find("mimic") is not None)
+def _gripper_drives(by_child: Mapping[str, _UrdfJoint]) -> set[str]:
+    """Joints that other joints mimic and below which every moving joint is a mimic or finger joint:
+    a gripper's drive (xArm's `drive_joint`), not an arm joint driving a parallelogram linkage."""
+    below: dict[str, list[_UrdfJoint]] = {}
+    for j in by_child.values():
+        below.setdefault(j.parent, []).append(j)
+    sources = {m.get("joint", "") for j in by_child.values() for m in j.el.findall("mimic")}
+    drives = set()
+    for j in by_child.values():
+        if j.name not in sources:
+            continue
+        stack, only_fingers, seen = list(below.get(j.child, [])), True, 0
+        while stack and only_fingers and seen <= len(by_child):
+            k = stack.pop()
+            seen += 1
+            if k.type != "fixed" and k.el.find("mimic") is None and not looks_like_gripper_joint(k.name):
+                only_fingers = False
+            stack.extend(below.get(k.child, []))
+        if only_fingers:
+            drives.add(j.name)
+    return drives
+
+
+def _is_gripper_joint(joint: _UrdfJoint, mimicked: set[str]) -> bool:
+    """Finger/gripper by name, a mimic joint, or a joint other joints mimic (xArm's gripper `drive_joint`)."""
+    return joint.type != "fixed" and (
+        looks_like_gripper_joint(joint.name) or joint.el.find("mimic") is not None or joint.name in mimicked
+    )
 
 
 def _default_chain(links: list[str], by_child: Mapping[str, _UrdfJoint]) -> tuple[str, str]:
@@ -113,13 +139,14 @@ def _default_chain(links: list[str], by_child: Mapping[str, _UrdfJoint]) -> tupl
     if not roots:
         raise ArmtoolError("the URDF has no root link", hint="run `armtool lint` on it")
     root = roots[0]
+    mimicked = _gripper_drives(by_child)
     paths: list[tuple[str, int, int, bool]] = []  # link, moving joints, depth, passes a gripper joint
     for link in links:
         moving, depth, gripper, cur = 0, 0, False, link
         while cur in by_child and depth <= len(links):
             joint = by_child[cur]
             moving += joint.type != "fixed"
-            gripper = gripper or _is_gripper_joint(joint)
+            gripper = gripper or _is_gripper_joint(joint, mimicked)
             depth += 1
             cur = joint.parent
         if cur == root:
@@ -140,7 +167,7 @@ def default_base_tip(root: etree._Element) -> tuple[str, str]:
     """The chain armtool uses when none is given (ik-bench, calibrate --flange): (base link, tip link).
 
     The base is the URDF's root link; the tip ends the chain through the most moving joints that
-    does not pass a finger/gripper joint (by name, or a mimic joint), and among the links at that
+    does not pass a finger/gripper joint (by name, a mimic joint, or one that others mimic), and among the links at that
     end prefers a tool frame (`tool0`, `*_tcp`, `*tool*`, `*gripper_frame*`, `*end_effector*`),
     then the deepest link.
     """
