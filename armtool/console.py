@@ -22,6 +22,19 @@ def stderr() -> Console:
     return _stderr
 
 
+def say(text: str, *, label: str = "", style: str = "") -> None:
+    """Print a message on stderr as plain text (file names, file contents, hints with `[...]` stay as
+    they are; rich markup would eat `armtool[peers]`), after an optional styled label such as "warning:"."""
+    from rich.text import Text
+
+    line = Text()
+    if label:
+        line.append(label, style=style or None)
+        line.append(" ")
+    line.append(text)
+    stderr().print(line)
+
+
 def progress_bar(label_width: int = 18) -> Progress:
     """The progress bar every long subcommand shows on stderr: label, bar, done/total, time left."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn

@@ -69,3 +69,107 @@ def test_bad_input_is_exit_2(tmp_path: Path) -> None:
         result = run(*args)
         assert result.returncode == 2, (args, result.stderr)
         assert needle in result.stderr and "Traceback" not in result.stderr
+
+
+def test_requested_solver_that_does_not_apply_gets_a_row(tmp_path: Path) -> None:
+    """`--solvers lm,analytic` on a 2-joint arm: analytic is marked not applicable, lm still runs (exit 0)."""
+    urdf = tmp_path / "planar.urdf"
+    urdf.write_text(PLANAR_2R)
+    result = runner.invoke(app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm,analytic", "--no-batch", "--format", "json"])
+    assert result.exit_code == 0, result.output
+    rows = {r["solver"]: r for r in json.loads(result.stdout)["solvers"]}
+    assert rows["lm"]["applicable"] and rows["lm"]["success_rate"] >= 0.8  # wall-clock timeouts on a busy machine
+    assert rows["analytic"]["applicable"] is False and rows["analytic"]["success_rate"] is None
+    assert "the chain has 2 joints" in rows["analytic"]["reason"] and "gripper" not in rows["analytic"]["reason"]
+    assert "analytic not applicable" in result.stderr
+    table = runner.invoke(app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm,analytic", "--no-batch"])
+    assert table.exit_code == 0 and "n/a" in table.stdout
+
+
+def test_table_labels_maxima_and_shows_stalled_failures(tmp_path: Path) -> None:
+    urdf = tmp_path / "planar.urdf"
+    urdf.write_text(PLANAR_2R)
+    result = runner.invoke(app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm", "--no-batch"])
+    assert result.exit_code == 0, result.output
+    assert "max pos err m" in result.stdout and "max rot err rad" in result.stdout
+    import re
+
+    assert "failures (stalled)" in result.stdout and re.search(r"│\s+\d+ \(\d+\) │", result.stdout)
+    doc = json.loads(runner.invoke(app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm", "--no-batch", "--format", "json"]).stdout)
+    assert isinstance(doc["solvers"][0]["stalled_failures"], int)
+
+
+def test_group_from_srdf_xacro_with_xacro_args(tmp_path: Path) -> None:
+    """--srdf may be a .srdf.xacro; it gets the same --xacro-arg values as the URDF (issue 10 item 2)."""
+    from tests.ik.test_group import ARM
+
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(ARM)
+    srdf = tmp_path / "arm.srdf.xacro"
+    srdf.write_text('<robot xmlns:xacro="http://wiki.ros.org/xacro" name="arm"><xacro:arg name="prefix" default=""/>'
+                    '<xacro:macro name="arm_group" params="p"><group name="${p}arm">'
+                    '<joint name="tool_frame_joint"/><joint name="j2"/><joint name="j1"/><joint name="j3"/>'
+                    '<joint name="flange_joint"/></group></xacro:macro><xacro:arm_group p="$(arg prefix)"/></robot>')
+    result = runner.invoke(app, ["ik-bench", str(urdf), "--group", "my_arm", "--srdf", str(srdf), "--xacro-arg", "prefix:=my_",
+                                 "--samples", "5", "--solvers", "lm", "--no-batch", "--format", "json"])
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    assert (doc["base"], doc["tip"], doc["joints"]) == ("base", "tool_frame", ["j1", "j2", "j3"])
+
+
+REALWORLD = Path(__file__).resolve().parents[1] / ".." / "shared" / "realworld"
+
+
+def test_realworld_gen3_lite_group_joint_order() -> None:
+    """Kinova gen3_lite's SRDF lists tool_frame_joint first: the chain is still base_link → tool_frame."""
+    import pytest
+
+    urdf = REALWORLD / "ros2_kortex/kortex_description/robots/gen3_lite.urdf"
+    srdf = REALWORLD / "ros2_kortex/kortex_moveit_config/kinova_gen3_lite_moveit_config/config/gen3_lite.srdf"
+    if not urdf.is_file():
+        pytest.skip("the realworld corpus is absent")
+    result = runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--samples", "20",
+                                 "--solvers", "lm", "--no-batch", "--format", "json"])
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    assert (doc["base"], doc["tip"], doc["joints"]) == ("base_link", "tool_frame", [f"joint_{i}" for i in range(1, 7)])
+
+
+def test_position_only_ik_from_kinematics_yaml(tmp_path: Path) -> None:
+    """position_only_ik: true → targets and checks on position; every numerical solver runs (free virtual wrist)."""
+    from tests.ik.test_group import ARM
+
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(ARM)
+    srdf = tmp_path / "arm.srdf"
+    srdf.write_text('<robot name="arm"><group name="arm"><chain base_link="base" tip_link="tool_frame"/></group></robot>')
+    kin = tmp_path / "kinematics.yaml"
+    kin.write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  position_only_ik: true\n")
+    result = runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin),
+                                 "--samples", "20", "--solvers", "lm,dls,analytic", "--no-batch", "--format", "json"])
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    assert doc["config"]["position_only"] is True and doc["joints"] == ["j1", "j2", "j3"]
+    rows = {r["solver"]: r for r in doc["solvers"]}
+    assert rows["lm"]["success_rate"] >= 0.9 and rows["dls"]["applicable"]
+    assert rows["analytic"]["applicable"] is False and "position-only" in rows["analytic"]["reason"]
+    assert "position only (position_only_ik" in result.stderr
+    # Without position_only_ik the 3-joint arm cannot reach the same targets' orientations from the mid seed as often:
+    kin.write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n")
+    full = json.loads(runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin),
+                                          "--samples", "20", "--solvers", "lm", "--no-batch", "--format", "json"]).stdout)
+    assert full["config"]["position_only"] is False
+
+
+def test_missing_peer_hint_keeps_its_brackets(tmp_path: Path, monkeypatch: object) -> None:
+    """The install hint "pip install 'armtool[peers]'" printed through rich must keep '[peers]' (issue 10 item 19)."""
+    import armtool.ik.peers as peers
+
+    entry = peers.PEERS["ikpy"]
+    monkeypatch.setitem(peers.PEERS, "ikpy", (entry[0], "no_such_module_for_armtool_test", entry[2]))  # type: ignore[attr-defined]
+    urdf = tmp_path / "planar.urdf"
+    urdf.write_text(PLANAR_2R)
+    result = runner.invoke(app, ["ik-bench", str(urdf), "--samples", "5", "--solvers", "lm", "--no-batch", "--peers", "ikpy",
+                                 "--format", "json"])
+    assert result.exit_code == 0, result.output
+    assert "pip install 'armtool[peers]'" in result.stderr

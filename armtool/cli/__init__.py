@@ -44,6 +44,45 @@ def report_error(exc: ArmtoolError) -> None:
         stderr().print(f"  [dim]hint:[/dim] {escape(exc.hint)}")
 
 
+_ESCAPED: dict[int, object] = {}
+
+
+def escape_help(app: typer.Typer) -> typer.Typer:
+    """Escape rich markup in every help text of `app` and its sub-apps, in place (idempotent).
+
+    Typer renders help with rich markup, so "armtool[peers]" became "armtool" and
+    "[default: …]" vanished. armtool's help texts are plain text: escape them all here, once,
+    instead of in each command's module.
+    """
+    import inspect
+
+    from rich.markup import escape
+
+    def fix(obj: object) -> None:
+        text = getattr(obj, "help", None)
+        if isinstance(text, str) and id(obj) not in _ESCAPED:
+            obj.help = escape(text)  # type: ignore[attr-defined]
+            _ESCAPED[id(obj)] = obj  # kept alive, so its id is not reused
+
+    def walk(typer_app: typer.Typer) -> None:
+        fix(typer_app.info)
+        for command in typer_app.registered_commands:
+            fix(command)
+            if command.callback is not None:
+                for param in inspect.signature(command.callback).parameters.values():
+                    fix(param.default)
+        if typer_app.registered_callback is not None and typer_app.registered_callback.callback is not None:
+            for param in inspect.signature(typer_app.registered_callback.callback).parameters.values():
+                fix(param.default)
+        for group in typer_app.registered_groups:
+            fix(group)
+            if group.typer_instance is not None:
+                walk(group.typer_instance)
+
+    walk(app)
+    return app
+
+
 def build_app() -> typer.Typer:
     """The full command: every subcommand, one module each."""
     from armtool.cli import ik_bench as ik_bench_cmd
@@ -74,18 +113,21 @@ def build_app() -> typer.Typer:
     from armtool.cli import servo_sim as servo_sim_cmd
 
     full.command("servo-sim", help="Simulate a Dynamixel/Feetech servo bus on a pseudo-terminal (tests, demos).")(servo_sim_cmd.servo_sim)
+    from armtool.cli import tree as tree_cmd
+
+    full.command("tree", help=tree_cmd.HELP)(tree_cmd.tree)
     from armtool.cli import limits as limits_cmd
 
     full.command("limits", help="Record each joint's real range over a Dynamixel/Feetech bus; write limits YAML, URDF limits, EEPROM.")(limits_cmd.limits)
-    return full
+    return escape_help(full)
 
 
-def _lint_only_app() -> typer.Typer:
+def _lint_only_app(show_help: bool = True) -> typer.Typer:
     """`armtool lint` alone: pre-commit runs it on every commit, and importing and building the
     parsers of every other subcommand first would add ~10 ms to each run."""
     single = typer.Typer(add_completion=False, pretty_exceptions_enable=False, context_settings=_CONTEXT)
     single.command(help=LINT_HELP)(lint_cmd.lint)
-    return single
+    return escape_help(single) if show_help else single  # rich.markup costs ~20 ms: only when help is shown
 
 
 _app: typer.Typer | None = None
@@ -110,7 +152,8 @@ def main() -> None:
             code = lint_cmd.run_plain(argv[1:])  # only paths: no parser to build
             if code is not None:
                 sys.exit(code)
-            _lint_only_app()(args=argv[1:], prog_name=f"armtool {argv[0]}", standalone_mode=True)
+            wants_help = any(a in ("-h", "--help") for a in argv[1:])
+            _lint_only_app(wants_help)(args=argv[1:], prog_name=f"armtool {argv[0]}", standalone_mode=True)
         else:
             build_app()(standalone_mode=True)
     except ArmtoolError as exc:

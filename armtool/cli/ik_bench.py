@@ -25,11 +25,11 @@ class SeedModeOption(str, Enum):
 
 def ik_bench(
     urdf: Path = typer.Argument(..., help="URDF or xacro of the robot."),
-    base: Optional[str] = typer.Option(None, "--base", help="Base link of the chain (default: the root)."),
-    tip: Optional[str] = typer.Option(None, "--tip", help="Tip link (default: end of the longest chain)."),
-    group: Optional[str] = typer.Option(None, "--group", help="MoveIt group whose chain to use (needs --srdf)."),
-    srdf: Optional[Path] = typer.Option(None, "--srdf", help="SRDF that defines --group."),
-    kinematics_yaml: Optional[Path] = typer.Option(None, "--kinematics-yaml", help="MoveIt kinematics.yaml: the group's timeout."),
+    base: Optional[str] = typer.Option(None, "--base", help="Base link of the chain (default: the root link)."),
+    tip: Optional[str] = typer.Option(None, "--tip", help="Tip link (default: the arm's end before any gripper joint, at a tool frame such as tool0 or *_tcp if there is one)."),
+    group: Optional[str] = typer.Option(None, "--group", help="MoveIt group whose chain to use, built as MoveIt builds it (needs --srdf)."),
+    srdf: Optional[Path] = typer.Option(None, "--srdf", help="SRDF (or .srdf.xacro, expanded with --xacro-arg/--package-path) that defines --group."),
+    kinematics_yaml: Optional[Path] = typer.Option(None, "--kinematics-yaml", help="MoveIt kinematics.yaml: the group's kinematics_solver_timeout and position_only_ik."),
     solvers: Optional[str] = typer.Option(None, "--solvers", help="Comma-separated built-in solvers (default: all)."),
     peers: Optional[str] = typer.Option(None, "--peers", help="Comma-separated peer solvers, or 'all' (needs armtool[peers])."),
     batch: bool = typer.Option(True, "--batch/--no-batch", help="Also time one vectorized solve_batch call per solver that has one."),
@@ -43,16 +43,18 @@ def ik_bench(
     xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
     package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages (repeatable)."),
 ) -> None:
+    from rich.markup import escape
+
     from armtool.cli.lint import _parse_xacro_args
-    from armtool.console import stderr, write_stdout
-    from armtool.ik.bench import BenchConfig, SeedMode, make_targets, run_solver
-    from armtool.ik.chain import chain_from_xml
-    from armtool.ik.group import group_chain, group_timeout
+    from armtool.console import say, stderr, write_stdout
+    from armtool.ik.bench import BenchConfig, NotApplicable, SeedMode, SolverReport, make_targets, run_solver
+    from armtool.ik.chain import chain_from_xml, default_base_tip
+    from armtool.ik.group import GroupSettings, group_chain, group_settings
     from armtool.ik.peers import make_peer, peer_names
-    from armtool.ik.registry import make_solver, solver_names
-    from armtool.ik.solver import Solver
+    from armtool.ik.registry import solver_class, solver_names
     from armtool.ik.report import render_csv, render_json, render_table
-    from armtool.model.load import load_robot_xml
+    from armtool.ik.solver import Solver
+    from armtool.model.load import load_robot_xml, load_srdf_xml
 
     if timeout is not None and not timeout > 0:
         raise ArmtoolError(f"--timeout must be > 0 seconds, got {timeout}", hint="e.g. --timeout 0.005 (5 ms)")
@@ -61,47 +63,67 @@ def ik_bench(
             raise ArmtoolError("--group needs --srdf", hint="pass the MoveIt SRDF that defines the group")
         if base or tip:
             raise ArmtoolError("give either --group or --base/--tip, not both")
-    root = load_robot_xml(urdf, _parse_xacro_args(xacro_arg), package_path)
+    xacro_args = _parse_xacro_args(xacro_arg)
+    root = load_robot_xml(urdf, xacro_args, package_path)
+    settings = GroupSettings()
+    how = ""
     if group is not None and srdf is not None:
-        links = {j.get("name", ""): (j.find("parent").get("link", ""), j.find("child").get("link", ""))
-                 for j in root.findall("joint") if j.find("parent") is not None and j.find("child") is not None}
-        base, tip = group_chain(srdf, group, links)
+        found = group_chain(load_srdf_xml(srdf, xacro_args, package_path), group, root, source=str(srdf))
+        base, tip = found.base, found.tip
+        how = f"group '{group}' of {srdf.name}"
+        if kinematics_yaml is not None:
+            settings = group_settings(kinematics_yaml, group)
+    elif base is None and tip is None:
+        base, tip = default_base_tip(root)
+        how = "default chain (pass --base/--tip for another)"
     chain = chain_from_xml(root, base, tip, source=urdf.name)
     if timeout is None:
-        timeout = 0.005
-        if kinematics_yaml is not None and group is not None:
-            timeout = group_timeout(kinematics_yaml, group) or timeout
+        timeout = settings.timeout_s or 0.005
+    position_only = settings.position_only
+    # Position-only: every solver gets the chain with a free (virtual) wrist at the tip.
+    solve_chain = chain.with_free_orientation() if position_only else chain
     names = [s.strip() for s in solvers.split(",") if s.strip()] if solvers else solver_names()
-    built, skipped = [], []
+    built: list[Solver] = []
+    rows_na: list[NotApplicable] = []
     for name in names:
+        # An unknown name is a usage error (exit 2); a solver that cannot take this chain gets an n/a row.
+        cls = solver_class(name)
+        if position_only and not cls.position_only_capable:
+            rows_na.append(NotApplicable(name, "it solves full poses of the real chain only; this group is position-only (position_only_ik)"))
+            continue
         try:
-            built.append(make_solver(name, chain, timeout=timeout, tolerance=tolerance, seed=seed))
-        except ArmtoolError as exc:
-            if solvers:  # asked for by name: say why it cannot run
-                raise
-            skipped.append((name, exc.what))  # e.g. no closed form for this robot
+            built.append(cls(solve_chain, timeout=timeout, tolerance=tolerance, seed=seed))
+        except ArmtoolError as exc:  # e.g. no closed form for this chain: its row says so, the others run
+            rows_na.append(NotApplicable(name, exc.what + (f" (hint: {exc.hint})" if exc.hint else "")))
     peer_list = []
     if peers:
         wanted = peer_names() if peers.strip() == "all" else [p.strip() for p in peers.split(",")]
         for name in wanted:
+            if position_only:
+                rows_na.append(NotApplicable(name, "peers solve full poses only; this group is position-only (position_only_ik)"))
+                continue
             peer = make_peer(name, chain, root, timeout=timeout, tolerance=tolerance)
             if isinstance(peer, str):
-                stderr().print(f"[yellow]peer {name} skipped:[/yellow] {peer}")
+                say(peer, label=f"peer {name} skipped:", style="yellow")
             else:
                 peer_list.append(peer)
-    config = BenchConfig(samples=samples, rng_seed=seed, seed_mode=SeedMode(seed_mode.value), timeout=timeout, tolerance=tolerance)
-    targets = make_targets(chain, config)
-    for name, why in skipped:
-        stderr().print(f"[yellow]{name} skipped:[/yellow] {why}")
-    stderr().print(
-        f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints; {samples} targets, seed {seed_mode.value}, "
+    config = BenchConfig(samples=samples, rng_seed=seed, seed_mode=SeedMode(seed_mode.value), timeout=timeout,
+                         tolerance=tolerance, position_only=position_only)
+    targets = make_targets(solve_chain, config)
+    for row in rows_na:
+        say(row.reason, label=f"{row.solver} not applicable:", style="yellow")
+    stderr().print(escape(
+        f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
+        + (f", {how}" if how else "") + f"; {samples} targets, seed {seed_mode.value}, "
         f"timeout {timeout * 1e3:g} ms, tolerance {tolerance:g}"
-    )
+        + ("; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position, the solvers"
+           " get the chain with a free virtual wrist at the tip" if position_only else "")
+    ))
     from rich.progress import TaskID
 
     from armtool.console import progress_bar
 
-    reports = []
+    reports: list[SolverReport | NotApplicable] = []
     runs = [(s, False) for s in [*built, *peer_list]]
     if batch:
         runs += [(s, True) for s in built if type(s).solve_batch is not Solver.solve_batch]
@@ -113,7 +135,8 @@ def ik_bench(
             def advance(k: int, t: TaskID = task) -> None:
                 bar.advance(t, k)
 
-            reports.append(run_solver(chain, solver, targets, config, batch=as_batch, progress=advance))
+            reports.append(run_solver(solve_chain, solver, targets, config, batch=as_batch, progress=advance))
+    reports += rows_na
     if output_format is BenchFormat.JSON:
         write_stdout(render_json(chain, config, reports))
     elif output_format is BenchFormat.CSV:
@@ -123,5 +146,5 @@ def ik_bench(
     if plot is not None:
         from armtool.ik.plot import write_plot
 
-        write_plot(plot, reports)
-        stderr().print(f"wrote {plot}")
+        write_plot(plot, [r for r in reports if isinstance(r, SolverReport)])
+        stderr().print(f"wrote {escape(str(plot))}")

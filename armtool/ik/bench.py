@@ -34,6 +34,7 @@ class BenchConfig:
     tolerance: float = 1e-5
     repeat: int = 100  # targets solved a second time to check repeatability
     near_radius: float = 0.1  # rad (or m) of noise around the answer for seed_mode near
+    position_only: bool = False  # MoveIt's position_only_ik: targets and the check are on the tip's position only
 
 
 @dataclass
@@ -46,6 +47,8 @@ class Targets:
 def make_targets(chain: Chain, config: BenchConfig) -> Targets:
     rng = np.random.default_rng(config.rng_seed)
     q_true = chain.random(rng, config.samples)
+    if chain.free_orientation:  # position-only: the virtual wrist at zero, far from its gimbal lock
+        q_true[:, chain.n - chain.free_orientation :] = 0.0
     poses = chain.fk_batch(q_true)
     if config.seed_mode is SeedMode.RANDOM:
         seeds = chain.random(rng, config.samples)
@@ -79,13 +82,25 @@ class SolverReport:
     failed_condition_numbers: dict[str, float]
     failures: int
     claimed_but_wrong: int  # the solver said success, our FK disagreed
+    stalled_failures: int | None = None  # failures past the timeout with < timeout/2 of CPU: the machine was busy (None: batch)
     wall_times_us: list[float] = field(default_factory=list, repr=False)  # every solve, in target order
     solved: list[bool] = field(default_factory=list, repr=False)  # our FK verdict per target
 
 
+@dataclass(frozen=True)
+class NotApplicable:
+    """A solver that cannot run on this chain (e.g. `analytic` on an arm without a closed form), and why."""
+
+    solver: str
+    reason: str
+    mode: str = "single"
+
+
 def _joint_distance(chain: Chain, a: Array, b: Array) -> Array:
-    d: Array = a - b
-    d = np.where(chain.continuous, (d + np.pi) % (2 * np.pi) - np.pi, d)
+    """Euclidean joint distance over the real joints (not a position-only chain's virtual wrist)."""
+    m = chain.n - chain.free_orientation
+    d: Array = a[..., :m] - b[..., :m]
+    d = np.where(chain.continuous[:m], (d + np.pi) % (2 * np.pi) - np.pi, d)
     norms: Array = np.linalg.norm(d, axis=-1)  # numpy's stubs: Any when axis is given
     return norms
 
@@ -124,14 +139,14 @@ def run_solver(
                 progress(1)
         total_wall = float(wall.sum())
     Q = np.array([np.asarray(r.q, dtype=float).reshape(chain.n) for r in results])
-    ok, pos, rot = verify_batch(chain, Q, targets.poses, config.tolerance)
+    ok, pos, rot = verify_batch(chain, Q, targets.poses, config.tolerance, position_only=config.position_only)
     claimed = np.array([r.success for r in results])
     repeat = None
     if config.repeat > 0 and not batch:
         m = min(config.repeat, N)
         again = [solver.solve(targets.poses[i], targets.seeds[i]) for i in range(m)]
         Q2 = np.array([np.asarray(r.q, dtype=float) for r in again])
-        ok2, _, _ = verify_batch(chain, Q2, targets.poses[:m], config.tolerance)
+        ok2, _, _ = verify_batch(chain, Q2, targets.poses[:m], config.tolerance, position_only=config.position_only)
         both = ok[:m] & ok2
         same = both & (_joint_distance(chain, Q[:m], Q2) < 1e-6)
         repeat = float(same.sum() / both.sum()) if both.any() else None  # nothing to compare
@@ -158,6 +173,7 @@ def run_solver(
         failed_condition_numbers=_summary(np.array(conds)),
         failures=int((~ok).sum()),
         claimed_but_wrong=int((claimed & ~ok).sum()),
+        stalled_failures=None if batch else int(((~ok) & (wall >= config.timeout) & (cpu < config.timeout / 2)).sum()),
         wall_times_us=list(wall * 1e6),
         solved=[bool(x) for x in ok],
     )

@@ -8,6 +8,7 @@ fixed joint since the previous moving joint. Pinocchio evaluates it (FK, frame J
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -87,23 +88,91 @@ def _urdf_joints(root: etree._Element) -> dict[str, _UrdfJoint]:
     return out
 
 
-def _longest_chain(links: list[str], by_child: Mapping[str, _UrdfJoint]) -> tuple[str, str]:
-    """Root link and the leaf reached through the most moving joints (ties: more links, then file order)."""
+# Joints that move fingers rather than the arm (Franka fr3_finger_joint1, SO-101 gripper, Robotiq knuckles).
+_GRIPPER_JOINT = re.compile(r"finger|gripper|jaw|claw|knuckle|thumb|pinch", re.IGNORECASE)
+# Tool frames, best first: where a user means "the end of the arm".
+_TOOL_FRAMES = tuple(
+    re.compile(p, re.IGNORECASE)
+    for p in (r"^(.*_)?tool0$", r"_tcp$|^tcp$", r"tool", r"gripper_frame", r"end_?effector")
+)
+
+
+def looks_like_gripper_joint(name: str) -> bool:
+    """A joint name that moves fingers rather than the arm (finger, gripper, jaw, claw, knuckle, ...)."""
+    return bool(_GRIPPER_JOINT.search(name))
+
+
+def _gripper_drives(by_child: Mapping[str, _UrdfJoint]) -> set[str]:
+    """Joints that other joints mimic and below which every moving joint is a mimic or finger joint:
+    a gripper's drive (xArm's `drive_joint`), not an arm joint driving a parallelogram linkage."""
+    below: dict[str, list[_UrdfJoint]] = {}
+    for j in by_child.values():
+        below.setdefault(j.parent, []).append(j)
+    sources = {m.get("joint", "") for j in by_child.values() for m in j.el.findall("mimic")}
+    drives = set()
+    for j in by_child.values():
+        if j.name not in sources:
+            continue
+        stack, only_fingers, seen = list(below.get(j.child, [])), True, 0
+        while stack and only_fingers and seen <= len(by_child):
+            k = stack.pop()
+            seen += 1
+            if k.type != "fixed" and k.el.find("mimic") is None and not looks_like_gripper_joint(k.name):
+                only_fingers = False
+            stack.extend(below.get(k.child, []))
+        if only_fingers:
+            drives.add(j.name)
+    return drives
+
+
+def _is_gripper_joint(joint: _UrdfJoint, mimicked: set[str]) -> bool:
+    """Finger/gripper by name, a mimic joint, or a joint other joints mimic (xArm's gripper `drive_joint`)."""
+    return joint.type != "fixed" and (
+        looks_like_gripper_joint(joint.name) or joint.el.find("mimic") is not None or joint.name in mimicked
+    )
+
+
+def _default_chain(links: list[str], by_child: Mapping[str, _UrdfJoint]) -> tuple[str, str]:
+    """Root link and the default tip: the end of the arm through the most moving joints, not counting
+    finger/gripper joints (nor chains through them), at a tool frame when the arm has one."""
     roots = [name for name in links if name not in by_child]
     if not roots:
         raise ArmtoolError("the URDF has no root link", hint="run `armtool lint` on it")
-    best: tuple[int, int, int] = (-1, -1, 0)
-    best_tip = roots[0]
-    for order, link in enumerate(links):
-        moving, depth, cur = 0, 0, link
+    root = roots[0]
+    mimicked = _gripper_drives(by_child)
+    paths: list[tuple[str, int, int, bool]] = []  # link, moving joints, depth, passes a gripper joint
+    for link in links:
+        moving, depth, gripper, cur = 0, 0, False, link
         while cur in by_child and depth <= len(links):
-            moving += by_child[cur].type not in ("fixed",)
+            joint = by_child[cur]
+            moving += joint.type != "fixed"
+            gripper = gripper or _is_gripper_joint(joint, mimicked)
             depth += 1
-            cur = by_child[cur].parent
-        key = (moving, depth, -order)
-        if cur == roots[0] and key > best:
-            best, best_tip = key, link
-    return roots[0], best_tip
+            cur = joint.parent
+        if cur == root:
+            paths.append((link, moving, depth, gripper))
+    arm = [p for p in paths if not p[3]] or paths  # a gripper-only model: its own joints are the chain
+    most = max(p[1] for p in arm)
+    ends = [p for p in arm if p[1] == most]
+    order = {name: i for i, name in enumerate(links)}
+
+    def rank(p: tuple[str, int, int, bool]) -> tuple[int, int, int]:
+        tool = next((len(_TOOL_FRAMES) - k for k, pattern in enumerate(_TOOL_FRAMES) if pattern.search(p[0])), 0)
+        return (tool, p[2], -order[p[0]])
+
+    return root, max(ends, key=rank)[0]
+
+
+def default_base_tip(root: etree._Element) -> tuple[str, str]:
+    """The chain armtool uses when none is given (ik-bench, calibrate --flange): (base link, tip link).
+
+    The base is the URDF's root link; the tip ends the chain through the most moving joints that
+    does not pass a finger/gripper joint (by name, a mimic joint, or one that others mimic), and among the links at that
+    end prefers a tool frame (`tool0`, `*_tcp`, `*tool*`, `*gripper_frame*`, `*end_effector*`),
+    then the deepest link.
+    """
+    links = [el.get("name", "") for el in root.findall("link")]
+    return _default_chain(links, _urdf_joints(root))
 
 
 class Chain:
@@ -129,6 +198,22 @@ class Chain:
         self._revolute_cols: NDArray[np.intp] | None = None if self.revolute.all() else np.flatnonzero(self.revolute)
         self._pin: Any = None
         self._plan: list[tuple[Array, Array, int, float, Array | None]] | None = None
+        self.free_orientation = 0  # trailing virtual joints that make the tip's orientation free (position-only IK)
+
+    def with_free_orientation(self) -> Chain:
+        """This chain plus three virtual continuous joints (about x, y, z) turning the tip in place.
+
+        Position-only IK (MoveIt's position_only_ik) as a full-pose problem every solver can take:
+        any orientation is reachable at any position the arm reaches, so a pose solution of this
+        chain, without its last three joints, is a position solution of the real one.
+        """
+        joints = list(self.joints)
+        for k, axis in enumerate(("x", "y", "z")):
+            origin = self.tip_offset if k == 0 else np.eye(4)
+            joints.append(ChainJoint(f"{self.tip}_free_r{axis}", "continuous", origin, np.eye(3)[k], -math.pi, math.pi))
+        free = Chain(self.name, self.base, self.tip, joints, np.eye(4))
+        free.free_orientation = 3
+        return free
 
     # ---- Pinocchio model ----------------------------------------------------------
     def _model(self) -> Any:
@@ -314,7 +399,7 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
     links = [el.get("name", "") for el in root.findall("link")]
     by_child = _urdf_joints(root)
     if base is None or tip is None:
-        default_base, default_tip = _longest_chain(links, by_child)
+        default_base, default_tip = _default_chain(links, by_child)
         base = base or default_base
         tip = tip or default_tip
     for role, name in (("base", base), ("tip", tip)):

@@ -8,10 +8,11 @@ import json
 import math
 from dataclasses import asdict
 
-from armtool.ik.bench import BenchConfig, SolverReport
+from armtool.ik.bench import BenchConfig, NotApplicable, SolverReport
 from armtool.ik.chain import Chain
 
 SCHEMA_VERSION = 1
+Row = SolverReport | NotApplicable
 
 
 def _us(value: float) -> str:
@@ -24,25 +25,35 @@ def _sci(value: float) -> str:
     return "-" if math.isnan(value) else f"{value:.1e}"
 
 
-def render_table(chain: Chain, config: BenchConfig, reports: list[SolverReport]) -> None:
+def _title(chain: Chain, config: BenchConfig) -> str:
+    goal = ", position only (position_only_ik)" if config.position_only else ""
+    return (f"{chain.name} {chain.base} → {chain.tip} ({chain.n} joints), {config.samples} targets{goal}, "
+            f"seed {config.seed_mode.value}, timeout {config.timeout * 1e3:g} ms")
+
+
+def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
-    table = Table(title=f"{chain.name} {chain.base} → {chain.tip} ({chain.n} joints), {config.samples} targets, "
-                  f"seed {config.seed_mode.value}, timeout {config.timeout * 1e3:g} ms")
-    for col in ("solver", "success %", "median µs", "p95 µs", "max µs", "solves/s", "pos err m", "rot err rad",
-                "seed dist", "repeatable %", "solutions", "cond@fail"):
+    table = Table(title=escape(_title(chain, config)))
+    for col in ("solver", "success %", "failures (stalled)", "median µs", "p95 µs", "max µs", "solves/s", "max pos err m",
+                "max rot err rad", "median seed dist", "repeatable %", "solutions", "cond@fail"):
         table.add_column(col, justify="left" if col == "solver" else "right")
     for r in reports:
+        if isinstance(r, NotApplicable):
+            table.add_row(escape(r.solver), "n/a", *["-"] * 11)
+            continue
         table.add_row(
-            r.solver + (" (batch)" if r.mode == "batch" else ""),
+            escape(r.solver + (" (batch)" if r.mode == "batch" else "")),
             f"{100 * r.success_rate:.1f}",
+            str(r.failures) + ("" if r.stalled_failures is None else f" ({r.stalled_failures})"),
             _us(r.wall_us["median"]),
             _us(r.wall_us["p95"]) if r.mode == "single" else "-",
             _us(r.wall_us["max"]) if r.mode == "single" else "-",
             f"{r.solves_per_s:,.0f}",
             _sci(r.position_error_m["max"]),
-            _sci(r.orientation_error_rad["max"]),
+            "-" if config.position_only else _sci(r.orientation_error_rad["max"]),
             "-" if math.isnan(r.seed_distance["median"]) else f"{r.seed_distance['median']:.2f}",
             "-" if r.repeatability is None else f"{100 * r.repeatability:.0f}",
             "-" if r.mean_solutions is None else f"{r.mean_solutions:.1f}",
@@ -51,12 +62,21 @@ def render_table(chain: Chain, config: BenchConfig, reports: list[SolverReport])
     import sys
 
     Console(highlight=False, width=None if sys.stdout.isatty() else 200).print(table)
-    wrong = [r for r in reports if r.claimed_but_wrong]
-    for r in wrong:
-        Console(stderr=True).print(f"[yellow]{r.solver}: {r.claimed_but_wrong} answers claimed success but failed our FK check[/yellow]")
+    err = Console(stderr=True, highlight=False)
+    for r in reports:
+        if isinstance(r, SolverReport) and r.claimed_but_wrong:
+            err.print(f"[yellow]{escape(r.solver)}: {r.claimed_but_wrong} answers claimed success but failed our FK check[/yellow]")
+    if any(isinstance(r, SolverReport) and r.stalled_failures for r in reports):
+        err.print("failures (stalled): failed solves that ran past the timeout with less than half of it on the CPU (a busy machine)")
 
 
-def render_json(chain: Chain, config: BenchConfig, reports: list[SolverReport]) -> str:
+def _row_json(r: Row) -> dict[str, object]:
+    if isinstance(r, NotApplicable):
+        return {"solver": r.solver, "mode": r.mode, "applicable": False, "reason": r.reason, "success_rate": None}
+    return {"applicable": True, **{k: v for k, v in asdict(r).items() if k not in ("wall_times_us", "solved")}}
+
+
+def render_json(chain: Chain, config: BenchConfig, reports: list[Row]) -> str:
     doc = {
         "schema_version": SCHEMA_VERSION,
         "robot": chain.name,
@@ -64,8 +84,8 @@ def render_json(chain: Chain, config: BenchConfig, reports: list[SolverReport]) 
         "tip": chain.tip,
         "joints": chain.joint_names,
         "config": {"samples": config.samples, "rng_seed": config.rng_seed, "seed_mode": config.seed_mode.value,
-                   "timeout_s": config.timeout, "tolerance": config.tolerance},
-        "solvers": [{k: v for k, v in asdict(r).items() if k not in ("wall_times_us", "solved")} for r in reports],
+                   "timeout_s": config.timeout, "tolerance": config.tolerance, "position_only": config.position_only},
+        "solvers": [_row_json(r) for r in reports],
     }
     return json.dumps(_clean(doc), indent=2, allow_nan=False)
 
@@ -81,16 +101,21 @@ def _clean(value: object) -> object:
     return value
 
 
-def render_csv(reports: list[SolverReport]) -> str:
+def render_csv(reports: list[Row]) -> str:
     buf = io.StringIO()
     writer = csv.writer(buf)
     writer.writerow(["solver", "mode", "samples", "success_rate", "median_us", "p95_us", "max_us", "cpu_median_us",
                      "solves_per_s", "max_position_error_m", "max_orientation_error_rad", "median_seed_distance",
-                     "repeatability", "mean_solutions", "failures", "claimed_but_wrong"])
+                     "repeatability", "mean_solutions", "failures", "claimed_but_wrong", "stalled_failures",
+                     "not_applicable"])
     for r in reports:
+        if isinstance(r, NotApplicable):
+            writer.writerow([r.solver, r.mode] + [""] * 15 + [r.reason])
+            continue
         writer.writerow([r.solver, r.mode, r.samples, f"{r.success_rate:.4f}", f"{r.wall_us['median']:.1f}",
                          f"{r.wall_us['p95']:.1f}", f"{r.wall_us['max']:.1f}", f"{r.cpu_us['median']:.1f}",
                          f"{r.solves_per_s:.0f}", r.position_error_m["max"], r.orientation_error_rad["max"],
                          r.seed_distance["median"], "" if r.repeatability is None else r.repeatability,
-                         "" if r.mean_solutions is None else r.mean_solutions, r.failures, r.claimed_but_wrong])
+                         "" if r.mean_solutions is None else r.mean_solutions, r.failures, r.claimed_but_wrong,
+                         "" if r.stalled_failures is None else r.stalled_failures, ""])
     return buf.getvalue()

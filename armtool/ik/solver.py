@@ -81,13 +81,18 @@ def pose_error(T: Array, target: Array) -> Array:
     return e
 
 
-def verify_batch(chain: Chain, Q: Array, targets: Array, tolerance: float) -> tuple[NDArray[np.bool_], Array, Array]:
-    """verify() for many answers at once, with numpy FK: (success mask, position errors, orientation errors)."""
+def verify_batch(
+    chain: Chain, Q: Array, targets: Array, tolerance: float, *, position_only: bool = False
+) -> tuple[NDArray[np.bool_], Array, Array]:
+    """verify() for many answers at once, with numpy FK: (success mask, position errors, orientation errors).
+
+    position_only (MoveIt's position_only_ik): success needs the position within the tolerance only."""
     T, _ = chain.fk_jacobian_batch(Q, jacobian=False)
     e = pose_error_batch(T, targets)
     pos, rot = np.linalg.norm(e[:, :3], axis=1), np.linalg.norm(e[:, 3:], axis=1)
     within = np.all((Q >= chain.lower - 1e-9) & (Q <= chain.upper + 1e-9) | chain.continuous, axis=1)
-    ok = np.all(np.isfinite(Q), axis=1) & (np.abs(e).max(axis=1) <= tolerance) & within
+    checked = e[:, :3] if position_only else e
+    ok = np.all(np.isfinite(Q), axis=1) & (np.abs(checked).max(axis=1) <= tolerance) & within
     return ok, pos, rot
 
 
@@ -110,6 +115,9 @@ class Solver:
     name: ClassVar[str]
     summary: ClassVar[str]
     options: ClassVar[dict[str, Any]] = {}
+    # False for solvers whose method needs the real chain (closed forms): they cannot take a
+    # position-only chain (Chain.with_free_orientation) and are reported as not applicable.
+    position_only_capable: ClassVar[bool] = True
 
     def __init__(self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
         if not timeout > 0:

@@ -109,7 +109,7 @@ def test_mimic_joint_in_chain_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "mimic.urdf"
     path.write_text(PLANAR_2R.replace('<origin xyz="0.5 0 0"/>', '<origin xyz="0.5 0 0"/><mimic joint="j1"/>'))
     with pytest.raises(ArmtoolError, match="mimic"):
-        load_chain(path)
+        load_chain(path, tip="tool")
 
 
 def test_unparseable_urdf_is_a_clear_error(tmp_path: Path) -> None:
@@ -118,3 +118,47 @@ def test_unparseable_urdf_is_a_clear_error(tmp_path: Path) -> None:
     with pytest.raises(ArmtoolError) as err:
         load_chain(path)
     assert "not well-formed" in err.value.what and "bad.urdf:1" in (err.value.where or "")
+
+
+def test_default_chain_stops_before_fingers_and_prefers_a_tool_frame() -> None:
+    """Franka-like: the longest chain ends at a finger; the default ends at the arm's TCP instead."""
+    from lxml import etree
+
+    from armtool.ik.chain import default_base_tip
+    from tests.ik.test_group import ARM
+
+    root = etree.fromstring(ARM)
+    assert default_base_tip(root) == ("world", "tool_frame")
+    no_tool = ARM.replace('"tool_frame"', '"plate"')
+    assert default_base_tip(etree.fromstring(no_tool)) == ("world", "plate")  # the deepest link at the arm's end
+    # A mimic joint counts as a gripper joint whatever its name (j1, which it mimics, drives the arm below it).
+    mimic = ARM.replace('name="finger_joint"', 'name="j4"').replace('<limit lower="0" upper="0.04"', '<mimic joint="j1"/><limit lower="0" upper="0.04"')
+    assert default_base_tip(etree.fromstring(mimic))[1] == "tool_frame"
+    # ... and so does the joint the fingers mimic (xArm's gripper: drive_joint, followers *_knuckle_joint).
+    drive = ARM.replace('name="finger_joint"', 'name="drive_joint"').replace('"tool_frame"', '"plate"').replace(
+        "</robot>", '<link name="follower"/><joint name="follower_joint" type="revolute"><parent link="finger"/><child link="follower"/>'
+        '<mimic joint="drive_joint"/><axis xyz="0 0 1"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint></robot>')
+    assert default_base_tip(etree.fromstring(drive))[1] == "plate"
+
+
+REALWORLD = Path(__file__).resolve().parents[2] / ".." / "shared" / "realworld"
+
+
+@pytest.mark.parametrize(
+    ("relative", "args", "tip"),
+    [
+        ("franka_description/robots/fr3/fr3.urdf.xacro", {}, "fr3_hand_tcp"),
+        ("ros2_kortex/kortex_description/robots/gen3_lite.urdf", {}, "tool_frame"),
+        ("Universal_Robots_ROS2_Description/urdf/ur.urdf.xacro", {"name": "ur", "ur_type": "ur5e"}, "tool0"),
+        ("xarm_ros2/xarm_description/urdf/xarm_device.urdf.xacro", {"dof": "6", "add_gripper": "true"}, "link_tcp"),
+    ],
+)
+def test_default_chain_on_real_arms(relative: str, args: dict[str, str], tip: str) -> None:
+    from armtool.ik.chain import default_base_tip
+    from armtool.model.load import load_robot_xml
+
+    path = REALWORLD / relative
+    if not path.is_file():
+        pytest.skip("the realworld corpus is absent")
+    root = load_robot_xml(path, args, [REALWORLD.resolve()])
+    assert default_base_tip(root)[1] == tip

@@ -1,0 +1,44 @@
+"""`armtool tree URDF|XACRO`: the kinematic tree as text (check_urdf), Graphviz dot (urdf_to_graphviz) or Mermaid."""
+
+from __future__ import annotations
+
+from enum import Enum
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+HELP = "Print a URDF's kinematic tree (links, joints, types, axes, limits), or write it as a dot/Mermaid graph."
+
+
+class TreeFormat(str, Enum):
+    TEXT = "text"
+    DOT = "dot"
+    MERMAID = "mermaid"
+
+
+def tree(
+    urdf: Path = typer.Argument(..., help="URDF or xacro of the robot."),
+    output_format: TreeFormat = typer.Option(TreeFormat.TEXT, "--format", help="text (like check_urdf), dot (Graphviz, like urdf_to_graphviz) or mermaid."),
+    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write to this file instead of stdout."),
+    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages (repeatable)."),
+) -> None:
+    from armtool.cli.lint import _parse_xacro_args
+    from armtool.console import write_stdout
+    from armtool.model.load import load_robot_xml
+    from armtool.model.tree import read_tree, render_dot, render_mermaid, render_text
+
+    model = read_tree(load_robot_xml(urdf, _parse_xacro_args(xacro_arg), package_path))
+    render = {TreeFormat.TEXT: render_text, TreeFormat.DOT: render_dot, TreeFormat.MERMAID: render_mermaid}[output_format]
+    text = render(model) + "\n"
+    if output is None:
+        write_stdout(text)
+        return
+    from rich.markup import escape
+
+    from armtool.console import stderr
+    from armtool.fileio import write_atomic
+
+    write_atomic(output, text)
+    stderr().print(f"wrote {escape(str(output))}" + (f" (render: dot -Tpng {escape(str(output))} -o tree.png)" if output_format is TreeFormat.DOT else ""))
