@@ -73,6 +73,9 @@ def build_app() -> typer.Typer:
     full.command("servo-sim", help="Simulate a Dynamixel/Feetech servo bus on a pseudo-terminal (tests, demos).")(servo_sim_cmd.servo_sim)
     from armtool.cli import limits as limits_cmd
 
+    from armtool.cli import traj as traj_cmd
+
+    full.add_typer(traj_cmd.app, name="traj", help=traj_cmd.HELP)
     full.command("limits", help="Record each joint's real range over a Dynamixel/Feetech bus; write limits YAML, URDF limits, EEPROM.")(limits_cmd.limits)
     return full
 
