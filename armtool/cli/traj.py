@@ -8,13 +8,15 @@ import os
 import sys
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, List, Optional, Sequence
+from typing import TYPE_CHECKING, Any, List, Optional, Sequence
 
 import typer
 
 from armtool.errors import ArmtoolError, ExitCode
 
 if TYPE_CHECKING:  # numpy loads only when a subcommand runs
+    from armtool.lint.finding import Finding
+    from armtool.traj.cartesian import Segment
     from armtool.traj.formats import TrajFormat
     from armtool.traj.limits import JointLimits
     from armtool.traj.trajectory import Trajectory
@@ -208,7 +210,7 @@ def cartesian(
         raise typer.Exit(ExitCode.FINDINGS)
 
 
-def _waypoint_segments(path: Path, T0: object) -> list[object]:
+def _waypoint_segments(path: Path, T0: Any) -> list[Segment]:
     import csv
 
     import numpy as np
@@ -246,7 +248,7 @@ def _waypoint_segments(path: Path, T0: object) -> list[object]:
     segs = [cart.line_segment(a, b) for a, b in zip(poses, poses[1:]) if np.abs(a - b).max() > 1e-12]
     if not segs:
         raise ArmtoolError("the waypoints do not move the tool", str(path))
-    return segs  # type: ignore[return-value]
+    return segs
 
 
 # ---- time / retime / thin / join ---------------------------------------------------------------
@@ -380,15 +382,15 @@ def check_cmd(
     raise typer.Exit(ExitCode.FINDINGS if failing and not exit_zero else ExitCode.OK)
 
 
-def _render(findings: list[object], fmt: CheckFormat) -> str:
+def _render(findings: list[Finding], fmt: CheckFormat) -> str:
     if fmt is CheckFormat.SARIF:
         from armtool.traj.sarif import render_sarif
 
-        return render_sarif(findings)  # type: ignore[arg-type]
+        return render_sarif(findings)
     from armtool.output.base import LintReport
     from armtool.output.registry import OutputFormat, formatter
 
-    report = LintReport(findings, 1)  # type: ignore[arg-type]
+    report = LintReport(findings, 1)
     return formatter(OutputFormat(fmt.value)).render(report, color=sys.stdout.isatty() and "NO_COLOR" not in os.environ)
 
 

@@ -71,7 +71,8 @@ def _slerp_R(R0: Array, R1: Array, lam: float) -> Array:
     from scipy.spatial.transform import Rotation
 
     w = rotation_error(R0, R1)  # R1 = exp(w) R0
-    return Rotation.from_rotvec(lam * w).as_matrix() @ R0  # type: ignore[no-any-return]
+    out: Array = Rotation.from_rotvec(lam * w).as_matrix() @ R0
+    return out
 
 
 def line_segment(start: Array, end: Array) -> Segment:
@@ -109,7 +110,7 @@ def circle_segment(start: Array, center: Array, normal: Array, angle_rad: float)
     def pose(lam: float) -> Array:
         th = lam * angle_rad
         Rn = np.eye(3) + math.sin(th) * K + (1 - math.cos(th)) * (K @ K)
-        T = start.copy()
+        T: Array = start.copy()
         T[:3, 3] = center + Rn @ r_vec
         return T
 

@@ -152,9 +152,8 @@ def _first_of_each(traj: Trajectory, known: list[str]) -> Trajectory:
     from dataclasses import replace
 
     idx = [traj.joint_names.index(n) for n in known]
-    pick = (lambda a: None if a is None else a[:, idx])
-    return replace(traj, joint_names=tuple(known), positions=traj.positions[:, idx], velocities=pick(traj.velocities),
-                   accelerations=pick(traj.accelerations), prismatic=tuple(traj.is_prismatic(i) for i in idx))
+    return replace(traj, joint_names=tuple(known), positions=traj.positions[:, idx], velocities=None if traj.velocities is None else traj.velocities[:, idx],
+                   accelerations=None if traj.accelerations is None else traj.accelerations[:, idx], prismatic=tuple(traj.is_prismatic(i) for i in idx))
 
 
 def jump_steps(q: Array, factor: float | None, max_step: float | None) -> tuple[list[int], list[int]]:

@@ -137,7 +137,9 @@ def _read_csv(text: str, source: str) -> Trajectory:
     if not rows:
         raise ArmtoolError("no trajectory points", source, "add rows below the header")
     data = np.asarray(rows, dtype=np.float64)
-    pick = (lambda kind: data[:, [columns[j][kind] for j in joints]] if kind in columns[joints[0]] else None)
+    def pick(kind: str) -> Array | None:
+        return data[:, [columns[j][kind] for j in joints]] if kind in columns[joints[0]] else None
+
     return Trajectory(tuple(joints), data[:, [columns[j]["pos"] for j in joints]],
                       None if time_col is None else data[:, time_col], pick("vel"), pick("acc"), source, tuple(line_nos),
                       tuple(prismatic[j] for j in joints))

@@ -66,13 +66,16 @@ class Trajectory:
             raise ArmtoolError(f"trajectory has no joint(s) {', '.join(missing)}", self.source,
                                hint="trajectory joints: " + ", ".join(self.joint_names))
         idx = [self.joint_names.index(n) for n in names]
-        pick = (lambda a: None if a is None else a[:, idx].copy())
-        return replace(self, joint_names=names, positions=self.positions[:, idx].copy(), velocities=pick(self.velocities),
-                       accelerations=pick(self.accelerations),
+        return replace(self, joint_names=names, positions=self.positions[:, idx].copy(), velocities=_columns(self.velocities, idx),
+                       accelerations=_columns(self.accelerations, idx),
                        prismatic=tuple(self.is_prismatic(i) for i in idx))
 
     def untimed(self) -> Trajectory:
         return replace(self, times=None, velocities=None, accelerations=None)
+
+
+def _columns(a: Array | None, idx: list[int]) -> Array | None:
+    return None if a is None else a[:, idx].copy()
 
 
 def steps(traj: Trajectory) -> Array:
