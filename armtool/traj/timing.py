@@ -51,8 +51,8 @@ def time_optimal(traj: Trajectory, limits: JointLimits, min_stages: int = 200) -
         if np.all(v_ratio <= 1 + VEL_TOL) and np.all(a_ratio <= 1 + ACC_TOL):
             out = Trajectory(traj.joint_names, q, profile.t, qd, qdd, traj.source, (), _prismatic(traj, lim))
             return out
-        v_plan = np.where(v_ratio > 1, v_plan / v_ratio * (1 - _MARGIN), v_plan)
-        a_plan = np.where(a_ratio > 1 + ACC_TOL / 2, a_plan / a_ratio * (1 - _MARGIN), a_plan)
+        v_plan = np.where(v_ratio > 1, v_plan / np.maximum(v_ratio, 1.0) * (1 - _MARGIN), v_plan)
+        a_plan = np.where(a_ratio > 1 + ACC_TOL / 2, a_plan / np.maximum(a_ratio, 1.0) * (1 - _MARGIN), a_plan)
     raise ArmtoolError("could not time the path within the limits between its samples", traj.source,
                        hint="the path may have a corner or a very tight curve; give it more waypoints")
 
