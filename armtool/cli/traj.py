@@ -141,7 +141,7 @@ def cartesian(
     max_step: float = typer.Option(0.5, "--max-step", help="Absolute jump rule: largest joint step (rad; 0: off)."),
     max_step_m: float = typer.Option(0.1, "--max-step-m", help="Absolute jump rule for prismatic joints (m; 0: off)."),
     solver: str = typer.Option("lm", "--solver", help="IK solver from `armtool ik-bench` (lm; analytic picks the solution nearest the previous point)."),
-    min_fraction: float = typer.Option(1.0, "--min-fraction", help="Exit 1 if less than this fraction of the path is achieved."),
+    min_fraction: float = typer.Option(1.0, "--min-fraction", help="Below this fraction achieved: write nothing, exit 2 (0: write what was achieved)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the joint path here (default: stdout, CSV)."),
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else csv)."),
 ) -> None:
@@ -200,14 +200,14 @@ def cartesian(
         from rich.markup import escape
 
         err.print(f"[yellow]stopped[/yellow] at point {len(result.q) - 1} (fraction {result.fraction:.4f}): {result.reason}: {escape(result.detail)}")
-    if len(result.q) < 2:
-        raise ArmtoolError(f"no path: the first step already fails ({result.reason}: {result.detail})",
-                           hint="check that the target is reachable from --start")
+    if len(result.q) < 2 or result.fraction < min_fraction:
+        raise ArmtoolError(f"only {result.fraction:.4f} of the path achieved: stopped after point {len(result.q) - 1} "
+                           f"({result.reason}: {result.detail}); nothing written",
+                           hint="check that the path is reachable from --start (another --start, --solver analytic), "
+                                "or pass --min-fraction 0 to write the part achieved")
     traj = Trajectory(tuple(chain.joint_names), result.q, source=str(urdf),
                       prismatic=tuple(not r for r in chain.revolute))
     _write(traj, output, _out_format(output, to, TrajFormat.CSV))
-    if result.fraction < min_fraction:
-        raise typer.Exit(ExitCode.FINDINGS)
 
 
 def _waypoint_segments(path: Path, T0: Any) -> list[Segment]:
