@@ -23,7 +23,7 @@ from typing import Callable, Literal
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
+from armtool.ik.chain import Chain, axis_angle_batch
 from armtool.ik.solver import Solver, rotation_error
 from armtool.traj.check import jump_steps
 from armtool.traj.trajectory import Array
@@ -68,10 +68,11 @@ class CartesianResult:
 
 
 def _slerp_R(R0: Array, R1: Array, lam: float) -> Array:
-    from scipy.spatial.transform import Rotation
-
     w = rotation_error(R0, R1)  # R1 = exp(w) R0
-    out: Array = Rotation.from_rotvec(lam * w).as_matrix() @ R0
+    angle = float(np.linalg.norm(w))
+    if angle < 1e-15:
+        return R0.copy()
+    out: Array = axis_angle_batch(w / angle, np.array([lam * angle]))[0] @ R0
     return out
 
 

@@ -22,7 +22,7 @@ from armtool.traj.trajectory import Trajectory
 _MARGIN = 1e-4  # plan this far inside the limits: the grid is exact only at its points
 
 
-def time_optimal(traj: Trajectory, limits: JointLimits, min_stages: int = 200) -> Trajectory:
+def time_optimal(traj: Trajectory, limits: JointLimits, min_stages: int = 400) -> Trajectory:
     """`traj`'s positions as a path, timed time-optimally under `limits` (joints matched by name)."""
     from armtool.traj.topp import grid
 

@@ -46,31 +46,26 @@ def grid(path: JointPath, min_stages: int = 200, per_segment: int = 2) -> Array:
     return np.concatenate(pieces + [path.s[-1:]])
 
 
-def _u_bounds(dq: Array, ddq: Array, acc: Array) -> tuple[Array, Array, Array, Array, float]:
-    """Acceleration rows at one point as bounds on u affine in x: u ≤ c + d x (upper), u ≥ c + d x (lower),
-    plus a bound x ≤ xmax from joints that do not move along the path there (q'_j ≈ 0)."""
-    moving = np.abs(dq) > _EPS
-    still = ~moving
-    xmax = float(np.min(acc[still] / np.maximum(np.abs(ddq[still]), _EPS))) if still.any() else np.inf
-    dqm, ddqm, am = dq[moving], ddq[moving], acc[moving]
-    # q'u + q''x ≤ a  and  q'u + q''x ≥ -a
-    hi_c = np.where(dqm > 0, am / np.where(dqm > 0, dqm, 1), -am / np.where(dqm < 0, dqm, 1))
-    lo_c = -hi_c
-    slope = -ddqm / dqm
-    return hi_c, slope, lo_c, slope, xmax
+def _rows(b: Array, c: Array, acc: Array) -> tuple[Array, Array, Array, Array, Array]:
+    """|b u + c x| ≤ a per joint, for many points at once (b, c: (M, n)), as bounds on u affine in x:
+    u ≤ up_c + d x and u ≥ lo_c + d x; a joint with b ≈ 0 bounds x alone (x ≤ a / |c|), returned as xmax (M,)."""
+    moving = np.abs(b) > _EPS
+    safe_b = np.where(moving, b, 1.0)
+    up_c = np.where(moving, acc / np.abs(safe_b), np.inf)
+    d = np.where(moving, -c / safe_b, 0.0)
+    with np.errstate(divide="ignore"):
+        still = np.where(moving, np.inf, acc / np.abs(c))
+    return up_c, -up_c, d, d, np.min(still, axis=1)
 
 
-def _feasible_x(up_c: Array, up_d: Array, lo_c: Array, lo_d: Array, xlo: float, xhi: float) -> tuple[float, float]:
-    """[x_min, x_max] within [xlo, xhi] such that max_k(lo_c + lo_d x) ≤ min_m(up_c + up_d x); empty: (1, 0)."""
-    # every pair: lo_c[k] + lo_d[k] x ≤ up_c[m] + up_d[m] x  ⇔  (lo_d[k] - up_d[m]) x ≤ up_c[m] - lo_c[k]
-    coef = (lo_d[:, None] - up_d[None, :]).ravel()
-    rhs = (up_c[None, :] - lo_c[:, None]).ravel()
-    pos, neg, zero = coef > _EPS, coef < -_EPS, np.abs(coef) <= _EPS
-    if zero.any() and np.min(rhs[zero]) < -1e-12 * (1 + np.max(np.abs(rhs[zero]))):
-        return 1.0, 0.0
-    hi = min(xhi, float(np.min(rhs[pos] / coef[pos]))) if pos.any() else xhi
-    lo = max(xlo, float(np.max(rhs[neg] / coef[neg]))) if neg.any() else xlo
-    return lo, hi
+def _x_interval(coef: Array, rhs: Array, xlo: Array, xhi: Array) -> tuple[Array, Array]:
+    """Along the last axis, the x with coef·x ≤ rhs for every row, within [xlo, xhi]; empty: lo > hi."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = rhs / coef
+    hi = np.minimum(xhi, np.min(np.where(coef > _EPS, ratio, np.inf), axis=-1))
+    lo = np.maximum(xlo, np.max(np.where(coef < -_EPS, ratio, -np.inf), axis=-1))
+    bad = np.any((np.abs(coef) <= _EPS) & (rhs < -1e-12), axis=-1)
+    return lo, np.where(bad, -np.inf, hi)
 
 
 def parameterize(path: JointPath, velocity: Array, acceleration: Array, s_grid: Array | None = None) -> Profile:
@@ -79,44 +74,41 @@ def parameterize(path: JointPath, velocity: Array, acceleration: Array, s_grid: 
     _, dq, ddq = path.eval(s)
     n_stages = len(s) - 1
     delta = np.diff(s)
+    d2 = 2 * delta
     with np.errstate(divide="ignore"):
         xv = np.min(np.where(np.abs(dq) > _EPS, (velocity / np.maximum(np.abs(dq), _EPS)) ** 2, np.inf), axis=1)
-    rows = [_u_bounds(dq[i], ddq[i], acceleration) for i in range(len(s))]
-    xcap = np.minimum(xv, [r[4] for r in rows])
-
-    def stage_bounds(i: int, lo_next: float, hi_next: float) -> tuple[Array, Array, Array, Array]:
-        """u-bounds of stage i as affine functions of x_i (rows at s_i, rows at s_{i+1}, and K_{i+1})."""
-        up_c, up_d, lo_c, lo_d, _ = rows[i]
-        # at s_{i+1} with x' = x + 2Δu:  q'u + q''(x + 2Δu) within ±a  ⇔  (q' + 2Δq'')u + q''x within ±a
-        d2 = 2 * delta[i]
-        b = dq[i + 1] + d2 * ddq[i + 1]
-        nu_c, nu_d, nl_c, nl_d, _ = _u_bounds(b, ddq[i + 1], acceleration)
-        # x_{i+1} ≤ xcap_{i+1} is part of K_{i+1}
-        return (np.concatenate([up_c, nu_c, [hi_next / d2]]), np.concatenate([up_d, nu_d, [-1.0 / d2]]),
-                np.concatenate([lo_c, nl_c, [lo_next / d2]]), np.concatenate([lo_d, nl_d, [-1.0 / d2]]))
-
+    # Stage i's acceleration rows, at s_i and at s_{i+1} (with x_{i+1} = x_i + 2Δu: b = q' + 2Δq'').
+    a_up, a_lo, a_dup, a_dlo, a_x = _rows(dq[:-1], ddq[:-1], acceleration)
+    b_up, b_lo, b_dup, b_dlo, b_x = _rows(dq[1:] + d2[:, None] * ddq[1:], ddq[1:], acceleration)
+    up_c, lo_c = np.concatenate([a_up, b_up], axis=1), np.concatenate([a_lo, b_lo], axis=1)
+    up_d, lo_d = np.concatenate([a_dup, b_dup], axis=1), np.concatenate([a_dlo, b_dlo], axis=1)
+    xcap = np.concatenate([np.minimum(xv[:-1], np.minimum(a_x, b_x)), xv[-1:]])
+    # Pairs of acceleration rows (every lower bound on u below every upper one) do not depend on
+    # the next stage: all stages at once.
+    s_lo, s_hi = _x_interval((lo_d[:, :, None] - up_d[:, None, :]).reshape(n_stages, -1),
+                             (up_c[:, None, :] - lo_c[:, :, None]).reshape(n_stages, -1), np.zeros(n_stages), xcap[:-1])
     lo = np.zeros(n_stages + 1)
     hi = np.zeros(n_stages + 1)  # K_N = {0}: at rest at the end
     for i in range(n_stages - 1, -1, -1):
-        bounds = stage_bounds(i, lo[i + 1], min(hi[i + 1], xcap[i + 1]))
-        a, b = _feasible_x(*bounds, 0.0, float(xcap[i]))
-        if a > b + 1e-12:
+        # With K_{i+1} = [lo', hi']: u ≤ (hi' − x)/2Δ against every lower row, u ≥ (lo' − x)/2Δ against every upper row.
+        k = 1.0 / d2[i]
+        coef = np.concatenate([lo_d[i] + k, -k - up_d[i]])
+        rhs = np.concatenate([hi[i + 1] * k - lo_c[i], up_c[i] - lo[i + 1] * k])
+        a, b = _x_interval(coef, rhs, s_lo[i], s_hi[i])
+        a, b = float(a), float(b)
+        if a > b + 1e-12 * max(1.0, abs(b)):
             raise ArmtoolError(f"the path cannot be followed within the limits near s = {s[i]:.4g} (stage {i})",
                                hint="check the acceleration limits; a path with a corner needs a stop there")
         lo[i], hi[i] = a, max(a, b)
-    if lo[0] > 1e-12:
-        raise ArmtoolError("the path cannot start at rest within the limits")
     x = np.zeros(n_stages + 1)
     u = np.zeros(n_stages)
     for i in range(n_stages):
-        up_c, up_d, lo_c, lo_d = stage_bounds(i, lo[i + 1], min(hi[i + 1], xcap[i + 1]))
-        u_max = float(np.min(up_c + up_d * x[i]))
-        u_min = float(np.max(lo_c + lo_d * x[i]))
-        u[i] = max(u_max, u_min) if u_max >= u_min - 1e-9 else u_min
-        x[i + 1] = min(max(x[i] + 2 * delta[i] * u[i], lo[i + 1], 0.0), hi[i + 1])
-        u[i] = (x[i + 1] - x[i]) / (2 * delta[i])
+        u_max = min(float(np.min(up_c[i] + up_d[i] * x[i])), (hi[i + 1] - x[i]) / d2[i])
+        u_min = max(float(np.max(lo_c[i] + lo_d[i] * x[i])), (lo[i + 1] - x[i]) / d2[i])
+        ui = u_max if u_max >= u_min else u_min
+        x[i + 1] = min(max(x[i] + d2[i] * ui, lo[i + 1], 0.0), hi[i + 1])
     x[-1] = 0.0
-    u[-1] = (x[-1] - x[-2]) / (2 * delta[-1])
+    u = (x[1:] - x[:-1]) / d2
     v = np.sqrt(np.maximum(x, 0.0))
     speed_sum = v[:-1] + v[1:]
     if np.any(speed_sum <= 0):

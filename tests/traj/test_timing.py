@@ -85,7 +85,7 @@ def test_within_one_percent_of_toppra() -> None:
         path = random_path(seed, points=5)
         ours = time_optimal(path, limits)
         spline = joint_path(path.positions)
-        tp = ta.SplineInterpolator(spline.s, spline.waypoints)
+        tp = ta.SplineInterpolator(spline.s, spline.waypoints, bc_type="natural")
         vlim = np.stack([-lim.velocity, lim.velocity], axis=1)
         alim = np.stack([-lim.acceleration, lim.acceleration], axis=1)
         inst = algo.TOPPRA([constraint.JointVelocityConstraint(vlim), constraint.JointAccelerationConstraint(alim)], tp,
