@@ -71,7 +71,8 @@ def _slerp_R(R0: Array, R1: Array, lam: float) -> Array:
     w = rotation_error(R0, R1)  # R1 = exp(w) R0
     angle = float(np.linalg.norm(w))
     if angle < 1e-15:
-        return R0.copy()
+        same: Array = R0.copy()
+        return same
     out: Array = axis_angle_batch(w / angle, np.array([lam * angle]))[0] @ R0
     return out
 

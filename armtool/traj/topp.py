@@ -94,8 +94,8 @@ def parameterize(path: JointPath, velocity: Array, acceleration: Array, s_grid: 
         k = 1.0 / d2[i]
         coef = np.concatenate([lo_d[i] + k, -k - up_d[i]])
         rhs = np.concatenate([hi[i + 1] * k - lo_c[i], up_c[i] - lo[i + 1] * k])
-        a, b = _x_interval(coef, rhs, s_lo[i], s_hi[i])
-        a, b = float(a), float(b)
+        lo_i, hi_i = _x_interval(coef, rhs, s_lo[i], s_hi[i])
+        a, b = float(lo_i), float(hi_i)
         if a > b + 1e-12 * max(1.0, abs(b)):
             raise ArmtoolError(f"the path cannot be followed within the limits near s = {s[i]:.4g} (stage {i})",
                                hint="check the acceleration limits; a path with a corner needs a stop there")
