@@ -228,7 +228,7 @@ def _timed(traj: Trajectory, lim: JointLimits, names: tuple[str, ...], units: tu
 
 def _consistency(traj: Trajectory, lim: JointLimits, names: tuple[str, ...], units: tuple[str, ...]) -> Iterator[Finding]:
     """Mean velocity Δq/Δt against the ends' (v0 + v1)/2: for any motion whose acceleration stays
-    within ±A they differ by at most A·Δt/6 (exactly (a0 − a1)·Δt/12 for a cubic)."""
+    within ±A they differ by at most A·Δt/4 (a switch from +A to −A halfway reaches it)."""
     assert traj.times is not None and traj.velocities is not None
     dt = np.diff(traj.times)[:, None]
     v = traj.velocities
@@ -238,7 +238,7 @@ def _consistency(traj: Trajectory, lim: JointLimits, names: tuple[str, ...], uni
         file_acc = np.abs(traj.accelerations)
         acc_bound = np.fmax(acc_bound, np.maximum(file_acc[:-1], file_acc[1:]).max(axis=0))
     vel_scale = np.where(np.isfinite(lim.velocity), lim.velocity, np.abs(v).max(axis=0) + 1e-9)
-    tol = np.where(np.isfinite(acc_bound), 1.05 * acc_bound * dt / 6, 0.1 * vel_scale) + 1e-3 * vel_scale + 1e-9
+    tol = np.where(np.isfinite(acc_bound), 1.05 * acc_bound * dt / 4, 0.1 * vel_scale) + 1e-3 * vel_scale + 1e-9
     for j in range(len(names)):
         for a, b in _runs(gap[:, j] > tol[:, j]):
             k = a + int(np.argmax(gap[a:b, j] - tol[a:b, j]))

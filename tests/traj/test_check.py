@@ -119,3 +119,11 @@ def test_hermite_extremes_is_exact_for_a_cubic() -> None:
     v = np.array([[0.0], [0.0]])
     vmax, amax, jmax = hermite_extremes(t, q, v)
     assert vmax[0, 0] == pytest.approx(3.0) and amax[0, 0] == pytest.approx(6.0) and jmax[0, 0] == pytest.approx(6.0)
+
+
+def test_T401_accepts_a_bang_bang_switch_inside_a_segment() -> None:
+    # One joint, +A then -A within one 1 s segment, at rest at both ends: mean velocity A/4, ends 0.
+    A = 4.0
+    traj = Trajectory(("joint1",), np.array([[0.0], [A / 4]]), np.array([0.0, 1.0]), np.zeros((2, 1)))
+    lim = load_limits(CLEAN_URDF, acc_limits=[f"joint1={A}"])
+    assert "T401" not in [f.code for f in check(traj, lim)]
