@@ -252,7 +252,7 @@ def _read_structured(text: str, source: str, fmt: TrajFormat) -> Trajectory:
 
 # ---- writing ---------------------------------------------------------------------------------
 def _num(x: float) -> str:
-    return repr(float(x))
+    return repr(float(x) + 0.0)  # no "-0.0"
 
 
 def format_trajectory(traj: Trajectory, fmt: TrajFormat) -> str:

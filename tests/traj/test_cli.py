@@ -131,3 +131,47 @@ def test_check_unknown_joint(tmp_path: Path) -> None:
     path.write_text("time_s,elbow_rad\n0,0\n1,0.1\n")
     code, out, _ = invoke("check", str(path), "--urdf", U)
     assert code == 1 and "T601" in out
+
+
+def test_waypoints_and_arc(tmp_path: Path) -> None:
+    start = [float(v) for v in START.split(",")]
+    from armtool.ik.chain import load_chain
+
+    p = load_chain(CLEAN_URDF, "base_link", "tool0").fk(__import__("numpy").array(start))[:3, 3]
+    wp = tmp_path / "poses.csv"
+    wp.write_text("x_m,y_m,z_m\n" + f"{p[0]},{p[1] - 0.05},{p[2]}\n{p[0]},{p[1] - 0.05},{p[2] - 0.05}\n")
+    out = tmp_path / "wp.csv"
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp), "-o", str(out))
+    assert code == 0, err
+    assert len(out.read_text().splitlines()) >= 11
+    arc = tmp_path / "arc.json"
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START,
+                          "--arc-via", f"{p[0]},{p[1] - 0.05},{p[2] + 0.05}", "--arc-to", f"{p[0]},{p[1] - 0.1},{p[2]}", "-o", str(arc))
+    assert code == 0, err
+    assert json.loads(arc.read_text())["joint_names"][0] == "joint1"
+    bad = tmp_path / "bad_poses.csv"
+    bad.write_text("x_m,y_m,z_m\n0.1,nan,0.2\n")
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(bad), "-o", str(out))
+    assert code == 2 and "bad_poses.csv:2" in err
+
+
+def test_trajectory_pipes_into_servo_lut_apply(tmp_path: Path) -> None:
+    from .helpers import ROOT
+
+    lut = tmp_path / "lut.json"
+    result = runner.invoke(app, ["servo-lut", "fit", str(ROOT / "fixtures/servo/lut/ax12a_meas.csv"), "-o", str(lut)])
+    assert result.exit_code == 0
+    code, timed, err = invoke("time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", JL)
+    assert code == 0, err
+    result = runner.invoke(app, ["servo-lut", "apply", str(lut), "-", "--column", "joint1_rad", "--zero-deg", "150"], input=timed)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[0].endswith(",joint1_command_ticks")
+
+
+def test_plot_of_an_untimed_path(tmp_path: Path) -> None:
+    png = tmp_path / "path.png"
+    code, _, err = invoke("plot", str(circle(tmp_path)), "--urdf", U, "-o", str(png))
+    assert code == 0, err
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    code, _, err = invoke("plot", str(circle(tmp_path)), "--urdf", U, "-o", str(tmp_path / "x.jpg"))
+    assert code == 2 and "PNG" in err
