@@ -81,7 +81,8 @@ def _input_format(path: Path, traj: Trajectory) -> TrajFormat:
     return detect_format(path.read_text(encoding="utf-8-sig"), str(path))
 
 
-def _write(traj: Trajectory, output: Optional[Path], fmt: TrajFormat, limits: Optional[JointLimits] = None) -> None:
+def _write(traj: Trajectory, output: Optional[Path], fmt: TrajFormat, limits: Optional[JointLimits] = None,
+           over_limit_hint: str = "this is a bug in armtool traj; please report it with the input") -> None:
     """Write (atomically) or print; a trajectory with times is checked against `limits` first."""
     from armtool.console import stderr, write_stdout
     from armtool.fileio import write_atomic
@@ -92,8 +93,8 @@ def _write(traj: Trajectory, output: Optional[Path], fmt: TrajFormat, limits: Op
 
         errors = [f for f in check(traj, limits) if f.severity.value == "error"]
         if errors:
-            raise ArmtoolError(f"the result fails its own check: {errors[0].code} {errors[0].message}",
-                               hint="this is a bug in armtool traj; please report it with the input")
+            raise ArmtoolError(f"the result fails `traj check`: {errors[0].code} {errors[0].message}; nothing written",
+                               hint=over_limit_hint)
     text = format_trajectory(traj, fmt)
     if output is None or str(output) == "-":
         write_stdout(text)
@@ -292,7 +293,8 @@ def retime_cmd(
     traj = _read(path)
     out = retime(traj, scale)
     limits = _limits(urdf, joint_limits, [], acc) if urdf is not None else None
-    _write(out, output, _out_format(output, to, _input_format(path, traj)), limits)
+    _write(out, output, _out_format(output, to, _input_format(path, traj)), limits,
+           "a smaller --scale, or leave out --urdf to write it unchecked")
 
 
 @app.command("thin", help="Drop every K-th point (first and last kept; the lecture: 20 points -> 16 with --every 4), or points within a tolerance; re-time with --urdf.")

@@ -175,3 +175,14 @@ def test_plot_of_an_untimed_path(tmp_path: Path) -> None:
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     code, _, err = invoke("plot", str(circle(tmp_path)), "--urdf", U, "-o", str(tmp_path / "x.jpg"))
     assert code == 2 and "PNG" in err
+
+
+def test_retime_over_the_limits_with_urdf_writes_nothing(tmp_path: Path) -> None:
+    timed = tmp_path / "timed.csv"
+    assert invoke("time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", JL, "-o", str(timed))[0] == 0
+    out = tmp_path / "fast.csv"
+    code, _, err = invoke("retime", str(timed), "--scale", "2", "--urdf", U, "--joint-limits", JL, "-o", str(out))
+    assert code == 2 and "smaller --scale" in err and not out.exists()
+    assert invoke("retime", str(timed), "--scale", "2", "-o", str(out))[0] == 0  # unchecked without --urdf
+    code, text, _ = invoke("check", str(out), "--urdf", U, "--joint-limits", JL)
+    assert code == 1 and "T301" in text
