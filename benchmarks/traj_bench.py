@@ -49,12 +49,12 @@ from armtool.traj.path import joint_path
 from armtool.traj.timing import time_optimal
 from armtool.traj.trajectory import Trajectory
 
-# Acceleration limits (rad/s²) are not in a URDF. Panda: Franka's datasheet values, as in
-# moveit_resources' panda joint_limits.yaml. UR5: 3.15 rad/s² for every joint, a round value of the
-# kind MoveIt's UR configs use (Universal Robots publish no per-joint figure).
+# Acceleration limits (rad/s²) are not in a URDF: those of MoveIt's own configurations.
+# Panda: moveit_resources/panda_moveit_config/config/joint_limits.yaml (the limits of moveit2 #3778).
+# UR5: Universal_Robots_ROS2_Driver/ur_moveit_config/config/joint_limits.yaml (5.0 for every joint).
 ACC = {
-    "panda": [15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0],
-    "ur5": [3.15] * 6,
+    "panda": [3.75, 1.875, 2.5, 3.125, 3.75, 5.0, 5.0],
+    "ur5": [5.0] * 6,
 }
 ROBOTS = {"panda": ("panda_description/urdf/panda.urdf", "panda_link0", "panda_link8"),
           "ur5": ("ur_description/urdf/ur5_robot.urdf", None, None)}

@@ -138,8 +138,8 @@ def load_limits(
         from armtool.fileio import read_yaml
 
         doc = read_yaml(joint_limits, "joint_limits.yaml")
-        if not isinstance(doc, dict) or not isinstance(doc.get("joint_limits", {}), dict):
-            raise ArmtoolError("joint_limits.yaml has no `joint_limits:` mapping", str(joint_limits),
+        if not isinstance(doc, dict) or not isinstance(doc.get("joint_limits"), dict):
+            raise ArmtoolError("not MoveIt's joint_limits.yaml: no `joint_limits:` mapping", str(joint_limits),
                                "MoveIt's format: joint_limits: {joint1: {has_acceleration_limits: true, max_acceleration: 5.0}}")
         file_vs = _factor(doc.get("default_velocity_scaling_factor"), joint_limits)
         file_as = _factor(doc.get("default_acceleration_scaling_factor"), joint_limits)
