@@ -128,7 +128,9 @@ def cartesian(
     start: Optional[str] = typer.Option(None, "--start", help="Start configuration, comma-separated joint values (default: mid-range)."),
     line: Optional[str] = typer.Option(None, "--line", help="Straight line to X,Y,Z (m, base frame), keeping the orientation."),
     relative: bool = typer.Option(False, "--relative", help="--line X,Y,Z is an offset from the start position."),
-    center_offset: Optional[str] = typer.Option(None, "--center-offset", help="Circle: its centre as DX,DY,DZ from the start position (m, base frame)."),
+    center_offset: Optional[str] = typer.Option(None, "--center-offset", help="Circle through the start: its centre as DX,DY,DZ from the start position (m, base frame)."),
+    center: Optional[str] = typer.Option(None, "--center", help="Circle through the start: its centre X,Y,Z (m, base frame)."),
+    radius: Optional[float] = typer.Option(None, "--radius", help="Circle of this radius (m) about --center/--center-offset (default: the start position), reached by a straight line first: the lecture's circle."),
     normal: str = typer.Option("1,0,0", "--normal", help="Circle: plane normal (base frame); the tool turns right-handed about it."),
     angle: float = typer.Option(2 * math.pi, "--angle", help="Circle: angle to turn (rad; default a full circle)."),
     arc_via: Optional[str] = typer.Option(None, "--arc-via", help="Arc through three points: the interim point X,Y,Z (with --arc-to)."),
@@ -157,9 +159,12 @@ def cartesian(
 
     if not urdf.is_file():
         raise ArmtoolError("URDF not found", str(urdf))
-    chosen = [x for x in (line, center_offset, arc_to, waypoints) if x is not None]
+    if center is not None and center_offset is not None:
+        raise ArmtoolError("give --center or --center-offset, not both")
+    circle_given = center is not None or center_offset is not None or radius is not None
+    chosen = [x for x in (line, circle_given or None, arc_to, waypoints) if x is not None]
     if len(chosen) != 1:
-        raise ArmtoolError("give exactly one path: --line, --center-offset (circle), --arc-via/--arc-to, or --waypoints",
+        raise ArmtoolError("give exactly one path: --line, a circle (--center/--center-offset, or --radius), --arc-via/--arc-to, or --waypoints",
                            hint="e.g. --center-offset 0,-0.1,0 --normal 1,0,0 for the lecture's circle of radius 0.1 m")
     if (arc_via is None) != (arc_to is None):
         raise ArmtoolError("an arc needs both --arc-via and --arc-to")
@@ -178,9 +183,17 @@ def cartesian(
         if np.linalg.norm(T1[:3, 3] - T0[:3, 3]) < 1e-9:
             raise ArmtoolError("the line ends where it starts", hint="give another end point")
         segments = [cart.line_segment(T0, T1)]
-    elif center_offset is not None:
-        c = T0[:3, 3] + np.asarray(_floats(center_offset, 3, "--center-offset"))
-        segments = [cart.circle_segment(T0, c, np.asarray(_floats(normal, 3, "--normal")), angle)]
+    elif circle_given:
+        c = T0[:3, 3].copy()
+        if center_offset is not None:
+            c = c + np.asarray(_floats(center_offset, 3, "--center-offset"))
+        elif center is not None:
+            c = np.asarray(_floats(center, 3, "--center"))
+        axis = np.asarray(_floats(normal, 3, "--normal"))
+        if radius is None:
+            segments = [cart.circle_segment(T0, c, axis, angle)]
+        else:
+            segments = cart.circle_about(T0, c, radius, axis, angle)
     elif arc_to is not None:
         assert arc_via is not None
         segments = [cart.arc_through(T0, np.asarray(_floats(arc_via, 3, "--arc-via")), np.asarray(_floats(arc_to, 3, "--arc-to")))]

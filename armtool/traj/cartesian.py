@@ -119,6 +119,27 @@ def circle_segment(start: Array, center: Array, normal: Array, angle_rad: float)
     return Segment(pose, abs(angle_rad) * radius, 0.0)
 
 
+def circle_about(start: Array, center: Array, radius: float, normal: Array, angle_rad: float) -> list[Segment]:
+    """The lecture's circle: a straight line from the start to centre + radius·e1, then the circle
+    of `radius` about `center` in the plane normal to `normal` (e1, e2 = normal × e1: for normal x,
+    e1 = y and e2 = z, so the points are (y + r cos θ, z + r sin θ) as in the lecture's loop)."""
+    if not (math.isfinite(radius) and radius > 0):
+        raise ArmtoolError(f"the circle's radius must be > 0 m, got {radius}", hint="e.g. --radius 0.1")
+    n = np.asarray(normal, dtype=np.float64)
+    if not np.all(np.isfinite(n)) or np.linalg.norm(n) < 1e-12:
+        raise ArmtoolError("the circle's plane normal is zero", hint="e.g. --normal 1,0,0 for a circle in the y-z plane")
+    n = n / np.linalg.norm(n)
+    helper = next(e for e in np.eye(3) if abs(float(e @ n)) < 0.9)
+    e1 = helper - (helper @ n) * n
+    e1 /= np.linalg.norm(e1)
+    first = start.copy()
+    first[:3, 3] = center + radius * e1
+    segments = []
+    if np.linalg.norm(first[:3, 3] - start[:3, 3]) > 1e-9:
+        segments.append(line_segment(start, first))
+    return segments + [circle_segment(first, center, n, angle_rad)]
+
+
 def arc_through(start: Array, via: Array, end: Array) -> Segment:
     """The circular arc from the start through `via` to `end` (Pilz CIRC with an interim point)."""
     a, b, c = start[:3, 3], np.asarray(via, float), np.asarray(end, float)

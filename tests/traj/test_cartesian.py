@@ -93,3 +93,14 @@ def test_ur5_wrist_flip_is_caught_by_both_rules_and_avoided_by_analytic() -> Non
     assert lm.relative_jumps[0] == lm.absolute_jumps[0] and lm.fraction < 1
     analytic = cart.compute_cartesian(chain, make_solver("analytic", chain), qa, [seg], opts)
     assert analytic.fraction == 1.0 and not analytic.relative_jumps and not analytic.absolute_jumps
+
+
+def test_lecture_circle_about_the_start_reaches_it_by_a_line() -> None:
+    chain, q0 = clean()
+    T0 = chain.fk(q0)  # type: ignore[attr-defined]
+    segs = cart.circle_about(T0, T0[:3, 3], 0.1, np.array([1.0, 0, 0]), 2 * math.pi)
+    assert len(segs) == 2
+    np.testing.assert_allclose(segs[0].pose_at(1.0)[:3, 3], T0[:3, 3] + [0, 0.1, 0], atol=1e-12)  # y + r cos 0
+    np.testing.assert_allclose(segs[1].pose_at(0.25)[:3, 3], T0[:3, 3] + [0, 0, 0.1], atol=1e-12)  # z + r sin(π/2)
+    with pytest.raises(ArmtoolError, match="radius"):
+        cart.circle_about(T0, T0[:3, 3], 0.0, np.array([1.0, 0, 0]), 1.0)

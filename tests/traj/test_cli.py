@@ -87,6 +87,7 @@ def test_pipe_through_stdin(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("args, what", [
     (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--center-offset", "0,0,0"], "radius"),
+    (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--radius", "0"], "radius"),
     (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--line", "3,0,0"], "nothing written"),
     (["retime", "PATH", "--scale", "0"], "positive"),
     (["retime", "PATH", "--scale", "-2"], "positive"),
