@@ -147,6 +147,7 @@ def cartesian(
     min_fraction: float = typer.Option(1.0, "--min-fraction", help="Below this fraction achieved: write nothing, exit 2 (0: write what was achieved)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the joint path here (default: stdout, CSV)."),
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else csv)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Also draw the tool path and each step's midpoint deviation from the path (PNG)."),
 ) -> None:
     import numpy as np
 
@@ -222,6 +223,11 @@ def cartesian(
     traj = Trajectory(tuple(chain.joint_names), result.q, source=str(urdf),
                       prismatic=tuple(not r for r in chain.revolute))
     _write(traj, output, _out_format(output, to, TrajFormat.CSV))
+    if plot is not None:
+        from armtool.traj.plot import write_cartesian_plot
+
+        write_cartesian_plot(plot, chain, result.q, result.midpoint_deviation_m, result.midpoint_deviation_rad, precision, precision_rad)
+        err.print(f"wrote {plot}")
 
 
 def _waypoint_segments(path: Path, T0: Any) -> list[Segment]:

@@ -65,6 +65,8 @@ class CartesianResult:
     max_deviation_rad: float
     relative_jumps: list[int] = field(default_factory=list)  # step k: from point k to k+1
     absolute_jumps: list[int] = field(default_factory=list)
+    midpoint_deviation_m: Array = field(default_factory=lambda: np.zeros(0))  # per step: tool at the joint midpoint vs the path
+    midpoint_deviation_rad: Array = field(default_factory=lambda: np.zeros(0))
 
 
 def _slerp_R(R0: Array, R1: Array, lam: float) -> Array:
@@ -165,6 +167,8 @@ class _Stepper:
         self.inserted = 0
         self.dev_m = 0.0
         self.dev_rad = 0.0
+        self.steps_m: list[float] = []
+        self.steps_rad: list[float] = []
 
     def deviation(self, q: Array, target: Array) -> tuple[float, float]:
         T = self.chain.fk(q)
@@ -180,19 +184,21 @@ class _Stepper:
         """Points strictly after la up to lb (inclusive), with midpoints inserted until precise."""
         mid_pose = seg.pose_at((la + lb) / 2)
         dm, dr = self.deviation((qa + qb) / 2, mid_pose)
-        if dm <= self.o.precision_m and dr <= self.o.precision_rad:
+        if (dm <= self.o.precision_m and dr <= self.o.precision_rad) or depth >= self.o.max_depth:
             self.dev_m, self.dev_rad = max(self.dev_m, dm), max(self.dev_rad, dr)
-            return [(lb, qb)]
-        if depth >= self.o.max_depth:
-            self.dev_m, self.dev_rad = max(self.dev_m, dm), max(self.dev_rad, dr)
+            self.steps_m.append(dm)
+            self.steps_rad.append(dr)
             return [(lb, qb)]
         qm, _ = self.solve(mid_pose, qa)
         if qm is None:
             return None
         self.inserted += 1
         left = self.refine(seg, la, qa, (la + lb) / 2, qm, depth + 1)
+        if left is None:
+            return None
         right = self.refine(seg, (la + lb) / 2, qm, lb, qb, depth + 1)
-        if left is None or right is None:
+        if right is None:  # forget the left half's deviations too: its points are not kept
+            del self.steps_m[len(self.steps_m) - len(left):], self.steps_rad[len(self.steps_rad) - len(left):]
             return None
         return left + right
 
@@ -264,4 +270,5 @@ def compute_cartesian(chain: Chain, solver: Solver, start_q: Array, segments: li
                                   f"({' and '.join(rules)} rule{'s' if len(rules) > 1 else ''})")
     fraction = 1.0 if not reason else float(params[cut - 1])
     return CartesianResult(q[:cut], np.asarray(poses[:cut]), np.asarray(params[:cut]), fraction, reason, detail,
-                           stepper.inserted, stepper.dev_m, stepper.dev_rad, relative, absolute)
+                           stepper.inserted, stepper.dev_m, stepper.dev_rad, relative, absolute,
+                           np.asarray(stepper.steps_m[: cut - 1]), np.asarray(stepper.steps_rad[: cut - 1]))

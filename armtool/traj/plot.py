@@ -116,3 +116,31 @@ def _xy(img: np.ndarray, box: tuple[int, int, int, int], a: Array, b: Array, tit
     cv2.polylines(img, [pts], False, _BLUE, 1, cv2.LINE_AA)
     cv2.putText(img, title, (x0 + 4, y0 + 14), cv2.FONT_HERSHEY_SIMPLEX, 0.4, _BLACK, 1, cv2.LINE_AA)
     cv2.putText(img, f"span {span * 1000:.0f} mm", (x0 + 4, y1 - 6), cv2.FONT_HERSHEY_SIMPLEX, 0.35, _BLACK, 1, cv2.LINE_AA)
+
+
+def write_cartesian_plot(path: Path, chain: Chain, q: Array, dev_m: Array, dev_rad: Array, precision_m: float, precision_rad: float) -> None:
+    """The tool path of a Cartesian joint path (three projections) and, per step, how far the tool at
+    the joint midpoint lies from the ideal path (the precision check's measure), with the bound."""
+    import cv2
+
+    from armtool.fileio import write_atomic
+
+    if path.suffix.lower() != ".png":
+        raise ArmtoolError("the plot is a PNG", str(path), "name the output *.png")
+    P = np.array([chain.fk(qi)[:3, 3] for qi in q])
+    W, H = 1100, 560
+    img = np.full((H, W, 3), 255, np.uint8)
+    for c, (i, k, label) in enumerate(((0, 1, "tool path x-y (m)"), (0, 2, "tool path x-z (m)"), (1, 2, "tool path y-z (m)"))):
+        x0 = 70 + c * 340
+        _xy(img, (x0, 30, x0 + 280, 310), P[:, i], P[:, k], label)
+    steps = np.arange(len(dev_m), dtype=np.float64) if len(dev_m) > 1 else np.array([0.0, 1.0])
+    m = dev_m * 1000 if len(dev_m) > 1 else np.zeros(2)
+    r = dev_rad if len(dev_rad) > 1 else np.zeros(2)
+    _panel(img, (70, 350, 520, 520), steps, m, (0.0, precision_m * 1000), "midpoint deviation (mm) per step")
+    _panel(img, (600, 350, 1050, 520), steps, r, (0.0, precision_rad), "midpoint deviation (rad) per step")
+    cv2.putText(img, f"{chain.base} -> {chain.tip}: {len(q)} points; red = --precision bounds", (70, 18),
+                cv2.FONT_HERSHEY_SIMPLEX, 0.45, _BLACK, 1, cv2.LINE_AA)
+    ok, buf = cv2.imencode(".png", img)
+    if not ok:
+        raise ArmtoolError("could not encode the PNG", str(path))
+    write_atomic(path, buf.tobytes())

@@ -48,6 +48,7 @@ def test_precision_check_inserts_points_on_coarse_steps() -> None:
     r = cart.compute_cartesian(chain, make_solver("lm", chain), q0, [seg],  # type: ignore[arg-type]
                                cart.CartesianOptions(eef_step_m=0.1, jump_factor=None))
     assert r.fraction == 1.0 and r.inserted > 0 and r.max_deviation_m <= 1e-3
+    assert len(r.midpoint_deviation_m) == len(r.q) - 1 and r.midpoint_deviation_m.max() == r.max_deviation_m
 
 
 def test_zero_radius_and_collinear_arc_are_refused() -> None:

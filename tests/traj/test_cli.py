@@ -142,8 +142,11 @@ def test_waypoints_and_arc(tmp_path: Path) -> None:
     wp = tmp_path / "poses.csv"
     wp.write_text("x_m,y_m,z_m\n" + f"{p[0]},{p[1] - 0.05},{p[2]}\n{p[0]},{p[1] - 0.05},{p[2] - 0.05}\n")
     out = tmp_path / "wp.csv"
-    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp), "-o", str(out))
+    png = tmp_path / "wp.png"
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp),
+                          "-o", str(out), "--plot", str(png))
     assert code == 0, err
+    assert png.read_bytes()[:4] == b"\x89PNG"
     assert len(out.read_text().splitlines()) >= 11
     arc = tmp_path / "arc.json"
     code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START,
