@@ -285,11 +285,11 @@ def time_cmd(
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
 ) -> None:
     from armtool.console import stderr
-    from armtool.traj.timing import time_optimal, with_unit_flags
+    from armtool.traj.timing import time_optimal
 
     traj = _read(path)
     limits = _limits(urdf, joint_limits, vel, acc, (), vscale, ascale)
-    timed = with_unit_flags(time_optimal(traj, limits), limits)
+    timed = time_optimal(traj, limits)
     stderr().print(f"time-optimal: {timed.duration_s:.4f} s over {timed.n_points} samples "
                    f"(velocity scaling {limits.velocity_scaling:g}, acceleration scaling {limits.acceleration_scaling:g})")
     _write(timed, output, _out_format(output, to, _input_format(path, traj)), limits)
@@ -336,10 +336,10 @@ def thin_cmd(
     stderr().print(f"thinned {traj.n_points} -> {out.n_points} points")
     limits = None
     if urdf is not None:
-        from armtool.traj.timing import time_optimal, with_unit_flags
+        from armtool.traj.timing import time_optimal
 
         limits = _limits(urdf, joint_limits, vel, acc)
-        out = with_unit_flags(time_optimal(out, limits), limits)
+        out = time_optimal(out, limits)
         stderr().print(f"re-timed: {out.duration_s:.4f} s")
     _write(out, output, _out_format(output, to, _input_format(path, traj)), limits)
 
@@ -365,10 +365,10 @@ def join_cmd(
     stderr().print(f"joined {len(parts)} trajectories: {out.n_points} points")
     limits = None
     if urdf is not None:
-        from armtool.traj.timing import time_optimal, with_unit_flags
+        from armtool.traj.timing import time_optimal
 
         limits = _limits(urdf, joint_limits, vel, acc)
-        out = with_unit_flags(time_optimal(out, limits), limits)
+        out = time_optimal(out, limits)
         stderr().print(f"re-timed: {out.duration_s:.4f} s")
     _write(out, output, _out_format(output, to, _input_format(paths[0], parts[0])), limits)
 

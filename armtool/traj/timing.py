@@ -8,8 +8,6 @@ returned over a limit.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from armtool.errors import ArmtoolError
@@ -49,8 +47,7 @@ def time_optimal(traj: Trajectory, limits: JointLimits, min_stages: int = 400) -
         v_ratio = np.max(np.concatenate([vmax, np.abs(qd)]), axis=0) / vel
         a_ratio = np.max(np.concatenate([amax, np.abs(qdd)]), axis=0) / acc
         if np.all(v_ratio <= 1 + VEL_TOL) and np.all(a_ratio <= 1 + ACC_TOL):
-            out = Trajectory(traj.joint_names, q, profile.t, qd, qdd, traj.source, (), _prismatic(traj, lim))
-            return out
+            return Trajectory(traj.joint_names, q, profile.t, qd, qdd, traj.source, (), lim.prismatic)
         v_plan = np.where(v_ratio > 1, v_plan / np.maximum(v_ratio, 1.0) * (1 - _MARGIN), v_plan)
         a_plan = np.where(a_ratio > 1 + ACC_TOL / 2, a_plan / np.maximum(a_ratio, 1.0) * (1 - _MARGIN), a_plan)
     raise ArmtoolError("could not time the path within the limits between its samples", traj.source,
@@ -69,13 +66,3 @@ def _within_position_limits(path: JointPath, lim: JointLimits, traj: Trajectory)
             f"the smooth path through the waypoints leaves joint '{lim.names[j]}' limits "
             f"[{lim.lower[j]:.6g}, {lim.upper[j]:.6g}] between waypoints {seg} and {seg + 1} (reaches {q[k, j]:.6g})",
             traj.source, hint="add a waypoint there, or keep the waypoints further from the limit")
-
-
-def _prismatic(traj: Trajectory, lim: JointLimits) -> tuple[bool, ...]:
-    return tuple(bool(p) for p in lim.prismatic)
-
-
-def with_unit_flags(traj: Trajectory, limits: JointLimits) -> Trajectory:
-    """The trajectory with each joint's unit (rad or m) taken from the URDF."""
-    return replace(traj, prismatic=tuple(limits.prismatic[limits.index(n)] if n in limits.names else traj.is_prismatic(i)
-                                          for i, n in enumerate(traj.joint_names)))

@@ -77,7 +77,3 @@ class Trajectory:
 def _columns(a: Array | None, idx: list[int]) -> Array | None:
     return None if a is None else a[:, idx].copy()
 
-
-def steps(traj: Trajectory) -> Array:
-    """(N-1, n) joint steps between consecutive points."""
-    return np.diff(traj.positions, axis=0)
