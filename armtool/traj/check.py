@@ -94,7 +94,9 @@ def _over(traj: Trajectory, code: str, values: Array, points: np.ndarray, limit:
 
 def hermite_extremes(t: Array, q: Array, v: Array) -> tuple[Array, Array, Array]:
     """Per segment and joint, the largest |velocity|, |acceleration| and |jerk| of the cubic
-    Hermite through (t, q, v) at its ends: (N-1, n) each, exact over the segment."""
+    Hermite through (t, q, v) at its ends: (N-1, n) each, exact over the segment. The jerk also
+    counts the step of acceleration at the segment's start knot, spread over the two segments'
+    mean duration (the Hermite's acceleration is continuous inside a segment, not across knots)."""
     T = np.diff(t)[:, None]
     dq = np.diff(q, axis=0)
     v0, v1 = v[:-1], v[1:]
@@ -105,8 +107,13 @@ def hermite_extremes(t: Array, q: Array, v: Array) -> tuple[Array, Array, Array]
     inside = (tau > 0) & (tau < T)
     v_mid = np.where(inside, v0 + 2 * c2 * tau + 3 * c3 * tau**2, 0.0)
     vmax = np.maximum(np.maximum(np.abs(v0), np.abs(v1)), np.abs(v_mid))
-    amax = np.maximum(np.abs(2 * c2), np.abs(2 * c2 + 6 * c3 * T))
-    return vmax, amax, np.abs(6 * c3)
+    a_start, a_end = 2 * c2, 2 * c2 + 6 * c3 * T
+    amax = np.maximum(np.abs(a_start), np.abs(a_end))
+    jerk = np.abs(6 * c3)
+    if len(T) > 1:
+        knot = np.abs(a_start[1:] - a_end[:-1]) / ((T[1:] + T[:-1]) / 2)
+        jerk[1:] = np.maximum(jerk[1:], knot)
+    return vmax, amax, jerk
 
 
 def check(traj: Trajectory, limits: JointLimits, options: CheckOptions = CheckOptions()) -> list[Finding]:

@@ -127,3 +127,16 @@ def test_T401_accepts_a_bang_bang_switch_inside_a_segment() -> None:
     traj = Trajectory(("joint1",), np.array([[0.0], [A / 4]]), np.array([0.0, 1.0]), np.zeros((2, 1)))
     lim = load_limits(CLEAN_URDF, acc_limits=[f"joint1={A}"])
     assert "T401" not in [f.code for f in check(traj, lim)]
+
+
+def test_T303_sees_the_acceleration_step_at_a_knot() -> None:
+    # Two parabolic segments of 0.5 s: +2 then -2 rad/s². Inside each the jerk is 0; at the knot
+    # the acceleration steps by 4 rad/s² over a mean segment of 0.5 s: 8 rad/s³.
+    t = np.array([0.0, 0.5, 1.0])
+    q = np.array([[0.0], [0.25], [0.5]])
+    v = np.array([[0.0], [1.0], [0.0]])
+    traj = Trajectory(("joint1",), q, t, v)
+    _, _, jerk = hermite_extremes(t, q, v)
+    assert jerk[0, 0] == pytest.approx(0.0, abs=1e-9) and jerk[1, 0] == pytest.approx(8.0)
+    assert "T303" in [f.code for f in check(traj, load_limits(CLEAN_URDF, acc_limits=["2"], jerk_limits=["7.9"]))]
+    assert [f.code for f in check(traj, load_limits(CLEAN_URDF, acc_limits=["2"], jerk_limits=["8.1"]))] == []

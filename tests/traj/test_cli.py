@@ -190,3 +190,12 @@ def test_retime_over_the_limits_with_urdf_writes_nothing(tmp_path: Path) -> None
     assert invoke("retime", str(timed), "--scale", "2", "-o", str(out))[0] == 0  # unchecked without --urdf
     code, text, _ = invoke("check", str(out), "--urdf", U, "--joint-limits", JL)
     assert code == 1 and "T301" in text
+
+
+def test_time_with_jerk_limits_writes_and_says_jerk_is_not_planned(tmp_path: Path) -> None:
+    jl = tmp_path / "jl.yaml"
+    jl.write_text(CLEAN_LIMITS.read_text().replace("has_acceleration_limits: true", "has_jerk_limits: true, max_jerk: 50, has_acceleration_limits: true"))
+    out = tmp_path / "t.csv"
+    result = runner.invoke(app, ["traj", "time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(jl), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "not planned for" in result.stderr and out.exists()
