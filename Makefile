@@ -66,6 +66,28 @@ demo: $(STAMP)
 	$(BIN)/armtool servo-lut measure --port $$port --id 1 --reference $$enc --limits $$d/limits.yaml --points 41 --speed 300 --dwell 0.02 --yes -o $$d/meas.csv; \
 	$(BIN)/armtool servo-lut fit $$d/meas.csv -o $$d/lut.json; \
 	$(BIN)/armtool servo-lut check $$d/lut.json --port $$port --id 1 --reference $$enc --limits $$d/limits.yaml --n 15 --speed 300 --dwell 0.02 --max-err 0.5 --yes
+	@echo
+	@echo "== armtool traj: the MoveIt lecture's three exercises on the clean arm, without ROS"
+	@echo "   (acceleration limits from fixtures/traj/clean_arm_joint_limits.yaml; a URDF has none)"
+	@set -e; d=$(DEMO_TMP)/traj; mkdir -p $$d; U=fixtures/robots/clean_arm/urdf/clean_arm.urdf; JL=fixtures/traj/clean_arm_joint_limits.yaml; \
+	echo "-- 1. circle of radius 0.1 m in the y-z plane through the tool's start position, IK point by point"; \
+	$(BIN)/armtool traj cartesian $$U --base base_link --tip tool0 --start 0,-0.6,1.2,0,0.9,0 \
+	  --center-offset 0,-0.1,0 --normal 1,0,0 --eef-step 0.005 -o $$d/circle.csv; \
+	$(BIN)/armtool traj time $$d/circle.csv --urdf $$U --joint-limits $$JL -o $$d/circle_timed.csv; \
+	echo "-- 2. drop every 4th point (first and last kept), re-time, then play it at a quarter of the speed"; \
+	$(BIN)/armtool traj thin $$d/circle.csv --every 4 --urdf $$U --joint-limits $$JL -o $$d/circle_thin.csv; \
+	$(BIN)/armtool traj retime $$d/circle_thin.csv --scale 0.25 --urdf $$U --joint-limits $$JL -o $$d/circle_slow.yaml; \
+	echo "-- 3. a second plan (a 10 cm line down from where the circle ends), joined to the first and re-timed as one"; \
+	$(BIN)/armtool traj cartesian $$U --base base_link --tip tool0 --start $$(tail -n 1 $$d/circle.csv) \
+	  --line 0,0,-0.1 --relative -o $$d/line.csv; \
+	$(BIN)/armtool traj join $$d/circle.csv $$d/line.csv --urdf $$U --joint-limits $$JL -o $$d/joined.csv; \
+	echo "-- traj check on every timed result (exit 0: no finding), and a plot"; \
+	for f in circle_timed.csv circle_thin.csv circle_slow.yaml joined.csv; do \
+	  $(BIN)/armtool traj check $$d/$$f --urdf $$U --joint-limits $$JL; done; \
+	$(BIN)/armtool traj plot $$d/joined.csv --urdf $$U --joint-limits $$JL --base base_link --tip tool0 -o $$d/joined.png; \
+	echo "-- a trajectory that is too fast: traj check names the point, time and joint (exit 1)"; \
+	$(BIN)/armtool traj retime $$d/joined.csv --scale 1.5 -o $$d/too_fast.csv; \
+	$(BIN)/armtool traj check $$d/too_fast.csv --urdf $$U --joint-limits $$JL | tail -n 4 || true
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
@@ -80,6 +102,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/servo_lut_bench.py
 	$(BIN)/python -m pip install --quiet --config-settings editable_mode=compat -e '.[dev,peers]'
 	$(BIN)/python benchmarks/ik_bench.py
+	$(BIN)/python benchmarks/traj_bench.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info

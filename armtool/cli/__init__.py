@@ -118,6 +118,9 @@ def build_app() -> typer.Typer:
     full.command("tree", help=tree_cmd.HELP)(tree_cmd.tree)
     from armtool.cli import limits as limits_cmd
 
+    from armtool.cli import traj as traj_cmd
+
+    full.add_typer(traj_cmd.app, name="traj", help=traj_cmd.HELP)
     full.command("limits", help="Record each joint's real range over a Dynamixel/Feetech bus; write limits YAML, URDF limits, EEPROM.")(limits_cmd.limits)
     return escape_help(full)
 

@@ -1,0 +1,201 @@
+"""`armtool traj` end to end: the lecture's three exercises, every output checked by `traj check`,
+bad input as exit 2 with nothing written, and the check's output formats."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from armtool.cli import app
+from armtool.errors import ArmtoolError
+
+from .helpers import CLEAN_LIMITS, CLEAN_URDF, START
+
+runner = CliRunner()
+U, JL = str(CLEAN_URDF), str(CLEAN_LIMITS)
+
+
+def invoke(*args: str, stdin: str | None = None) -> tuple[int, str, str]:
+    result = runner.invoke(app, ["traj", *args], input=stdin)
+    if isinstance(result.exception, ArmtoolError):
+        return 2, result.stdout, str(result.exception)
+    if result.exception is not None and not isinstance(result.exception, SystemExit):
+        raise result.exception
+    return result.exit_code, result.stdout, result.stderr
+
+
+def passes_check(path: Path) -> None:
+    code, out, err = invoke("check", str(path), "--urdf", U, "--joint-limits", JL)
+    assert code == 0, out + err
+
+
+def circle(tmp_path: Path, *extra: str) -> Path:
+    out = tmp_path / "circle.csv"
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START,
+                          "--center-offset", "0,-0.1,0", "--normal", "1,0,0", "-o", str(out), *extra)
+    assert code == 0, err
+    return out
+
+
+def test_circle_time_check_plot(tmp_path: Path) -> None:
+    path = circle(tmp_path)
+    passes_check(path)
+    timed = tmp_path / "circle.yaml"
+    code, _, err = invoke("time", str(path), "--urdf", U, "--joint-limits", JL, "-o", str(timed))
+    assert code == 0, err
+    assert "sec:" in timed.read_text() and "nanosec:" in timed.read_text()  # .yaml: ROS 2 JointTrajectory
+    passes_check(timed)
+    png = tmp_path / "circle.png"
+    code, _, err = invoke("plot", str(timed), "--urdf", U, "--joint-limits", JL, "--base", "base_link", "--tip", "tool0", "-o", str(png))
+    assert code == 0, err
+    import cv2
+
+    img = cv2.imread(str(png))
+    assert img is not None and img.shape[0] > 500
+
+
+def test_thin_retime_and_join_outputs_pass_check(tmp_path: Path) -> None:
+    path = circle(tmp_path)
+    thinned = tmp_path / "thin.csv"
+    assert invoke("thin", str(path), "--every", "4", "--urdf", U, "--joint-limits", JL, "-o", str(thinned))[0] == 0
+    passes_check(thinned)
+    slow = tmp_path / "slow.json"
+    code, _, err = invoke("retime", str(thinned), "--scale", "0.25", "--urdf", U, "--joint-limits", JL, "-o", str(slow))
+    assert code == 0, err
+    passes_check(slow)
+    line = tmp_path / "line.csv"
+    last = thinned.read_text().splitlines()[-1].split(",")[1:7]
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", ",".join(last),
+                          "--line", "0,0,-0.05", "--relative", "-o", str(line))
+    assert code == 0, err
+    joined = tmp_path / "joined.csv"
+    code, _, err = invoke("join", str(thinned), str(line), "--urdf", U, "--joint-limits", JL, "-o", str(joined), "--to", "ros1")
+    assert code == 0, err
+    assert "secs:" in joined.read_text()
+    passes_check(joined)
+
+
+def test_pipe_through_stdin(tmp_path: Path) -> None:
+    text = circle(tmp_path).read_text()
+    code, out, err = invoke("time", "-", "--urdf", U, "--acc-limit", "5", stdin=text)
+    assert code == 0, err
+    assert out.startswith("time_s,joint1_rad,")
+
+
+@pytest.mark.parametrize("args, what", [
+    (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--center-offset", "0,0,0"], "radius"),
+    (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--radius", "0"], "radius"),
+    (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--line", "3,0,0"], "nothing written"),
+    (["retime", "PATH", "--scale", "0"], "positive"),
+    (["retime", "PATH", "--scale", "-2"], "positive"),
+    (["time", "ONE", "--urdf", U, "--joint-limits", JL], "at least two points"),
+    (["time", "NAN", "--urdf", U, "--joint-limits", JL], "nan"),
+    (["time", "PATH", "--urdf", U], "acceleration limit"),
+    (["join", "PATH", "OTHER", "--urdf", U, "--joint-limits", JL], "away from where"),
+])
+def test_bad_input_exits_2_and_writes_nothing(tmp_path: Path, args: list[str], what: str) -> None:
+    path = circle(tmp_path)
+    files = {"PATH": str(path)}
+    one = tmp_path / "one.csv"
+    one.write_text("joint1_rad,joint2_rad\n0,0\n")
+    nan = tmp_path / "nan.csv"
+    nan.write_text("joint1_rad,joint2_rad\n0,0\nnan,1\n")
+    other = tmp_path / "other.csv"
+    other.write_text(path.read_text().replace("\n0.0,-0.6,", "\n0.3,-0.6,", 1))
+    files.update(ONE=str(one), NAN=str(nan), OTHER=str(other))
+    out = tmp_path / "out.csv"
+    code, _, err = invoke(*[files.get(a, a) for a in args], "-o", str(out))
+    assert code == 2
+    assert what in err.lower() or what in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("fmt", ["text", "json", "sarif", "github"])
+def test_check_formats_and_exit_code(tmp_path: Path, fmt: str) -> None:
+    path = tmp_path / "bad.csv"
+    path.write_text("time_s,joint1_rad\n0,0\n0.1,1.0\n0.2,0.0\n")
+    code, out, _ = invoke("check", str(path), "--urdf", U, "--joint-limits", JL, "--format", fmt)
+    assert code == 1
+    assert "T301" in out
+    if fmt in ("json", "sarif"):
+        doc = json.loads(out)
+        if fmt == "sarif":
+            assert doc["runs"][0]["results"][0]["locations"][0]["physicalLocation"]["region"]["startLine"] == 3
+    assert invoke("check", str(path), "--urdf", U, "--joint-limits", JL, "--exit-zero")[0] == 0
+
+
+def test_check_unknown_joint(tmp_path: Path) -> None:
+    path = tmp_path / "bad.csv"
+    path.write_text("time_s,elbow_rad\n0,0\n1,0.1\n")
+    code, out, _ = invoke("check", str(path), "--urdf", U)
+    assert code == 1 and "T601" in out
+
+
+def test_waypoints_and_arc(tmp_path: Path) -> None:
+    start = [float(v) for v in START.split(",")]
+    from armtool.ik.chain import load_chain
+
+    p = load_chain(CLEAN_URDF, "base_link", "tool0").fk(__import__("numpy").array(start))[:3, 3]
+    wp = tmp_path / "poses.csv"
+    wp.write_text("x_m,y_m,z_m\n" + f"{p[0]},{p[1] - 0.05},{p[2]}\n{p[0]},{p[1] - 0.05},{p[2] - 0.05}\n")
+    out = tmp_path / "wp.csv"
+    png = tmp_path / "wp.png"
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp),
+                          "-o", str(out), "--plot", str(png))
+    assert code == 0, err
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    assert len(out.read_text().splitlines()) >= 11
+    arc = tmp_path / "arc.json"
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START,
+                          "--arc-via", f"{p[0]},{p[1] - 0.05},{p[2] + 0.05}", "--arc-to", f"{p[0]},{p[1] - 0.1},{p[2]}", "-o", str(arc))
+    assert code == 0, err
+    assert json.loads(arc.read_text())["joint_names"][0] == "joint1"
+    bad = tmp_path / "bad_poses.csv"
+    bad.write_text("x_m,y_m,z_m\n0.1,nan,0.2\n")
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(bad), "-o", str(out))
+    assert code == 2 and "bad_poses.csv:2" in err
+
+
+def test_trajectory_pipes_into_servo_lut_apply(tmp_path: Path) -> None:
+    from .helpers import ROOT
+
+    lut = tmp_path / "lut.json"
+    result = runner.invoke(app, ["servo-lut", "fit", str(ROOT / "fixtures/servo/lut/ax12a_meas.csv"), "-o", str(lut)])
+    assert result.exit_code == 0
+    code, timed, err = invoke("time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", JL)
+    assert code == 0, err
+    result = runner.invoke(app, ["servo-lut", "apply", str(lut), "-", "--column", "joint1_rad", "--zero-deg", "150"], input=timed)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[0].endswith(",joint1_command_ticks")
+
+
+def test_plot_of_an_untimed_path(tmp_path: Path) -> None:
+    png = tmp_path / "path.png"
+    code, _, err = invoke("plot", str(circle(tmp_path)), "--urdf", U, "-o", str(png))
+    assert code == 0, err
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    code, _, err = invoke("plot", str(circle(tmp_path)), "--urdf", U, "-o", str(tmp_path / "x.jpg"))
+    assert code == 2 and "PNG" in err
+
+
+def test_retime_over_the_limits_with_urdf_writes_nothing(tmp_path: Path) -> None:
+    timed = tmp_path / "timed.csv"
+    assert invoke("time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", JL, "-o", str(timed))[0] == 0
+    out = tmp_path / "fast.csv"
+    code, _, err = invoke("retime", str(timed), "--scale", "2", "--urdf", U, "--joint-limits", JL, "-o", str(out))
+    assert code == 2 and "smaller --scale" in err and not out.exists()
+    assert invoke("retime", str(timed), "--scale", "2", "-o", str(out))[0] == 0  # unchecked without --urdf
+    code, text, _ = invoke("check", str(out), "--urdf", U, "--joint-limits", JL)
+    assert code == 1 and "T301" in text
+
+
+def test_time_with_jerk_limits_writes_and_says_jerk_is_not_planned(tmp_path: Path) -> None:
+    jl = tmp_path / "jl.yaml"
+    jl.write_text(CLEAN_LIMITS.read_text().replace("has_acceleration_limits: true", "has_jerk_limits: true, max_jerk: 50, has_acceleration_limits: true"))
+    out = tmp_path / "t.csv"
+    result = runner.invoke(app, ["traj", "time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(jl), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "not planned for" in result.stderr and out.exists()
