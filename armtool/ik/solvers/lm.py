@@ -89,8 +89,8 @@ class LevenbergMarquardt(Solver):
 
     def _build_table(self) -> None:
         """TABLE_SIZE random configurations and their tip poses (self.rng: independent of any target
-        stream), a k-d tree over their pose features for restarts, and the score matrix of the first
-        FIRST_TABLE of them for the first try's lookup."""
+        stream), a k-d tree over their pose features for restarts, and the matrix that scores the
+        first FIRST_TABLE of them against a target for the first try."""
         from scipy.spatial import cKDTree
 
         Q = self.chain.random(self.rng, self.TABLE_SIZE)
@@ -102,7 +102,7 @@ class LevenbergMarquardt(Solver):
         # score_i = f·F_i − |F_i|²/2 is largest for the table pose nearest the target (|f − F_i|² =
         # |f|² − 2·score_i), and f·F_i is one product with the target's 4×4 entries in row order:
         # positions weigh 1, rotation entries 0.2² (features scale them by 0.2), entry [3, 3] = 1
-        # carries −|F_i|²/2. One gemv per lookup, no work on the target.
+        # carries −|F_i|²/2. One matrix-vector product per lookup, no work on the target.
         m = self.FIRST_TABLE
         G = np.zeros((m, 4, 4))
         G[:, :3, :3] = 0.04 * T[:m, :3, :3]
@@ -112,19 +112,20 @@ class LevenbergMarquardt(Solver):
 
     def _nearest(self, target: Array) -> tuple[Array, float]:
         """The configuration of the first FIRST_TABLE table poses nearest the target, and the squared
-        feature distance of its pose to the target's."""
+        feature distance of its pose to the target's (one 1024×16 product: 128 KB, a few µs)."""
         scores = self._scores.dot(target.reshape(16))
         i = int(scores.argmax())
         p = target[:3, 3]
         return self._table[0][i], float(p.dot(p)) + 0.12 - 2.0 * float(scores[i])  # type: ignore[index]
 
     def _restart_seeds(self, target: Array) -> list[Array]:
-        """Configurations whose tip pose is nearest the target (position, plus 0.2 m per unit of
-        rotation), nearest first, from the k-d tree over the whole table."""
-        if self._table is None:
-            self._build_table()
+        """The TABLE_SEEDS configurations whose tip poses are nearest the target (position, plus 0.2 m
+        per unit of rotation matrix entry), nearest first, from the k-d tree over the whole table.
+        Restarts are where the hard targets are: a brute-force search over 4096 poses cost a
+        third of the query's time but left 1 in 1000 xArm6 targets unsolved in 50 ms."""
+        assert self._table is not None
         _, nearest = self._tree.query(_pose_features(target[None])[0], k=self.TABLE_SEEDS)
-        return list(self._table[0][nearest])  # type: ignore[index]
+        return list(self._table[0][nearest])
 
     def solve(self, target: Array, seed: Array) -> IKResult:
         return self._solve(target, seed, self.timeout)
