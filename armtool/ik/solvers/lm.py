@@ -6,16 +6,21 @@ also one that raises the error (λ grows with it, as in rtb's ik_LM): a monotone
 raise λ, retry) crawls through the curved valleys around near-singular poses, which is where the
 slowest 1 % of targets lie, and this one crosses them. Limits are enforced by projection, with
 joints held at a limit taken out of the step; continuous joints move freely and wrap into
-[-π, π) in the answer. A try whose best error has not fallen by 30 % in STALL iterations ends, and the
-solver restarts until the time budget is spent: first from the configurations of a table of
-random poses (built once per solver) nearest to the target, then uniform random ones.
+[-π, π) in the answer.
 
-The scalar loop works in the tip frame (Pinocchio's body Jacobian and log6 twist: one call
-each), ~10 µs per iteration in all. An answer is accepted once its position and orientation
-error norms are each within 0.99·tolerance (so is every component of the twist error, which
-is what the protocol asks).
+Where tries start: a table of random configurations and their tip poses is built once per
+solver. The first try starts from the caller's seed, or from the nearest of the table's first
+1024 poses when that pose is nearer the target than the seed's (one matrix-vector product); the
+seed is then the second try. A try whose best error has not fallen by 30 % in STALL iterations
+ends, and the solver restarts until the time budget is spent: from the 16 table poses nearest
+the target (an approximate k-d query over the whole table), then uniform random ones.
+
+The scalar loop works in the tip frame (Pinocchio's body Jacobian and log6 twist), about a dozen
+Python-level calls per iteration; joint limits are checked on plain lists, and only when a step
+crossed one. An answer is accepted once its position and orientation error norms, read off the
+loop's own twist, are each within 0.99·tolerance (so is every component of the twist error,
+which is what the protocol asks).
 """
-
 from __future__ import annotations
 
 import math
