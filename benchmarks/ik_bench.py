@@ -15,8 +15,9 @@ Rounds (--rounds, default 3) run every solver once each, round after round, so a
 slows all of them alike; the table shows the median over rounds of each figure, and "spread" is
 how far the largest per-round median lies above the smallest ((max − min) / min), for `lm` and
 beside it for the peers. Batched rows show the amortized time (total / N) as their median and
-p95. rtb's ik_LM and ikpy have no timeout: "> timeout" counts their solves that took longer than
-the protocol's.
+p95. "CPU median" is the median of each solve's process CPU time: on a loaded machine wall
+times stretch with the time the process waits for a core, CPU times much less. rtb's ik_LM
+and ikpy have no timeout: "> timeout" counts their solves that took longer than the protocol's.
 
 "stalled" counts failed solves that got less than half the timeout in process CPU time while
 their wall time ran past it: the machine ran something else meanwhile (a loaded machine, not
@@ -116,6 +117,7 @@ class Row:
     success: float  # %
     median_us: float
     p95_us: float
+    cpu_median_us: float  # process CPU time per solve: what a loaded machine does not stretch
     solves_per_s: float
     over_timeout: int | None  # solves slower than the timeout (None for batched rows)
     failures: int  # median over rounds
@@ -164,6 +166,7 @@ def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float, c
         100.0 * med([r.success_rate for r in reports]),
         med([r.wall_us["median"] for r in reports]),
         med([r.wall_us["p95"] for r in reports]),
+        med([r.cpu_us["median"] for r in reports]),
         med([r.solves_per_s for r in reports]),
         over,
         int(med([r.failures for r in reports])),
@@ -232,16 +235,17 @@ def print_table(title: str, rows: dict[str, Row]) -> None:
     tracik, rtb = rows.get("pytracik"), rows.get("rtb-lm")
     print(f"### {title}\n")
     print(
-        "| solver | N | success % | failures (stalled) | median µs | p95 µs | solves/s | > timeout "
-        "| median vs pytracik | median vs rtb-lm | solves/s vs rtb-lm |"
+        "| solver | N | success % | failures (stalled) | median µs | p95 µs | CPU median µs | solves/s | > timeout "
+        "| median vs pytracik | median vs rtb-lm | CPU median vs rtb-lm | solves/s vs rtb-lm |"
     )
-    print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+    print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
     for row in rows.values():
         over = "-" if row.over_timeout is None else str(row.over_timeout)
         fails = str(row.failures) + ("" if row.stalled is None else f" ({row.stalled})")
         print(
-            f"| {row.label} | {row.samples} | {row.success:.1f} | {fails} | {row.median_us:,.0f} | {row.p95_us:,.0f} | {row.solves_per_s:,.0f} | {over} | "
-            f"{ratio(row.median_us, tracik.median_us if tracik else None)} | {ratio(row.median_us, rtb.median_us if rtb else None)} | "
+            f"| {row.label} | {row.samples} | {row.success:.1f} | {fails} | {row.median_us:,.0f} | {row.p95_us:,.0f} | {row.cpu_median_us:,.0f} | "
+            f"{row.solves_per_s:,.0f} | {over} | {ratio(row.median_us, tracik.median_us if tracik else None)} | "
+            f"{ratio(row.median_us, rtb.median_us if rtb else None)} | {ratio(row.cpu_median_us, rtb.cpu_median_us if rtb else None)} | "
             f"{ratio(row.solves_per_s, rtb.solves_per_s if rtb else None)} |"
         )
     shown = [row for row in rows.values() if row.label in ("lm", "lm (batch)", "pytracik", "rtb-lm")]
@@ -276,7 +280,11 @@ def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
     else:
         check(None, "lm median below pytracik's (pytracik not installed)")
     if rtb:
-        check(lm.median_us <= rtb.median_us, f"lm median <= 1.0× rtb ik_LM's ({lm.median_us:,.0f} vs {rtb.median_us:,.0f} µs, {lm.median_us / rtb.median_us:.2f}×)")
+        check(
+            lm.median_us <= rtb.median_us,
+            f"lm median <= 1.0× rtb ik_LM's ({lm.median_us:,.0f} vs {rtb.median_us:,.0f} µs, {lm.median_us / rtb.median_us:.2f}×; "
+            f"CPU median {lm.cpu_median_us:,.0f} vs {rtb.cpu_median_us:,.0f} µs, {lm.cpu_median_us / rtb.cpu_median_us:.2f}×)",
+        )
         check(
             batch.solves_per_s >= 3 * rtb.solves_per_s and batch.success >= 99.9,
             f"lm batched >= 3× rtb ik_LM's solves/s at >= 99.9 % success ({batch.solves_per_s:,.0f} vs {rtb.solves_per_s:,.0f}/s, "
