@@ -1,27 +1,34 @@
 """IK benchmark: every armtool solver beside TRAC-IK (pytracik), roboticstoolbox's ik_LM and ikpy, one process (offline).
 
-TRAC-IK's protocol on Panda (panda_link0 → panda_hand), UR5, xArm7 and Kinova from
-example-robot-data: N configurations uniform within the limits → FK → targets; every solve from
-the mid-range seed; 5 ms timeout; success = every twist component within 1e-5 and q within the
-limits, by armtool's FK (`armtool.ik.bench.run_solver`), whatever the solver claims. All solvers
-see the same targets; `lm` also runs batched (one `solve_batch` call). ikpy is slow (~10 ms a
-solve) and runs on the first --ikpy-samples targets only. A peer that is not installed is
-skipped with its install command (`pip install 'armtool[peers]'`).
+TRAC-IK's protocol on six arms, each at its real tool frame: Panda (panda_link0 → panda_hand),
+UR5 (→ tool0), Kinova j2s6s200 (→ j2s6s200_end_effector) and the 5-DOF SO-101 (base_link →
+gripper_frame_link) from example-robot-data; xArm6 and xArm7 (link_base → link_eef) from the
+real-repository corpus (xarm_ros2's xarm_device.urdf.xacro with dof:=6 / dof:=7, read in place;
+an arm whose files are absent is skipped with a message). N configurations uniform within the
+limits → FK → targets; every solve from the mid-range seed; 5 ms timeout; success = every twist
+component within 1e-5 and q within the limits, by armtool's FK (`armtool.ik.bench.run_solver`),
+whatever the solver claims. All solvers see the same targets; `lm` also runs batched (one
+`solve_batch` call). ikpy is slow (~10 ms a solve) and runs on the first --ikpy-samples targets
+only. A peer that is not installed is skipped with its install command (`pip install 'armtool[peers]'`).
 
-Rounds (--rounds) run every solver once each, round after round, so a busy machine slows all of
-them alike; the table shows the median over rounds of each figure. Batched rows show the
-amortized time (total / N) as their median and p95. rtb's ik_LM and ikpy have no timeout:
-"> timeout" counts their solves that took longer than the protocol's.
+Rounds (--rounds, default 3) run every solver once each, round after round, so a busy machine
+slows all of them alike; the table shows the median over rounds of each figure, and "spread" is
+how far the largest per-round median lies above the smallest ((max − min) / min), for `lm` and
+beside it for the peers. Batched rows show the amortized time (total / N) as their median and
+p95. "CPU median" is the median of each solve's process CPU time: on a loaded machine wall
+times stretch with the time the process waits for a core, CPU times much less. rtb's ik_LM
+and ikpy have no timeout: "> timeout" counts their solves that took longer than the protocol's.
 
 "stalled" counts failed solves that got less than half the timeout in process CPU time while
 their wall time ran past it: the machine ran something else meanwhile (a loaded machine, not
 the solver). Only solvers with a timeout can fail that way. Process CPU time counts every thread
 (TRAC-IK solves on two), and idle BLAS threads spinning can only lower the count.
 
-Markdown tables and PASS/FAIL lines for the ik-bench issue's targets go to stdout; progress and
-skipped solvers to stderr. Exit code 0, or 1 with --strict when a target is missed.
+Markdown tables and PASS/FAIL lines for the IK-speed issue's targets go to stdout; progress and
+skipped solvers or arms to stderr. Exit code 0, or 1 with --strict when a target is missed.
 
-    python benchmarks/ik_bench.py [--samples 1000] [--rounds 1] [--robots panda,ur5,xarm7,kinova]
+    python benchmarks/ik_bench.py [--samples 1000] [--rounds 3] [--robots panda,ur5,xarm6,xarm7,kinova,so101]
+        [--solvers lm,analytic] [--corpus ../shared/realworld]
 """
 
 from __future__ import annotations
@@ -34,19 +41,36 @@ import statistics
 import sys
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+
+@dataclass(frozen=True)
+class Robot:
+    """Where an arm's description lives and the chain to benchmark (base → its tool frame)."""
+
+    source: str  # "erd" (example-robot-data) or "corpus" (the real-repository corpus)
+    relative: str
+    base: str | None  # None: the URDF's root
+    tip: str
+    xacro_args: dict[str, str] = field(default_factory=dict)
+
+
+XARM = "xarm_ros2/xarm_description/urdf/xarm_device.urdf.xacro"
 ROBOTS = {
-    "panda": ("panda_description/urdf/panda.urdf", "panda_link0", "panda_hand"),
-    "ur5": ("ur_description/urdf/ur5_robot.urdf", None, None),
-    "xarm7": ("xarm_description/urdf/xarm7.urdf", None, None),
-    "kinova": ("kinova_description/robots/kinova.urdf", None, None),
+    "panda": Robot("erd", "panda_description/urdf/panda.urdf", "panda_link0", "panda_hand"),
+    "ur5": Robot("erd", "ur_description/urdf/ur5_robot.urdf", None, "tool0"),
+    "xarm6": Robot("corpus", XARM, "link_base", "link_eef", {"dof": "6"}),
+    "xarm7": Robot("corpus", XARM, "link_base", "link_eef", {"dof": "7"}),
+    "kinova": Robot("erd", "kinova_description/robots/kinova.urdf", None, "j2s6s200_end_effector"),
+    "so101": Robot("erd", "so_arm_description/urdf/so101.urdf", "base_link", "gripper_frame_link"),
 }
+DEFAULT_CORPUS = Path(__file__).resolve().parents[1] / ".." / "shared" / "realworld"
 PEERS = ("pytracik", "rtb-lm", "ikpy", "pykdl")
 TOLERANCE = 1e-5
 KDL_PUBLISHED_PANDA = 62.0  # % success of KDL NR_JL on Panda in TRAC-IK's protocol
+MAX_SPREAD = 0.20  # run-to-run spread of lm's median, (max - min) / min over rounds
 
 
 def log(text: str) -> None:
@@ -60,6 +84,29 @@ def robot_file(relative: str) -> Path:
     return Path(hits[0])
 
 
+def load_robot(name: str, corpus: Path) -> tuple[Any, Any] | None:
+    """(URDF root element, chain) of a benchmark arm, or None (with a message) when its files are absent."""
+    from armtool.ik.chain import chain_from_xml
+    from armtool.model.load import load_robot_xml
+
+    robot = ROBOTS[name]
+    if robot.source == "corpus":
+        path = corpus / robot.relative
+        if not path.is_file():
+            log(f"warning: {name} skipped: {path} not found (the real-repository corpus; pass --corpus DIR)")
+            return None
+        root = load_robot_xml(path, robot.xacro_args, [corpus])
+    else:
+        path = robot_file(robot.relative)
+        root = load_robot_xml(path)
+    return root, chain_from_xml(root, robot.base, robot.tip, source=path.name)
+
+
+def spread(values: Sequence[float]) -> float | None:
+    """(max − min) / min of per-round medians; None with fewer than two rounds."""
+    return (max(values) - min(values)) / min(values) if len(values) > 1 and min(values) > 0 else None
+
+
 @dataclass(frozen=True)
 class Row:
     """One solver on one robot: medians over rounds."""
@@ -70,6 +117,7 @@ class Row:
     success: float  # %
     median_us: float
     p95_us: float
+    cpu_median_us: float  # process CPU time per solve: what a loaded machine does not stretch
     solves_per_s: float
     over_timeout: int | None  # solves slower than the timeout (None for batched rows)
     failures: int  # median over rounds
@@ -118,6 +166,7 @@ def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float, c
         100.0 * med([r.success_rate for r in reports]),
         med([r.wall_us["median"] for r in reports]),
         med([r.wall_us["p95"] for r in reports]),
+        med([r.cpu_us["median"] for r in reports]),
         med([r.solves_per_s for r in reports]),
         over,
         int(med([r.failures for r in reports])),
@@ -126,26 +175,26 @@ def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float, c
     )
 
 
-def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row]]:
+def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row]] | None:
     from armtool.errors import ArmtoolError
     from armtool.ik.bench import BenchConfig, Targets, make_targets, run_solver
-    from armtool.ik.chain import chain_from_xml
     from armtool.ik.peers import make_peer
     from armtool.ik.registry import make_solver, solver_names
-    from armtool.ik.solver import Solver
-    from armtool.model.load import load_robot_xml
 
-    relative, base, tip = ROBOTS[name]
-    root = load_robot_xml(robot_file(relative))
-    chain = chain_from_xml(root, base, tip, source=Path(relative).name)
+    loaded = load_robot(name, args.corpus)
+    if loaded is None:
+        return None
+    root, chain = loaded
     config = BenchConfig(samples=args.samples, timeout=args.timeout, tolerance=TOLERANCE, repeat=0)
     targets = make_targets(chain, config)
     k = min(args.ikpy_samples, args.samples)
     few = Targets(targets.q_true[:k], targets.poses[:k], targets.seeds[:k])
     few_config = BenchConfig(samples=k, timeout=args.timeout, tolerance=TOLERANCE, repeat=0)
 
-    runs: list[tuple[str, Solver, bool]] = []  # label, solver, batched
+    runs: list[tuple[str, Any, bool]] = []  # label, solver (or its CpuWatch), batched
     for solver_name in solver_names():
+        if args.solvers and solver_name not in args.solvers:
+            continue
         try:
             solver = make_solver(solver_name, chain, timeout=args.timeout, tolerance=TOLERANCE)
         except ArmtoolError as exc:  # e.g. analytic: no closed form for this arm
@@ -154,7 +203,7 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
         runs.append((solver_name, CpuWatch(solver), False))
         if solver_name == "lm":
             runs.append(("lm (batch)", solver, True))
-    for peer_name in PEERS:
+    for peer_name in args.peers:
         peer = make_peer(peer_name, chain, root, timeout=args.timeout, tolerance=TOLERANCE)
         if isinstance(peer, str):
             log(f"warning: peer {peer_name} skipped: {peer}")
@@ -186,26 +235,31 @@ def print_table(title: str, rows: dict[str, Row]) -> None:
     tracik, rtb = rows.get("pytracik"), rows.get("rtb-lm")
     print(f"### {title}\n")
     print(
-        "| solver | N | success % | failures (stalled) | median µs | p95 µs | solves/s | > timeout "
-        "| median vs pytracik | median vs rtb-lm | solves/s vs rtb-lm |"
+        "| solver | N | success % | failures (stalled) | median µs | p95 µs | CPU median µs | solves/s | > timeout "
+        "| median vs pytracik | median vs rtb-lm | CPU median vs rtb-lm | solves/s vs rtb-lm |"
     )
-    print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+    print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
     for row in rows.values():
         over = "-" if row.over_timeout is None else str(row.over_timeout)
         fails = str(row.failures) + ("" if row.stalled is None else f" ({row.stalled})")
         print(
-            f"| {row.label} | {row.samples} | {row.success:.1f} | {fails} | {row.median_us:,.0f} | {row.p95_us:,.0f} | {row.solves_per_s:,.0f} | {over} | "
-            f"{ratio(row.median_us, tracik.median_us if tracik else None)} | {ratio(row.median_us, rtb.median_us if rtb else None)} | "
+            f"| {row.label} | {row.samples} | {row.success:.1f} | {fails} | {row.median_us:,.0f} | {row.p95_us:,.0f} | {row.cpu_median_us:,.0f} | "
+            f"{row.solves_per_s:,.0f} | {over} | {ratio(row.median_us, tracik.median_us if tracik else None)} | "
+            f"{ratio(row.median_us, rtb.median_us if rtb else None)} | {ratio(row.cpu_median_us, rtb.cpu_median_us if rtb else None)} | "
             f"{ratio(row.solves_per_s, rtb.solves_per_s if rtb else None)} |"
         )
-    spread = [row for row in rows.values() if len(row.round_medians_us) > 1 and row.label in ("lm", "lm (batch)", "pytracik", "rtb-lm")]
-    if spread:
-        print("\nMedian µs per round: " + "; ".join(f"{r.label} " + ", ".join(f"{t:,.0f}" for t in r.round_medians_us) for r in spread))
+    shown = [row for row in rows.values() if row.label in ("lm", "lm (batch)", "pytracik", "rtb-lm")]
+    if any(len(row.round_medians_us) > 1 for row in shown):
+        parts = []
+        for row in shown:
+            sp = spread(row.round_medians_us)
+            parts.append(f"{row.label} " + ", ".join(f"{t:,.0f}" for t in row.round_medians_us) + ("" if sp is None else f" (spread {sp:.0%})"))
+        print("\nMedian µs per round: " + "; ".join(parts))
     print()
 
 
 def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
-    """(PASS | FAIL | SKIP, text) for the issue's targets on one robot."""
+    """(PASS | FAIL | SKIP, text) for the IK-speed issue's targets on one robot."""
     out: list[tuple[str, str]] = []
 
     def check(ok: bool | None, text: str) -> None:
@@ -218,29 +272,39 @@ def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
     stall_note = f"; {lm.stalled} of {lm.failures} failures stalled by the machine" if lm.stalled else ""
     check(lm.success >= 99.9, f"lm success >= 99.9 % ({lm.success:.1f} %{stall_note})")
     if tracik:
-        check(lm.median_us < tracik.median_us, f"lm median below pytracik's ({lm.median_us:,.0f} vs {tracik.median_us:,.0f} µs)")
+        rounds = list(zip(lm.round_medians_us, tracik.round_medians_us))
+        check(
+            all(a < b for a, b in rounds),
+            "lm median below pytracik's in every round (" + ", ".join(f"{a:,.0f} vs {b:,.0f}" for a, b in rounds) + " µs)",
+        )
     else:
         check(None, "lm median below pytracik's (pytracik not installed)")
     if rtb:
-        check(lm.median_us <= 3 * rtb.median_us, f"lm median within 3× of rtb ik_LM's ({lm.median_us:,.0f} vs {rtb.median_us:,.0f} µs, {lm.median_us / rtb.median_us:.2f}×)")
         check(
-            batch.solves_per_s >= 2 * rtb.solves_per_s and batch.success >= rtb.success,
-            f"lm batched >= 2× rtb ik_LM's solves/s at the same success ({batch.solves_per_s:,.0f} vs {rtb.solves_per_s:,.0f}/s, "
-            f"{batch.solves_per_s / rtb.solves_per_s:.2f}×; success {batch.success:.1f} vs {rtb.success:.1f} %)",
+            lm.median_us <= rtb.median_us,
+            f"lm median <= 1.0× rtb ik_LM's ({lm.median_us:,.0f} vs {rtb.median_us:,.0f} µs, {lm.median_us / rtb.median_us:.2f}×; "
+            f"CPU median {lm.cpu_median_us:,.0f} vs {rtb.cpu_median_us:,.0f} µs, {lm.cpu_median_us / rtb.cpu_median_us:.2f}×)",
+        )
+        check(
+            batch.solves_per_s >= 3 * rtb.solves_per_s and batch.success >= 99.9,
+            f"lm batched >= 3× rtb ik_LM's solves/s at >= 99.9 % success ({batch.solves_per_s:,.0f} vs {rtb.solves_per_s:,.0f}/s, "
+            f"{batch.solves_per_s / rtb.solves_per_s:.2f}×; success {batch.success:.1f} %)",
         )
     else:
         check(None, "lm vs rtb ik_LM (roboticstoolbox-python not installed)")
+    sp = spread(lm.round_medians_us)
+    if sp is None:
+        check(None, "lm's run-to-run spread (needs --rounds 2 or more)")
+    else:
+        peers = "; ".join(f"{r.label} {s:.0%}" for r in (tracik, rtb) if r is not None and (s := spread(r.round_medians_us)) is not None)
+        check(sp <= MAX_SPREAD, f"lm's median spread over rounds <= {MAX_SPREAD:.0%} ({sp:.0%}" + (f"; peers: {peers})" if peers else ")"))
     if robot == "ur5":
         a = rows.get("analytic")
-        if a is None:
-            check(None, "analytic is not available")
-        else:
+        if a is not None:
             check(a.success == 100.0 and a.median_us <= 50, f"analytic 100 % with median <= 50 µs ({a.success:.1f} %, {a.median_us:.0f} µs)")
     if robot == "panda":
         kdl = rows.get("kdl-nr-jl")
-        if kdl is None:
-            check(None, "kdl-nr-jl is not available")
-        else:
+        if kdl is not None:
             check(abs(kdl.success - KDL_PUBLISHED_PANDA) <= 3, f"kdl-nr-jl success within 3 points of {KDL_PUBLISHED_PANDA:.0f} % ({kdl.success:.1f} %)")
     return out
 
@@ -250,14 +314,19 @@ def main() -> int:
     parser.add_argument("--samples", type=int, default=1000, help="targets per robot (default 1000)")
     parser.add_argument("--timeout", type=float, default=0.005, help="seconds per solve (default 0.005)")
     parser.add_argument("--robots", default=",".join(ROBOTS), help="comma-separated, from: " + ", ".join(ROBOTS))
+    parser.add_argument("--solvers", default="", help="armtool solvers to run, comma-separated (default: all)")
+    parser.add_argument("--peers", default=",".join(PEERS), help="peers to run, comma-separated (default: " + ", ".join(PEERS) + ")")
+    parser.add_argument("--corpus", type=Path, default=DEFAULT_CORPUS, help="the real-repository corpus (default: ../shared/realworld beside the checkout)")
     parser.add_argument("--ikpy-samples", type=int, default=100, help="targets for ikpy, the first of the same set (default 100)")
-    parser.add_argument("--rounds", type=int, default=1, help="run every solver this many times; report medians (default 1)")
+    parser.add_argument("--rounds", type=int, default=3, help="run every solver this many times; report medians (default 3)")
     parser.add_argument("--strict", action="store_true", help="exit 1 when a target is missed")
     args = parser.parse_args()
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
-    unknown = [r for r in robots if r not in ROBOTS]
+    args.solvers = [s.strip() for s in args.solvers.split(",") if s.strip()]
+    args.peers = [p.strip() for p in args.peers.split(",") if p.strip()]
+    unknown = [r for r in robots if r not in ROBOTS] + [p for p in args.peers if p not in PEERS]
     if unknown or args.samples < 1 or args.rounds < 1 or not args.timeout > 0:
-        parser.error(f"robots must be among {', '.join(ROBOTS)}; --samples, --rounds >= 1; --timeout > 0")
+        parser.error(f"robots must be among {', '.join(ROBOTS)}, peers among {', '.join(PEERS)}; --samples, --rounds >= 1; --timeout > 0")
 
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(
@@ -267,10 +336,15 @@ def main() -> int:
     )
     results: list[tuple[str, str]] = []
     for robot in robots:
-        title, rows = bench_robot(robot, args)
+        done = bench_robot(robot, args)
+        if done is None:
+            results.append(("SKIP", f"{robot}: not benchmarked (files absent)"))
+            continue
+        title, rows = done
         print_table(title, rows)
         results += checks(robot, rows)
-    print("Targets of the ik-bench issue:")
+        sys.stdout.flush()
+    print("Targets of the IK-speed issue (medians of the rounds, same process as the peers):")
     for verdict, text in results:
         print(f"  {verdict}  {text}")
     if hasattr(os, "getloadavg"):

@@ -119,3 +119,77 @@ def test_answers_keep_both_error_norms_within_tolerance() -> None:
         ok = [r for r in results if r.success]
         assert len(ok) >= 39
         assert all(r.position_error_m <= 1e-4 and r.orientation_error_rad <= 1e-4 for r in ok)
+
+
+def test_far_seed_starts_from_the_nearest_table_pose() -> None:
+    # The target is a table pose's own; from the mid-range seed (far from it) the first try starts at
+    # that table pose, which is already the answer: no iteration at all. From the seed it takes ~7.
+    relative, base, tip = ARMS["panda"]
+    chain = load_chain(erd(relative), base, tip)
+    solver = make_solver("lm", chain, timeout=0.05)
+    table = solver._table[0]  # type: ignore[attr-defined]
+    for i in (0, 17, solver.FIRST_TABLE - 1):  # type: ignore[attr-defined]
+        target = chain.fk(table[i])
+        r = solver.solve(target, chain.mid())
+        assert r.success and r.iterations == 0
+        assert np.allclose(r.q, table[i])
+
+
+def test_near_seed_is_kept_without_a_table_lookup() -> None:
+    # A seed whose pose is already the target is the answer: the table is not consulted.
+    relative, base, tip = ARMS["panda"]
+    chain = load_chain(erd(relative), base, tip)
+    solver = make_solver("lm", chain, timeout=0.05)
+    looked_up = []
+    nearest = solver._nearest  # type: ignore[attr-defined]
+    solver._nearest = lambda t: looked_up.append(1) or nearest(t)  # type: ignore[attr-defined]
+    for seed in chain.random(np.random.default_rng(6), 5):
+        r = solver.solve(chain.fk(seed), seed)
+        assert r.success and r.iterations == 0 and np.allclose(r.q, seed)
+    assert not looked_up
+
+
+def test_the_seed_is_tried_when_the_table_pose_fails() -> None:
+    # The first try from a table pose that cannot reach the target (a joint pinned far away) stalls;
+    # the second try starts from the seed, so a target next to the seed is still solved next to it.
+    relative, base, tip = ARMS["ur5"]
+    chain = load_chain(erd(relative), base, tip)
+    solver = make_solver("lm", chain, timeout=0.05)
+    seed = chain.mid()
+    target = chain.fk(seed + 0.4)
+    far = chain.lower.copy()  # all joints at their lower limits: far from the answer near the seed
+    solver._nearest = lambda t: (far, 0.0)  # type: ignore[attr-defined]  # "nearer than the seed"
+    r = solver.solve(target, seed)
+    assert r.success
+    assert np.linalg.norm(r.q - (seed + 0.4)) < 1e-3
+
+
+def test_restart_seeds_are_near_the_target() -> None:
+    # The approximate k-d query returns table poses within (1 + eps) of the exact nearest distances.
+    relative, base, tip = ARMS["panda"]
+    chain = load_chain(erd(relative), base, tip)
+    solver = make_solver("lm", chain)
+    Q, F, F2 = solver._table  # type: ignore[attr-defined]
+    for target in chain.fk_batch(chain.random(np.random.default_rng(8), 5)):
+        seeds = solver._restart_seeds(target)  # type: ignore[attr-defined]
+        f = np.concatenate((target[:3, 3], 0.2 * target[:3, :3].reshape(9)))
+        exact = np.sort(np.linalg.norm(F - f, axis=1))[: len(seeds)]
+        got = np.linalg.norm(chain.fk_batch(np.array(seeds))[:, :3, 3] - target[:3, 3], axis=1)
+        assert len(seeds) == solver.TABLE_SEEDS  # type: ignore[attr-defined]
+        assert got.max() <= (1 + solver.TREE_EPS) * exact.max() + 1e-9  # type: ignore[attr-defined]
+
+
+def test_joint_pinned_at_its_limit_is_solved() -> None:
+    # Targets that need a joint exactly at its limit: steps that push it outward leave it there and
+    # re-plan the others (what the list-based limit check must keep doing).
+    relative, base, tip = ARMS["panda"]
+    chain = load_chain(erd(relative), base, tip)
+    solver = make_solver("lm", chain, timeout=0.1)
+    rng = np.random.default_rng(9)
+    for j in (1, 3, 5):
+        for bound in (chain.lower, chain.upper):
+            q = chain.random(rng)
+            q[j] = bound[j]
+            r = solver.solve(chain.fk(q), chain.mid())
+            assert r.success and chain.within_limits(r.q)
+            assert verify(chain, r.q, chain.fk(q), 1e-5)[0]

@@ -44,3 +44,19 @@ def test_unreachable_targets_do_not_hold_up_the_batch() -> None:
         if i in far:
             assert not r.success and r.reason == "timeout"
     assert sum(r.success for r in results) >= n - len(far) - 1
+
+
+def test_far_seeds_start_from_the_nearest_table_pose() -> None:
+    # As in solve(): targets that are table poses, from the mid-range seed, are answered by their
+    # table configuration without an iteration; a target at its seed's own pose keeps the seed.
+    relative, base, tip = ARMS["kinova"]
+    chain = load_chain(erd(relative), base, tip)
+    solver = make_solver("lm", chain, timeout=0.05)
+    table = solver._table[0][:40]  # type: ignore[attr-defined]
+    near = chain.random(np.random.default_rng(3), 30)
+    targets = np.concatenate([chain.fk_batch(table), chain.fk_batch(near)])
+    seeds = np.concatenate([np.tile(chain.mid(), (40, 1)), near])
+    results = solver.solve_batch(targets, seeds)
+    assert all(r.success and r.iterations == 0 for r in results)
+    assert np.allclose([r.q for r in results[:40]], solver._wrap(table))  # type: ignore[attr-defined]
+    assert np.allclose([r.q for r in results[40:]], solver._wrap(near))  # type: ignore[attr-defined]
