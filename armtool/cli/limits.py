@@ -309,7 +309,7 @@ def _summary(rows: list[dict[str, Any]], ranges: list[Any]) -> None:
     for col in ("joint", "id", "raw ticks", "safe ticks", "lower°", "upper°", "how"):
         table.add_column(col, justify="left" if col in ("joint", "how") else "right", no_wrap=col != "how")
     for row, r in zip(rows, ranges):
-        how = r.method if r.method == "manual" else "auto: " + "/".join(
+        how = r.method if r.method != "auto" else "auto: " + "/".join(
             str(r.evidence[k]).split(" (")[0] for k in ("reason_min", "reason_max"))
         if not r.confirmed:
             how += " [yellow](unconfirmed)[/yellow]"
@@ -437,21 +437,25 @@ def _compare_lerobot(calibration: Any, source: Any, ranges: list[Any], state: di
 
     checks = []
     table = Table(title=escape(f"LeRobot file {source} against the recorded ranges (ticks)"), title_justify="left")
-    for col in ("motor", "file range", "recorded", "past low end", "past high end", "registers", "verdict"):
-        table.add_column(col, justify="left" if col in ("motor", "registers", "verdict") else "right")
+    for col in ("motor", "file range", "recorded", "past low end", "past high end", "verdict"):
+        table.add_column(col, justify="left" if col in ("motor", "verdict") else "right")
+    differ = []
     for r in ranges:
         cal = calibration[r.joint.name]
         st = state[r.joint.name]
         shift = LR.frame_shift(cal.homing_offset, st["homing_offset"], st["rule"])
         check = LR.compare(r.joint.name, (cal.range_min + shift, cal.range_max + shift), (r.raw_min, r.raw_max))
         checks.append(check)
-        same = (st["homing_offset"], st["min_limit"], st["max_limit"]) == (cal.homing_offset, cal.range_min, cal.range_max)
-        registers = "as the file" if same else (f"offset {st['homing_offset']}, {st['min_limit']}..{st['max_limit']} "
-                                                "(LeRobot will offer to write the file)")
+        held = (st["homing_offset"], st["min_limit"], st["max_limit"])
+        if held != (cal.homing_offset, cal.range_min, cal.range_max):
+            differ.append(f"{r.joint.name} (offset {held[0]}, limits {held[1]}..{held[2]})")
         verdict = "ok" if check.ok(LEROBOT_TOLERANCE_TICKS) else "[red]file reaches past the recorded stop[/red]"
         table.add_row(r.joint.name, f"{check.file_min}..{check.file_max}", f"{check.recorded_min}..{check.recorded_max}",
-                      str(check.past_min), str(check.past_max), registers, verdict)
+                      str(check.past_min), str(check.past_max), verdict)
     stderr().print(table)
+    if differ:
+        stderr().print(escape("the servos' registers differ from the file on " + ", ".join(differ)
+                              + "; LeRobot will offer to write the file at its next connect"))
     return checks
 
 
