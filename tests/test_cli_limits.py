@@ -405,3 +405,18 @@ def test_from_lerobot_bad_files_exit_2_and_write_nothing(tmp_path: Path, edit: A
     r = armtool("limits", "--from-lerobot", str(cal), "--arm", str(arm), "-o", str(out))
     assert r.returncode == 2 and message in r.stderr and str(cal) in r.stderr, r.stderr
     assert "Traceback" not in r.stderr and not out.exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--ids", "1", "--mode", "auto"], "--port is required"),
+    (["--port", "/dev/null", "--ids", "1"], "--mode is required"),
+    (["--from-lerobot", "cal.json", "--ids", "1"], "need --arm"),
+    (["--from-lerobot", "cal.json", "--arm", "a.yaml", "--mode", "auto"], "--mode records the arm: it needs --port"),
+    (["--from-lerobot", "cal.json", "--arm", "a.yaml", "--port", "/dev/null"], "--mode is required with --port"),
+    (["--from-lerobot", "c.json", "--arm", "a.yaml", "--lerobot-calibration", "o.json"], "give one of --lerobot-calibration"),
+    (["--arm", "a.yaml", "--lerobot-calibration", "o.json"], "needs --port and --mode"),
+    (["--port", "/dev/null", "--mode", "auto", "--arm", "a.yaml", "--lerobot-full-turn", "x"], "applies to --lerobot-calibration"),
+])
+def test_lerobot_usage_errors_before_touching_anything(args: list[str], message: str) -> None:
+    r = armtool("limits", *args)
+    assert r.returncode == 2 and message in r.stderr, r.stderr

@@ -69,7 +69,7 @@ def limits(
     from armtool.servo.models import by_name
 
     # ---- arguments, before touching the bus
-    if from_lerobot is not None or lerobot_calibration is not None:
+    if from_lerobot is not None or lerobot_calibration is not None or lerobot_full_turn is not None:
         _check_lerobot_options(port, mode, arm, lerobot_calibration, lerobot_full_turn, from_lerobot, write_eeprom)
     elif port is None or mode is None:
         raise ArmtoolError(f"{'--port' if port is None else '--mode'} is required",
@@ -360,13 +360,13 @@ LEROBOT_TOLERANCE_TICKS = 2  # how far a file's end may pass a recorded one (the
 
 def _check_lerobot_options(port: str | None, mode: Any, arm: Path | None, out: Path | None, full_turn: str | None,
                            source: Path | None, write_eeprom: bool) -> None:
+    if full_turn is not None and out is None:
+        raise ArmtoolError("--lerobot-full-turn applies to --lerobot-calibration")
     if arm is None:
         raise ArmtoolError("--lerobot-calibration and --from-lerobot need --arm (its joint names are LeRobot's motor names)",
                            hint="joints: [{name: shoulder_pan, id: 1, model: STS3215}, ...]")
     if out is not None and source is not None:
         raise ArmtoolError("give one of --lerobot-calibration (write a file) and --from-lerobot (read one)")
-    if full_turn is not None and out is None:
-        raise ArmtoolError("--lerobot-full-turn applies to --lerobot-calibration")
     if out is not None and (port is None or mode is None):
         raise ArmtoolError("--lerobot-calibration writes a recording: it needs --port and --mode")
     if port is None and mode is not None:
