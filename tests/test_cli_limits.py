@@ -420,3 +420,27 @@ def test_from_lerobot_bad_files_exit_2_and_write_nothing(tmp_path: Path, edit: A
 def test_lerobot_usage_errors_before_touching_anything(args: list[str], message: str) -> None:
     r = armtool("limits", *args)
     assert r.returncode == 2 and message in r.stderr, r.stderr
+
+
+def test_lerobot_on_dynamixel_recorded_under_an_offset(tmp_path: Path) -> None:
+    """An XL430 that already holds Homing_Offset 500 (present = encoder + offset): the file's offset
+    and range must describe the same physical stops, and --from-lerobot must agree with the arm."""
+    cfg = yaml.safe_load((FIXTURES / "xl430_arm.yaml").read_text())
+    cfg["joints"] = [dict(j, homing_offset=500) for j in cfg["joints"] if j["id"] == 11]
+    arm = tmp_path / "x_arm.yaml"
+    arm.write_text(yaml.safe_dump(cfg))
+    cal = tmp_path / "koch_follower.json"
+    with SimBus.start(arm) as sim:
+        lo, hi = sim.stop_ticks(11)
+        assert (lo, hi) == (1200, 3900)  # encoder stops 700..3400, read + 500
+        base = ["limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300"]
+        r = armtool(*base, "--lerobot-calibration", str(cal), "--margin", "0")
+        assert r.returncode == 0, r.stderr
+        entry = json.loads(cal.read_text())["base"]
+        assert -1024 <= entry["homing_offset"] <= 1024  # Position Control Mode ignores anything else
+        sim.poke(11, "homing_offset", entry["homing_offset"])
+        lo, hi = sim.stop_ticks(11)
+        assert abs(entry["range_min"] - lo) <= 2 and abs(entry["range_max"] - hi) <= 2 and abs((lo + hi) / 2 - 2047) <= 2
+        sim.poke(11, "homing_offset", 500)  # the servo back at its old offset: the file must still fit the arm
+        r = armtool(*base, "--from-lerobot", str(cal))
+        assert r.returncode == 0 and "differ from the file on base (offset 500" in r.stderr, r.stderr
