@@ -444,3 +444,20 @@ def test_lerobot_on_dynamixel_recorded_under_an_offset(tmp_path: Path) -> None:
         sim.poke(11, "homing_offset", 500)  # the servo back at its old offset: the file must still fit the arm
         r = armtool(*base, "--from-lerobot", str(cal))
         assert r.returncode == 0 and "differ from the file on base (offset 500" in r.stderr, r.stderr
+
+
+def test_from_lerobot_offset_ignored_in_position_mode_is_refused_before_recording(tmp_path: Path) -> None:
+    """A Dynamixel X in Position Control Mode ignores an offset outside ±1024 (e-manual): such a file
+    cannot describe this arm, found once the bus is read, before anything moves."""
+    cfg = yaml.safe_load((FIXTURES / "xl430_arm.yaml").read_text())
+    cfg["joints"] = [j for j in cfg["joints"] if j["id"] == 11]
+    arm = tmp_path / "x_arm.yaml"
+    arm.write_text(yaml.safe_dump(cfg))
+    cal = tmp_path / "koch.json"
+    cal.write_text(json.dumps({"base": {"id": 11, "drive_mode": 0, "homing_offset": 1500, "range_min": 700,
+                                        "range_max": 3400}}))
+    with SimBus.start(arm) as sim:
+        goal = sim.peek(11, "goal_position")
+        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--from-lerobot", str(cal))
+        assert r.returncode == 2 and "base.homing_offset 1500 does not fit the register (-1024..1024)" in r.stderr, r.stderr
+        assert sim.peek(11, "goal_position") == goal and all_off(sim)

@@ -146,6 +146,10 @@ def limits(
             j.model = bus.model(j.id)
             _check_motion_options(j, margin, back_off)
         servo_state = _lerobot_state(bus, joints) if (lerobot_calibration or from_lerobot) else {}
+        if calibration is not None and from_lerobot is not None:  # offsets against the mode each servo is in
+            from armtool.servo import lerobot as LR
+
+            LR.check_against_arm(calibration, joints, from_lerobot, {n: st["rule"] for n, st in servo_state.items()})
         slow = [j.id for j in joints if bus.read(j.id, "return_delay") > 0]
         if slow:
             con.print(f"[yellow]warning:[/yellow] ID {', '.join(map(str, slow))}: Return Delay Time > 0 slows every reply; "
