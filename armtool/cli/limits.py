@@ -214,7 +214,11 @@ def limits(
             raise ArmtoolError(f"{lerobot_error.what} (the limits YAML was written; no LeRobot file)",
                                lerobot_error.where, lerobot_error.hint)
         if lerobot_text is not None and lerobot_calibration is not None:
-            L.write_atomic(lerobot_calibration, lerobot_text)
+            try:
+                L.write_atomic(lerobot_calibration, lerobot_text)
+            except ArmtoolError as exc:  # keep the recording: a run must not be repeated for a write
+                saved = rescue_write(lerobot_calibration, lerobot_text, "armtool-lerobot")
+                raise ArmtoolError(f"{exc.what}; the LeRobot calibration was saved to {saved}", exc.where, exc.hint) from None
             con.print(escape(f"wrote {lerobot_calibration} (LeRobot calibration; LeRobot offers to write it into "
                              "the servos at the next connect)"))
         if write_eeprom:  # after the YAML: a refused EEPROM write must not lose the recording
