@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+import math
 import os
 import signal
 import subprocess
@@ -251,3 +253,211 @@ def test_unwritable_output_is_found_before_anything_moves(tmp_path: Path) -> Non
             assert r.returncode == 2 and "(for -o" in r.stderr, r.stderr
             assert sim.peek(5, "goal_position") == goal and all_off(sim)
             assert sim.servo(5).overload_trips == 0
+
+
+# ---------------------------------------------------------------- LeRobot calibration files
+SO101 = FIXTURES / "so101_arm.yaml"
+
+
+def so_arm(tmp_path: Path, ids: list[int]) -> Path:
+    doc = yaml.safe_load(SO101.read_text())
+    doc["joints"] = [j for j in doc["joints"] if j["id"] in ids]
+    path = tmp_path / "so_arm.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    return path
+
+
+def record_manual(sim: SimBus, args: list[str], spec: PersonSpec) -> tuple[int, str, str]:
+    """Run `armtool limits --mode manual` with the simulated person moving the joints."""
+    moves = []
+    for i in spec.ids or []:
+        s = sim.servo(i).spec
+        lo, hi, here = s.stop_lo_deg - spec.overshoot_deg, s.stop_hi_deg + spec.overshoot_deg, sim.true_angle_deg(i)
+        moves.append((abs(here - lo) + (hi - lo) + abs(hi - (lo + hi) / 2)) / spec.speed_deg_s + 2 * spec.dwell_s)
+    duration = spec.start_s + max(moves) + 2.0
+    env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "160"}
+    proc = subprocess.Popen([sys.executable, "-m", "armtool", "limits", "--port", sim.port_path, "--mode", "manual",
+                             "--duration", f"{duration:.1f}", *args],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True, env=env)
+    try:
+        assert proc.stderr is not None
+        first = ""
+        while "torque is off" not in first:
+            line = proc.stderr.readline()
+            if not line:
+                break
+            first += line
+        Person(sim, spec).start()
+        out, err = proc.communicate(timeout=duration + 30)
+    finally:
+        proc.kill()
+    return proc.returncode, out, first + err
+
+
+def test_lerobot_calibration_keeps_a_seam_crossing_range_off_the_seam(tmp_path: Path) -> None:
+    """lerobot #3586/#3587: wrist_roll's travel crosses 4095 -> 0. The written offsets make the
+    servo read both stops inside 0..4095, the middle near 2047, and the file's range inside them."""
+    arm = so_arm(tmp_path, [1, 5])
+    out = tmp_path / "so101_follower.json"
+    spec = PersonSpec(start_s=0.2, speed_deg_s=200, dwell_s=0.5, ids=[1, 5])
+    with SimBus.start(SO101) as sim:
+        code, _, err = record_manual(sim, ["--arm", str(arm), "--lerobot-calibration", str(out)], spec)
+        assert code == 0, err
+        assert "wrote" in err and "LeRobot calibration" in err
+        cal = json.loads(out.read_text())
+        assert list(cal) == ["shoulder_pan", "wrist_roll"]
+        assert all(list(v) == ["id", "drive_mode", "homing_offset", "range_min", "range_max"] for v in cal.values())
+        for name, entry in cal.items():
+            sid = entry["id"]
+            assert -2047 <= entry["homing_offset"] <= 2047
+            sim.poke(sid, "homing_offset", entry["homing_offset"])  # what LeRobot writes at connect
+            lo, hi = sim.stop_ticks(sid)
+            assert lo < hi, f"{name}: stops {lo}..{hi} still straddle the seam"
+            margin = math.ceil(2.0 / (360 / 4096))  # the default --margin, in ticks
+            assert abs(entry["range_min"] - (lo + margin)) <= 3 and abs(entry["range_max"] - (hi - margin)) <= 3
+            assert abs((lo + hi) / 2 - 2047) <= 3
+        assert all_off(sim)
+
+
+def test_lerobot_calibration_refuses_before_moving(tmp_path: Path) -> None:
+    """An AX-12A has no homing offset: refused after identifying, before any joint moves; a bad
+    output directory is refused before the bus opens."""
+    arm = sub_arm(tmp_path, [5])
+    with SimBus.start(AX_ARM) as sim:
+        goal = sim.peek(5, "goal_position")
+        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
+                    "--lerobot-calibration", str(tmp_path / "cal.json"))
+        assert r.returncode == 2 and "AX-12A has no homing offset register" in r.stderr, r.stderr
+        assert sim.peek(5, "goal_position") == goal and all_off(sim) and not (tmp_path / "cal.json").exists()
+        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes",
+                    "--lerobot-calibration", str(tmp_path / "missing" / "cal.json"))
+        assert r.returncode == 2 and "(for --lerobot-calibration" in r.stderr, r.stderr
+    r = armtool("limits", "--port", "/dev/null", "--ids", "1", "--mode", "auto", "--lerobot-calibration", "x.json")
+    assert r.returncode == 2 and "need --arm" in r.stderr
+
+
+def test_lerobot_calibration_refuses_an_unconfirmed_end_but_keeps_the_yaml(tmp_path: Path) -> None:
+    """Auto mode cannot find a stop for wrist_roll (the seam): no LeRobot file unless it is
+    declared full-turn, which gives it LeRobot's 0..4095."""
+    arm = so_arm(tmp_path, [5])
+    out, cal = tmp_path / "limits.yaml", tmp_path / "cal.json"
+    with SimBus.start(SO101) as sim:
+        base = ["limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
+                "-o", str(out), "--lerobot-calibration", str(cal)]
+        r = armtool(*base)
+        assert r.returncode == 2 and "unconfirmed ends on wrist_roll" in r.stderr and "limits YAML was written" in r.stderr
+        assert out.exists() and not cal.exists()
+        r = armtool(*base, "--lerobot-full-turn", "wrist_roll")
+        assert r.returncode == 0, r.stderr
+        entry = json.loads(cal.read_text())["wrist_roll"]
+        assert (entry["range_min"], entry["range_max"]) == (0, 4095) and abs(entry["homing_offset"]) <= 2047
+        r = armtool(*base, "--lerobot-full-turn", "elbow")
+        assert r.returncode == 2 and "--lerobot-full-turn: elbow not in the arm file" in r.stderr
+
+
+def test_from_lerobot_converts_and_checks_against_the_arm(tmp_path: Path) -> None:
+    arm = so_arm(tmp_path, [1, 4])
+    cal = tmp_path / "cal.json"
+    with SimBus.start(SO101) as sim:
+        base = ["limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300"]
+        r = armtool(*base, "--lerobot-calibration", str(cal))
+        assert r.returncode == 0, r.stderr
+        doc = json.loads(cal.read_text())
+        # the file against the same arm: every motor within the recording
+        r = armtool(*base, "--from-lerobot", str(cal))
+        assert r.returncode == 0, r.stderr
+        assert "against the recorded ranges" in r.stderr and r.stderr.count(" ok") >= 2
+        assert "LeRobot will offer to write the file" in r.stderr  # the servos still hold offset 0
+        # a file whose wrist_flex range reaches 100 ticks past the real stop
+        doc["wrist_flex"]["range_max"] += 100
+        wide = tmp_path / "wide.json"
+        wide.write_text(json.dumps(doc, indent=4))
+        r = armtool(*base, "--from-lerobot", str(wide))
+        assert r.returncode == 1, r.stderr
+        assert "file reaches past the recorded stop" in r.stderr
+        assert all_off(sim)
+    # without a bus: the file's ranges as limits, in radians of the arm file's zero/direction
+    out = tmp_path / "limits.yaml"
+    r = armtool("limits", "--from-lerobot", str(cal), "--arm", str(arm), "--margin", "0", "-o", str(out))
+    assert r.returncode == 0, r.stderr
+    rows = {row["name"]: row for row in yaml.safe_load(out.read_text())["joints"]}
+    for name, entry in json.loads(cal.read_text()).items():
+        row = rows[name]
+        assert (row["raw_min_ticks"], row["raw_max_ticks"]) == (entry["range_min"], entry["range_max"])
+        assert row["method"] == "lerobot" and row["homing_offset"] == entry["homing_offset"]
+        assert math.isclose(row["lower_rad"], (entry["range_min"] - 2048) * 2 * math.pi / 4096, abs_tol=1e-5)
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda d: d.pop("wrist_flex"), "motor(s) wrist_flex of the arm file are missing"),
+    (lambda d: d["wrist_flex"].update(range_min=12.5), "wrist_flex.range_min must be a whole number of ticks"),
+    (lambda d: d["wrist_flex"].update(range_min=4000), "range_min 4000 is not below range_max"),
+    (lambda d: d["wrist_flex"].update(homing_offset=-2100), "wrist_flex.homing_offset -2100 does not fit the register"),
+])
+def test_from_lerobot_bad_files_exit_2_and_write_nothing(tmp_path: Path, edit: Any, message: str) -> None:
+    arm = so_arm(tmp_path, [1, 4])
+    doc = {"shoulder_pan": {"id": 1, "drive_mode": 0, "homing_offset": 0, "range_min": 800, "range_max": 3300},
+           "wrist_flex": {"id": 4, "drive_mode": 0, "homing_offset": 0, "range_min": 850, "range_max": 3250}}
+    edit(doc)
+    cal = tmp_path / "cal.json"
+    cal.write_text(json.dumps(doc, indent=4))
+    out = tmp_path / "limits.yaml"
+    r = armtool("limits", "--from-lerobot", str(cal), "--arm", str(arm), "-o", str(out))
+    assert r.returncode == 2 and message in r.stderr and str(cal) in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr and not out.exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--ids", "1", "--mode", "auto"], "--port is required"),
+    (["--port", "/dev/null", "--ids", "1"], "--mode is required"),
+    (["--from-lerobot", "cal.json", "--ids", "1"], "need --arm"),
+    (["--from-lerobot", "cal.json", "--arm", "a.yaml", "--mode", "auto"], "--mode records the arm: it needs --port"),
+    (["--from-lerobot", "cal.json", "--arm", "a.yaml", "--port", "/dev/null"], "--mode is required with --port"),
+    (["--from-lerobot", "c.json", "--arm", "a.yaml", "--lerobot-calibration", "o.json"], "give one of --lerobot-calibration"),
+    (["--arm", "a.yaml", "--lerobot-calibration", "o.json"], "needs --port and --mode"),
+    (["--port", "/dev/null", "--mode", "auto", "--arm", "a.yaml", "--lerobot-full-turn", "x"], "applies to --lerobot-calibration"),
+])
+def test_lerobot_usage_errors_before_touching_anything(args: list[str], message: str) -> None:
+    r = armtool("limits", *args)
+    assert r.returncode == 2 and message in r.stderr, r.stderr
+
+
+def test_lerobot_on_dynamixel_recorded_under_an_offset(tmp_path: Path) -> None:
+    """An XL430 that already holds Homing_Offset 500 (present = encoder + offset): the file's offset
+    and range must describe the same physical stops, and --from-lerobot must agree with the arm."""
+    cfg = yaml.safe_load((FIXTURES / "xl430_arm.yaml").read_text())
+    cfg["joints"] = [dict(j, homing_offset=500) for j in cfg["joints"] if j["id"] == 11]
+    arm = tmp_path / "x_arm.yaml"
+    arm.write_text(yaml.safe_dump(cfg))
+    cal = tmp_path / "koch_follower.json"
+    with SimBus.start(arm) as sim:
+        lo, hi = sim.stop_ticks(11)
+        assert (lo, hi) == (1200, 3900)  # encoder stops 700..3400, read + 500
+        base = ["limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300"]
+        r = armtool(*base, "--lerobot-calibration", str(cal), "--margin", "0")
+        assert r.returncode == 0, r.stderr
+        entry = json.loads(cal.read_text())["base"]
+        assert -1024 <= entry["homing_offset"] <= 1024  # Position Control Mode ignores anything else
+        sim.poke(11, "homing_offset", entry["homing_offset"])
+        lo, hi = sim.stop_ticks(11)
+        assert abs(entry["range_min"] - lo) <= 2 and abs(entry["range_max"] - hi) <= 2 and abs((lo + hi) / 2 - 2047) <= 2
+        sim.poke(11, "homing_offset", 500)  # the servo back at its old offset: the file must still fit the arm
+        r = armtool(*base, "--from-lerobot", str(cal))
+        assert r.returncode == 0 and "differ from the file on base (offset 500" in r.stderr, r.stderr
+
+
+def test_from_lerobot_offset_ignored_in_position_mode_is_refused_before_recording(tmp_path: Path) -> None:
+    """A Dynamixel X in Position Control Mode ignores an offset outside ±1024 (e-manual): such a file
+    cannot describe this arm, found once the bus is read, before anything moves."""
+    cfg = yaml.safe_load((FIXTURES / "xl430_arm.yaml").read_text())
+    cfg["joints"] = [j for j in cfg["joints"] if j["id"] == 11]
+    arm = tmp_path / "x_arm.yaml"
+    arm.write_text(yaml.safe_dump(cfg))
+    cal = tmp_path / "koch.json"
+    cal.write_text(json.dumps({"base": {"id": 11, "drive_mode": 0, "homing_offset": 1500, "range_min": 700,
+                                        "range_max": 3400}}))
+    with SimBus.start(arm) as sim:
+        goal = sim.peek(11, "goal_position")
+        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--from-lerobot", str(cal))
+        assert r.returncode == 2 and "base.homing_offset 1500 does not fit the register (-1024..1024)" in r.stderr, r.stderr
+        assert sim.peek(11, "goal_position") == goal and all_off(sim)

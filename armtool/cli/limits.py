@@ -24,8 +24,8 @@ class ProtocolOption(str, Enum):
 
 
 def limits(
-    port: str = typer.Option(..., "--port", help="Serial port of the bus adapter (e.g. /dev/ttyUSB0)."),
-    mode: Mode = typer.Option(..., "--mode", help="manual: you move the joints (torque off); auto: seek each stop at low torque."),
+    port: Optional[str] = typer.Option(None, "--port", help="Serial port of the bus adapter (e.g. /dev/ttyUSB0); required unless --from-lerobot converts a file."),
+    mode: Optional[Mode] = typer.Option(None, "--mode", help="manual: you move the joints (torque off); auto: seek each stop at low torque. Required with --port."),
     protocol: Optional[ProtocolOption] = typer.Option(None, "--protocol", help="dxl1 (AX/MX), dxl2 (X series) or feetech (STS/SCS) [default: the arm file's, else dxl1]."),
     baud: Optional[int] = typer.Option(None, "--baud", callback=opt.baud(), help="Baud rate [default: the arm file's, else 1000000]."),
     ids: Optional[str] = typer.Option(None, "--ids", callback=opt.id_list(0, 252), help="Servo IDs, e.g. 1,2,3 or 1-6 (or use --arm)."),
@@ -52,6 +52,10 @@ def limits(
     yes: bool = typer.Option(False, "--yes", "-y", help="Answer the safety and EEPROM prompts with yes (scripted use)."),
     dry_run: bool = typer.Option(False, "--dry-run", help="With --write-eeprom: show the EEPROM writes, do not make them."),
     timeout_ms: float = typer.Option(25.0, "--timeout-ms", callback=opt.positive_float(10_000, "milliseconds"), help="Reply timeout per transaction."),
+    lerobot_calibration: Optional[Path] = typer.Option(None, "--lerobot-calibration", help="Also write a LeRobot calibration JSON (motor names = the arm file's joint names), with homing offsets that keep every range off the 0/4095 seam."),
+    lerobot_full_turn: Optional[str] = typer.Option(None, "--lerobot-full-turn", help="With --lerobot-calibration: joints that get LeRobot's full-turn range 0..4095 (e.g. wrist_roll)."),
+    from_lerobot: Optional[Path] = typer.Option(None, "--from-lerobot", help="Read a LeRobot calibration JSON: without --port, convert its ranges to limits YAML / URDF limits; "
+                                                 "with --port and --mode, record the arm and compare each motor's range with the file's (exit 1 when the file reaches past a recorded end)."),
 ) -> None:
     import sys
 
@@ -65,6 +69,11 @@ def limits(
     from armtool.servo.models import by_name
 
     # ---- arguments, before touching the bus
+    if from_lerobot is not None or lerobot_calibration is not None or lerobot_full_turn is not None:
+        _check_lerobot_options(port, mode, arm, lerobot_calibration, lerobot_full_turn, from_lerobot, write_eeprom)
+    elif port is None or mode is None:
+        raise ArmtoolError(f"{'--port' if port is None else '--mode'} is required",
+                           hint="e.g. --port /dev/ttyUSB0 --mode manual (or --from-lerobot FILE --arm arm.yaml to convert a LeRobot file)")
     if (ids is None) == (arm is None):
         raise ArmtoolError("give exactly one of --ids or --arm", hint="e.g. --ids 1,2,3 --model AX-12A, or --arm arm.yaml")
     if first_dir not in ("-", "+"):
@@ -76,7 +85,7 @@ def limits(
     if dry_run and not write_eeprom:
         raise ArmtoolError("--dry-run applies to --write-eeprom")
     interactive = sys.stdin.isatty()
-    if mode is Mode.MANUAL and duration is None and not interactive:
+    if port is not None and mode is Mode.MANUAL and duration is None and not interactive:
         raise ArmtoolError("manual mode ends on Enter, but stdin is not a terminal", hint="pass --duration SECONDS")
     if mode is Mode.AUTO and not yes and not interactive:
         raise ArmtoolError("auto mode moves the arm and needs a confirmation, but stdin is not a terminal",
@@ -106,13 +115,28 @@ def limits(
             raise ArmtoolError(f"cannot read {urdf}: {exc.strerror}") from None
         L.check_urdf_names(urdf_text, [j.name for j in joints], str(urdf))
     # ---- every output checked before the bus is opened (nothing moves for a write that must fail)
-    check_output_paths({"-o": output, "--urdf-out": urdf_out}, inputs=[arm, urdf])
+    check_output_paths({"-o": output, "--urdf-out": urdf_out, "--lerobot-calibration": lerobot_calibration},
+                       inputs=[arm, urdf, from_lerobot])
     if in_place and urdf is not None:
         check_output_path(urdf, "--in-place")
         check_output_path(backup_path(urdf), "--in-place (backup)")
+    full_turn = _full_turn_names(lerobot_full_turn, joints)
+    calibration = None
+    if from_lerobot is not None:
+        from armtool.servo import lerobot as LR
+
+        calibration = LR.read_calibration(from_lerobot)
+        LR.check_against_arm(calibration, joints, from_lerobot,
+                             {j.name: LR.offset_rule(j.model) for j in joints if j.model is not None})
+        if port is None:
+            _convert_lerobot(calibration, from_lerobot, joints, margin, output, urdf, urdf_text, urdf_out, in_place,
+                             allow_widen)
+            return
+    assert port is not None and mode is not None  # checked above
 
     # ---- the bus
     con = stderr()
+    checks = None
     bus = open_bus(port, proto, baud_rate, echo_check_id=joints[0].id, timeout_ms=timeout_ms)
     try:
         for w in bus.warnings:
@@ -121,6 +145,11 @@ def limits(
         for j in joints:
             j.model = bus.model(j.id)
             _check_motion_options(j, margin, back_off)
+        servo_state = _lerobot_state(bus, joints) if (lerobot_calibration or from_lerobot) else {}
+        if calibration is not None and from_lerobot is not None:  # offsets against the mode each servo is in
+            from armtool.servo import lerobot as LR
+
+            LR.check_against_arm(calibration, joints, from_lerobot, {n: st["rule"] for n, st in servo_state.items()})
         slow = [j.id for j in joints if bus.read(j.id, "return_delay") > 0]
         if slow:
             con.print(f"[yellow]warning:[/yellow] ID {', '.join(map(str, slow))}: Return Delay Time > 0 slows every reply; "
@@ -145,7 +174,17 @@ def limits(
         if urdf_text is not None:
             new_urdf = L.patch_urdf(urdf_text, {r["name"]: (r["lower_rad"], r["upper_rad"]) for r in rows},
                                     allow_widen, str(urdf))
+        for row in rows:
+            if row["name"] in servo_state:
+                row["homing_offset"] = servo_state[row["name"]]["homing_offset"]
         doc_text = L.dump_yaml(L.limits_document(rows, port, proto, baud_rate))
+        lerobot_text, lerobot_error = None, None
+        if lerobot_calibration is not None:
+            try:
+                lerobot_text = _lerobot_document(ranges, rows, servo_state, full_turn)
+            except ArmtoolError as exc:  # reported after the limits YAML is written: the recording is kept
+                lerobot_error = exc
+        checks = _compare_lerobot(calibration, from_lerobot, ranges, servo_state) if calibration is not None else None
         _summary(rows, ranges)
         ends = [f"{r.joint.name} ({k[7:]})" for r in ranges for k in ("reason_min", "reason_max")
                 if "range end" in str(r.evidence.get(k, ""))]
@@ -171,10 +210,23 @@ def limits(
             elif urdf_out is not None:
                 L.write_atomic(urdf_out, new_urdf)
                 con.print(f"wrote {urdf_out}")
+        if lerobot_error is not None:
+            raise ArmtoolError(f"{lerobot_error.what} (the limits YAML was written; no LeRobot file)",
+                               lerobot_error.where, lerobot_error.hint)
+        if lerobot_text is not None and lerobot_calibration is not None:
+            try:
+                L.write_atomic(lerobot_calibration, lerobot_text)
+            except ArmtoolError as exc:  # keep the recording: a run must not be repeated for a write
+                saved = rescue_write(lerobot_calibration, lerobot_text, "armtool-lerobot")
+                raise ArmtoolError(f"{exc.what}; the LeRobot calibration was saved to {saved}", exc.where, exc.hint) from None
+            con.print(escape(f"wrote {lerobot_calibration} (LeRobot calibration; LeRobot offers to write it into "
+                             "the servos at the next connect)"))
         if write_eeprom:  # after the YAML: a refused EEPROM write must not lose the recording
             _do_eeprom(bus, _eeprom_plan(bus, ranges, rows), yes, dry_run)
     finally:
         bus.close()
+    if checks is not None and not all(c.ok(LEROBOT_TOLERANCE_TICKS) for c in checks):
+        raise typer.Exit(1)
 
 
 def _check_motion_options(joint: Any, margin_deg: float, back_off_deg: float) -> None:
@@ -265,7 +317,7 @@ def _summary(rows: list[dict[str, Any]], ranges: list[Any]) -> None:
     for col in ("joint", "id", "raw ticks", "safe ticks", "lower°", "upper°", "how"):
         table.add_column(col, justify="left" if col in ("joint", "how") else "right", no_wrap=col != "how")
     for row, r in zip(rows, ranges):
-        how = r.method if r.method == "manual" else "auto: " + "/".join(
+        how = r.method if r.method != "auto" else "auto: " + "/".join(
             str(r.evidence[k]).split(" (")[0] for k in ("reason_min", "reason_max"))
         if not r.confirmed:
             how += " [yellow](unconfirmed)[/yellow]"
@@ -308,3 +360,156 @@ def _do_eeprom(bus: Any, plan: list[Any], yes: bool, dry_run: bool) -> None:
         raise ArmtoolError("EEPROM writes not confirmed; nothing written to the servos")
     apply_writes(bus, plan)
     con.print(f"EEPROM: {len(plan)} value(s) written and verified by reading back")
+
+
+# ---------------------------------------------------------------- LeRobot calibration files
+LEROBOT_TOLERANCE_TICKS = 2  # how far a file's end may pass a recorded one (the recording finds stops within 2 ticks)
+
+
+def _check_lerobot_options(port: str | None, mode: Any, arm: Path | None, out: Path | None, full_turn: str | None,
+                           source: Path | None, write_eeprom: bool) -> None:
+    if full_turn is not None and out is None:
+        raise ArmtoolError("--lerobot-full-turn applies to --lerobot-calibration")
+    if arm is None:
+        raise ArmtoolError("--lerobot-calibration and --from-lerobot need --arm (its joint names are LeRobot's motor names)",
+                           hint="joints: [{name: shoulder_pan, id: 1, model: STS3215}, ...]")
+    if out is not None and source is not None:
+        raise ArmtoolError("give one of --lerobot-calibration (write a file) and --from-lerobot (read one)")
+    if out is not None and (port is None or mode is None):
+        raise ArmtoolError("--lerobot-calibration writes a recording: it needs --port and --mode")
+    if port is None and mode is not None:
+        raise ArmtoolError("--mode records the arm: it needs --port", hint="without --port, --from-lerobot converts the file")
+    if port is not None and mode is None:
+        raise ArmtoolError("--mode is required with --port", hint="--from-lerobot with --port records the arm to compare it")
+    if port is None and write_eeprom:
+        raise ArmtoolError("--write-eeprom needs --port")
+
+
+def _full_turn_names(text: str | None, joints: list[Any]) -> set[str]:
+    if text is None:
+        return set()
+    names = {n.strip() for n in text.split(",") if n.strip()}
+    unknown = sorted(names - {j.name for j in joints})
+    if unknown or not names:
+        raise ArmtoolError(f"--lerobot-full-turn: {', '.join(unknown) or 'no joint'} not in the arm file",
+                           hint="joints: " + ", ".join(j.name for j in joints))
+    return names
+
+
+def _lerobot_state(bus: Any, joints: list[Any]) -> dict[str, dict[str, Any]]:
+    """Each joint's offset rule and registers, read before recording (the recording is in ticks
+    under the offset the servo holds now); a model without a homing offset is refused here."""
+    from armtool.servo import lerobot as LR
+
+    state: dict[str, dict[str, Any]] = {}
+    for j in joints:
+        model = bus.model(j.id)
+        mode = bus.read(j.id, "operating_mode") if model.protocol == "dxl2" else None
+        rule = LR.offset_rule(model, mode)
+        state[j.name] = {
+            "rule": rule, "homing_offset": bus.read(j.id, "homing_offset"),
+            # Dynamixel: LeRobot compares drive_mode with the Drive Mode register; Feetech: software, 0
+            "drive_mode": bus.read(j.id, "drive_mode") if model.has("drive_mode") else 0,
+            "min_limit": bus.read(j.id, "min_limit"), "max_limit": bus.read(j.id, "max_limit"),
+        }
+    return state
+
+
+def _lerobot_document(ranges: list[Any], rows: list[dict[str, Any]], state: dict[str, dict[str, Any]],
+                      full_turn: set[str]) -> str:
+    """The LeRobot JSON for the safe range of every joint (the margin inside each recorded end)."""
+    from armtool.servo import lerobot as LR
+
+    bad = [r.joint.name for r in ranges if not r.confirmed and r.joint.name not in full_turn]
+    if bad:
+        raise ArmtoolError(f"not writing the LeRobot calibration: unconfirmed ends on {', '.join(bad)}",
+                           hint="manual: hold each joint at each end for --min-dwell seconds; a joint that turns "
+                                "freely can take LeRobot's full-turn range with --lerobot-full-turn")
+    out = {}
+    for r, row in zip(ranges, rows):
+        st = state[r.joint.name]
+        out[r.joint.name] = LR.calibrate_joint(r.joint.name, r.joint.id, row["safe_min_ticks"], row["safe_max_ticks"],
+                                               st["homing_offset"], st["rule"], st["drive_mode"],
+                                               r.joint.name in full_turn)
+    return LR.document(out)
+
+
+def _compare_lerobot(calibration: Any, source: Any, ranges: list[Any], state: dict[str, dict[str, Any]]) -> list[Any]:
+    """Each motor's file range against the recorded one (in ticks under the servo's present offset),
+    as a table on stderr (stdout keeps the limits YAML)."""
+    from rich.markup import escape
+    from rich.table import Table
+
+    from armtool.console import stderr
+    from armtool.servo import lerobot as LR
+
+    checks = []
+    table = Table(title=escape(f"LeRobot file {source} against the recorded ranges (ticks)"), title_justify="left")
+    for col in ("motor", "file range", "recorded", "past low end", "past high end", "verdict"):
+        table.add_column(col, justify="left" if col in ("motor", "verdict") else "right")
+    differ = []
+    for r in ranges:
+        cal = calibration[r.joint.name]
+        st = state[r.joint.name]
+        shift = LR.frame_shift(cal.homing_offset, st["homing_offset"], st["rule"])
+        check = LR.compare(r.joint.name, (cal.range_min + shift, cal.range_max + shift), (r.raw_min, r.raw_max))
+        checks.append(check)
+        held = (st["homing_offset"], st["min_limit"], st["max_limit"])
+        if held != (cal.homing_offset, cal.range_min, cal.range_max):
+            differ.append(f"{r.joint.name} (offset {held[0]}, limits {held[1]}..{held[2]})")
+        verdict = "ok" if check.ok(LEROBOT_TOLERANCE_TICKS) else "[red]file reaches past the recorded stop[/red]"
+        table.add_row(r.joint.name, f"{check.file_min}..{check.file_max}", f"{check.recorded_min}..{check.recorded_max}",
+                      str(check.past_min), str(check.past_max), verdict)
+    stderr().print(table)
+    if differ:
+        stderr().print(escape("the servos' registers differ from the file on " + ", ".join(differ)
+                              + "; LeRobot will offer to write the file at its next connect"))
+    return checks
+
+
+def _convert_lerobot(calibration: Any, source: Path, joints: list[Any], margin: float, output: Path | None,
+                     urdf: Path | None, urdf_text: str | None, urdf_out: Path | None, in_place: bool,
+                     allow_widen: bool) -> None:
+    """--from-lerobot without a bus: the file's ranges as a limits YAML and URDF limits. The arm
+    file's zero_ticks are taken as readings under the file's homing offsets (the offsets LeRobot
+    writes into the servos)."""
+    from rich.markup import escape
+
+    from armtool.console import stderr, write_stdout
+    from armtool.fileio import write_with_backup
+    from armtool.servo import limits as L
+
+    ranges = []
+    for j in joints:
+        if j.model is None:
+            raise ArmtoolError(f"joint '{j.name}' has no model in the arm file", str(source),
+                               hint="give every joint a model (e.g. model: STS3215) to convert ticks to radians")
+        _check_motion_options(j, margin, 0.0)
+        cal = calibration[j.name]
+        ranges.append(L.JointRange(j, j.model, cal.range_min, cal.range_max, "lerobot",
+                                   {"source": str(source), "lerobot_homing_offset": cal.homing_offset,
+                                    "lerobot_drive_mode": cal.drive_mode}))
+    rows = [L.convert(r, margin) for r in ranges]
+    for row, j in zip(rows, joints):
+        row["homing_offset"] = calibration[j.name].homing_offset
+    new_urdf = None
+    if urdf_text is not None:
+        new_urdf = L.patch_urdf(urdf_text, {r["name"]: (r["lower_rad"], r["upper_rad"]) for r in rows}, allow_widen, str(urdf))
+    doc = L.limits_document(rows, "", "", 0)
+    doc["bus"] = None  # converted from a file: no bus was used
+    doc["source"] = {"lerobot_calibration": str(source)}
+    doc_text = L.dump_yaml(doc)
+    _summary(rows, ranges)
+    con = stderr()
+    if output is not None:
+        L.write_atomic(output, doc_text)
+        con.print(escape(f"wrote {output}"))
+    else:
+        write_stdout(doc_text)
+    if new_urdf is not None and urdf is not None:
+        if in_place:
+            backup = write_with_backup(urdf, new_urdf, urdf_text or "")
+            con.print(escape(f"wrote {urdf} (previous version in {backup.name})"))
+        elif urdf_out is not None:
+            L.write_atomic(urdf_out, new_urdf)
+            con.print(escape(f"wrote {urdf_out}"))

@@ -8,6 +8,7 @@
     joints:                   # also readable by `armtool limits --arm` (sim-only keys are ignored there)
       - {name: shoulder, id: 1, model: AX-12A, zero_ticks: 512, direction: 1,
          stops: [92, 914], start: 512}      # stops/start in nominal ticks of the TRUE angle
+                                            # (the encoder, before any homing_offset: STS/X only)
     encoder: {noise_deg: 0.05}             # external reference (second pty, always on); noise 1-sigma
     faults: {missing_ids: [3], drop_next: 0, p_drop: 0.0, corrupt_next: 0, p_corrupt: 0.0,
              echo: false, delay_s: 0.0}
@@ -56,6 +57,7 @@ class ServoSpec:
     start_deg: float
     nonlinearity: float = 0.0
     name: str | None = None
+    homing_offset: int = 0
 
 
 @dataclass
@@ -163,7 +165,14 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
         if not lo <= start_deg <= hi:
             raise ArmtoolError("start lies outside the stops", where)
         nl = _number(e, "nonlinearity", 0.010 if model.name.startswith("AX") else 0.0, where, lo=0.0, hi=0.1)
-        servos.append(ServoSpec(sid, model, lo, hi, start_deg, nl, e.get("name")))
+        offset = _number(e, "homing_offset", 0, where, int)
+        if offset and not model.has("homing_offset"):
+            raise ArmtoolError(f"a {model.name} has no homing offset register", where, hint="remove 'homing_offset'")
+        if offset:
+            reg = model.reg("homing_offset")
+            if not reg.lo <= offset <= reg.hi:
+                raise ArmtoolError(f"'homing_offset' {offset} does not fit the {model.name}'s register ({reg.lo}..{reg.hi})", where)
+        servos.append(ServoSpec(sid, model, lo, hi, start_deg, nl, e.get("name"), offset))
     faults_d = data.get("faults") or {}
     if not isinstance(faults_d, dict):
         raise ArmtoolError(f"'faults' must be a mapping, got {faults_d!r}", source, hint="faults: {missing_ids: [3]}")

@@ -11,7 +11,10 @@ Joint model (research/servo.md 3.1; behaviours the manuals leave open are ASSUMP
   alarm-shutdown register selects overload, the output is cut (AX: Torque Limit := 0, re-armed by
   writing it; X: torque off + Hardware Error Status bit 5 until REBOOT; STS: torque off + Status bit 5);
 * with torque off a "hand" function (the person driver) may move the joint, clamped by the stops;
-* writing Goal Position turns torque on (STS measured; AX ASSUMPTION; X only with Drive Mode bit 3).
+* writing Goal Position turns torque on (STS measured; AX ASSUMPTION; X only with Drive Mode bit 3);
+* Homing Offset (STS3215, X series) shifts what the servo reports and takes as a goal, modulo one
+  turn: STS present = encoder - offset (feetech-cli measured), X present = encoder + offset; an X
+  servo in Position Control Mode ignores an offset outside -1024..1024 (e-manual homing offset).
 """
 
 from __future__ import annotations
@@ -48,6 +51,8 @@ class SimServo:
         self.theta = spec.start_deg
         self.mem = bytearray(self.model.table_size)
         self.reset_table()
+        if spec.homing_offset:
+            self.set("homing_offset", spec.homing_offset)
         # What survives a power cycle. Feetech STS servos take EEPROM writes while Lock = 1 but
         # keep them in RAM only: they are lost at the next power-up (Feetech's memory table).
         self.flash = bytearray(self.mem)
@@ -110,10 +115,21 @@ class SimServo:
                 hi = mid
         return 0.5 * (lo + hi)
 
+    def offset_shift(self) -> int:
+        """Ticks the homing offset adds to the encoder reading: present = encoder + shift."""
+        if not self.model.has("homing_offset"):
+            return 0
+        offset = self.get("homing_offset")
+        if self.family == "sts":
+            return -offset
+        if self.get("operating_mode") == 3 and not -1024 <= offset <= 1024:
+            return 0  # ignored in Position Control Mode
+        return offset
+
     def reported_ticks(self, theta: float | None = None) -> int:
         t = int(round(self.ticks_of(self.theta if theta is None else theta)))
         if self.model.wraps:
-            return t % self.model.ticks
+            return (t + self.offset_shift()) % self.model.ticks
         return min(max(t, 0), self.model.max_tick)
 
     def stop_ticks(self) -> tuple[int, int]:
@@ -121,6 +137,8 @@ class SimServo:
 
     def _goal_theta(self, goal: int) -> float:
         if self.model.wraps:  # single-turn position control works in the reading's turn
+            if self.offset_shift():  # ... of the offset reading: it moves by goal - present
+                return self.theta + (goal - self.reported_ticks()) * self.model.deg_per_tick
             turn = math.floor(self.theta / 360.0)
             return 360.0 * turn + goal * self.model.deg_per_tick
         return self.theta_of(goal)
