@@ -258,8 +258,10 @@ def test_check_and_fit_take_xacro_args_from_the_dataset_and_the_command_line(dat
     manifest["robot"]["urdf"] = str(Path("..") / xacro.relative_to(tmp_path))
     (ds / "dataset.yaml").write_text(yaml.safe_dump(manifest))
     missing = armtool("calibrate", "check", str(ds), "--no-detect")
-    assert missing.returncode == 1 and "--xacro-arg" in missing.stderr
-    assert "--xacro-arg" in armtool("calibrate", "check", "--help").stdout
+    # The package is found only through --package-path: the hint names that option, which check has.
+    assert missing.returncode == 1 and "--package-path" in missing.stderr
+    help_text = armtool("calibrate", "check", "--help").stdout
+    assert "--xacro-arg" in help_text and "--package-path" in help_text
     cli = armtool("calibrate", "check", str(ds), "--no-detect", "--xacro-arg", "tool_length:=0.1", "--package-path", str(parts))
     assert cli.returncode == 0, cli.stderr
     # The dataset names them (package paths relative to the dataset); the command line overrides.

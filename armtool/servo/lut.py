@@ -154,6 +154,10 @@ class LutTable:
         if not (math.isfinite(step_deg) and step_deg > 0):
             raise ArmtoolError(f"{flag} must be a finite number of degrees > 0, got {step_deg:g}")
         lo, hi = self.valid_range_deg
+        span = (hi - lo) / step_deg  # a subnormal step makes this inf: refuse before ceil() overflows
+        if not math.isfinite(span) or span > MAX_GRID:
+            raise ArmtoolError(f"{flag} {step_deg:g}° gives more than {MAX_GRID} entries over {lo:.2f}..{hi:.2f}°",
+                               hint=f"use a step of at least {(hi - lo) / (MAX_GRID - 2):.4g}°")
         first, last = math.ceil(lo / step_deg - 1e-9), math.floor(hi / step_deg + 1e-9)
         if last < first:
             raise ArmtoolError(f"{flag} {step_deg:g}° is wider than the table's range {lo:.2f}..{hi:.2f}°")

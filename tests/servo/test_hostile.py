@@ -283,6 +283,8 @@ def test_c_header_cannot_be_injected_through_the_reference(table: Path, tmp_path
     ["servo-lut", "fit", str(MEAS), "--grid-step", "1e-7"],
     ["servo-lut", "export", "{table}", "--step", "1e-7"],
     ["servo-lut", "export", "{table}", "--format", "csv", "--step", "0.0001"],
+    ["servo-lut", "export", "{table}", "--step", "5e-324"],  # subnormal: range/step overflows to inf
+    ["servo-lut", "fit", str(MEAS), "--grid-step", "1e-310"],
 ])
 def test_huge_tables_are_refused_at_once(table: Path, args: list[str]) -> None:
     start = time.monotonic()
