@@ -72,7 +72,7 @@ def test_dls_solves_targets_near_the_seed(chain_name: str, request: pytest.Fixtu
     rng = np.random.default_rng(4)
     Q = chain.random(rng, 20)
     seeds = chain.clamp(Q + rng.uniform(-0.1, 0.1, Q.shape))  # no restarts: start where a Jacobian method gets there
-    solver = make_solver("dls", chain, timeout=0.05)
+    solver = make_solver("dls", chain, timeout=1.0)  # generous: correctness, not speed (CI may be loaded)
     assert check_answers(chain, solver, chain.fk_batch(Q), seeds) == 20
 
 
@@ -115,8 +115,8 @@ def test_manip_solve_types_do_not_lose_to_speed(planar: Chain, panda: Chain, kin
         rng = np.random.default_rng(7)
         for q in chain.random(rng, count):
             target = chain.fk(q)
-            speed = make_solver("trac", chain, timeout=0.02).solve(target, chain.mid())
-            best = make_solver("trac", chain, timeout=0.02, solve_type=kind).solve(target, chain.mid())
+            speed = make_solver("trac", chain, timeout=0.2).solve(target, chain.mid())
+            best = make_solver("trac", chain, timeout=0.2, solve_type=kind).solve(target, chain.mid())
             assert speed.success and best.success
 
             def score(x: np.ndarray) -> float:
