@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any, Optional
 import typer
 
 from armtool.errors import ArmtoolError, ExitCode
+from armtool.extras import require
 
 if TYPE_CHECKING:
     from armtool.calib.camera import CameraModel
@@ -101,6 +102,7 @@ def check(
     detect: bool = typer.Option(True, "--detect/--no-detect", help="Also look for the tag in every image."),
 ) -> None:
     """Validate a dataset: files, joints, units, images, and the tag in every image."""
+    require("calib")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
     from armtool.calib.dataset import Problem
@@ -143,6 +145,7 @@ def fit(
     output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
 ) -> None:
     """Calibrate: per-joint origin corrections and zero offsets, with the camera and tag frames."""
+    require("calib")  # exit 2 with the install command when the extra is missing
     import numpy as np
     import yaml
 
@@ -325,6 +328,7 @@ def simulate(
     seed: int = typer.Option(0, "--seed", help="Random seed."),
 ) -> None:
     """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
+    require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.model import Setup
     from armtool.calib.simulate import SimulationSpec
     from armtool.calib.simulate import simulate as run

@@ -9,6 +9,7 @@ from typing import Any, Optional
 import typer
 
 from armtool.errors import ArmtoolError
+from armtool.extras import require
 
 
 class Mode(str, Enum):
@@ -51,6 +52,7 @@ def limits(
     dry_run: bool = typer.Option(False, "--dry-run", help="With --write-eeprom: show the EEPROM writes, do not make them."),
     timeout_ms: float = typer.Option(25.0, "--timeout-ms", help="Reply timeout per transaction."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import sys
 
     from armtool.console import stderr, write_stdout

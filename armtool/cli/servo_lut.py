@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Optional
 import typer
 
 from armtool.errors import ArmtoolError, ExitCode
+from armtool.extras import require
 
 if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
     from armtool.servo.bus import ServoBus
@@ -103,6 +104,7 @@ def fit(
     monotone_tol: Optional[float] = typer.Option(None, "--monotone-tol", help="Degrees a reading may step back and count as noise [default: 1 tick or 4 standard errors]."),
     grid_step: float = typer.Option(1.0, "--grid-step", help="Degrees between entries of the table's uniform grid."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import json
 
     from armtool.servo.lut import Approach, Method, fit_table
@@ -130,6 +132,7 @@ def export(
     name: str = typer.Option("servo_lut", "--name", help="C array name (macros are its upper-case form)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     from armtool.servo.lut import read_table
     from armtool.servo.lut_export import ExportFormat, render
 
@@ -148,6 +151,7 @@ def apply(
     clip: bool = typer.Option(False, "--clip", help="Clamp angles outside the measured range instead of refusing."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import sys
 
     from armtool.console import stderr
@@ -306,6 +310,7 @@ def measure(
     settle_timeout: float = typer.Option(3.0, "--settle-timeout", min=0.1, help="Seconds to wait for a point to settle."),
     yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import time
 
     from armtool.console import stderr
@@ -401,6 +406,7 @@ def check(
     output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text or json on stdout."),
     yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import json
 
     from armtool.console import stderr, write_stdout
