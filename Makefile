@@ -75,6 +75,7 @@ check: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/lint_bench.py
+	-$(BIN)/python benchmarks/install_bench.py
 	$(BIN)/python benchmarks/apriltag_bench.py
 	$(BIN)/python benchmarks/calib_bench.py
 	$(BIN)/python benchmarks/servo_lut_bench.py
