@@ -170,14 +170,17 @@ def _report(runs: list[dict[str, object]], venv_tool: str, source: str) -> int:
     def med(key: str) -> float:
         return statistics.median(float(r[key]) for r in runs)  # type: ignore[arg-type]
 
+    for run in runs:
+        run["total_s"] = float(run["venv_s"]) + float(run["install_s"])  # type: ignore[arg-type]
+        run["total_cpu_s"] = float(run["venv_cpu_s"]) + float(run["install_cpu_s"])  # type: ignore[arg-type]
     last = runs[-1]
-    total_s = med("venv_s") + med("install_s")
+    total_s = med("total_s")
     heavy = sorted(HEAVY.intersection(last["distributions"]))  # type: ignore[arg-type]
     lint_ok = last["lint_clean_exit"] == 0 and last["lint_broken_exit"] == 1 and last["lint_broken_findings"] > 0  # type: ignore[operator]
-    cpu_s = med("venv_cpu_s") + med("install_cpu_s")
+    cpu_s = med("total_cpu_s")
     checks = [
-        (f"{venv_tool} + `pip install .` (wall)", f"{total_s:.1f} s ({venv_tool} {med('venv_s'):.1f} s, pip install "
-         f"{med('install_s'):.1f} s; CPU {cpu_s:.1f} s)", f"<= {TIME_TARGET_S:g} s", total_s <= TIME_TARGET_S),
+        (f"{venv_tool} + `pip install .` (wall)", f"{total_s:.1f} s (runs: {', '.join(format(r['total_s'], '.1f') for r in runs)} s; "
+         f"CPU {cpu_s:.1f} s)", f"<= {TIME_TARGET_S:g} s", total_s <= TIME_TARGET_S),
         ("size of the install (du, venv after - before)", f"{med('added_mb'):.1f} MB (whole venv with its pip and "
          f"setuptools: {med('venv_mb'):.1f} MB)", f"<= {SIZE_TARGET_MB:g} MB", med("added_mb") <= SIZE_TARGET_MB),
         ("`armtool lint` in that venv", f"clean arm exit {last['lint_clean_exit']}, broken arm exit "
