@@ -10,7 +10,7 @@ DEMO_TMP := build/demo
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet --config-settings editable_mode=compat -e '.[dev]'
+	$(BIN)/python -m pip install --quiet --config-settings editable_mode=compat -e '.[all,dev]'
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -97,10 +97,11 @@ check: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/lint_bench.py
+	-$(BIN)/python benchmarks/install_bench.py
 	$(BIN)/python benchmarks/apriltag_bench.py
 	$(BIN)/python benchmarks/calib_bench.py
 	$(BIN)/python benchmarks/servo_lut_bench.py
-	$(BIN)/python -m pip install --quiet --config-settings editable_mode=compat -e '.[dev,peers]'
+	$(BIN)/python -m pip install --quiet --config-settings editable_mode=compat -e '.[all,dev,peers]'
 	$(BIN)/python benchmarks/ik_bench.py
 	$(BIN)/python benchmarks/traj_bench.py
 

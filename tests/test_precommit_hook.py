@@ -12,8 +12,9 @@ need the network, so:
   missing, and a checkout that is not a git repository would not work at all;
 * `PIP_NO_INDEX=1` and `PIP_CONFIG_FILE=/dev/null`: pip reads no index or config, so nothing is
   downloaded, and a missing dependency fails the test instead of being fetched;
-* the isolated build of armtool gets setuptools from the wheels virtualenv ships
-  (`PIP_FIND_LINKS`);
+* armtool's build backend (flit_core, a dev dependency) is taken from this interpreter too:
+  `PIP_NO_BUILD_ISOLATION=0` (pip's spelling of "no build isolation") makes pip build armtool in
+  the hook virtualenv, where the `sitecustomize.py` below makes flit_core importable;
 * armtool's dependencies are found in this interpreter's site-packages: a `sitecustomize.py` on
   `PYTHONPATH` adds them at the end of the hook virtualenv's `sys.path`. pre-commit makes that
   virtualenv from this same interpreter, so compiled packages (lxml) match. pip sees the
@@ -41,7 +42,8 @@ import pytest
 import yaml
 
 pytest.importorskip("pre_commit", reason="pre-commit is a dev dependency: pip install -e '.[dev]'")
-virtualenv = pytest.importorskip("virtualenv", reason="pre-commit depends on virtualenv")
+pytest.importorskip("virtualenv", reason="pre-commit depends on virtualenv")
+pytest.importorskip("flit_core", reason="armtool's build backend is a dev dependency: pip install -e '.[dev]'")
 
 CHECKOUT = Path(__file__).resolve().parents[1]
 MANIFEST = CHECKOUT / ".pre-commit-hooks.yaml"
@@ -96,13 +98,11 @@ def _env(tmp_path: Path) -> dict[str, str]:
     deps.mkdir()
     site_dirs = list(dict.fromkeys(sysconfig.get_paths()[key] for key in ("purelib", "platlib")))
     (deps / "sitecustomize.py").write_text(f"import sys\nsys.path.extend({site_dirs!r})\n")
-    bundled_wheels = Path(virtualenv.__file__).parent / "seed" / "wheels" / "embed"
-    assert any(bundled_wheels.glob("setuptools-*.whl")), f"no setuptools wheel in {bundled_wheels} to build armtool offline"
     env.update(
         PRE_COMMIT_HOME=str(tmp_path / "pre-commit-home"),
         PIP_CONFIG_FILE=os.devnull,
         PIP_NO_INDEX="1",
-        PIP_FIND_LINKS=str(bundled_wheels),
+        PIP_NO_BUILD_ISOLATION="0",  # build with this interpreter's flit_core: nothing to download
         PIP_CACHE_DIR=str(tmp_path / "pip-cache"),
         PIP_DISABLE_PIP_VERSION_CHECK="1",
         VIRTUALENV_OVERRIDE_APP_DATA=str(tmp_path / "virtualenv-app-data"),

@@ -174,9 +174,14 @@ def main() -> None:
     except KeyboardInterrupt as exc:  # Ctrl-C: 130; SIGTERM (the servo guard's Terminated): 143
         sys.stderr.write("interrupted\n")
         sys.exit(getattr(exc, "exit_code", 130))
-    except Exception as exc:  # a bug in armtool: say so plainly
+    except Exception as exc:  # a bug in armtool (or a missing extra): say so plainly
         if debug:
             raise
+        from armtool.extras import missing_extra_error
+
+        if isinstance(exc, ModuleNotFoundError) and (missing := missing_extra_error(exc)) is not None:
+            report_error(missing)  # an optional module a command imported without calling require()
+            sys.exit(ExitCode.ERROR)
         sys.stderr.write(
             f"error: internal error: {type(exc).__name__}: {exc}\n"
             "  hint: rerun with ARMTOOL_DEBUG=1 for the traceback, and report it\n"

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any, List, Optional
 import typer
 
 from armtool.errors import ArmtoolError, ExitCode
+from armtool.extras import require
 
 if TYPE_CHECKING:
     from armtool.calib.camera import CameraModel
@@ -109,6 +110,7 @@ def check(
     package_path: List[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
 ) -> None:
     """Validate a dataset: files, joints, units, images, and the tag in every image."""
+    require("calib")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
     from armtool.calib.dataset import Problem
@@ -162,6 +164,7 @@ def fit(
     ),
 ) -> None:
     """Calibrate: per-joint origin corrections and zero offsets, with the camera and tag frames."""
+    require("calib")  # exit 2 with the install command when the extra is missing
     import numpy as np
     import yaml
 
@@ -397,6 +400,7 @@ def simulate(
     package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages for package:// and $(find) (repeatable)."),
 ) -> None:
     """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
+    require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.model import Setup
     from armtool.calib.simulate import SimulationSpec
     from armtool.calib.simulate import simulate as run

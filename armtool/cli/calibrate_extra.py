@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Optional
 import typer
 
 from armtool.errors import ArmtoolError
+from armtool.extras import require
 
 if TYPE_CHECKING:
     from armtool.calib.bag_import import ImportResult
@@ -56,6 +57,7 @@ def camera(
     min_images: int = typer.Option(10, "--min-images", min=3, help="Fewest images in which the board must be found."),
     output_format: OutputFormat = typer.Option(OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
 ) -> None:
+    require("calib")  # exit 2 with the install command when the extra is missing
     """Fit camera intrinsics and lens distortion from images of a ChArUco board or an AprilTag grid."""
     from armtool.calib.boards import parse_board
     from armtool.calib.intrinsics import DistortionModel, calibrate_images, image_paths, write_intrinsics
@@ -146,6 +148,7 @@ def import_bag(
     min_still: float = typer.Option(0.5, "--min-still", help="Shortest settled window, seconds."),
     output_format: OutputFormat = typer.Option(OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
 ) -> None:
+    require("calib")  # exit 2 with the install command when the extra is missing
     """Turn a ROS bag (images + joint states) into a calibration dataset: one sample per settled pose."""
     from armtool.calib.bag_import import ImportOptions, import_bag as run
     from armtool.console import stderr, write_stdout

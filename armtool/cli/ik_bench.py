@@ -9,6 +9,7 @@ from typing import List, Optional
 import typer
 
 from armtool.errors import ArmtoolError
+from armtool.extras import require
 
 
 class BenchFormat(str, Enum):
@@ -43,6 +44,7 @@ def ik_bench(
     xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
     package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages (repeatable)."),
 ) -> None:
+    require("ik")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
     from armtool.cli.lint import _parse_xacro_args

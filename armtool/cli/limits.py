@@ -10,6 +10,7 @@ import typer
 
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
+from armtool.extras import require
 
 
 class Mode(str, Enum):
@@ -57,6 +58,7 @@ def limits(
     from_lerobot: Optional[Path] = typer.Option(None, "--from-lerobot", help="Read a LeRobot calibration JSON: without --port, convert its ranges to limits YAML / URDF limits; "
                                                  "with --port and --mode, record the arm and compare each motor's range with the file's (exit 1 when the file reaches past a recorded end)."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import sys
 
     from rich.markup import escape

@@ -11,6 +11,7 @@ import typer
 
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError, ExitCode
+from armtool.extras import require
 
 if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
     from armtool.servo.bus import ServoBus
@@ -105,6 +106,7 @@ def fit(
     grid_step: float = typer.Option(1.0, "--grid-step", callback=opt.positive_float(360, "degrees"),
                                     help="Degrees between entries of the table's uniform grid (at most 65536 entries)."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import json
 
     from armtool.servo.lut import Approach, Method, fit_table
@@ -136,6 +138,7 @@ def export(
     name: str = typer.Option("servo_lut", "--name", help="C array name (macros are its upper-case form)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     from armtool.servo.lut import read_table
     from armtool.servo.lut_export import ExportFormat, render
 
@@ -157,6 +160,7 @@ def apply(
     clip: bool = typer.Option(False, "--clip", help="Clamp angles outside the measured range instead of refusing."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import sys
 
     from armtool.console import stderr
@@ -354,6 +358,7 @@ def measure(
                                          help="Seconds to wait for a point to settle."),
     yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import time
 
     from armtool.console import stderr
@@ -464,6 +469,7 @@ def check(
     output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text or json on stdout."),
     yes: bool = typer.Option(False, "--yes", "-y", help="Do not ask before energising the servo."),
 ) -> None:
+    require("servo")  # exit 2 with the install command when the extra is missing
     import json
 
     from armtool.console import stderr, write_stdout

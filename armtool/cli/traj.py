@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, List, Optional, Sequence
 import typer
 
 from armtool.errors import ArmtoolError, ExitCode
+from armtool.extras import require
 
 if TYPE_CHECKING:  # numpy loads only when a subcommand runs
     from armtool.lint.finding import Finding
@@ -150,6 +151,7 @@ def cartesian(
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else csv)."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Also draw the tool path and each step's midpoint deviation from the path (PNG)."),
 ) -> None:
+    require("traj")  # exit 2 with the install command when the extra is missing
     import numpy as np
 
     from armtool.console import stderr
@@ -285,6 +287,7 @@ def time_cmd(
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
 ) -> None:
+    require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.console import stderr
     from armtool.traj.timing import time_optimal
 
@@ -309,6 +312,7 @@ def retime_cmd(
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
 ) -> None:
+    require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.traj.edit import retime
 
     if not (math.isfinite(scale) and scale > 0):
@@ -332,6 +336,7 @@ def thin_cmd(
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
 ) -> None:
+    require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.console import stderr
     from armtool.traj.edit import thin
 
@@ -359,6 +364,7 @@ def join_cmd(
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the first input's)."),
 ) -> None:
+    require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.console import stderr
     from armtool.traj.edit import join
 
@@ -391,6 +397,7 @@ def check_cmd(
     output_format: Optional[CheckFormat] = typer.Option(None, "--format", help="text (default; github inside GitHub Actions), json, sarif, github."),
     exit_zero: bool = typer.Option(False, "--exit-zero", help="Exit 0 even when problems are found."),
 ) -> None:
+    require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.console import stderr, write_stdout
     from armtool.traj.check import CheckOptions, check
 
@@ -430,6 +437,7 @@ def plot_cmd(
     base: Optional[str] = typer.Option(None, "--base", help="Base link, for the tool path panel."),
     tip: Optional[str] = typer.Option(None, "--tip", help="Tool link: also draw the tool path (x-y, x-z, y-z)."),
 ) -> None:
+    require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.console import stderr
     from armtool.traj.plot import write_plot
 
