@@ -353,7 +353,7 @@ class Linter:
     def lint_kinematics(self, path: Path) -> list[Finding]:
         import yaml
 
-        from armtool.lint.kinematics_context import KinematicsContext, is_moveit_kinematics, read_groups
+        from armtool.lint.kinematics_context import KinematicsContext, NotAMapping, is_moveit_kinematics, read_groups
 
         text = self._read(path).decode("utf-8", "replace")
         try:
@@ -363,6 +363,12 @@ class Linter:
             line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
             problem = getattr(exc, "problem", None) or str(exc)
             return [_file_finding("K001", path, line, col, f"invalid YAML: {problem}")]
+        except NotAMapping as exc:
+            return [_file_finding("K001", path, exc.line, exc.column,
+                                  f"the file is {exc.what}, not a mapping of group names to solver settings",
+                                  "write `GROUP:` then its settings (kinematics_solver: ...), one group per SRDF group")]
+        except RecursionError:
+            return [_file_finding("K001", path, 1, 1, "YAML nested too deeply to read", "flatten it")]
         if not is_moveit_kinematics(groups):
             return []  # named *kinematics.yaml, but not MoveIt's (UR's calibration, Franka's parameters)
         findings: list[Finding] = []
