@@ -18,7 +18,7 @@ from armtool.lint.locate import Locator, display_path, local_tag
 from armtool.lint.registry import rule_class
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
-from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml
+from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml, read_regular
 
 if TYPE_CHECKING:  # imported on use (xacro costs start-up time; SRDF support is not always needed)
     from armtool.lint.srdf_context import SrdfContext
@@ -69,7 +69,8 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
         elif path.is_file():
             out.append(path)
         elif path.exists():
-            raise ArmtoolError("not a regular file", str(path))
+            raise ArmtoolError("not a regular file (a FIFO, socket or device)", str(path),
+                               "pass a file; to lint a stream, pipe it to `armtool lint -`")
         else:
             raise ArmtoolError("no such file or directory", str(path), "check the path")
     unique: dict[Path, None] = {}
@@ -79,7 +80,8 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
 
 
 def _walk(directory: Path, seen: set[tuple[int, int]] | None = None) -> Iterator[Path]:
-    """Robot files below a directory; each directory once, so symlink loops end."""
+    """Robot files below a directory; each directory once, so symlink loops end. Only regular
+    files (or links to them): a FIFO or device named `*.urdf` would block the read or never end."""
     seen = set() if seen is None else seen
     try:
         st = directory.stat()
@@ -93,7 +95,7 @@ def _walk(directory: Path, seen: set[tuple[int, int]] | None = None) -> Iterator
         if entry.is_dir():
             if entry.name not in SKIP_DIRS and not entry.name.startswith("."):
                 yield from _walk(entry, seen)
-        elif file_kind(entry) is not None:
+        elif file_kind(entry) is not None and entry.is_file():
             yield entry
 
 
@@ -160,13 +162,14 @@ def sniff_kind(data: bytes) -> FileKind:
 
 
 def _read(path: Path) -> bytes:
+    """A regular file's bytes (never a FIFO or device: see read_regular), at most MAX_BYTES."""
     try:
-        size = path.stat().st_size
-        if size > MAX_BYTES:
-            raise ArmtoolError(f"file is {size // (1024 * 1024)} MB, above armtool's limit of {MAX_BYTES // (1024 * 1024)} MB", str(path))
-        return path.read_bytes()
+        data = read_regular(path, MAX_BYTES + 1)
     except OSError as exc:
         raise ArmtoolError(f"cannot read file: {exc.strerror}", str(path)) from None
+    if len(data) > MAX_BYTES:
+        raise ArmtoolError(f"file is over armtool's limit of {MAX_BYTES // (1024 * 1024)} MB", str(path))
+    return data
 
 
 class Linter:
