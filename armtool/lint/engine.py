@@ -356,7 +356,8 @@ class Linter:
     def lint_kinematics(self, path: Path) -> list[Finding]:
         import yaml
 
-        from armtool.lint.kinematics_context import KinematicsContext, NotAMapping, is_moveit_kinematics, read_groups
+        from armtool.lint.kinematics_context import (
+            KinematicsContext, NotAMapping, is_moveit_kinematics, may_be_unusable_moveit, read_groups)
 
         text = self._read(path).decode("utf-8", "replace")
         try:
@@ -367,15 +368,23 @@ class Linter:
             problem = getattr(exc, "problem", None) or str(exc)
             return [_file_finding("K001", path, line, col, f"invalid YAML: {problem}")]
         except NotAMapping as exc:
+            if self._srdf_for_kinematics(path, [])[0] is None:
+                return []  # a list of something else (DH rows?) with no MoveIt config around it: not MoveIt's
             return [_file_finding("K001", path, exc.line, exc.column,
                                   f"the file is {exc.what}, not a mapping of group names to solver settings",
                                   "write `GROUP:` then its settings (kinematics_solver: ...), one group per SRDF group")]
         except RecursionError:
             return [_file_finding("K001", path, 1, 1, "YAML nested too deeply to read", "flatten it")]
+        names = [g.name for g in groups]
         if not is_moveit_kinematics(groups):
-            return []  # named *kinematics.yaml, but not MoveIt's (UR's calibration, Franka's parameters)
+            if not may_be_unusable_moveit(groups):
+                return []  # named *kinematics.yaml, but not MoveIt's (UR's calibration, Franka's parameters)
+            srdf_ctx, _ = self._srdf_for_kinematics(path, names)
+            if srdf_ctx is None or not set(names) & set(srdf_ctx.groups):
+                return []  # `a1: 0.025`: no planning group of that name, so not MoveIt's
+            return list(self._run(KinematicsContext(path, groups, srdf_ctx), Target.KINEMATICS))
         findings: list[Finding] = []
-        srdf_ctx, why = self._srdf_for_kinematics(path, [g.name for g in groups])
+        srdf_ctx, why = self._srdf_for_kinematics(path, names)
         if srdf_ctx is None:
             findings.append(_file_finding("K002", path, 1, 1, f"cannot check group names: {why}",
                                           "pass --srdf PATH, or set it for this file in [tool.armtool.lint.srdf]"))

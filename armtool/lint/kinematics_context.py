@@ -109,10 +109,14 @@ def read_groups(text: str) -> list[GroupSettings]:
 def is_moveit_kinematics(groups: list[GroupSettings]) -> bool:
     """A MoveIt kinematics.yaml sets a solver per group (`kinematics_solver*` keys); files merely
     named so (UR's default_kinematics.yaml calibration, Franka's kinematic parameters) do not:
-    theirs are mappings of mappings. A file whose entries all lack settings (`arm: 5`) is taken as
-    MoveIt's too, with every group unusable, rather than passed in silence."""
-    if any(key.startswith("kinematics_solver") for group in groups for key in group.settings):
-        return True
+    theirs are mappings of mappings, or of numbers (`a1: 0.025`). A file of entries without
+    settings (`arm: 5`) is MoveIt's only if its SRDF has such a group (see `names_srdf_groups`)."""
+    return any(key.startswith("kinematics_solver") for group in groups for key in group.settings)
+
+
+def may_be_unusable_moveit(groups: list[GroupSettings]) -> bool:
+    """Entries, none with settings: MoveIt's kinematics.yaml with every group broken (`arm: 5`), or
+    another tool's parameters (`a1: 0.025`). The SRDF beside it decides."""
     return bool(groups) and all(group.not_a_mapping is not None for group in groups)
 
 
