@@ -129,6 +129,11 @@ def rules_for(target: Target) -> list[Rule]:
     return [rule() for rule in checks_for(target)]
 
 
+_LOADER_CODE: dict[FileKind | None, str] = {
+    FileKind.URDF: "U001", FileKind.XACRO: "X001", FileKind.SRDF: "S001", FileKind.KINEMATICS: "K001",
+}
+
+
 def _file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:
     rule = rule_class(code)
     return Finding(display_path(path), line, column, rule.code, rule.name, rule.severity, message, hint)
@@ -413,9 +418,24 @@ class Linter:
 
 
     def lint(self, path: Path) -> list[Finding]:
-        """lint_file() without the findings that inline ignore comments silence."""
+        """lint_file() without the findings that inline ignore comments silence.
+
+        A file too deep or too big for the checks (RecursionError, MemoryError) is that file's
+        loader finding; any other unexpected exception is re-raised naming the file, so one bad
+        file among many (a parallel run) says which it was."""
+        try:
+            found = self.lint_file(path)
+        except ArmtoolError:
+            raise
+        except (RecursionError, MemoryError) as exc:
+            what = "nested too deeply" if isinstance(exc, RecursionError) else "too large"
+            code = _LOADER_CODE.get(file_kind(path) if path != STDIN else None, "U001")
+            found = [_file_finding(code, path, 1, 1, f"file is {what} for armtool to check",
+                                   "simplify the file (fewer nesting levels, fewer elements)")]
+        except Exception as exc:
+            raise RuntimeError(f"while linting {display_path(path)}: {type(exc).__name__}: {exc}") from exc
         silenced = self.suppressions.silenced
-        return [f for f in self.lint_file(path) if not silenced(f)]
+        return [f for f in found if not silenced(f)]
 
 
 # Many files are linted by worker processes (forked, so they share the imported rules): a
