@@ -413,3 +413,10 @@ def pyprojects(draw: st.DrawFn) -> bytes:
 def test_mutated_pyproject(data: bytes, tmp_path: Path) -> None:
     root = _package(tmp_path, "pyproject.toml", data)
     _check_cli(root, "urdf/clean_arm.urdf", "config/kinematics.yaml")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
+def test_expand_of_a_fifo_says_what_it_is(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "arm.urdf.xacro")
+    code, out, err = invoke("expand", str(tmp_path / "arm.urdf.xacro"))
+    assert code == 2 and "not a regular file" in err and out == ""
