@@ -371,6 +371,7 @@ def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolve
     import select
     import signal
     import time
+    import warnings
 
     import xacro  # noqa: F401 - imported once in the parent, not again in every child
     import xacro.substitution_args  # noqa: F401
@@ -381,7 +382,11 @@ def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolve
     pid = -1
     gc.freeze()  # the parent's objects are never collected in the child: their pages stay shared, not copied
     try:
-        pid = os.fork()
+        with warnings.catch_warnings():
+            # Python 3.12+ warns when native threads (a BLAS pool in ik-bench) exist at fork; the
+            # child runs only xacro and never touches them.
+            warnings.filterwarnings("ignore", category=DeprecationWarning, message=".*fork.*")
+            pid = os.fork()
     finally:
         if pid != 0:
             gc.unfreeze()
