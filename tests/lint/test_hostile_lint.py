@@ -420,3 +420,12 @@ def test_expand_of_a_fifo_says_what_it_is(tmp_path: Path) -> None:
     os.mkfifo(tmp_path / "arm.urdf.xacro")
     code, out, err = invoke("expand", str(tmp_path / "arm.urdf.xacro"))
     assert code == 2 and "not a regular file" in err and out == ""
+
+
+@SETTINGS
+@given(code=st.one_of(st.text(max_size=40), st.sampled_from(["", "[bold]", "u30", "U" + "9" * 50, "ALL", "\x00"])))
+def test_rules_with_any_argument_is_exit_0_or_2(code: str) -> None:
+    if code.startswith("-") or "\x00" in code:
+        code = "x" + code.replace("\x00", "")  # an option or a NUL is not an argument a shell can pass
+    exit_code, out, err = invoke("rules", code)
+    assert exit_code in (0, 2) and "Traceback" not in out + err and "internal error" not in err
