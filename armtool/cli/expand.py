@@ -34,7 +34,8 @@ def expand(
     from armtool.model.xacro_source import expand as run_xacro
 
     if not path.is_file():
-        raise ArmtoolError("no such file", str(path), "check the path to the .xacro file")
+        what = "not a regular file (a FIFO, socket or device)" if path.exists() else "no such file"
+        raise ArmtoolError(what, str(path), "check the path to the .xacro file")
     cfg = load_config(config)
     args = {**cfg.xacro_args_for(path), **_parse_xacro_args(xacro_arg)}
     resolver = PackageResolver([*package_path, *cfg.package_paths])

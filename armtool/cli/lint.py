@@ -46,7 +46,7 @@ def lint(
     config: Optional[Path] = typer.Option(None, "--config", help="pyproject.toml with [tool.armtool.lint] (default: nearest one)."),
 ) -> None:
     from armtool.console import stderr, write_stdout
-    from armtool.lint.config import load_config
+    from armtool.lint.config import load_config, parse_selectors
     from armtool.lint.engine import LintOptions, lint_paths
     from armtool.lint.locate import display_path
     from armtool.output.base import LintReport
@@ -55,11 +55,12 @@ def lint(
     for given, flag in ((urdf, "--urdf"), (srdf, "--srdf"), (config, "--config")):
         if given is not None and not given.is_file():
             raise ArmtoolError(f"{flag}: no such file", str(given))
+    selected = parse_selectors(select, "--select") if select is not None else None
+    ignored = parse_selectors(ignore, "--ignore") if ignore is not None else []
     cfg = load_config(config)
-    if select:
-        cfg.select = [s.strip() for s in select.split(",") if s.strip()]
-    if ignore:
-        cfg.ignore += [s.strip() for s in ignore.split(",") if s.strip()]
+    if selected is not None:
+        cfg.select = selected
+    cfg.ignore += ignored
     if fail_on is not None:
         cfg.fail_on = fail_on
     stdin = sys.stdin.buffer.read() if any(str(p) == "-" for p in paths) else None

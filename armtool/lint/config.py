@@ -125,15 +125,34 @@ def _xacro_args(value: Any, where: str) -> dict[str, dict[str, str]]:
     return out
 
 
-def _selectors(value: Any, key: str, where: str) -> list[str]:
+def check_selector(sel: str, key: str, where: str | None = None) -> str:
+    """`sel` if it names a rule, a code prefix or ALL; else an error with the closest code or name.
+    A selector that matches nothing would silently check nothing (a CI that can never fail)."""
+    if sel.strip() and _valid_selector(sel):
+        return sel
+    from armtool.lint.suggest import did_you_mean
+
+    hint = did_you_mean(sel.upper(), list(CODES)) or did_you_mean(sel.lower(), list(NAMES))
+    raise ArmtoolError(f"unknown rule '{sel}' in {key}{hint}", where,
+                       "use a code (U301), a prefix (U3, S) or a name (rpy-out-of-range); `armtool rules` lists them")
+
+
+def parse_selectors(text: str, flag: str) -> list[str]:
+    """`--select U3,S101` as a list of checked selectors; an empty list is an error (nothing would run)."""
+    items = [s.strip() for s in text.split(",") if s.strip()]
+    if not items:
+        raise ArmtoolError(f"{flag} names no rule", hint=f"e.g. {flag} U3,S101; `armtool rules` lists the codes")
+    return [check_selector(s, flag) for s in items]
+
+
+def _selectors(value: Any, key: str, where: str, allow_empty: bool = True) -> list[str]:
     if isinstance(value, str):
         value = [value]
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
         raise ArmtoolError(f"'{key}' must be a list of rule codes", where, 'e.g. select = ["U", "S101"]')
-    for sel in value:
-        if not _valid_selector(sel):
-            raise ArmtoolError(f"unknown rule '{sel}' in '{key}'", where, "run `armtool rules` for the list of codes")
-    return list(value)
+    if not value and not allow_empty:
+        raise ArmtoolError(f"'{key}' is empty: no rule would run", where, 'list codes or prefixes (select = ["U", "S101"]), or remove the key for all rules')
+    return [check_selector(sel, f"'{key}'", where) for sel in value]
 
 
 def _severity(value: Any, where: str) -> Severity:
@@ -150,9 +169,12 @@ def load_config(path: Path | None = None) -> LintConfig:
         if path is None:
             return LintConfig()
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_bytes().decode("utf-8")
     except OSError as exc:
         raise ArmtoolError(f"cannot read config: {exc.strerror}", str(path)) from None
+    except UnicodeDecodeError as exc:
+        line = exc.object[: exc.start].count(b"\n") + 1
+        raise ArmtoolError("config is not UTF-8 text (TOML files are UTF-8)", f"{path}:{line}", "save it as UTF-8") from None
     own_file = path.name == "armtool.toml"
     if not own_file and "armtool" not in text:
         return LintConfig(root=path.parent, source=path)  # not ours: skip the TOML parser's start-up cost
@@ -165,10 +187,19 @@ def load_config(path: Path | None = None) -> LintConfig:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ArmtoolError(f"invalid TOML: {exc}", str(path)) from None
-    section = data.get("lint") if own_file else data.get("tool", {}).get("armtool", {}).get("lint")
+    where = f"{path} [lint]" if own_file else f"{path} [tool.armtool.lint]"
+    if own_file:
+        section = data.get("lint")
+    else:
+        # `tool = "armtool"` or `[tool] armtool = 1`: not a table where one is needed. Another tool's
+        # pyproject.toml may use `tool` for itself only if it is not a table: then it is not ours.
+        tool = data.get("tool")
+        ours = tool.get("armtool") if isinstance(tool, dict) else None
+        if ours is not None and not isinstance(ours, dict):
+            raise ArmtoolError("[tool.armtool] must be a table", f"{path}", "write [tool.armtool.lint] with its keys below it")
+        section = ours.get("lint") if isinstance(ours, dict) else None
     if section is None:
         return LintConfig(root=path.parent, source=path)
-    where = f"{path} [lint]" if own_file else f"{path} [tool.armtool.lint]"
     if not isinstance(section, dict):
         raise ArmtoolError("[tool.armtool.lint] must be a table", where)
     unknown = set(section) - _KEYS
@@ -176,7 +207,7 @@ def load_config(path: Path | None = None) -> LintConfig:
         raise ArmtoolError(f"unknown key(s): {', '.join(sorted(unknown))}", where, "known keys: " + ", ".join(sorted(_KEYS)))
     cfg = LintConfig(root=path.parent, source=path)
     if "select" in section:
-        cfg.select = _selectors(section["select"], "select", where)
+        cfg.select = _selectors(section["select"], "select", where, allow_empty=False)
     if "ignore" in section:
         cfg.ignore = _selectors(section["ignore"], "ignore", where)
     pfi = section.get("per-file-ignores", {})

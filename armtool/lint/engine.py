@@ -18,7 +18,7 @@ from armtool.lint.locate import Locator, display_path, local_tag
 from armtool.lint.registry import rule_class
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
-from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml
+from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml, read_regular
 
 if TYPE_CHECKING:  # imported on use (xacro costs start-up time; SRDF support is not always needed)
     from armtool.lint.srdf_context import SrdfContext
@@ -69,7 +69,8 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
         elif path.is_file():
             out.append(path)
         elif path.exists():
-            raise ArmtoolError("not a regular file", str(path))
+            raise ArmtoolError("not a regular file (a FIFO, socket or device)", str(path),
+                               "pass a file; to lint a stream, pipe it to `armtool lint -`")
         else:
             raise ArmtoolError("no such file or directory", str(path), "check the path")
     unique: dict[Path, None] = {}
@@ -79,7 +80,8 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
 
 
 def _walk(directory: Path, seen: set[tuple[int, int]] | None = None) -> Iterator[Path]:
-    """Robot files below a directory; each directory once, so symlink loops end."""
+    """Robot files below a directory; each directory once, so symlink loops end. Only regular
+    files (or links to them): a FIFO or device named `*.urdf` would block the read or never end."""
     seen = set() if seen is None else seen
     try:
         st = directory.stat()
@@ -93,7 +95,7 @@ def _walk(directory: Path, seen: set[tuple[int, int]] | None = None) -> Iterator
         if entry.is_dir():
             if entry.name not in SKIP_DIRS and not entry.name.startswith("."):
                 yield from _walk(entry, seen)
-        elif file_kind(entry) is not None:
+        elif file_kind(entry) is not None and entry.is_file():
             yield entry
 
 
@@ -125,6 +127,11 @@ def rules_for(target: Target) -> list[Rule]:
     from armtool.lint.registry import checks_for
 
     return [rule() for rule in checks_for(target)]
+
+
+_LOADER_CODE: dict[FileKind | None, str] = {
+    FileKind.URDF: "U001", FileKind.XACRO: "X001", FileKind.SRDF: "S001", FileKind.KINEMATICS: "K001",
+}
 
 
 def _file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:
@@ -160,13 +167,14 @@ def sniff_kind(data: bytes) -> FileKind:
 
 
 def _read(path: Path) -> bytes:
+    """A regular file's bytes (never a FIFO or device: see read_regular), at most MAX_BYTES."""
     try:
-        size = path.stat().st_size
-        if size > MAX_BYTES:
-            raise ArmtoolError(f"file is {size // (1024 * 1024)} MB, above armtool's limit of {MAX_BYTES // (1024 * 1024)} MB", str(path))
-        return path.read_bytes()
+        data = read_regular(path, MAX_BYTES + 1)
     except OSError as exc:
         raise ArmtoolError(f"cannot read file: {exc.strerror}", str(path)) from None
+    if len(data) > MAX_BYTES:
+        raise ArmtoolError(f"file is over armtool's limit of {MAX_BYTES // (1024 * 1024)} MB", str(path))
+    return data
 
 
 class Linter:
@@ -353,7 +361,8 @@ class Linter:
     def lint_kinematics(self, path: Path) -> list[Finding]:
         import yaml
 
-        from armtool.lint.kinematics_context import KinematicsContext, is_moveit_kinematics, read_groups
+        from armtool.lint.kinematics_context import (
+            KinematicsContext, NotAMapping, is_moveit_kinematics, may_be_unusable_moveit, read_groups)
 
         text = self._read(path).decode("utf-8", "replace")
         try:
@@ -363,10 +372,24 @@ class Linter:
             line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
             problem = getattr(exc, "problem", None) or str(exc)
             return [_file_finding("K001", path, line, col, f"invalid YAML: {problem}")]
+        except NotAMapping as exc:
+            if self._srdf_for_kinematics(path, [])[0] is None:
+                return []  # a list of something else (DH rows?) with no MoveIt config around it: not MoveIt's
+            return [_file_finding("K001", path, exc.line, exc.column,
+                                  f"the file is {exc.what}, not a mapping of group names to solver settings",
+                                  "write `GROUP:` then its settings (kinematics_solver: ...), one group per SRDF group")]
+        except RecursionError:
+            return [_file_finding("K001", path, 1, 1, "YAML nested too deeply to read", "flatten it")]
+        names = [g.name for g in groups]
         if not is_moveit_kinematics(groups):
-            return []  # named *kinematics.yaml, but not MoveIt's (UR's calibration, Franka's parameters)
+            if not may_be_unusable_moveit(groups):
+                return []  # named *kinematics.yaml, but not MoveIt's (UR's calibration, Franka's parameters)
+            srdf_ctx, _ = self._srdf_for_kinematics(path, names)
+            if srdf_ctx is None or not set(names) & set(srdf_ctx.groups):
+                return []  # `a1: 0.025`: no planning group of that name, so not MoveIt's
+            return list(self._run(KinematicsContext(path, groups, srdf_ctx), Target.KINEMATICS))
         findings: list[Finding] = []
-        srdf_ctx, why = self._srdf_for_kinematics(path, [g.name for g in groups])
+        srdf_ctx, why = self._srdf_for_kinematics(path, names)
         if srdf_ctx is None:
             findings.append(_file_finding("K002", path, 1, 1, f"cannot check group names: {why}",
                                           "pass --srdf PATH, or set it for this file in [tool.armtool.lint.srdf]"))
@@ -395,9 +418,24 @@ class Linter:
 
 
     def lint(self, path: Path) -> list[Finding]:
-        """lint_file() without the findings that inline ignore comments silence."""
+        """lint_file() without the findings that inline ignore comments silence.
+
+        A file too deep or too big for the checks (RecursionError, MemoryError) is that file's
+        loader finding; any other unexpected exception is re-raised naming the file, so one bad
+        file among many (a parallel run) says which it was."""
+        try:
+            found = self.lint_file(path)
+        except ArmtoolError:
+            raise
+        except (RecursionError, MemoryError) as exc:
+            what = "nested too deeply" if isinstance(exc, RecursionError) else "too large"
+            code = _LOADER_CODE.get(file_kind(path) if path != STDIN else None, "U001")
+            found = [_file_finding(code, path, 1, 1, f"file is {what} for armtool to check",
+                                   "simplify the file (fewer nesting levels, fewer elements)")]
+        except Exception as exc:
+            raise RuntimeError(f"while linting {display_path(path)}: {type(exc).__name__}: {exc}") from exc
         silenced = self.suppressions.silenced
-        return [f for f in self.lint_file(path) if not silenced(f)]
+        return [f for f in found if not silenced(f)]
 
 
 # Many files are linted by worker processes (forked, so they share the imported rules): a

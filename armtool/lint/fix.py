@@ -19,13 +19,21 @@ def safe_edits(findings: Iterable[Finding]) -> list[tuple[Finding, Edit]]:
 
 
 def fixed_texts(pairs: list[tuple[Finding, Edit]]) -> dict[Path, tuple[str, str, list[Finding]]]:
-    """path -> (old text, new text, findings fixed). Overlapping edits: the first one wins."""
+    """path -> (old text, new text, findings fixed). Overlapping edits: the first one wins. A file
+    that is not UTF-8 (an ISO-8859-1 declaration) gets no fix: its findings stay reported."""
     by_path: dict[Path, list[tuple[Finding, Edit]]] = defaultdict(list)
     for finding, edit in pairs:
         by_path[edit.path].append((finding, edit))
     out: dict[Path, tuple[str, str, list[Finding]]] = {}
     for path, items in by_path.items():
-        old = path.read_bytes().decode("utf-8")
+        try:
+            old = path.read_bytes().decode("utf-8")
+        except OSError as exc:
+            from armtool.errors import ArmtoolError
+
+            raise ArmtoolError(f"cannot read the file to fix: {exc.strerror or exc}", str(path)) from None
+        except UnicodeDecodeError:
+            continue  # edits are offsets into UTF-8 text: a file in another encoding is left as it is
         new = old
         applied: list[Finding] = []
         last_start = len(old) + 1

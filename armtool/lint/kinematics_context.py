@@ -25,6 +25,31 @@ class GroupSettings:
     line: int
     column: int
     settings: dict[str, YamlValue] = field(default_factory=dict)
+    not_a_mapping: str | None = None  # what stands where the settings belong ("5", "a list", "nothing")
+
+
+class NotAMapping(Exception):
+    """The file's top level (inside ROS 2's wrappers) is not a mapping of groups."""
+
+    def __init__(self, what: str, line: int, column: int) -> None:
+        super().__init__(what)
+        self.what, self.line, self.column = what, line, column
+
+
+def _shape(node: Any) -> str:
+    """What a YAML node is, for a message: 'a list', 'a mapping', 'nothing' or the scalar as written."""
+    import yaml
+
+    if isinstance(node, yaml.SequenceNode):
+        return "a list"
+    if isinstance(node, yaml.MappingNode):
+        return "a mapping"
+    if isinstance(node, yaml.ScalarNode):
+        if node.tag == "tag:yaml.org,2002:null":
+            return "nothing"
+        text = node.value if len(node.value) <= 40 else node.value[:37] + "..."
+        return repr(text)
+    return "nothing"
 
 
 class KinematicsContext(FileContext):
@@ -52,7 +77,8 @@ def _plain(node: Any) -> Any:
 
 def read_groups(text: str) -> list[GroupSettings]:
     """Groups from a MoveIt kinematics.yaml, ROS 1 (`arm: {...}`) or ROS 2 (`/**: ros__parameters:
-    robot_description_kinematics: arm: {...}`) layout. Raises yaml.YAMLError."""
+    robot_description_kinematics: arm: {...}`) layout. Raises yaml.YAMLError, and NotAMapping when
+    the top level is a list or a scalar (an empty file has no groups)."""
     import yaml
 
     node = yaml.compose(text, Loader=yaml.SafeLoader)
@@ -65,11 +91,15 @@ def read_groups(text: str) -> list[GroupSettings]:
                     node = value
                     break
     if not isinstance(node, yaml.MappingNode):
-        return []
+        if _shape(node) == "nothing":
+            return []
+        raise NotAMapping(_shape(node), node.start_mark.line + 1, node.start_mark.column + 1)
     groups = []
     for key, value in node.value:
         group = GroupSettings(str(key.value), key.start_mark.line + 1, key.start_mark.column + 1)
-        if isinstance(value, yaml.MappingNode):
+        if not isinstance(value, yaml.MappingNode):
+            group.not_a_mapping = _shape(value)
+        else:
             for skey, sval in value.value:
                 group.settings[str(skey.value)] = YamlValue(_plain(sval), sval.start_mark.line + 1, sval.start_mark.column + 1)
         groups.append(group)
@@ -78,8 +108,16 @@ def read_groups(text: str) -> list[GroupSettings]:
 
 def is_moveit_kinematics(groups: list[GroupSettings]) -> bool:
     """A MoveIt kinematics.yaml sets a solver per group (`kinematics_solver*` keys); files merely
-    named so (UR's default_kinematics.yaml calibration, Franka's kinematic parameters) do not."""
+    named so (UR's default_kinematics.yaml calibration, Franka's kinematic parameters) do not:
+    theirs are mappings of mappings, or of numbers (`a1: 0.025`). A file of entries without
+    settings (`arm: 5`) is MoveIt's only if its SRDF has such a group (see `names_srdf_groups`)."""
     return any(key.startswith("kinematics_solver") for group in groups for key in group.settings)
+
+
+def may_be_unusable_moveit(groups: list[GroupSettings]) -> bool:
+    """Entries, none with settings: MoveIt's kinematics.yaml with every group broken (`arm: 5`), or
+    another tool's parameters (`a1: 0.025`). The SRDF beside it decides."""
+    return bool(groups) and all(group.not_a_mapping is not None for group in groups)
 
 
 def as_number(value: object) -> float | None:

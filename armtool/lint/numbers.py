@@ -112,3 +112,11 @@ def all_plain(texts: dict[int, set[str]]) -> bool:
         if not math.isfinite(total):
             return False
     return True
+
+
+def owner(el: etree._Element) -> str:
+    """Which joint or link an element belongs to, for messages: "joint 'elbow': " (or "")."""
+    for anc in el.iterancestors("joint", "link"):
+        name = anc.get("name")
+        return f"{anc.tag} '{name}': " if name else f"unnamed <{anc.tag}>: "
+    return ""

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from armtool.model.packages import PackageResolver
+from armtool.model.xmlsource import read_regular
 
 URDF_SUFFIXES = (".urdf.xacro", ".urdf", ".xacro")
 SRDF_SUFFIXES = (".srdf", ".srdf.xacro")
@@ -127,7 +128,7 @@ def urdf_candidates(srdf: Path, robot_name: str | None, resolver: PackageResolve
         pattern = re.compile(rb"<robot[^>]*\sname\s*=\s*[\"']" + re.escape(robot_name.encode()) + rb"[\"']")
         for cand in sorted(found, key=_urdf_rank):
             try:
-                head = cand.read_bytes()[:4096]
+                head = read_regular(cand, 4096)
             except OSError:
                 continue
             if pattern.search(head):

@@ -64,6 +64,7 @@ RULE_TABLE: tuple[tuple[str, str, str], ...] = (
     ("K103", "non-positive-timeout", "k103_non_positive_timeout:NonPositiveTimeout"),
     ("K104", "timeout-below-1ms", "k104_timeout_below_1ms:TimeoutBelow1ms"),
     ("K105", "non-positive-search-resolution", "k105_non_positive_search_resolution:NonPositiveSearchResolution"),
+    ("K106", "group-settings-not-a-mapping", "k106_group_settings_not_a_mapping:GroupSettingsNotAMapping"),
 )
 
 CODES: dict[str, str] = {code: name for code, name, _ in RULE_TABLE}

@@ -10,7 +10,7 @@ from typing import NamedTuple
 from lxml import etree
 
 from armtool.lint.finding import Finding
-from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml
+from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml, read_regular
 
 _DIRECTIVE = re.compile(r"armtool:\s*ignore(?:\[([A-Za-z0-9_,\s-]*)\])?")
 
@@ -102,7 +102,7 @@ class SuppressionIndex:
     def _for(self, path: str) -> list[Suppression]:
         if path not in self._by_path:
             try:
-                data = Path(path).read_bytes()
+                data = read_regular(path)
             except OSError:
                 data = b""
             self._by_path[path] = self._parse(path, data)

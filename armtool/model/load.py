@@ -14,7 +14,8 @@ from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml
 
 def _load_xml(path: Path, xacro_args: Mapping[str, str] | None, package_paths: Sequence[Path], what: str) -> etree._Element:
     if not path.is_file():
-        raise ArmtoolError("no such file", str(path), f"check the path to the {what} or its xacro")
+        problem = "not a regular file (a FIFO, socket or device)" if path.exists() else "no such file"
+        raise ArmtoolError(problem, str(path), f"check the path to the {what} or its xacro")
     if path.name.lower().endswith(".xacro"):
         from armtool.model.xacro_source import XacroFailure, expand
 

@@ -14,6 +14,8 @@ import re
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
+from armtool.model.xmlsource import read_regular
+
 _NAME_RE = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 _SKIP = {".git", ".hg", ".svn", ".venv", "venv", "node_modules", "__pycache__", "build", "install", "log"}
 # How deep below a search root packages are looked for (colcon searches without limit; a
@@ -26,7 +28,7 @@ _NEAR_LEVELS = 3
 def package_name(directory: Path) -> str | None:
     """The `<name>` in directory/package.xml, or None when there is no readable package.xml."""
     try:
-        data = (directory / "package.xml").read_bytes()[:8192]
+        data = read_regular(directory / "package.xml", 8192)
     except OSError:
         return None
     m = _NAME_RE.search(data)

@@ -4,6 +4,15 @@ xacro builds a minidom tree without line numbers. We hook two of its functions:
 `parse` tags each element of every file it reads with its file and line, and
 `handle_macro_call` tags what a macro call produced with the call site. The expanded
 document is re-read with lxml and the tags are moved into a side table.
+
+Bounds: xacro evaluates Python expressions (`${str(9**9**9)}`, `${'x'*10**10}`) and reads any
+file it is told to include, so a hostile or mistaken xacro could run forever or fill memory.
+Includes must be regular files of at most MAX_INCLUDE_BYTES (a FIFO or /dev/zero is refused
+before it is opened); the expanded document is at most MAX_EXPANDED_CHARS; and where the
+platform can fork (and no other thread runs), xacro runs in a forked child with a wall-clock
+limit (TIMEOUT_S) and an address-space limit (MEMORY_HEADROOM_BYTES above the parent's size).
+A thread cannot be stopped and a SIGALRM cannot interrupt one long C-level `pow`, but a child
+can be killed. The fork costs about 1 ms, against tens to hundreds of ms for xacro itself.
 """
 
 from __future__ import annotations
@@ -18,7 +27,7 @@ from typing import Any
 
 from lxml import etree
 
-from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml
+from armtool.model.xmlsource import MAX_FILE_BYTES, NotRegularFile, XmlSyntaxProblem, declares_entities, parse_xml, read_regular
 from armtool.model.origin import Origin, SourceLine
 from armtool.model.packages import PackageResolver
 
@@ -29,6 +38,11 @@ _DIRECTIVES = {
     "xacro:element", "xacro:attribute", "xacro:insert_block", "xacro:call",
 }
 _LOCK = threading.Lock()
+
+TIMEOUT_S = 60.0  # wall clock for one expansion (the largest real robot here takes well under 2 s)
+MAX_INCLUDE_BYTES = MAX_FILE_BYTES  # one file xacro reads (64 MB)
+MAX_EXPANDED_CHARS = 128 * 1024 * 1024  # the expanded document
+MEMORY_HEADROOM_BYTES = 4 * 1024**3  # address space the child may add to the parent's
 
 
 class XacroFailure(Exception):
@@ -81,11 +95,16 @@ class Expansion:
 
 def _checked_source(path: Path) -> tuple[Path, etree._Element] | None:
     """Read a file with armtool's safe parser before xacro's parser sees it: entities are refused here.
-    None when it cannot be read: xacro then reports the missing include itself, at the including file."""
+    None when it cannot be read: xacro then reports the missing include itself, at the including file.
+    A FIFO, device or a file over MAX_INCLUDE_BYTES is refused here, before xacro opens it."""
     try:
-        data = path.read_bytes()
+        data = read_regular(path, MAX_INCLUDE_BYTES + 1)
+    except NotRegularFile:
+        raise XacroFailure("include is not a regular file (a FIFO, socket or device)", path, 1) from None
     except OSError:
         return None
+    if len(data) > MAX_INCLUDE_BYTES:
+        raise XacroFailure(f"file is over armtool's limit of {MAX_INCLUDE_BYTES // (1024 * 1024)} MB", path, 1)
     try:
         root = parse_xml(data)
     except XmlSyntaxProblem as exc:
@@ -290,15 +309,13 @@ def _shown(path: Path) -> str:
     return str(path) if rel.startswith("..") else rel
 
 
-def expand(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> Expansion:
-    """Run xacro on `path`; raise XacroFailure with xacro's own message on any error."""
+def _expand_text(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> tuple[str, list[Path]]:
+    """xacro's output (with our origin attributes) and the files it read, in this process."""
     import xacro
 
-    path = path.resolve()
     files: list[Path] = []
     sink = io.StringIO()
-    with _LOCK, _hooked(xacro, files, resolver, path), contextlib.redirect_stderr(sink), \
-            contextlib.redirect_stdout(sink):
+    with _hooked(xacro, files, resolver, path), contextlib.redirect_stderr(sink), contextlib.redirect_stdout(sink):
         try:
             doc = xacro.process_file(str(path), mappings=dict(args), verbosity=0)
             text = doc.toxml()
@@ -307,6 +324,140 @@ def expand(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> Ex
         finally:
             with contextlib.suppress(Exception):
                 xacro.init_stacks(None)
+    if len(text) > MAX_EXPANDED_CHARS:
+        raise XacroFailure(f"expanded document is over armtool's limit of {MAX_EXPANDED_CHARS // (1024 * 1024)} MB "
+                           f"({len(text) // (1024 * 1024)} MB)", path)
+    return text, files
+
+
+def _can_fork() -> bool:
+    import os
+
+    return hasattr(os, "fork") and threading.active_count() == 1  # forking beside threads can deadlock
+
+
+def _limit_memory() -> None:
+    """In the child: its address space may grow by MEMORY_HEADROOM_BYTES, then MemoryError."""
+    try:
+        import os
+        import resource
+
+        with open("/proc/self/statm", "rb") as handle:
+            size = int(handle.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+        limit = size + MEMORY_HEADROOM_BYTES
+        soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+        if hard != resource.RLIM_INFINITY:
+            limit = min(limit, hard)
+        if soft == resource.RLIM_INFINITY or soft > limit:
+            resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
+    except (OSError, ValueError, ImportError):
+        pass  # no /proc or no resource module: the time limit still holds
+
+
+def _failure_row(exc: XacroFailure) -> tuple[object, ...]:
+    return (exc.message, str(exc.path), exc.line, tuple((str(loc.path), loc.line) for loc in exc.trail),
+            exc.missing_package, exc.missing_arg)
+
+
+def _failure_from_row(row: tuple[Any, ...]) -> XacroFailure:
+    message, path, line, trail, package, arg = row
+    return XacroFailure(message, Path(path), line, tuple(SourceLine(Path(p), n) for p, n in trail), package, arg)
+
+
+def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> tuple[str, list[Path]]:
+    """_expand_text in a forked child, killed after TIMEOUT_S; its answer comes back through a pipe."""
+    import marshal
+    import os
+    import select
+    import signal
+    import time
+    import warnings
+
+    import xacro  # noqa: F401 - imported once in the parent, not again in every child
+    import xacro.substitution_args  # noqa: F401
+
+    import gc
+
+    read_fd, write_fd = os.pipe()
+    pid = -1
+    gc.freeze()  # the parent's objects are never collected in the child: their pages stay shared, not copied
+    try:
+        with warnings.catch_warnings():
+            # Python 3.12+ warns when native threads (a BLAS pool in ik-bench) exist at fork; the
+            # child runs only xacro and never touches them.
+            warnings.filterwarnings("ignore", category=DeprecationWarning, message=".*fork.*")
+            pid = os.fork()
+    finally:
+        if pid != 0:
+            gc.unfreeze()
+    if pid == 0:  # child: expand, send the answer, never return
+        code = 0
+        try:
+            os.close(read_fd)
+            _limit_memory()
+            try:
+                text, files = _expand_text(path, args, resolver)
+                answer: tuple[Any, ...] = ("ok", text, [str(f) for f in files])
+            except XacroFailure as exc:
+                answer = ("fail", _failure_row(exc))
+            except MemoryError:
+                answer = ("memory",)
+            blob = marshal.dumps(answer)
+            view = memoryview(blob)
+            while view:
+                view = view[os.write(write_fd, view):]
+        except BaseException:  # noqa: BLE001 - the parent reports a child that sent nothing
+            code = 1
+        finally:
+            os._exit(code)
+    os.close(write_fd)
+    chunks: list[bytes] = []
+    deadline = time.monotonic() + TIMEOUT_S
+    timed_out = False
+    try:
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                timed_out = True
+                break
+            ready, _, _ = select.select([read_fd], [], [], left)
+            if not ready:
+                continue
+            chunk = os.read(read_fd, 1 << 20)
+            if not chunk:
+                break
+            chunks.append(chunk)
+    finally:
+        os.close(read_fd)
+        if timed_out:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+        with contextlib.suppress(ChildProcessError):
+            os.waitpid(pid, 0)
+    if timed_out:
+        raise XacroFailure(f"xacro expansion did not finish within {TIMEOUT_S:g} s (an endless loop or a huge "
+                           "expression such as 9**9**9?)", path)
+    reply: list[Any]
+    try:
+        reply = list(marshal.loads(b"".join(chunks))) if chunks else ["memory"]
+    except (EOFError, ValueError, TypeError):
+        reply = ["memory"]  # the child died mid-answer: killed for its memory
+    if reply[0] == "ok":
+        return str(reply[1]), [Path(f) for f in reply[2]]
+    if reply[0] == "fail":
+        raise _failure_from_row(reply[1])
+    raise XacroFailure(f"xacro expansion ran out of memory (more than {MEMORY_HEADROOM_BYTES // 1024**3} GB: a huge "
+                       "expression or repetition?)", path)
+
+
+def expand(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> Expansion:
+    """Run xacro on `path` within the bounds above; raise XacroFailure with xacro's own message on any error."""
+    path = path.resolve()
+    with _LOCK:
+        if _can_fork():
+            text, files = _expand_forked(path, args, resolver)
+        else:
+            text, files = _expand_text(path, args, resolver)
     try:
         root = parse_xml(text.encode("utf-8"))
     except XmlSyntaxProblem as exc:

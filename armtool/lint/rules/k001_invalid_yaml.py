@@ -9,11 +9,15 @@ from armtool.lint.rule import Rule, Target
 class InvalidYaml(Rule):
     """
     What it does:
-    Reports a kinematics.yaml that is not valid YAML. Reported by the loader.
+    Reports a kinematics.yaml that is not valid YAML, or whose top level is not a mapping of
+    group names to settings (a list, a number, a string), or that is nested too deeply to
+    read. Reported by the loader.
 
     Why is this bad?
     MoveIt reads no solver settings and falls back to defaults (or fails to launch),
-    usually without naming the file.
+    usually without naming the file. A ROS parameter file is a mapping at its top level
+    (roslaunch refuses a list without `param=`; ROS 2 parameters are named), so a list
+    gives MoveIt no group and no IK solver.
 
     Example:
     arm:

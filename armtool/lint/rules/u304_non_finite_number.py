@@ -6,7 +6,7 @@ from collections.abc import Iterator
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.locate import local_tag
-from armtool.lint.numbers import parse_floats
+from armtool.lint.numbers import owner, parse_floats
 from armtool.lint.rule import Rule, Target
 
 
@@ -47,7 +47,7 @@ class NonFiniteNumber(Rule):
                 yield ctx.finding(
                     self,
                     el,
-                    f"<{local_tag(el)} {attr}=\"{raw}\"> contains a non-finite number",
+                    f"{owner(el)}<{local_tag(el)} {attr}=\"{raw}\"> contains a non-finite number",
                     attr=attr,
                     hint="write a finite value",
                 )

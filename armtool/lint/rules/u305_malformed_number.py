@@ -5,7 +5,7 @@ from collections.abc import Iterator
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.locate import local_tag
-from armtool.lint.numbers import parse_floats
+from armtool.lint.numbers import owner, parse_floats
 from armtool.lint.rule import Rule, Target
 
 
@@ -49,7 +49,7 @@ class MalformedNumber(Rule):
             yield ctx.finding(
                 self,
                 el,
-                f"<{local_tag(el)} {attr}=\"{raw}\"> {problem}",
+                f"{owner(el)}<{local_tag(el)} {attr}=\"{raw}\"> {problem}",
                 attr=attr,
                 hint=f"write {count} decimal number{'s' if count > 1 else ''} separated by spaces",
             )
