@@ -130,16 +130,63 @@ def load_intrinsics(path: Path) -> CameraModel:
 
     Raises ArmtoolError naming the file and the missing or invalid key.
     """
+    from armtool.calib.limits import MAX_FILE_BYTES
+
     path = Path(path)
     try:
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise ArmtoolError(f"intrinsics file is {size / 2**20:.0f} MB, more than the {MAX_FILE_BYTES // 2**20} MB armtool reads", str(path),
+                               "is this the right file? intrinsics files are a few hundred bytes")
         text = path.read_text(encoding="utf-8", errors="replace")
     except OSError as exc:
         raise ArmtoolError(f"cannot read intrinsics file: {exc.strerror}", str(path)) from None
-    if _is_filestorage(path, text):
-        data = _read_filestorage(path)
-    else:
-        data = _read_plain_yaml(path, text)
-    return _camera_from_mapping(data, path)
+    deep = _too_deep_line(text)
+    if deep is not None:
+        raise ArmtoolError(f"intrinsics file is nested more than {MAX_NESTING} levels deep", f"{path}:{deep}",
+                           "camera_matrix and distortion_coefficients are flat lists")
+    try:
+        data = _read_filestorage(path) if _is_filestorage(path, text) else _read_plain_yaml(path, text)
+    except RecursionError:
+        raise ArmtoolError("intrinsics file is nested too deeply", str(path), "camera_matrix and distortion_coefficients are flat lists") from None
+    try:
+        return _camera_from_mapping(data, path)
+    except ArmtoolError as exc:
+        # Name the line of the key at fault, as for syntax errors (a missing key has none).
+        key = re.search(r"key '([^']+)'", exc.what)
+        line = _key_line(text, key.group(1)) if key is not None and exc.where == str(path) else None
+        if line is None:
+            raise
+        raise ArmtoolError(exc.what, f"{path}:{line}", exc.hint) from None
+
+
+MAX_NESTING = 32  # an intrinsics file nests 2 or 3 levels; deeper is not one (and YAML recursion is slow)
+
+
+def _too_deep_line(text: str) -> int | None:
+    """The line where brackets ([ {) or XML tags first nest more than MAX_NESTING deep, found
+    by a scan before parsing (quoted text is skipped): the parsers recurse once per level."""
+    depth, line, quote = 0, 1, ""
+    for ch in text:
+        if ch == "\n":
+            line += 1
+        elif quote:
+            quote = "" if ch == quote else quote
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "[{":
+            depth += 1
+            if depth > MAX_NESTING:
+                return line
+        elif ch in "]}":
+            depth = max(depth - 1, 0)
+    return None
+
+
+def _key_line(text: str, key: str) -> int | None:
+    """The line where `key` is defined (`key:` in YAML, `<key` in XML), 1-based."""
+    found = re.search(rf"^\s*(?:{re.escape(key)}\s*:|<{re.escape(key)}\b)", text, re.MULTILINE)
+    return text.count("\n", 0, found.start()) + 1 + (text[found.start():found.end()].count("\n")) if found else None
 
 
 def save_intrinsics(camera: CameraModel, path: Path) -> None:
