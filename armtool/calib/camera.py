@@ -237,7 +237,15 @@ def _read_filestorage(path: Path) -> dict[str, Any]:
         raise ArmtoolError("not a readable OpenCV FileStorage file", str(path))
     try:
         root = fs.root()
-        return {name: _node_value(root.getNode(name)) for name in root.keys()}
+        values: dict[str, Any] = {}
+        for name in root.keys():
+            try:
+                values[name] = _node_value(root.getNode(name))
+            except (cv2.error, SystemError) as exc:  # e.g. a matrix whose data is not all numbers
+                lines = str(exc.__cause__ or exc).strip().splitlines()
+                raise ArmtoolError(f"key '{name}' cannot be read: {lines[-1].strip() if lines else 'bad value'}", str(path),
+                                   "a matrix is {rows, cols, dt, data: [numbers]}") from None
+        return values
     finally:
         fs.release()
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -75,6 +76,15 @@ class Dataset:
         return [p for p in self.problems if p.severity == "error"]
 
 
+def _resolve(path: Path) -> Path:
+    """`path.resolve()`, or the path as given when it cannot be resolved (a NUL byte, a name too
+    long): the file check that follows then says what is wrong with it."""
+    try:
+        return path.resolve()
+    except (OSError, ValueError, RuntimeError):
+        return path
+
+
 def _rel(root: Path, path: Path) -> str:
     try:
         return str(path.relative_to(root.parent))
@@ -128,8 +138,8 @@ def _robot_sources(doc: dict[str, Any], root: Path, where: str, problems: list[P
         problems.append(Problem(where, f"robot.package_paths must be a list of directories, got {raw_paths!r}", "e.g. package_paths: [../src]"))
     else:
         for item in raw_paths:
-            path = (root / str(item)).resolve()
-            if not path.is_dir():
+            path = _resolve(root / str(item))
+            if not os.path.isdir(path):
                 problems.append(Problem(where, f"robot.package_paths entry '{item}' is not a directory", f"paths are relative to {root}"))
             paths.append(path)
     return args, paths
@@ -198,7 +208,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     def file_in_root(name: str | None, what: str) -> Path:
         if name is None:
             return root / "__missing__"
-        path = (root / name).resolve()
+        path = _resolve(root / name)
         why = unreadable_reason(path)
         if why is not None:
             problems.append(Problem(where, f"{what} '{name}' {why}", f"put the file in {root} or fix the path in dataset.yaml"))
@@ -223,9 +233,9 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     if corners_name is not None and not isinstance(corners_name, str):
         problems.append(Problem(where, f"'corners' must be a file name, got {corners_name!r}", "e.g. corners: corners.csv"))
         corners_name = None
-    corners_file = (root / corners_name).resolve() if corners_name else None
+    corners_file = _resolve(root / corners_name) if corners_name else None
     if corners_file is None and (root / "corners.csv").is_file():
-        corners_file = (root / "corners.csv").resolve()
+        corners_file = _resolve(root / "corners.csv")
 
     ds = Dataset(
         root, setup, urdf, base, flange, [str(j) for j in joints], intrinsics, rectified, str(family),
@@ -242,9 +252,9 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
 
 def read_samples(ds: Dataset, chain_joint_names: list[str] | None = None) -> None:
     """samples.csv (and corners.csv), checked against the chain's joints when they are given."""
-    if ds.samples_file is not None and ds.samples_file.is_file():
+    if ds.samples_file is not None and unreadable_reason(ds.samples_file) is None:
         _read_samples(ds, ds.samples_file, chain_joint_names)
-    if ds.corners_file is not None and ds.corners_file.is_file():
+    if ds.corners_file is not None and unreadable_reason(ds.corners_file) is None:
         _read_corners(ds, ds.corners_file)
 
 
@@ -306,7 +316,7 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
                     continue
                 image = None
                 if image_col is not None and row[image_col].strip():
-                    image = (ds.root / row[image_col].strip()).resolve()
+                    image = _resolve(ds.root / row[image_col].strip())
                 ds.samples.append(Sample(sid, line, q, image))
     except csv.Error as exc:
         ds.problems.append(_csv_problem(exc, where, text))

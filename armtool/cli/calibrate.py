@@ -70,6 +70,7 @@ def _load(dataset: Path, xacro_args: dict[str, str] | None = None, package_paths
     over the dataset's own (robot.xacro_args, robot.package_paths)."""
     from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import Problem, load_dataset, read_samples
+    from armtool.calib.files import unreadable_reason
     from armtool.ik.chain import load_chain
 
     ds = load_dataset(dataset, with_samples=False)
@@ -78,7 +79,7 @@ def _load(dataset: Path, xacro_args: dict[str, str] | None = None, package_paths
     if ds.base_link and ds.base_link == ds.flange_link:
         ds.problems.append(Problem("dataset.yaml", f"robot.base_link and robot.flange_link are the same link '{ds.base_link}': the chain between them has no joints",
                                    "robot.flange_link names the link the tag (or camera) is mounted on, robot.base_link the robot's fixed base"))
-    elif ds.urdf.is_file() and ds.base_link and ds.flange_link:
+    elif unreadable_reason(ds.urdf) is None and ds.base_link and ds.flange_link:
         try:
             chain = load_chain(ds.urdf, ds.base_link, ds.flange_link, xacro_args=ds.xacro_args, package_paths=ds.package_paths)
         except ArmtoolError as exc:
@@ -87,7 +88,7 @@ def _load(dataset: Path, xacro_args: dict[str, str] | None = None, package_paths
     if chain is not None and ds.joints and set(ds.joints) != set(chain.joint_names):
         ds.problems.append(Problem("dataset.yaml", f"robot.joints {sorted(ds.joints)} differ from the chain's moving joints {chain.joint_names}",
                                    f"list the joints between {ds.base_link} and {ds.flange_link}"))
-    if ds.intrinsics.is_file():
+    if unreadable_reason(ds.intrinsics) is None:
         try:
             camera = load_intrinsics(ds.intrinsics)
             if ds.images_rectified:
