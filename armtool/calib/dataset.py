@@ -322,7 +322,7 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
         ds.problems.append(_csv_problem(exc, where, text))
     if not ds.samples and not any(p.where.startswith(where) for p in ds.problems):
         ds.problems.append(Problem(where, "samples.csv has a header but no rows", "one row per robot pose: id,image,<joint values in rad>"))
-    if ds.samples:
+    if ds.samples and ds.samples[0].q.size:  # no joint columns when robot.joints is missing (reported)
         Q = np.stack([s.q for s in ds.samples])
         if float(np.abs(Q).max()) > 2 * math.pi + 0.5:
             worst = int(np.abs(Q).max(axis=1).argmax())

@@ -352,11 +352,19 @@ def _same_setup(ds: Dataset, chain: Chain, camera: CameraModel, vds: Dataset, vc
 
 def _truth_scores(dataset: Path, result: CalibrationResult) -> dict[str, Any] | None:
     """For simulated datasets only: errors against the known true robot on its validation poses."""
+    from rich.markup import escape
+
     from armtool.calib.truth import load_truth, score
 
     if not (dataset / "truth" / "truth.yaml").is_file():
         return None
-    truth = load_truth(dataset, result.model)
+    try:
+        truth = load_truth(dataset, result.model)
+    except ArmtoolError as exc:  # only a score: never lose the fit for it
+        from armtool.console import stderr
+
+        stderr().print(f"[yellow]warning:[/yellow] not scored against the truth: {escape(str(exc))}")
+        return None
     before, after = score(result.model, result.x_handeye, truth), score(result.model, result.x, truth)
     named = sorted(set(truth.bad_samples) & set(result.outliers))
     return {

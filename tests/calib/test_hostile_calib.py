@@ -438,3 +438,18 @@ def test_mutated_dataset_files(base_dataset: Path, tmp_path_factory: pytest.Temp
         strict_json(stdout)
     assert snapshot(ds) == before
     assert time.monotonic() - t0 < 30
+
+
+def test_broken_truth_is_a_message(dataset: Path) -> None:
+    """truth/ is only for scoring a simulated dataset: a broken one is an ArmtoolError (the fit
+    then warns and writes its result), never a KeyError or RecursionError."""
+    from armtool.calib.model import CalibModel, Setup
+    from armtool.calib.truth import load_truth
+    from armtool.ik.chain import load_chain
+
+    model = CalibModel(load_chain(CLEAN_ARM, "base_link", "tool0"), Setup.EYE_TO_HAND, np.eye(4), np.eye(4))
+    (dataset / "truth").mkdir()
+    for text in ("joints: " + "[" * 1100 + "]" * 1100, "joints: {}", "- 1"):
+        (dataset / "truth" / "truth.yaml").write_text(text + "\n")
+        with pytest.raises(ArmtoolError, match="truth files"):
+            load_truth(dataset, model)
