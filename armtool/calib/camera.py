@@ -138,9 +138,15 @@ def load_intrinsics(path: Path) -> CameraModel:
         if size > MAX_FILE_BYTES:
             raise ArmtoolError(f"intrinsics file is {size / 2**20:.0f} MB, more than the {MAX_FILE_BYTES // 2**20} MB armtool reads", str(path),
                                "is this the right file? intrinsics files are a few hundred bytes")
-        text = path.read_text(encoding="utf-8", errors="replace")
+        raw = path.read_bytes()
     except OSError as exc:
         raise ArmtoolError(f"cannot read intrinsics file: {exc.strerror}", str(path)) from None
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise ArmtoolError("intrinsics file is not UTF-8 text", f"{path}:{line}",
+                           "is it the right file? intrinsics are a YAML or XML text file") from None
     deep = _too_deep_line(text)
     if deep is not None:
         raise ArmtoolError(f"intrinsics file is nested more than {MAX_NESTING} levels deep", f"{path}:{deep}",
@@ -236,12 +242,16 @@ def _read_filestorage(path: Path) -> dict[str, Any]:
     if not fs.isOpened():
         raise ArmtoolError("not a readable OpenCV FileStorage file", str(path))
     try:
-        root = fs.root()
+        try:
+            root = fs.root()
+            names = list(root.keys())
+        except (cv2.error, SystemError, UnicodeDecodeError) as exc:
+            raise ArmtoolError(f"not a readable OpenCV FileStorage file: {(str(exc).strip().splitlines() or ['parse error'])[-1]}", str(path)) from None
         values: dict[str, Any] = {}
-        for name in root.keys():
+        for name in names:
             try:
                 values[name] = _node_value(root.getNode(name))
-            except (cv2.error, SystemError) as exc:  # e.g. a matrix whose data is not all numbers
+            except (cv2.error, SystemError, UnicodeDecodeError) as exc:  # e.g. a matrix whose data is not all numbers
                 lines = str(exc.__cause__ or exc).strip().splitlines()
                 raise ArmtoolError(f"key '{name}' cannot be read: {lines[-1].strip() if lines else 'bad value'}", str(path),
                                    "a matrix is {rows, cols, dt, data: [numbers]}") from None
