@@ -160,10 +160,10 @@ def load_intrinsics(path: Path) -> CameraModel:
     except ArmtoolError as exc:
         # Name the line of the key at fault, as for syntax errors (a missing key has none).
         key = re.search(r"key '([^']+)'", exc.what)
-        line = _key_line(text, key.group(1)) if key is not None and exc.where == str(path) else None
-        if line is None:
+        key_line = _key_line(text, key.group(1)) if key is not None and exc.where == str(path) else None
+        if key_line is None:
             raise
-        raise ArmtoolError(exc.what, f"{path}:{line}", exc.hint) from None
+        raise ArmtoolError(exc.what, f"{path}:{key_line}", exc.hint) from None
 
 
 MAX_NESTING = 32  # an intrinsics file nests 2 or 3 levels; deeper is not one (and YAML recursion is slow)
