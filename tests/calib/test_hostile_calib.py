@@ -36,7 +36,7 @@ IS_ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
 JOINTS = ["joint1", "joint2", "joint3", "joint4", "joint5", "joint6"]
 
 
-def run(*args: str) -> tuple[int, str, str]:
+def run(*args: object) -> tuple[int, str, str]:
     """Exit code, stdout, error text, as `armtool.cli.main` would give them; any other exception fails."""
     result = runner.invoke(app, [str(a) for a in args])
     exc = result.exception
