@@ -185,6 +185,8 @@ def fit(
     families = _families(params or "origins,offsets")
     cli_args, cli_paths = _parse_xacro_args(xacro_arg), list(package_path)
     _check_out_dir(out)
+    if plot is not None and not plot.parent.is_dir():  # at once; the full check follows the dataset's
+        raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
     ds, chain, camera = _load(dataset, cli_args, cli_paths)
     require_ok(ds)
     assert chain is not None and camera is not None

@@ -272,6 +272,10 @@ def test_image_that_is_a_directory_is_not_reported_missing(dataset: Path, tmp_pa
     (tmp_path / "images").mkdir()
     assert unreadable_reason(tmp_path / "images") == "is a directory, not a file"
     assert unreadable_reason(tmp_path / "nothing") == "does not exist"
+    (tmp_path / "flat").write_text("")  # `images` that is a file: the real cause is named
+    assert "a part of its path is a file" in (unreadable_reason(tmp_path / "flat" / "0.png") or "")
+    (tmp_path / "link.png").symlink_to(tmp_path / "gone.png")
+    assert unreadable_reason(tmp_path / "link.png") == "is a broken symbolic link"
     code, _, err = run("calibrate", "camera", tmp_path / "images" / "a.png", "--board", "charuco:5x4:0.03:0.022", "-o", tmp_path / "c.yaml")
     assert code == 2 and "does not exist" in err
     os.mkfifo(tmp_path / "images" / "a.png")  # a FIFO named like an image: reading it would hang
