@@ -4,7 +4,7 @@ regression test, then property-based runs over the numeric options and mutated d
 Datasets here are tiny and image-free (corners.csv projected from a known robot), so the whole
 file runs in well under a minute. The CLI runs in-process (CliRunner); an exception other than
 ArmtoolError or SystemExit is what `armtool.cli.main` would report as "internal error", so it
-fails the test.
+fails the test. `HOSTILE_EXAMPLES=300` runs the mutated-file property longer (about 90 s).
 """
 
 from __future__ import annotations
