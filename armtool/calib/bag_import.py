@@ -188,6 +188,11 @@ def decode_image(msg: Any, msgtype: str) -> tuple[bytes, str]:
     if msgtype.endswith("CompressedImage"):
         data = bytes(msg.data)
         ext = ".png" if data[:8] == b"\x89PNG\r\n\x1a\n" else ".jpg" if data[:2] == b"\xff\xd8" else ""
+        from armtool.calib.files import check_pixels, header_size
+
+        size = header_size(data[:65536])
+        if size is not None:
+            check_pixels(size[0], size[1], f"a {msg.format} image message")
         if not ext or cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED) is None:
             raise ArmtoolError(f"compressed image (format '{msg.format}') is neither a readable JPEG nor PNG",
                                hint="compressedDepth and other codecs are not supported; record the raw or JPEG/PNG topic")
@@ -456,7 +461,10 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
     }
     rows = ["id,image," + ",".join(names)]
     rows += [f"{s.id},{s.image}," + ",".join(f"{s.q[n]:.9f}" for n in names) for s in samples]
-    tmp = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp"))
+    try:
+        tmp = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp"))
+    except OSError as exc:
+        raise ArmtoolError(f"cannot create the dataset directory: {exc.strerror or exc}", str(out), "check the permissions of its parent") from None
     try:
         (tmp / "images").mkdir()
         for k, (i, _) in chosen.items():
@@ -475,6 +483,9 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         if out.exists():
             out.rmdir()  # empty, checked above
         os.replace(tmp, out)
+    except OSError as exc:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise ArmtoolError(f"cannot write the dataset: {exc.strerror or exc}", str(out), "check the path and the free disk space") from None
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise

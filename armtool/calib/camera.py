@@ -130,16 +130,69 @@ def load_intrinsics(path: Path) -> CameraModel:
 
     Raises ArmtoolError naming the file and the missing or invalid key.
     """
+    from armtool.calib.limits import MAX_FILE_BYTES
+
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise ArmtoolError(f"intrinsics file is {size / 2**20:.0f} MB, more than the {MAX_FILE_BYTES // 2**20} MB armtool reads", str(path),
+                               "is this the right file? intrinsics files are a few hundred bytes")
+        raw = path.read_bytes()
     except OSError as exc:
         raise ArmtoolError(f"cannot read intrinsics file: {exc.strerror}", str(path)) from None
-    if _is_filestorage(path, text):
-        data = _read_filestorage(path)
-    else:
-        data = _read_plain_yaml(path, text)
-    return _camera_from_mapping(data, path)
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise ArmtoolError("intrinsics file is not UTF-8 text", f"{path}:{line}",
+                           "is it the right file? intrinsics are a YAML or XML text file") from None
+    deep = _too_deep_line(text)
+    if deep is not None:
+        raise ArmtoolError(f"intrinsics file is nested more than {MAX_NESTING} levels deep", f"{path}:{deep}",
+                           "camera_matrix and distortion_coefficients are flat lists")
+    try:
+        data = _read_filestorage(path) if _is_filestorage(path, text) else _read_plain_yaml(path, text)
+    except RecursionError:
+        raise ArmtoolError("intrinsics file is nested too deeply", str(path), "camera_matrix and distortion_coefficients are flat lists") from None
+    try:
+        return _camera_from_mapping(data, path)
+    except ArmtoolError as exc:
+        # Name the line of the key at fault, as for syntax errors (a missing key has none).
+        key = re.search(r"key '([^']+)'", exc.what)
+        key_line = _key_line(text, key.group(1)) if key is not None and exc.where == str(path) else None
+        if key_line is None:
+            raise
+        raise ArmtoolError(exc.what, f"{path}:{key_line}", exc.hint) from None
+
+
+MAX_NESTING = 32  # an intrinsics file nests 2 or 3 levels; deeper is not one (and YAML recursion is slow)
+
+
+def _too_deep_line(text: str) -> int | None:
+    """The line where brackets ([ {) or XML tags first nest more than MAX_NESTING deep, found
+    by a scan before parsing (quoted text is skipped): the parsers recurse once per level."""
+    depth, line, quote = 0, 1, ""
+    for ch in text:
+        if ch == "\n":
+            line += 1
+        elif quote:
+            quote = "" if ch == quote else quote
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "[{":
+            depth += 1
+            if depth > MAX_NESTING:
+                return line
+        elif ch in "]}":
+            depth = max(depth - 1, 0)
+    return None
+
+
+def _key_line(text: str, key: str) -> int | None:
+    """The line where `key` is defined (`key:` in YAML, `<key` in XML), 1-based."""
+    found = re.search(rf"^\s*(?:{re.escape(key)}\s*:|<{re.escape(key)}\b)", text, re.MULTILINE)
+    return text.count("\n", 0, found.start()) + 1 + (text[found.start():found.end()].count("\n")) if found else None
 
 
 def save_intrinsics(camera: CameraModel, path: Path) -> None:
@@ -189,8 +242,20 @@ def _read_filestorage(path: Path) -> dict[str, Any]:
     if not fs.isOpened():
         raise ArmtoolError("not a readable OpenCV FileStorage file", str(path))
     try:
-        root = fs.root()
-        return {name: _node_value(root.getNode(name)) for name in root.keys()}
+        try:
+            root = fs.root()
+            names = list(root.keys())
+        except (cv2.error, SystemError, UnicodeDecodeError) as exc:
+            raise ArmtoolError(f"not a readable OpenCV FileStorage file: {(str(exc).strip().splitlines() or ['parse error'])[-1]}", str(path)) from None
+        values: dict[str, Any] = {}
+        for name in names:
+            try:
+                values[name] = _node_value(root.getNode(name))
+            except (cv2.error, SystemError, UnicodeDecodeError) as exc:  # e.g. a matrix whose data is not all numbers
+                lines = str(exc.__cause__ or exc).strip().splitlines()
+                raise ArmtoolError(f"key '{name}' cannot be read: {lines[-1].strip() if lines else 'bad value'}", str(path),
+                                   "a matrix is {rows, cols, dt, data: [numbers]}") from None
+        return values
     finally:
         fs.release()
 

@@ -11,18 +11,22 @@ from __future__ import annotations
 import csv
 import io
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from armtool.calib.files import unreadable_reason
+from armtool.calib.limits import MAX_CSV_FIELD, MAX_FILE_BYTES, MAX_SAMPLES, MAX_TAG_ID, TAG_SIZE_M
 from armtool.calib.model import Setup
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 
 FORMAT = "armtool-calib-dataset/1"
 CORNER_COLUMNS = ["u0", "v0", "u1", "v1", "u2", "v2", "u3", "v3"]
+MAX_CORNER_PX = 1e6  # far outside any image: a coordinate beyond is a unit or column mix-up
 
 
 @dataclass(frozen=True)
@@ -72,6 +76,15 @@ class Dataset:
         return [p for p in self.problems if p.severity == "error"]
 
 
+def _resolve(path: Path) -> Path:
+    """`path.resolve()`, or the path as given when it cannot be resolved (a NUL byte, a name too
+    long): the file check that follows then says what is wrong with it."""
+    try:
+        return path.resolve()
+    except (OSError, ValueError, RuntimeError):
+        return path
+
+
 def _rel(root: Path, path: Path) -> str:
     try:
         return str(path.relative_to(root.parent))
@@ -100,10 +113,10 @@ def _hint_pose(value: Any) -> Array | None:
     try:
         xyz = [float(v) for v in value["xyz"]]
         rpy = [float(v) for v in value.get("rpy", [0, 0, 0])]
-        if len(xyz) != 3 or len(rpy) != 3:
+        if len(xyz) != 3 or len(rpy) != 3 or not all(math.isfinite(v) for v in xyz + rpy):
             return None
         return se3.xyz_rpy(xyz, rpy)
-    except (TypeError, KeyError, ValueError):
+    except (TypeError, KeyError, ValueError, AttributeError, OverflowError):
         return None
 
 
@@ -125,8 +138,8 @@ def _robot_sources(doc: dict[str, Any], root: Path, where: str, problems: list[P
         problems.append(Problem(where, f"robot.package_paths must be a list of directories, got {raw_paths!r}", "e.g. package_paths: [../src]"))
     else:
         for item in raw_paths:
-            path = (root / str(item)).resolve()
-            if not path.is_dir():
+            path = _resolve(root / str(item))
+            if not os.path.isdir(path):
                 problems.append(Problem(where, f"robot.package_paths entry '{item}' is not a directory", f"paths are relative to {root}"))
             paths.append(path)
     return args, paths
@@ -167,12 +180,26 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     if units not in ("rad", "radians"):
         problems.append(Problem(where, f"robot.joint_units is '{units}'", "armtool expects radians: convert the CSV and set `joint_units: rad`"))
     intr_name = _get(doc, "camera.intrinsics", problems, where)
-    rectified = bool((doc.get("camera") or {}).get("images_rectified", False)) if isinstance(doc.get("camera"), dict) else False
+    rectified = (doc.get("camera") or {}).get("images_rectified", False) if isinstance(doc.get("camera"), dict) else False
+    if not isinstance(rectified, bool):
+        problems.append(Problem(where, f"camera.images_rectified must be true or false, got {rectified!r}"))
+        rectified = False
     family = _get(doc, "target.family", problems, where) or "tag36h11"
     tag_id = _get(doc, "target.id", problems, where, int)
     size_m = _get(doc, "target.size_m", problems, where, (int, float))
-    if size_m is not None and not (0.001 <= float(size_m) <= 2.0):
-        problems.append(Problem(where, f"target.size_m is {size_m}: the black square's edge in metres", "e.g. 0.08 for an 80 mm tag"))
+    if size_m is not None and not (TAG_SIZE_M[0] <= float(size_m) <= TAG_SIZE_M[1]):  # NaN fails too
+        problems.append(Problem(where, f"target.size_m is {size_m}: the black square's edge in metres, {TAG_SIZE_M[0]:g} to {TAG_SIZE_M[1]:g}",
+                                "e.g. 0.08 for an 80 mm tag"))
+        size_m = None
+    if tag_id is not None and not 0 <= tag_id <= MAX_TAG_ID:
+        problems.append(Problem(where, f"target.id is {tag_id}: AprilTag ids are 0 to {MAX_TAG_ID}", "the number printed under the tag"))
+        tag_id = None
+    if not isinstance(family, str):
+        problems.append(Problem(where, f"target.family must be a string, got {family!r}", "e.g. tag36h11"))
+        family = "tag36h11"
+    bad_joints = [j for j in joints if not isinstance(j, str)]
+    if bad_joints:
+        problems.append(Problem(where, f"robot.joints must be joint names, got {bad_joints[0]!r}", "e.g. joints: [joint1, joint2]"))
     samples_name = doc.get("samples", "samples.csv")
     if not isinstance(samples_name, str):
         problems.append(Problem(where, f"'samples' must be a file name, got {samples_name!r}", "e.g. samples: samples.csv"))
@@ -181,9 +208,10 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     def file_in_root(name: str | None, what: str) -> Path:
         if name is None:
             return root / "__missing__"
-        path = (root / name).resolve()
-        if not path.is_file():
-            problems.append(Problem(where, f"{what} '{name}' does not exist", f"put it in {root} or fix the path in dataset.yaml"))
+        path = _resolve(root / name)
+        why = unreadable_reason(path)
+        if why is not None:
+            problems.append(Problem(where, f"{what} '{name}' {why}", f"put the file in {root} or fix the path in dataset.yaml"))
         return path
 
     urdf = file_in_root(urdf_name, "robot.urdf")
@@ -205,9 +233,9 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     if corners_name is not None and not isinstance(corners_name, str):
         problems.append(Problem(where, f"'corners' must be a file name, got {corners_name!r}", "e.g. corners: corners.csv"))
         corners_name = None
-    corners_file = (root / corners_name).resolve() if corners_name else None
+    corners_file = _resolve(root / corners_name) if corners_name else None
     if corners_file is None and (root / "corners.csv").is_file():
-        corners_file = (root / "corners.csv").resolve()
+        corners_file = _resolve(root / "corners.csv")
 
     ds = Dataset(
         root, setup, urdf, base, flange, [str(j) for j in joints], intrinsics, rectified, str(family),
@@ -215,8 +243,8 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         corners_file=corners_file, hints=hints, problems=problems, xacro_args=xacro_args, package_paths=package_paths,
     )
     ds.samples_file = samples_path
-    if corners_file is not None and not corners_file.is_file():
-        problems.append(Problem(where, f"corners file '{corners_name}' does not exist"))
+    if corners_file is not None and (why := unreadable_reason(corners_file)) is not None:
+        problems.append(Problem(where, f"corners file '{corners_name or corners_file.name}' {why}"))
     if with_samples:
         read_samples(ds, chain_joint_names)
     return ds
@@ -224,9 +252,9 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
 
 def read_samples(ds: Dataset, chain_joint_names: list[str] | None = None) -> None:
     """samples.csv (and corners.csv), checked against the chain's joints when they are given."""
-    if ds.samples_file is not None and ds.samples_file.is_file():
+    if ds.samples_file is not None and unreadable_reason(ds.samples_file) is None:
         _read_samples(ds, ds.samples_file, chain_joint_names)
-    if ds.corners_file is not None and ds.corners_file.is_file():
+    if ds.corners_file is not None and unreadable_reason(ds.corners_file) is None:
         _read_corners(ds, ds.corners_file)
 
 
@@ -235,60 +263,66 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
     text = _text(path, where, ds.problems)
     if text is None:
         return
-    with io.StringIO(text, newline="") as handle:
-        reader = csv.reader(handle)
-        header = next(reader, None)
-        if header is None:
-            ds.problems.append(Problem(where, "samples.csv is empty", "one row per pose: id,image,<joint names>"))
-            return
-        header = [h.strip() for h in header]
-        if "id" not in header:
-            ds.problems.append(Problem(f"{where}:1", "no 'id' column", "the header must start with id,image,<joint names>"))
-            return
-        names = chain_joint_names if chain_joint_names is not None else ds.joints
-        missing = [n for n in names if n not in header]
-        if missing:
-            ds.problems.append(Problem(f"{where}:1", f"joint column(s) missing: {', '.join(missing)}", "the header names URDF joints: " + ", ".join(names)))
-            return
-        unknown = [h for h in header if h not in ("id", "image") and h not in names]
-        if unknown and chain_joint_names is not None:
-            from armtool.lint.suggest import did_you_mean
+    try:
+        with io.StringIO(text, newline="") as handle:
+            reader = csv.reader(handle)
+            header = next(reader, None)
+            if header is None:
+                ds.problems.append(Problem(where, "samples.csv is empty", "one row per pose: id,image,<joint names>"))
+                return
+            header = [h.strip() for h in header]
+            if "id" not in header:
+                ds.problems.append(Problem(f"{where}:1", "no 'id' column", "the header must start with id,image,<joint names>"))
+                return
+            names = chain_joint_names if chain_joint_names is not None else ds.joints
+            missing = [n for n in names if n not in header]
+            if missing:
+                ds.problems.append(Problem(f"{where}:1", f"joint column(s) missing: {', '.join(missing)}", "the header names URDF joints: " + ", ".join(names)))
+                return
+            unknown = [h for h in header if h not in ("id", "image") and h not in names]
+            if unknown and chain_joint_names is not None:
+                from armtool.lint.suggest import did_you_mean
 
-            for u in unknown:
-                ds.problems.append(
-                    Problem(f"{where}:1", f"column '{u}' is not a joint of the chain {ds.base_link} → {ds.flange_link}{did_you_mean(u, names)}",
-                            "remove the column, or fix robot.base_link / robot.flange_link", severity="warning" if u not in ds.joints else "error")
-                )
-        cols = [header.index(n) for n in names]
-        id_col = header.index("id")
-        image_col = header.index("image") if "image" in header else None
-        seen: set[str] = set()
-        for line, row in enumerate(reader, start=2):
-            if not row or all(not c.strip() for c in row):
-                continue
-            if len(row) < len(header):
-                ds.problems.append(Problem(f"{where}:{line}", f"{len(row)} values, header has {len(header)}"))
-                continue
-            sid = row[id_col].strip()
-            if sid in seen:
-                ds.problems.append(Problem(f"{where}:{line}", f"duplicate id '{sid}'"))
-                continue
-            seen.add(sid)
-            try:
-                q = np.array([float(row[c]) for c in cols])
-            except ValueError:
-                ds.problems.append(Problem(f"{where}:{line}", "a joint value is not a number"))
-                continue
-            if not np.isfinite(q).all():
-                ds.problems.append(Problem(f"{where}:{line}", "a joint value is NaN or infinite"))
-                continue
-            image = None
-            if image_col is not None and row[image_col].strip():
-                image = (ds.root / row[image_col].strip()).resolve()
-            ds.samples.append(Sample(sid, line, q, image))
+                for u in unknown:
+                    ds.problems.append(
+                        Problem(f"{where}:1", f"column '{u}' is not a joint of the chain {ds.base_link} → {ds.flange_link}{did_you_mean(u, names)}",
+                                "remove the column, or fix robot.base_link / robot.flange_link", severity="warning" if u not in ds.joints else "error")
+                    )
+            cols = [header.index(n) for n in names]
+            id_col = header.index("id")
+            image_col = header.index("image") if "image" in header else None
+            seen: set[str] = set()
+            for line, row in enumerate(reader, start=2):
+                if not row or all(not c.strip() for c in row):
+                    continue
+                if len(ds.samples) >= MAX_SAMPLES:
+                    ds.problems.append(Problem(f"{where}:{line}", f"more than {MAX_SAMPLES} samples", "split the dataset: 30-300 well-spread poses are plenty"))
+                    break
+                if len(row) < len(header):
+                    ds.problems.append(Problem(f"{where}:{line}", f"{len(row)} values, header has {len(header)}"))
+                    continue
+                sid = row[id_col].strip()
+                if sid in seen:
+                    ds.problems.append(Problem(f"{where}:{line}", f"duplicate id '{sid}'"))
+                    continue
+                seen.add(sid)
+                try:
+                    q = np.array([float(row[c]) for c in cols])
+                except ValueError:
+                    ds.problems.append(Problem(f"{where}:{line}", "a joint value is not a number"))
+                    continue
+                if not np.isfinite(q).all():
+                    ds.problems.append(Problem(f"{where}:{line}", "a joint value is NaN or infinite"))
+                    continue
+                image = None
+                if image_col is not None and row[image_col].strip():
+                    image = _resolve(ds.root / row[image_col].strip())
+                ds.samples.append(Sample(sid, line, q, image))
+    except csv.Error as exc:
+        ds.problems.append(_csv_problem(exc, where, text))
     if not ds.samples and not any(p.where.startswith(where) for p in ds.problems):
         ds.problems.append(Problem(where, "samples.csv has a header but no rows", "one row per robot pose: id,image,<joint values in rad>"))
-    if ds.samples:
+    if ds.samples and ds.samples[0].q.size:  # no joint columns when robot.joints is missing (reported)
         Q = np.stack([s.q for s in ds.samples])
         if float(np.abs(Q).max()) > 2 * math.pi + 0.5:
             worst = int(np.abs(Q).max(axis=1).argmax())
@@ -303,34 +337,64 @@ def _read_corners(ds: Dataset, path: Path) -> None:
     text = _text(path, where, ds.problems)
     if text is None:
         return
-    with io.StringIO(text, newline="") as handle:
-        reader = csv.DictReader(handle)
-        fields = [f.strip() for f in (reader.fieldnames or [])]
-        missing = [c for c in ["id", "tag_id", *CORNER_COLUMNS] if c not in fields]
-        if missing:
-            ds.problems.append(Problem(f"{where}:1", f"corners.csv lacks column(s) {', '.join(missing)}", "header: id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3"))
-            return
-        ids = {s.id for s in ds.samples}
-        for line, row in enumerate(reader, start=2):
-            row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
-            try:
-                if int(row["tag_id"]) != ds.tag_id:
+    try:
+        with io.StringIO(text, newline="") as handle:
+            reader = csv.DictReader(handle)
+            fields = [f.strip() for f in (reader.fieldnames or [])]
+            missing = [c for c in ["id", "tag_id", *CORNER_COLUMNS] if c not in fields]
+            if missing:
+                ds.problems.append(Problem(f"{where}:1", f"corners.csv lacks column(s) {', '.join(missing)}", "header: id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3"))
+                return
+            ids = {s.id for s in ds.samples}
+            for line, row in enumerate(reader, start=2):
+                if line > MAX_SAMPLES + 1:
+                    ds.problems.append(Problem(f"{where}:{line}", f"more than {MAX_SAMPLES} rows", "one row per sample"))
+                    break
+                row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
+                try:
+                    if int(row["tag_id"]) != ds.tag_id:
+                        continue
+                    uv = np.array([float(row[c]) for c in CORNER_COLUMNS]).reshape(4, 2)
+                except ValueError:
+                    ds.problems.append(Problem(f"{where}:{line}", "tag_id or a corner coordinate is not a number"))
                     continue
-                uv = np.array([float(row[c]) for c in CORNER_COLUMNS]).reshape(4, 2)
-            except ValueError:
-                ds.problems.append(Problem(f"{where}:{line}", "tag_id or a corner coordinate is not a number"))
-                continue
-            if not np.isfinite(uv).all():
-                ds.problems.append(Problem(f"{where}:{line}", "a corner coordinate is NaN or infinite"))
-                continue
-            if row["id"] not in ids:
-                ds.problems.append(Problem(f"{where}:{line}", f"sample id '{row['id']}' is not in samples.csv"))
-                continue
-            ds.corners[row["id"]] = uv
+                if not np.isfinite(uv).all():
+                    ds.problems.append(Problem(f"{where}:{line}", "a corner coordinate is NaN or infinite"))
+                    continue
+                if float(np.abs(uv).max()) > MAX_CORNER_PX:
+                    ds.problems.append(Problem(f"{where}:{line}", f"a corner coordinate is beyond ±{MAX_CORNER_PX:g} px", "corners are pixel coordinates in the image"))
+                    continue
+                if row["id"] not in ids:
+                    ds.problems.append(Problem(f"{where}:{line}", f"sample id '{row['id']}' is not in samples.csv"))
+                    continue
+                ds.corners[row["id"]] = uv
+    except csv.Error as exc:
+        ds.problems.append(_csv_problem(exc, where, text))
+
+
+def _csv_problem(exc: csv.Error, where: str, text: str) -> Problem:
+    """A CSV syntax error with the line it is on (the reader stops there)."""
+    message = str(exc)
+    if "field larger than field limit" in message:
+        line = _line_of_long_field(text)
+        return Problem(f"{where}:{line}", f"a field is longer than {MAX_CSV_FIELD // 1024} KB", "is this the right file? each field is one id, path or number")
+    return Problem(where, f"not a readable CSV file: {message}", "one row per line, fields separated by commas")
+
+
+def _line_of_long_field(text: str) -> int:
+    for number, line in enumerate(text.splitlines(), start=1):
+        if len(line) > MAX_CSV_FIELD:
+            return number
+    return 1
 
 
 def _text(path: Path, where: str, problems: list[Problem]) -> str | None:
     try:
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            problems.append(Problem(where, f"file is {size / 2**20:.0f} MB, more than the {MAX_FILE_BYTES // 2**20} MB armtool reads",
+                                    f"a dataset holds at most {MAX_SAMPLES} samples"))
+            return None
         return path.read_bytes().decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         line = path.read_bytes()[: exc.start].count(b"\n") + 1

@@ -17,7 +17,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
-from typing import cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -76,13 +75,22 @@ class IntrinsicsResult:
 def image_paths(inputs: Sequence[Path]) -> list[Path]:
     """Image files from the command line: files as given, directories expanded (sorted)."""
     out: list[Path] = []
+    from armtool.calib.files import unreadable_reason
+
     for p in inputs:
         if p.is_dir():
-            out.extend(sorted(q for q in p.iterdir() if q.suffix.lower() in _IMAGE_SUFFIXES))
-        elif p.is_file():
+            try:
+                found = sorted(q for q in p.iterdir() if q.suffix.lower() in _IMAGE_SUFFIXES)
+            except OSError as exc:
+                raise ArmtoolError(f"cannot list the image directory: {exc.strerror or exc}", str(p), "check its permissions") from None
+            out.extend(q for q in found if unreadable_reason(q) is None)  # skip sub-directories, FIFOs named *.png
+        elif (why := unreadable_reason(p)) is None:
             out.append(p)
         else:
-            raise ArmtoolError("image not found", str(p), "pass image files or a directory of images")
+            raise ArmtoolError(f"image {why}", str(p), "pass image files or a directory of images")
+    if not out and any(p.is_dir() for p in inputs):
+        raise ArmtoolError("no readable image files in the director" + ("ies" if len(inputs) > 1 else "y"), ", ".join(str(p) for p in inputs),
+                           f"images end in {', '.join(_IMAGE_SUFFIXES)}")
     if not out:
         raise ArmtoolError("no images given", ", ".join(str(p) for p in inputs), f"images end in {', '.join(_IMAGE_SUFFIXES)}")
     return out
@@ -92,10 +100,12 @@ def find_boards(paths: Sequence[Path], spec: BoardSpec, progress: Callable[[int,
     """The board's corners in every image, and the common image size (width, height)."""
     import cv2
 
+    from armtool.calib.files import read_gray
+
     views: list[tuple[str, BoardView]] = []
     size: tuple[int, int] | None = None
     for k, path in enumerate(paths):
-        gray = cast("NDArray[np.uint8] | None", cv2.imread(str(path), cv2.IMREAD_GRAYSCALE))
+        gray = read_gray(path)
         if gray is None:
             raise ArmtoolError("cannot read image", str(path), "is it a PNG/JPEG image?")
         here = (int(gray.shape[1]), int(gray.shape[0]))

@@ -18,6 +18,7 @@ import numpy as np
 from armtool.calib.camera import CameraModel
 from armtool.calib.dataset import Dataset, Sample
 from armtool.calib.se3 import Array
+from armtool.errors import ArmtoolError
 
 
 @dataclass(frozen=True)
@@ -33,7 +34,12 @@ def _detect_one(args: tuple[str, str, str, int, CameraModel]) -> tuple[str, Arra
     from armtool.calib.apriltag import detect_tag
 
     sample_id, image_path, family, tag_id, camera = args
-    gray = cv2.imread(image_path, cv2.IMREAD_GRAYSCALE)
+    from armtool.calib.files import read_gray
+
+    try:
+        gray = read_gray(Path(image_path))
+    except ArmtoolError as exc:
+        return sample_id, None, exc.what
     if gray is None:
         return sample_id, None, f"cannot read image {image_path}"
     if (gray.shape[1], gray.shape[0]) != (camera.width, camera.height):
@@ -52,6 +58,8 @@ def observe(
     workers: int | None = None,
 ) -> dict[str, Observation]:
     """Corners for every sample: corners.csv when the dataset has one, else detection in the images."""
+    from armtool.calib.files import unreadable_reason
+
     samples = ds.samples if samples is None else samples
     out: dict[str, Observation] = {}
     if ds.corners_file is not None:
@@ -63,8 +71,8 @@ def observe(
     for s in samples:
         if s.image is None:
             out[s.id] = Observation(s.id, None, "no image and no corners.csv row")
-        elif not Path(s.image).is_file():
-            out[s.id] = Observation(s.id, None, f"image {s.image} does not exist")
+        elif (why := unreadable_reason(Path(s.image))) is not None:
+            out[s.id] = Observation(s.id, None, f"image {s.image} {why}")
         else:
             jobs.append((s.id, str(s.image), ds.family, ds.tag_id, camera))
     total = len(jobs)

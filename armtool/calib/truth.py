@@ -37,24 +37,32 @@ class Truth:
 
 
 def load_truth(dataset: Path, model: CalibModel) -> Truth:
+    """The truth `simulate` kept apart; ArmtoolError when it is missing or not as written."""
     import yaml
 
     path = dataset / "truth" / "truth.yaml"
     if not path.is_file():
         raise ArmtoolError("no truth/truth.yaml", str(path), "only datasets made by `armtool calibrate simulate` have a truth")
-    doc = yaml.safe_load(path.read_text(encoding="utf-8"))
-    x = np.zeros(model.size)
-    k = x[12:].reshape(model.chain.n, 8)
-    for i, name in enumerate(model.chain.joint_names):
-        j = doc["joints"][name]
-        k[i, :3] = j["origin_t_m"]
-        k[i, 3:6] = j["origin_r_rad"]
-        k[i, 6] = j["offset_rad"]
-    rows = (dataset / "truth" / "validation.csv").read_text(encoding="utf-8").strip().splitlines()
-    header = rows[0].split(",")
-    order = [header.index(n) for n in model.chain.joint_names]
-    Q = np.array([[float(r.split(",")[c]) for c in order] for r in rows[1:]])
-    return Truth(x, Q, {str(k): str(v) for k, v in (doc.get("bad_samples") or {}).items()})
+    try:
+        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+        x = np.zeros(model.size)
+        k = x[12:].reshape(model.chain.n, 8)
+        for i, name in enumerate(model.chain.joint_names):
+            j = doc["joints"][name]
+            k[i, :3] = j["origin_t_m"]
+            k[i, 3:6] = j["origin_r_rad"]
+            k[i, 6] = j["offset_rad"]
+        rows = (dataset / "truth" / "validation.csv").read_text(encoding="utf-8").strip().splitlines()
+        header = rows[0].split(",")
+        order = [header.index(n) for n in model.chain.joint_names]
+        Q = np.array([[float(r.split(",")[c]) for c in order] for r in rows[1:]], dtype=float).reshape(-1, model.chain.n)
+        bad = {str(key): str(v) for key, v in (doc.get("bad_samples") or {}).items()}
+    except (OSError, UnicodeDecodeError, yaml.YAMLError, RecursionError, KeyError, IndexError, TypeError, ValueError, AttributeError) as exc:
+        raise ArmtoolError(f"the truth files are not as `calibrate simulate` wrote them ({type(exc).__name__}: {str(exc)[:80]})",
+                           str(path.parent)) from None
+    if not (np.isfinite(x).all() and np.isfinite(Q).all()) or len(Q) == 0:
+        raise ArmtoolError("the truth files hold no validation pose or non-finite values", str(path.parent))
+    return Truth(x, Q, bad)
 
 
 def registered_errors(F_est: Array, F_true: Array) -> PoseErrors:

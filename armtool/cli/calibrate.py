@@ -10,6 +10,8 @@ from typing import TYPE_CHECKING, Any, List, Optional
 
 import typer
 
+from armtool.calib.limits import MAX_SIMULATED, TAG_SIZE_M
+from armtool.cli import options as opt
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.extras import require
 
@@ -69,12 +71,16 @@ def _load(dataset: Path, xacro_args: dict[str, str] | None = None, package_paths
     over the dataset's own (robot.xacro_args, robot.package_paths)."""
     from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import Problem, load_dataset, read_samples
+    from armtool.calib.files import unreadable_reason
     from armtool.ik.chain import load_chain
 
     ds = load_dataset(dataset, with_samples=False)
     ds.xacro_args, ds.package_paths = ds.robot_sources(xacro_args, package_paths)
     chain = camera = None
-    if ds.urdf.is_file() and ds.base_link and ds.flange_link:
+    if ds.base_link and ds.base_link == ds.flange_link:
+        ds.problems.append(Problem("dataset.yaml", f"robot.base_link and robot.flange_link are the same link '{ds.base_link}': the chain between them has no joints",
+                                   "robot.flange_link names the link the tag (or camera) is mounted on, robot.base_link the robot's fixed base"))
+    elif unreadable_reason(ds.urdf) is None and ds.base_link and ds.flange_link:
         try:
             chain = load_chain(ds.urdf, ds.base_link, ds.flange_link, xacro_args=ds.xacro_args, package_paths=ds.package_paths)
         except ArmtoolError as exc:
@@ -83,13 +89,13 @@ def _load(dataset: Path, xacro_args: dict[str, str] | None = None, package_paths
     if chain is not None and ds.joints and set(ds.joints) != set(chain.joint_names):
         ds.problems.append(Problem("dataset.yaml", f"robot.joints {sorted(ds.joints)} differ from the chain's moving joints {chain.joint_names}",
                                    f"list the joints between {ds.base_link} and {ds.flange_link}"))
-    if ds.intrinsics.is_file():
+    if unreadable_reason(ds.intrinsics) is None:
         try:
             camera = load_intrinsics(ds.intrinsics)
             if ds.images_rectified:
                 camera = camera.without_distortion()
         except ArmtoolError as exc:
-            ds.problems.append(Problem(ds.intrinsics.name, exc.what, exc.hint or ""))
+            ds.problems.append(Problem(Path(exc.where).name if exc.where else ds.intrinsics.name, exc.what, exc.hint or ""))
     return ds, chain, camera
 
 
@@ -147,9 +153,9 @@ def fit(
     dataset: Path = typer.Argument(..., help="Dataset directory (with dataset.yaml)."),
     out: Path = typer.Option(..., "--out", "-o", help="Directory for calibrated.urdf and calibration.yaml."),
     params: Optional[str] = typer.Option(None, "--params", help="Kinematic parameter families to fit: origins, offsets, gains [default: origins,offsets]."),
-    holdout: float = typer.Option(0.0, "--holdout", min=0.0, max=0.9, help="Fraction of samples kept out of the fit to validate it."),
+    holdout: float = typer.Option(0.0, "--holdout", callback=opt.finite_float(0.0, 0.9), help="Fraction of samples kept out of the fit to validate it (0 to 0.9)."),
     validation: Optional[Path] = typer.Option(None, "--validation", help="A second dataset of the same setup, used only to validate."),
-    seed: int = typer.Option(0, "--seed", help="Random seed for the hold-out split."),
+    seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed for the hold-out split (any integer)."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write a PNG of per-sample residuals before and after."),
     output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
     xacro_arg: List[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
@@ -181,16 +187,21 @@ def fit(
     explicit = params is not None
     families = _families(params or "origins,offsets")
     cli_args, cli_paths = _parse_xacro_args(xacro_arg), list(package_path)
-    _check_output_paths(out, plot)
+    _check_out_dir(out)
+    if plot is not None and not plot.parent.is_dir():  # at once; the full check follows the dataset's
+        raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
     ds, chain, camera = _load(dataset, cli_args, cli_paths)
     require_ok(ds)
     assert chain is not None and camera is not None
-    ur_joints, ur_hash = _ur_inputs(ds, chain, ur_kinematics, ur_kinematics_in)
+    vloaded = _load(validation, cli_args, cli_paths) if validation is not None else None
+    ur_joints, ur_hash, ur_source = _ur_inputs(ds, chain, ur_kinematics, ur_kinematics_in)
+    _check_fit_outputs(out, plot, ur_kinematics, _fit_inputs(ds, vloaded[0] if vloaded else None)
+                       + [p for p in (ur_source,) if p is not None])
     observations = _detect(ds, camera)
     samples = list(ds.samples)
     holdout_ids: set[str] | None = None
-    if validation is not None:
-        vds, vchain, vcamera = _load(validation, cli_args, cli_paths)
+    if validation is not None and vloaded is not None:
+        vds, vchain, vcamera = vloaded
         require_ok(vds)
         _same_setup(ds, chain, camera, vds, vchain, vcamera, validation)
         from dataclasses import replace
@@ -236,7 +247,10 @@ def fit(
         from armtool.calib.ur_kinematics import ur_kinematics_yaml
 
         outputs[ur_kinematics] = ur_kinematics_yaml(new_urdf, ur_joints, ur_hash, "calibrated.urdf")
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ArmtoolError(f"cannot create --out: {exc.strerror or exc}", str(out), "check the path and its permissions") from None
     for path, data in outputs.items():
         write_atomic(path, data)
     if output_format is ReportFormat.JSON:
@@ -250,7 +264,7 @@ def fit(
         stderr().print(f"wrote {ur_kinematics}: pass it to the UR description as kinematics_params:={ur_kinematics}")
 
 
-def _ur_inputs(ds: Dataset, chain: Chain, out: Optional[Path], given: Optional[Path]) -> tuple[dict[str, str] | None, str | None]:
+def _ur_inputs(ds: Dataset, chain: Chain, out: Optional[Path], given: Optional[Path]) -> tuple[dict[str, str] | None, str | None, Path | None]:
     """For --ur-kinematics, checked before the fit: the chain is a UR arm's, and the hash to keep
     (from --ur-kinematics-in, or the file the dataset's kinematics_params xacro argument names)."""
     from armtool.calib.ur_kinematics import kinematics_params_path, read_hash, ur_joint_names
@@ -258,7 +272,7 @@ def _ur_inputs(ds: Dataset, chain: Chain, out: Optional[Path], given: Optional[P
     if out is None:
         if given is not None:
             raise ArmtoolError("--ur-kinematics-in needs --ur-kinematics", hint="add --ur-kinematics FILE for the calibrated file")
-        return None, None
+        return None, None, None
     if out.parent != Path("") and not out.parent.is_dir():
         raise ArmtoolError("--ur-kinematics's directory does not exist", str(out), "create it, or write the file elsewhere")
     joints = ur_joint_names(chain.joint_names, str(ds.urdf))
@@ -271,18 +285,53 @@ def _ur_inputs(ds: Dataset, chain: Chain, out: Optional[Path], given: Optional[P
                 "or --xacro-arg kinematics_params:=FILE",
             )
         given = kinematics_params_path(value, ds.root, ds.package_paths)
-    return joints, read_hash(given)
+    return joints, read_hash(given), given
 
 
-def _check_output_paths(out: Path, plot: Optional[Path]) -> None:
-    """Fail before the work, not after it: --out must be (or become) a directory, --plot's folder exist."""
-    for p in (out, *out.parents):
-        if p.exists():
-            if not p.is_dir():
-                raise ArmtoolError(f"--out cannot be created: {p} is a file", str(out), "pass a directory path")
-            break
-    if plot is not None and not plot.parent.is_dir():
-        raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
+def _check_out_dir(out: Path, flag: str = "--out") -> None:
+    """Before any work: `out` is a directory we may write into, or can be created (its nearest
+    existing ancestor is a writable directory)."""
+    import os
+
+    for p in (out, *out.absolute().parents):
+        if not p.exists():
+            continue
+        if not p.is_dir():
+            what = "is a file" if p.is_file() else "is not a directory"
+            raise ArmtoolError(f"{flag} cannot be a directory: {p} {what}", str(out), "pass a directory path")
+        if not os.access(p, os.W_OK | os.X_OK):
+            raise ArmtoolError(f"{flag}: directory {p} is not writable", str(out), "check its permissions, or write somewhere else")
+        return
+
+
+def _check_chain_ends(base: Optional[str], tip: Optional[str], base_name: str, tip_name: str, where: str = "") -> None:
+    """Base and tip must be two links: the same name twice is a chain of no joints, reported
+    here instead of as "no moving joint between 'r' and 'r'"."""
+    if base is not None and base == tip:
+        raise ArmtoolError(f"{base_name} and {tip_name} are the same link '{base}': the chain between them has no joints", where or None,
+                           f"{tip_name} names the link the tag (or camera) is mounted on, {base_name} the robot's fixed base")
+
+
+def _fit_inputs(*datasets: Dataset | None) -> list[Path]:
+    """Every file a fit reads: the outputs must not overwrite any of them."""
+    files: list[Path] = []
+    for ds in datasets:
+        if ds is None:
+            continue
+        files += [ds.root / "dataset.yaml", ds.urdf, ds.intrinsics]
+        files += [p for p in (ds.samples_file, ds.corners_file) if p is not None]
+        files += [s.image for s in ds.samples if s.image is not None]
+    return files
+
+
+def _check_fit_outputs(out: Path, plot: Optional[Path], ur_kinematics: Optional[Path], inputs: list[Path]) -> None:
+    """Every file fit writes, checked against the run's inputs before the work starts."""
+    from armtool.fileio import check_output_paths
+
+    outputs: dict[str, Path | None] = {"--plot": plot, "--ur-kinematics": ur_kinematics}
+    if out.is_dir():  # else created by the fit: nothing in it can be an input
+        outputs = {"--out (calibrated.urdf)": out / "calibrated.urdf", "--out (calibration.yaml)": out / "calibration.yaml", **outputs}
+    check_output_paths(outputs, inputs)
 
 
 def _same_setup(ds: Dataset, chain: Chain, camera: CameraModel, vds: Dataset, vchain: Chain | None, vcamera: CameraModel | None, where: Path) -> None:
@@ -308,11 +357,19 @@ def _same_setup(ds: Dataset, chain: Chain, camera: CameraModel, vds: Dataset, vc
 
 def _truth_scores(dataset: Path, result: CalibrationResult) -> dict[str, Any] | None:
     """For simulated datasets only: errors against the known true robot on its validation poses."""
+    from rich.markup import escape
+
     from armtool.calib.truth import load_truth, score
 
     if not (dataset / "truth" / "truth.yaml").is_file():
         return None
-    truth = load_truth(dataset, result.model)
+    try:
+        truth = load_truth(dataset, result.model)
+    except ArmtoolError as exc:  # only a score: never lose the fit for it
+        from armtool.console import stderr
+
+        stderr().print(f"[yellow]warning:[/yellow] not scored against the truth: {escape(str(exc))}")
+        return None
     before, after = score(result.model, result.x_handeye, truth), score(result.model, result.x, truth)
     named = sorted(set(truth.bad_samples) & set(result.outliers))
     return {
@@ -388,14 +445,14 @@ def simulate(
     out: Path = typer.Option(..., "--out", "-o", help="New directory for the dataset (truth goes to OUT/truth/)."),
     base: Optional[str] = typer.Option(None, "--base", help="Base link (default: the root)."),
     flange: Optional[str] = typer.Option(None, "--flange", help="Link the tag (or camera) is mounted on (default: end of the longest chain)."),
-    samples: int = typer.Option(60, "--samples", min=3, help="Images to render."),
-    validation: int = typer.Option(30, "--validation", min=1, help="Extra poses kept in truth/ to score a calibration."),
+    samples: int = typer.Option(60, "--samples", callback=opt.int_range(3, MAX_SIMULATED), help=f"Images to render (3 to {MAX_SIMULATED})."),
+    validation: int = typer.Option(30, "--validation", callback=opt.int_range(1, MAX_SIMULATED), help=f"Extra poses kept in truth/ to score a calibration (1 to {MAX_SIMULATED})."),
     setup: SetupOption = typer.Option(SetupOption.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."),
     quality: QualityOption = typer.Option(QualityOption.TYPICAL, "--quality", help="Image blur, noise and contrast."),
-    tag_size: float = typer.Option(0.08, "--tag-size", help="Edge of the black square, m."),
-    bad_samples: int = typer.Option(0, "--bad-samples", min=0, help="Wrong rows to mix in (joint off by 5°, mislabeled image)."),
+    tag_size: float = typer.Option(0.08, "--tag-size", callback=opt.finite_float(TAG_SIZE_M[0], TAG_SIZE_M[1], unit="m"), help="Edge of the black square, m (0.001 to 2)."),
+    bad_samples: int = typer.Option(0, "--bad-samples", callback=opt.int_range(0, MAX_SIMULATED), help="Wrong rows to mix in (joint off by 5°, mislabeled image; at most a quarter of --samples)."),
     distortion: bool = typer.Option(False, "--distortion", help="Give the camera lens distortion."),
-    seed: int = typer.Option(0, "--seed", help="Random seed."),
+    seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed (any integer)."),
     xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
     package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages for package:// and $(find) (repeatable)."),
 ) -> None:
@@ -410,8 +467,8 @@ def simulate(
 
     from armtool.cli.lint import _parse_xacro_args
 
-    if not tag_size > 0:
-        raise ArmtoolError(f"--tag-size must be > 0, got {tag_size}")
+    _check_out_dir(out)
+    _check_chain_ends(base, flange, "--base", "--flange")
     args, paths = _parse_xacro_args(xacro_arg), list(package_path)
     if base is None or flange is None:
         chain = chain_from_xml(load_robot_xml(urdf, args, paths), base, flange, source=urdf.name)

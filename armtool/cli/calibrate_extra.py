@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Optional
 
 import typer
 
+from armtool.calib.limits import MAX_IMAGES, MAX_TAG_ID, TAG_SIZE_M
+from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
 
@@ -54,7 +56,7 @@ def camera(
     board: str = typer.Option(..., "--board", help=BOARD_HELP),
     out: Path = typer.Option(..., "--out", "-o", help="Intrinsics file to write (OpenCV FileStorage YAML, for dataset.yaml's camera.intrinsics)."),
     distortion: DistortionOption = typer.Option(DistortionOption.PLUMB_BOB, "--distortion", help="Distortion coefficients to fit: none, k1k2 (k1 k2 p1 p2), plumb_bob (+k3), rational (k1..k6 p1 p2)."),
-    min_images: int = typer.Option(10, "--min-images", min=3, help="Fewest images in which the board must be found."),
+    min_images: int = typer.Option(10, "--min-images", callback=opt.int_range(3, MAX_IMAGES), help=f"Fewest images in which the board must be found (3 to {MAX_IMAGES})."),
     output_format: OutputFormat = typer.Option(OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
 ) -> None:
     require("calib")  # exit 2 with the install command when the extra is missing
@@ -63,12 +65,17 @@ def camera(
     from armtool.calib.intrinsics import DistortionModel, calibrate_images, image_paths, write_intrinsics
     from armtool.console import progress_bar, write_stdout
 
+    from armtool.fileio import check_output_paths
+
     spec = parse_board(board)
     if out.is_dir():
         raise ArmtoolError("--out is a directory", str(out), "pass a file name, e.g. camera.yaml")
     if not out.parent.is_dir():
         raise ArmtoolError("--out's directory does not exist", str(out), "create it first")
     paths = image_paths(images)
+    if len(paths) > MAX_IMAGES:
+        raise ArmtoolError(f"{len(paths)} images given, at most {MAX_IMAGES} are read", hint="pass a subset: 15-40 well-spread views are enough")
+    check_output_paths({"--out": out}, paths)
     with progress_bar() as bar:
         task = bar.add_task("finding the board", total=len(paths))
         result = calibrate_images(paths, spec, DistortionModel(distortion.value), min_images,
@@ -133,7 +140,7 @@ def import_bag(
     image_topic: str = typer.Option(..., "--image-topic", help="sensor_msgs/Image or sensor_msgs/CompressedImage topic."),
     urdf: Path = typer.Option(..., "--urdf", help="The robot's URDF (or xacro), copied into the dataset."),
     out: Path = typer.Option(..., "--out", "-o", help="New dataset directory (armtool-calib-dataset/1)."),
-    tag_size: float = typer.Option(..., "--tag-size", help="Edge of the tag's black square, metres (measure the print)."),
+    tag_size: float = typer.Option(..., "--tag-size", callback=opt.finite_float(TAG_SIZE_M[0], TAG_SIZE_M[1], unit="m"), help="Edge of the tag's black square, metres (measure the print; 0.001 to 2)."),
     joints_topic: str = typer.Option("/joint_states", "--joints-topic", help="sensor_msgs/JointState topic."),
     base: Optional[str] = typer.Option(None, "--base", help="Base link (default: the URDF's root)."),
     flange: Optional[str] = typer.Option(None, "--flange", help="Link the tag (or camera) is mounted on (default: end of the longest chain)."),
@@ -141,11 +148,11 @@ def import_bag(
     camera_info_topic: Optional[str] = typer.Option(None, "--camera-info-topic", help="sensor_msgs/CameraInfo topic (default: camera_info beside the image topic, if recorded)."),
     setup: SetupOption = typer.Option(SetupOption.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."),
     family: str = typer.Option("tag36h11", "--family", help="AprilTag family."),
-    tag_id: int = typer.Option(0, "--tag-id", min=0, help="AprilTag id."),
+    tag_id: int = typer.Option(0, "--tag-id", callback=opt.int_range(0, MAX_TAG_ID), help="AprilTag id."),
     still_by: StillBy = typer.Option(StillBy.POSITION, "--still-by", help="Settled means: every joint within --tolerance (position) or below --max-velocity (velocity field of the messages)."),
-    tolerance: float = typer.Option(0.002, "--tolerance", help="Largest position change of any joint within a settled window, rad (or m)."),
-    max_velocity: float = typer.Option(0.01, "--max-velocity", help="With --still-by velocity: largest |velocity| of any joint, rad/s (or m/s)."),
-    min_still: float = typer.Option(0.5, "--min-still", help="Shortest settled window, seconds."),
+    tolerance: float = typer.Option(0.002, "--tolerance", callback=opt.positive_float(1.0, unit="rad"), help="Largest position change of any joint within a settled window, rad (or m)."),
+    max_velocity: float = typer.Option(0.01, "--max-velocity", callback=opt.positive_float(10.0, unit="rad/s"), help="With --still-by velocity: largest |velocity| of any joint, rad/s (or m/s)."),
+    min_still: float = typer.Option(0.5, "--min-still", callback=opt.seconds(3600.0), help="Shortest settled window, seconds."),
     output_format: OutputFormat = typer.Option(OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
 ) -> None:
     require("calib")  # exit 2 with the install command when the extra is missing
@@ -153,10 +160,12 @@ def import_bag(
     from armtool.calib.bag_import import ImportOptions, import_bag as run
     from armtool.console import stderr, write_stdout
 
-    if not tag_size > 0:
-        raise ArmtoolError(f"--tag-size must be > 0, got {tag_size}")
-    if not (tolerance > 0 and max_velocity > 0 and min_still > 0):
-        raise ArmtoolError("--tolerance, --max-velocity and --min-still must be > 0")
+    from armtool.cli.calibrate import _check_chain_ends, _check_out_dir
+
+    _check_out_dir(out)
+    _check_chain_ends(base, flange, "--base", "--flange")
+    if out.exists() and not out.is_dir():
+        raise ArmtoolError("--out exists and is not a directory", str(out), "pass a new directory name")
     options = ImportOptions(
         image_topic=image_topic, joints_topic=joints_topic, base=base, flange=flange, intrinsics=intrinsics,
         camera_info_topic=camera_info_topic, setup=setup.value, family=family, tag_id=tag_id, tag_size_m=tag_size,
