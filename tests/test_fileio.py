@@ -187,3 +187,27 @@ def test_port_file_claims_only_free_or_stale_paths(tmp_path: Path) -> None:
     with pytest.raises(ArmtoolError, match="not a port file"):
         PortFile(notes).claim()
     assert notes.read_text() == "/dev/pts/3\nand more\n"
+
+
+def test_atomic_directory_appears_whole_with_normal_permissions(tmp_path: Path) -> None:
+    from armtool.fileio import atomic_directory
+
+    out = tmp_path / "dataset"
+    with atomic_directory(out) as d:
+        (d / "a.txt").write_text("a")
+        assert not out.exists()  # nothing visible until the body is done
+    assert (out / "a.txt").read_text() == "a"
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o777 & ~mask  # not mkdtemp's private 0700
+
+
+def test_atomic_directory_leaves_nothing_on_error(tmp_path: Path) -> None:
+    from armtool.fileio import atomic_directory
+
+    out = tmp_path / "dataset"
+    with pytest.raises(RuntimeError):
+        with atomic_directory(out) as d:
+            (d / "a.txt").write_text("a")
+            raise RuntimeError("boom")
+    assert list(tmp_path.iterdir()) == []

@@ -16,9 +16,7 @@ ticks that is never quite zero. The window's joint values are the per-joint medi
 from __future__ import annotations
 
 import logging
-import os
 import shutil
-import tempfile
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -461,11 +459,9 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
     }
     rows = ["id,image," + ",".join(names)]
     rows += [f"{s.id},{s.image}," + ",".join(f"{s.q[n]:.9f}" for n in names) for s in samples]
-    try:
-        tmp = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp"))
-    except OSError as exc:
-        raise ArmtoolError(f"cannot create the dataset directory: {exc.strerror or exc}", str(out), "check the permissions of its parent") from None
-    try:
+    from armtool.fileio import atomic_directory
+
+    with atomic_directory(out) as tmp:
         (tmp / "images").mkdir()
         for k, (i, _) in chosen.items():
             data, ext = files[k]
@@ -480,15 +476,6 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
                 from armtool.calib.camera import save_intrinsics
 
                 save_intrinsics(intrinsics_camera, tmp / "camera.yaml")
-        if out.exists():
-            out.rmdir()  # empty, checked above
-        os.replace(tmp, out)
-    except OSError as exc:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise ArmtoolError(f"cannot write the dataset: {exc.strerror or exc}", str(out), "check the path and the free disk space") from None
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     return ImportResult(out, samples, skipped, intrinsics_source, clock, warnings)
 
 

@@ -131,6 +131,7 @@ def load_intrinsics(path: Path) -> CameraModel:
     Raises ArmtoolError naming the file and the missing or invalid key.
     """
     from armtool.calib.limits import MAX_FILE_BYTES
+    from armtool.model.xmlsource import read_regular
 
     path = Path(path)
     try:
@@ -138,7 +139,7 @@ def load_intrinsics(path: Path) -> CameraModel:
         if size > MAX_FILE_BYTES:
             raise ArmtoolError(f"intrinsics file is {size / 2**20:.0f} MB, more than the {MAX_FILE_BYTES // 2**20} MB armtool reads", str(path),
                                "is this the right file? intrinsics files are a few hundred bytes")
-        raw = path.read_bytes()
+        raw = read_regular(path)  # a FIFO or device is refused, not waited on
     except OSError as exc:
         raise ArmtoolError(f"cannot read intrinsics file: {exc.strerror}", str(path)) from None
     try:

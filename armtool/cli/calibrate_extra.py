@@ -59,8 +59,8 @@ def camera(
     min_images: int = typer.Option(10, "--min-images", callback=opt.int_range(3, MAX_IMAGES), help=f"Fewest images in which the board must be found (3 to {MAX_IMAGES})."),
     output_format: OutputFormat = typer.Option(OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
 ) -> None:
-    require("calib")  # exit 2 with the install command when the extra is missing
     """Fit camera intrinsics and lens distortion from images of a ChArUco board or an AprilTag grid."""
+    require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.boards import parse_board
     from armtool.calib.intrinsics import DistortionModel, calibrate_images, image_paths, write_intrinsics
     from armtool.console import progress_bar, write_stdout
@@ -68,10 +68,6 @@ def camera(
     from armtool.fileio import check_output_paths
 
     spec = parse_board(board)
-    if out.is_dir():
-        raise ArmtoolError("--out is a directory", str(out), "pass a file name, e.g. camera.yaml")
-    if not out.parent.is_dir():
-        raise ArmtoolError("--out's directory does not exist", str(out), "create it first")
     paths = image_paths(images)
     if len(paths) > MAX_IMAGES:
         raise ArmtoolError(f"{len(paths)} images given, at most {MAX_IMAGES} are read", hint="pass a subset: 15-40 well-spread views are enough")
@@ -155,8 +151,8 @@ def import_bag(
     min_still: float = typer.Option(0.5, "--min-still", callback=opt.seconds(3600.0), help="Shortest settled window, seconds."),
     output_format: OutputFormat = typer.Option(OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
 ) -> None:
-    require("calib")  # exit 2 with the install command when the extra is missing
     """Turn a ROS bag (images + joint states) into a calibration dataset: one sample per settled pose."""
+    require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.bag_import import ImportOptions, import_bag as run
     from armtool.console import stderr, write_stdout
 

@@ -432,16 +432,23 @@ def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolve
         if timed_out:
             with contextlib.suppress(OSError):
                 os.kill(pid, signal.SIGKILL)
+        status = 0
         with contextlib.suppress(ChildProcessError):
-            os.waitpid(pid, 0)
+            status = os.waitpid(pid, 0)[1]
     if timed_out:
         raise XacroFailure(f"xacro expansion did not finish within {TIMEOUT_S:g} s (an endless loop or a huge "
                            "expression such as 9**9**9?)", path)
     reply: list[Any]
     try:
-        reply = list(marshal.loads(b"".join(chunks))) if chunks else ["memory"]
+        reply = list(marshal.loads(b"".join(chunks))) if chunks else ["died"]
     except (EOFError, ValueError, TypeError):
-        reply = ["memory"]  # the child died mid-answer: killed for its memory
+        reply = ["died"]  # the child ended mid-answer
+    if reply[0] == "died":
+        # A child over its memory limit usually raises MemoryError (answered as "memory"); one that
+        # ended without an answer is said as it ended, never guessed to be out of memory.
+        how = (f"was killed by signal {os.WTERMSIG(status)}" if os.WIFSIGNALED(status)
+               else f"exited with status {os.WEXITSTATUS(status)}")
+        raise XacroFailure(f"xacro expansion stopped without an answer (its process {how})", path)
     if reply[0] == "ok":
         return str(reply[1]), [Path(f) for f in reply[2]]
     if reply[0] == "fail":

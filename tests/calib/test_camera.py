@@ -182,3 +182,15 @@ def test_missing_file_and_yaml_syntax_error_line(tmp_path: Path) -> None:
     with pytest.raises(ArmtoolError) as info:
         load_intrinsics(path)
     assert info.value.where == f"{path}:3"
+
+
+def test_an_intrinsics_fifo_is_refused_without_waiting(tmp_path: Path) -> None:
+    import os
+
+    from armtool.calib.camera import load_intrinsics
+    from armtool.errors import ArmtoolError
+
+    fifo = tmp_path / "camera.yaml"
+    os.mkfifo(fifo)  # nobody writes to it: reading would block forever
+    with pytest.raises(ArmtoolError, match="not a regular file"):
+        load_intrinsics(fifo)

@@ -196,6 +196,18 @@ def test_xacro_expression_filling_memory_is_x001(tmp_path: Path, monkeypatch: py
     assert f.code == "X001" and ("MemoryError" in f.message or "memory" in f.message)
 
 
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="the bound needs fork")
+def test_xacro_child_that_dies_is_said_as_it_died_not_as_out_of_memory(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import signal
+
+    def die(*_: object) -> None:
+        os.kill(os.getpid(), signal.SIGKILL)
+
+    monkeypatch.setattr(xacro_source, "_expand_text", die)  # the forked child runs this and is killed
+    (f,) = lint(_xacro(tmp_path, '  <link name="a"/>'))
+    assert f.code == "X001" and "killed by signal 9" in f.message and "memory" not in f.message
+
+
 def test_expand_command_reports_the_bound_as_exit_2(tmp_path: Path) -> None:
     path = _xacro(tmp_path, '  <xacro:include filename="/dev/zero"/>')
     code, out, err = invoke("expand", str(path))
