@@ -148,7 +148,7 @@ def cartesian(
     center: Optional[str] = typer.Option(None, "--center", help="Circle through the start: its centre X,Y,Z (m, base frame)."),
     radius: Optional[float] = typer.Option(None, "--radius", callback=positive_float(unit="m"), help="Circle of this radius (m) about --center/--center-offset (default: the start position), reached by a straight line first: the lecture's circle."),
     normal: str = typer.Option("1,0,0", "--normal", help="Circle: plane normal (base frame); the tool turns right-handed about it."),
-    angle: float = typer.Option(2 * math.pi, "--angle", callback=finite_float(unit="rad"), help="Circle: angle to turn (rad; default a full circle)."),
+    angle: float = typer.Option(2 * math.pi, "--angle", callback=finite_float(), help="Circle: angle to turn (rad; default a full circle)."),
     arc_via: Optional[str] = typer.Option(None, "--arc-via", help="Arc through three points: the interim point X,Y,Z (with --arc-to)."),
     arc_to: Optional[str] = typer.Option(None, "--arc-to", help="Arc through three points: the end point X,Y,Z."),
     waypoints: Optional[Path] = typer.Option(None, "--waypoints", help="CSV of poses: x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad] (base frame)."),
