@@ -297,8 +297,8 @@ def time_cmd(
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml (acceleration limits, scaling factors)."),
     vel: List[str] = LIMIT_OPTS["vel"],
     acc: List[str] = LIMIT_OPTS["acc"],
-    vscale: Optional[float] = typer.Option(None, "--velocity-scaling", help="Fraction of the velocity limits to use (default: joint_limits.yaml's, else 1)."),
-    ascale: Optional[float] = typer.Option(None, "--acceleration-scaling", help="Fraction of the acceleration limits to use (default: joint_limits.yaml's, else 1)."),
+    vscale: Optional[float] = typer.Option(None, "--velocity-scaling", callback=finite_float(0.0, 1.0, lo_open=True), help="Fraction of the velocity limits to use (default: joint_limits.yaml's, else 1)."),
+    ascale: Optional[float] = typer.Option(None, "--acceleration-scaling", callback=finite_float(0.0, 1.0, lo_open=True), help="Fraction of the acceleration limits to use (default: joint_limits.yaml's, else 1)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
 ) -> None:
@@ -321,7 +321,7 @@ def time_cmd(
 @app.command("retime", help="Scale a trajectory's speed exactly: time × 1/S, velocity × S, acceleration × S² (the lecture's scale_trajectory_speed).")
 def retime_cmd(
     path: Path = typer.Argument(..., help="Timed trajectory; - for stdin."),
-    scale: float = typer.Option(..., "--scale", help="Speed factor S > 0 (0.25: four times slower)."),
+    scale: float = typer.Option(..., "--scale", callback=positive_float(), help="Speed factor S > 0 (0.25: four times slower)."),
     urdf: Optional[Path] = typer.Option(None, "--urdf", help="Check the result against this URDF's limits before writing."),
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml for that check."),
     acc: List[str] = LIMIT_OPTS["acc"],
@@ -331,8 +331,6 @@ def retime_cmd(
     require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.traj.edit import retime
 
-    if not (math.isfinite(scale) and scale > 0):
-        raise ArmtoolError(f"--scale must be a positive number, got {scale}", hint="e.g. --scale 0.25 for a quarter of the speed")
     _check_outputs({"-o": output}, [path, urdf, joint_limits])
     traj, in_fmt = _read(path)
     out = retime(traj, scale)
@@ -345,7 +343,7 @@ def retime_cmd(
 def thin_cmd(
     path: Path = typer.Argument(..., help="Trajectory or path; - for stdin."),
     every: Optional[int] = typer.Option(None, "--every", help="Drop points K, 2K, 3K, ... (1-based)."),
-    tolerance: Optional[float] = typer.Option(None, "--tolerance", help="Drop points within this joint-space distance (rad/m) of the path through the kept ones."),
+    tolerance: Optional[float] = typer.Option(None, "--tolerance", callback=positive_float(), help="Drop points within this joint-space distance (rad/m) of the path through the kept ones."),
     urdf: Optional[Path] = typer.Option(None, "--urdf", help="Re-time the thinned path time-optimally within this URDF's limits."),
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml (acceleration limits)."),
     vel: List[str] = LIMIT_OPTS["vel"],
@@ -374,7 +372,7 @@ def thin_cmd(
 @app.command("join", help="Join trajectories end to start (each start must meet the previous end) and re-time the whole with --urdf.")
 def join_cmd(
     paths: List[Path] = typer.Argument(..., help="Two or more trajectories, in order."),
-    tolerance: float = typer.Option(1e-3, "--tolerance", help="Largest gap per joint between an end and the next start (rad/m)."),
+    tolerance: float = typer.Option(1e-3, "--tolerance", callback=finite_float(0.0), help="Largest gap per joint between an end and the next start (rad/m)."),
     urdf: Optional[Path] = typer.Option(None, "--urdf", help="Re-time the joined path time-optimally within this URDF's limits."),
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml (acceleration limits)."),
     vel: List[str] = LIMIT_OPTS["vel"],
@@ -386,8 +384,6 @@ def join_cmd(
     from armtool.console import stderr
     from armtool.traj.edit import join
 
-    if not (math.isfinite(tolerance) and tolerance >= 0):
-        raise ArmtoolError(f"--tolerance must be ≥ 0, got {tolerance}")
     _check_outputs({"-o": output}, [*paths, urdf, joint_limits])
     loaded = [_read(p) for p in paths]
     parts = [lt.trajectory for lt in loaded]
