@@ -12,13 +12,14 @@ from typing import TYPE_CHECKING, Any, List, Optional, Sequence
 
 import typer
 
+from armtool.cli.options import finite_float, positive_float
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.extras import require
 
 if TYPE_CHECKING:  # numpy loads only when a subcommand runs
     from armtool.lint.finding import Finding
     from armtool.traj.cartesian import Segment
-    from armtool.traj.formats import TrajFormat
+    from armtool.traj.formats import LoadedTrajectory, TrajFormat
     from armtool.traj.limits import JointLimits
     from armtool.traj.trajectory import Trajectory
 
@@ -48,7 +49,8 @@ class CheckFormat(str, Enum):
 
 
 # ---- shared helpers ----------------------------------------------------------------------------
-def _read(path: Path) -> Trajectory:
+def _read(path: Path) -> LoadedTrajectory:
+    """The trajectory and its detected format (the default output format)."""
     from armtool.traj.formats import read_trajectory
 
     if str(path) == "-":
@@ -56,10 +58,30 @@ def _read(path: Path) -> Trajectory:
     return read_trajectory(path)
 
 
+def _check_outputs(outputs: dict[str, Optional[Path]], inputs: Sequence[Optional[Path]]) -> None:
+    """Refuse a bad output path (an input, a directory, a missing directory) before any work."""
+    from armtool.fileio import check_output_paths
+
+    check_output_paths(outputs, inputs)
+
+
+def _solver_name(value: str) -> str:
+    """--solver at parse time: one of the registered IK solvers."""
+    from armtool.ik.registry import SOLVERS
+    from armtool.lint.suggest import did_you_mean
+
+    if value not in SOLVERS:
+        raise typer.BadParameter(f"unknown solver '{value}'{did_you_mean(value, list(SOLVERS))}; solvers: {', '.join(SOLVERS)}")
+    return value
+
+
 def _limits(urdf: Path, joint_limits: Optional[Path], vel: Sequence[str], acc: Sequence[str], jerk: Sequence[str] = (),
             vscale: Optional[float] = None, ascale: Optional[float] = None) -> JointLimits:
     from armtool.traj.limits import load_limits
 
+    for path, what in ((urdf, "URDF"), (joint_limits, "joint_limits.yaml")):
+        if path is not None and path.exists() and not path.is_file():
+            raise ArmtoolError(f"{what} is not a regular file (a FIFO, socket, device or directory)", str(path))
     if not urdf.is_file():
         raise ArmtoolError("URDF not found", str(urdf), "pass --urdf path/to/robot.urdf (or .xacro)")
     if joint_limits is not None and not joint_limits.is_file():
@@ -72,14 +94,6 @@ def _out_format(output: Optional[Path], requested: Optional[OutFormat], fallback
     from armtool.traj.formats import TrajFormat, format_for_output
 
     return format_for_output(output, None if requested is None else TrajFormat(requested.value), fallback)
-
-
-def _input_format(path: Path, traj: Trajectory) -> TrajFormat:
-    from armtool.traj.formats import TrajFormat, detect_format
-
-    if str(path) == "-" or not path.is_file():
-        return TrajFormat.CSV
-    return detect_format(path.read_text(encoding="utf-8-sig"), str(path))
 
 
 def _write(traj: Trajectory, output: Optional[Path], fmt: TrajFormat, limits: Optional[JointLimits] = None,
@@ -132,21 +146,21 @@ def cartesian(
     relative: bool = typer.Option(False, "--relative", help="--line X,Y,Z is an offset from the start position."),
     center_offset: Optional[str] = typer.Option(None, "--center-offset", help="Circle through the start: its centre as DX,DY,DZ from the start position (m, base frame)."),
     center: Optional[str] = typer.Option(None, "--center", help="Circle through the start: its centre X,Y,Z (m, base frame)."),
-    radius: Optional[float] = typer.Option(None, "--radius", help="Circle of this radius (m) about --center/--center-offset (default: the start position), reached by a straight line first: the lecture's circle."),
+    radius: Optional[float] = typer.Option(None, "--radius", callback=positive_float(unit="m"), help="Circle of this radius (m) about --center/--center-offset (default: the start position), reached by a straight line first: the lecture's circle."),
     normal: str = typer.Option("1,0,0", "--normal", help="Circle: plane normal (base frame); the tool turns right-handed about it."),
-    angle: float = typer.Option(2 * math.pi, "--angle", help="Circle: angle to turn (rad; default a full circle)."),
+    angle: float = typer.Option(2 * math.pi, "--angle", callback=finite_float(), help="Circle: angle to turn (rad; default a full circle)."),
     arc_via: Optional[str] = typer.Option(None, "--arc-via", help="Arc through three points: the interim point X,Y,Z (with --arc-to)."),
     arc_to: Optional[str] = typer.Option(None, "--arc-to", help="Arc through three points: the end point X,Y,Z."),
     waypoints: Optional[Path] = typer.Option(None, "--waypoints", help="CSV of poses: x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad] (base frame)."),
-    eef_step: float = typer.Option(0.01, "--eef-step", help="Largest tool step between path points (m)."),
-    eef_step_rad: float = typer.Option(0.05, "--eef-step-rad", help="Largest tool rotation between path points (rad)."),
-    precision: float = typer.Option(1e-3, "--precision", help="Largest deviation of a joint midpoint from the path (m); points are inserted until met."),
-    precision_rad: float = typer.Option(0.01, "--precision-rad", help="Largest orientation deviation of a joint midpoint (rad)."),
-    jump_factor: float = typer.Option(10.0, "--jump-factor", help="Relative jump rule: a step over FACTOR × the mean step (0: off)."),
-    max_step: float = typer.Option(0.5, "--max-step", help="Absolute jump rule: largest joint step (rad; 0: off)."),
-    max_step_m: float = typer.Option(0.1, "--max-step-m", help="Absolute jump rule for prismatic joints (m; 0: off)."),
-    solver: str = typer.Option("lm", "--solver", help="IK solver from `armtool ik-bench` (lm; analytic picks the solution nearest the previous point)."),
-    min_fraction: float = typer.Option(1.0, "--min-fraction", help="Below this fraction achieved: write nothing, exit 2 (0: write what was achieved)."),
+    eef_step: float = typer.Option(0.01, "--eef-step", callback=positive_float(unit="m"), help="Largest tool step between path points (m)."),
+    eef_step_rad: float = typer.Option(0.05, "--eef-step-rad", callback=positive_float(unit="rad"), help="Largest tool rotation between path points (rad)."),
+    precision: float = typer.Option(1e-3, "--precision", callback=positive_float(unit="m"), help="Largest deviation of a joint midpoint from the path (m); points are inserted until met."),
+    precision_rad: float = typer.Option(0.01, "--precision-rad", callback=positive_float(unit="rad"), help="Largest orientation deviation of a joint midpoint (rad)."),
+    jump_factor: float = typer.Option(10.0, "--jump-factor", callback=finite_float(0.0), help="Relative jump rule: a step over FACTOR × the mean step (0: off)."),
+    max_step: float = typer.Option(0.5, "--max-step", callback=finite_float(0.0, unit="rad"), help="Absolute jump rule: largest joint step (rad; 0: off)."),
+    max_step_m: float = typer.Option(0.1, "--max-step-m", callback=finite_float(0.0, unit="m"), help="Absolute jump rule for prismatic joints (m; 0: off)."),
+    solver: str = typer.Option("lm", "--solver", callback=_solver_name, help="IK solver from `armtool ik-bench` (lm; analytic picks the solution nearest the previous point)."),
+    min_fraction: float = typer.Option(1.0, "--min-fraction", callback=finite_float(0.0, 1.0), help="Below this fraction achieved: write nothing, exit 2 (0: write what was achieved)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the joint path here (default: stdout, CSV)."),
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else csv)."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Also draw the tool path and each step's midpoint deviation from the path (PNG)."),
@@ -161,6 +175,7 @@ def cartesian(
     from armtool.traj.formats import TrajFormat
     from armtool.traj.trajectory import Trajectory
 
+    _check_outputs({"-o": output, "--plot": plot}, [urdf, waypoints])
     if not urdf.is_file():
         raise ArmtoolError("URDF not found", str(urdf))
     if center is not None and center_offset is not None:
@@ -172,8 +187,6 @@ def cartesian(
                            hint="e.g. --center-offset 0,-0.1,0 --normal 1,0,0 for the lecture's circle of radius 0.1 m")
     if (arc_via is None) != (arc_to is None):
         raise ArmtoolError("an arc needs both --arc-via and --arc-to")
-    if not (eef_step > 0 and eef_step_rad > 0 and precision > 0 and precision_rad > 0):
-        raise ArmtoolError("--eef-step, --eef-step-rad, --precision and --precision-rad must be positive")
     chain = load_chain(urdf, base, tip)
     q0 = np.asarray(_floats(start, chain.n, "--start"), dtype=np.float64) if start is not None else chain.mid()
     if not chain.within_limits(q0):
@@ -233,6 +246,9 @@ def cartesian(
         err.print(f"wrote {plot}")
 
 
+MAX_WAYPOINT_BYTES = 16 * 1024 * 1024  # ~300 000 poses: far more than a taught path holds
+
+
 def _waypoint_segments(path: Path, T0: Any) -> list[Segment]:
     import csv
 
@@ -241,10 +257,9 @@ def _waypoint_segments(path: Path, T0: Any) -> list[Segment]:
     from armtool.ik.chain import rpy_matrix
     from armtool.traj import cartesian as cart
 
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise ArmtoolError(f"cannot read waypoints: {exc.strerror or exc}", str(path)) from None
+    from armtool.traj.formats import read_text_file
+
+    text = read_text_file(path, "waypoints file", MAX_WAYPOINT_BYTES)
     rows = [(i + 1, r) for i, r in enumerate(csv.reader(text.splitlines())) if r and not r[0].lstrip().startswith("#")]
     if not rows:
         raise ArmtoolError("no waypoints", str(path))
@@ -282,8 +297,8 @@ def time_cmd(
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml (acceleration limits, scaling factors)."),
     vel: List[str] = LIMIT_OPTS["vel"],
     acc: List[str] = LIMIT_OPTS["acc"],
-    vscale: Optional[float] = typer.Option(None, "--velocity-scaling", help="Fraction of the velocity limits to use (default: joint_limits.yaml's, else 1)."),
-    ascale: Optional[float] = typer.Option(None, "--acceleration-scaling", help="Fraction of the acceleration limits to use (default: joint_limits.yaml's, else 1)."),
+    vscale: Optional[float] = typer.Option(None, "--velocity-scaling", callback=finite_float(0.0, 1.0, lo_open=True), help="Fraction of the velocity limits to use (default: joint_limits.yaml's, else 1)."),
+    ascale: Optional[float] = typer.Option(None, "--acceleration-scaling", callback=finite_float(0.0, 1.0, lo_open=True), help="Fraction of the acceleration limits to use (default: joint_limits.yaml's, else 1)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
     to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
 ) -> None:
@@ -291,7 +306,8 @@ def time_cmd(
     from armtool.console import stderr
     from armtool.traj.timing import time_optimal
 
-    traj = _read(path)
+    _check_outputs({"-o": output}, [path, urdf, joint_limits])
+    traj, in_fmt = _read(path)
     limits = _limits(urdf, joint_limits, vel, acc, (), vscale, ascale)
     timed = time_optimal(traj, limits)
     if any(math.isfinite(j) for j in limits.jerk):
@@ -299,13 +315,13 @@ def time_cmd(
                        "acceleration abruptly")
     stderr().print(f"time-optimal: {timed.duration_s:.4f} s over {timed.n_points} samples "
                    f"(velocity scaling {limits.velocity_scaling:g}, acceleration scaling {limits.acceleration_scaling:g})")
-    _write(timed, output, _out_format(output, to, _input_format(path, traj)), limits)
+    _write(timed, output, _out_format(output, to, in_fmt), limits)
 
 
 @app.command("retime", help="Scale a trajectory's speed exactly: time × 1/S, velocity × S, acceleration × S² (the lecture's scale_trajectory_speed).")
 def retime_cmd(
     path: Path = typer.Argument(..., help="Timed trajectory; - for stdin."),
-    scale: float = typer.Option(..., "--scale", help="Speed factor S > 0 (0.25: four times slower)."),
+    scale: float = typer.Option(..., "--scale", callback=positive_float(), help="Speed factor S > 0 (0.25: four times slower)."),
     urdf: Optional[Path] = typer.Option(None, "--urdf", help="Check the result against this URDF's limits before writing."),
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml for that check."),
     acc: List[str] = LIMIT_OPTS["acc"],
@@ -315,12 +331,11 @@ def retime_cmd(
     require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.traj.edit import retime
 
-    if not (math.isfinite(scale) and scale > 0):
-        raise ArmtoolError(f"--scale must be a positive number, got {scale}", hint="e.g. --scale 0.25 for a quarter of the speed")
-    traj = _read(path)
+    _check_outputs({"-o": output}, [path, urdf, joint_limits])
+    traj, in_fmt = _read(path)
     out = retime(traj, scale)
     limits = _limits(urdf, joint_limits, [], acc) if urdf is not None else None
-    _write(out, output, _out_format(output, to, _input_format(path, traj)), limits,
+    _write(out, output, _out_format(output, to, in_fmt), limits,
            "a smaller --scale, or leave out --urdf to write it unchecked")
 
 
@@ -328,7 +343,7 @@ def retime_cmd(
 def thin_cmd(
     path: Path = typer.Argument(..., help="Trajectory or path; - for stdin."),
     every: Optional[int] = typer.Option(None, "--every", help="Drop points K, 2K, 3K, ... (1-based)."),
-    tolerance: Optional[float] = typer.Option(None, "--tolerance", help="Drop points within this joint-space distance (rad/m) of the path through the kept ones."),
+    tolerance: Optional[float] = typer.Option(None, "--tolerance", callback=positive_float(), help="Drop points within this joint-space distance (rad/m) of the path through the kept ones."),
     urdf: Optional[Path] = typer.Option(None, "--urdf", help="Re-time the thinned path time-optimally within this URDF's limits."),
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml (acceleration limits)."),
     vel: List[str] = LIMIT_OPTS["vel"],
@@ -340,7 +355,8 @@ def thin_cmd(
     from armtool.console import stderr
     from armtool.traj.edit import thin
 
-    traj = _read(path)
+    _check_outputs({"-o": output}, [path, urdf, joint_limits])
+    traj, in_fmt = _read(path)
     out = thin(traj, every, tolerance)
     stderr().print(f"thinned {traj.n_points} -> {out.n_points} points")
     limits = None
@@ -350,13 +366,13 @@ def thin_cmd(
         limits = _limits(urdf, joint_limits, vel, acc)
         out = time_optimal(out, limits)
         stderr().print(f"re-timed: {out.duration_s:.4f} s")
-    _write(out, output, _out_format(output, to, _input_format(path, traj)), limits)
+    _write(out, output, _out_format(output, to, in_fmt), limits)
 
 
 @app.command("join", help="Join trajectories end to start (each start must meet the previous end) and re-time the whole with --urdf.")
 def join_cmd(
     paths: List[Path] = typer.Argument(..., help="Two or more trajectories, in order."),
-    tolerance: float = typer.Option(1e-3, "--tolerance", help="Largest gap per joint between an end and the next start (rad/m)."),
+    tolerance: float = typer.Option(1e-3, "--tolerance", callback=finite_float(0.0), help="Largest gap per joint between an end and the next start (rad/m)."),
     urdf: Optional[Path] = typer.Option(None, "--urdf", help="Re-time the joined path time-optimally within this URDF's limits."),
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml (acceleration limits)."),
     vel: List[str] = LIMIT_OPTS["vel"],
@@ -368,9 +384,9 @@ def join_cmd(
     from armtool.console import stderr
     from armtool.traj.edit import join
 
-    if not (math.isfinite(tolerance) and tolerance >= 0):
-        raise ArmtoolError(f"--tolerance must be ≥ 0, got {tolerance}")
-    parts = [_read(p) for p in paths]
+    _check_outputs({"-o": output}, [*paths, urdf, joint_limits])
+    loaded = [_read(p) for p in paths]
+    parts = [lt.trajectory for lt in loaded]
     out = join(parts, tolerance)
     stderr().print(f"joined {len(parts)} trajectories: {out.n_points} points")
     limits = None
@@ -380,7 +396,7 @@ def join_cmd(
         limits = _limits(urdf, joint_limits, vel, acc)
         out = time_optimal(out, limits)
         stderr().print(f"re-timed: {out.duration_s:.4f} s")
-    _write(out, output, _out_format(output, to, _input_format(paths[0], parts[0])), limits)
+    _write(out, output, _out_format(output, to, loaded[0].format), limits)
 
 
 # ---- check -------------------------------------------------------------------------------------
@@ -392,8 +408,8 @@ def check_cmd(
     vel: List[str] = LIMIT_OPTS["vel"],
     acc: List[str] = LIMIT_OPTS["acc"],
     jerk: List[str] = typer.Option([], "--jerk-limit", help="Jerk limit: VALUE or JOINT=VALUE[,..]."),
-    jump_factor: float = typer.Option(10.0, "--jump-factor", help="Relative jump rule for untimed paths: a step over FACTOR × the mean (0: off)."),
-    max_step: Optional[float] = typer.Option(None, "--max-step", help="Absolute jump rule: largest step of any joint between points."),
+    jump_factor: float = typer.Option(10.0, "--jump-factor", callback=finite_float(0.0), help="Relative jump rule for untimed paths: a step over FACTOR × the mean (0: off)."),
+    max_step: Optional[float] = typer.Option(None, "--max-step", callback=finite_float(0.0), help="Absolute jump rule: largest step of any joint between points."),
     output_format: Optional[CheckFormat] = typer.Option(None, "--format", help="text (default; github inside GitHub Actions), json, sarif, github."),
     exit_zero: bool = typer.Option(False, "--exit-zero", help="Exit 0 even when problems are found."),
 ) -> None:
@@ -401,7 +417,7 @@ def check_cmd(
     from armtool.console import stderr, write_stdout
     from armtool.traj.check import CheckOptions, check
 
-    traj = _read(path)
+    traj = _read(path).trajectory
     limits = _limits(urdf, joint_limits, vel, acc, jerk)
     no_acc = [n for n in traj.joint_names if n in limits.names and not math.isfinite(limits.acceleration[limits.index(n)])]
     if no_acc and traj.times is not None:
@@ -415,14 +431,15 @@ def check_cmd(
 
 
 def _render(findings: list[Finding], fmt: CheckFormat) -> str:
-    if fmt is CheckFormat.SARIF:
-        from armtool.traj.sarif import render_sarif
-
-        return render_sarif(findings)
     from armtool.output.base import LintReport
     from armtool.output.registry import OutputFormat, formatter
 
     report = LintReport(findings, 1)
+    if fmt is CheckFormat.SARIF:
+        from armtool.output.sarif import SarifFormatter
+        from armtool.traj.check import sarif_tool
+
+        return SarifFormatter(sarif_tool()).render(report, color=False)
     return formatter(OutputFormat(fmt.value)).render(report, color=sys.stdout.isatty() and "NO_COLOR" not in os.environ)
 
 
@@ -441,7 +458,8 @@ def plot_cmd(
     from armtool.console import stderr
     from armtool.traj.plot import write_plot
 
-    traj = _read(path)
+    _check_outputs({"-o": output}, [path, urdf, joint_limits])
+    traj = _read(path).trajectory
     limits = _limits(urdf, joint_limits, [], acc)
     chain = None
     if tip is not None:

@@ -13,13 +13,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Iterator, NamedTuple
+from typing import TYPE_CHECKING, Iterator, NamedTuple
 
 import numpy as np
 
 from armtool.lint.finding import Finding, Severity
 from armtool.traj.limits import JointLimits
 from armtool.traj.trajectory import Array, Trajectory
+
+if TYPE_CHECKING:
+    from armtool.output.sarif import SarifTool
 
 VEL_TOL = 1e-6  # relative: |v| ≤ limit·(1 + VEL_TOL)
 ACC_TOL = 1e-3
@@ -46,6 +49,16 @@ CODES: dict[str, Code] = {c.code: c for c in (
     Code("T701", "start-not-at-rest", Severity.WARNING, "The first point has a non-zero velocity: the controller starts with a jolt."),
     Code("T702", "end-not-at-rest", Severity.WARNING, "The last point has a non-zero velocity: the arm must stop abruptly."),
 )}
+
+HELP_URI = "https://github.com/armtool/armtool/blob/main/README.md#armtool-traj-cartesian-paths-time-optimal-timing-and-a-trajectory-checker"
+
+
+def sarif_tool() -> SarifTool:
+    """`traj check`'s SARIF driver: the T codes, documented in the README's traj section."""
+    from armtool.output.sarif import SarifRule, SarifTool
+
+    return SarifTool("armtool traj check", [SarifRule(c.code, c.name, c.summary, c.summary, c.severity, HELP_URI)
+                                            for c in CODES.values()])
 
 
 @dataclass(frozen=True)

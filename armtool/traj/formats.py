@@ -17,7 +17,7 @@ import json
 import math
 from enum import Enum
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -39,22 +39,48 @@ _SUFFIXES = (("_rad_s2", "acc", False), ("_m_s2", "acc", True), ("_rad_s", "vel"
 
 
 # ---- reading ---------------------------------------------------------------------------------
-def read_trajectory(path: Path | str, text: str | None = None) -> Trajectory:
+MAX_TRAJ_BYTES = 256 * 1024 * 1024  # ~2 million points of a 7-joint CSV; more is not a trajectory file
+
+
+class LoadedTrajectory(NamedTuple):
+    """A trajectory and the format it was read in (the default output format)."""
+
+    trajectory: Trajectory
+    format: TrajFormat
+
+
+def read_text_file(path: Path | str, what: str, limit: int = MAX_TRAJ_BYTES) -> str:
+    """A regular UTF-8 file's text, or an ArmtoolError naming `what` and the file. A FIFO or device
+    is refused without blocking (read_regular); a file over `limit` bytes is refused."""
+    from armtool.model.xmlsource import NotRegularFile, read_regular
+
+    source = str(path)
+    try:
+        data = read_regular(path, limit + 1)
+    except FileNotFoundError:
+        raise ArmtoolError(f"{what} not found", source, "check the path") from None
+    except NotRegularFile:
+        raise ArmtoolError(f"{what} is not a regular file (a FIFO, socket or device)", source,
+                           "pass a file; - reads stdin") from None
+    except OSError as exc:
+        raise ArmtoolError(f"cannot read {what}: {exc.strerror or exc}", source) from None
+    if len(data) > limit:
+        raise ArmtoolError(f"{what} is larger than {limit // (1024 * 1024)} MB", source) from None
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ArmtoolError(f"{what} is not UTF-8 text (byte {exc.start})", source, "save it as UTF-8") from None
+
+
+def read_trajectory(path: Path | str, text: str | None = None) -> LoadedTrajectory:
     """Read a trajectory file (or `text` named `path`, e.g. stdin), detecting its format."""
     source = str(path)
     if text is None:
-        try:
-            text = Path(path).read_bytes().decode("utf-8-sig")
-        except FileNotFoundError:
-            raise ArmtoolError("trajectory file not found", source, "check the path") from None
-        except UnicodeDecodeError:
-            raise ArmtoolError("trajectory file is not UTF-8 text", source) from None
-        except OSError as exc:
-            raise ArmtoolError(f"cannot read trajectory file: {exc.strerror or exc}", source) from None
+        text = read_text_file(path, "trajectory file")
     fmt = detect_format(text, source)
     if fmt is TrajFormat.CSV:
-        return _read_csv(text, source)
-    return _read_structured(text, source, fmt)
+        return LoadedTrajectory(_read_csv(text, source), fmt)
+    return LoadedTrajectory(_read_structured(text, source, fmt), fmt)
 
 
 def detect_format(text: str, source: str = "<text>") -> TrajFormat:

@@ -52,3 +52,14 @@ def test_github_annotations_escape_properties() -> None:
     out = formatter(OutputFormat.GITHUB).render(REPORT, color=False).splitlines()
     assert out[0] == "::error file=a/r.urdf,line=3,col=5,title=U101 unknown-link::joint 'j': child link 'b' does not exist (hint: add it)"
     assert out[1].startswith("::notice ")
+
+
+def test_sarif_takes_another_tool_and_its_rules() -> None:
+    from armtool.output.sarif import SarifFormatter, SarifRule, SarifTool
+
+    tool = SarifTool("other", [SarifRule("U101", "x", "short", "long", Severity.WARNING, "https://example.org/u101")])
+    driver = json.loads(SarifFormatter(tool).render(REPORT, color=False))["runs"][0]["tool"]["driver"]
+    assert driver["name"] == "other"
+    assert driver["rules"] == [{"id": "U101", "name": "x", "shortDescription": {"text": "short"}, "fullDescription": {"text": "long"},
+                                "help": {"text": "long"}, "helpUri": "https://example.org/u101",
+                                "defaultConfiguration": {"level": "warning"}}]

@@ -39,7 +39,7 @@ def test_T101_time_not_increasing() -> None:
 
 def test_T201_position_outside_limits_names_point_and_joint() -> None:
     text = "time_s," + ",".join(f"{j}_rad" for j in JOINTS) + "\n0,0,0,0,0,0,0\n1,0,2.5,0,0,0,0\n2,0,0,0,0,0,0\n"
-    traj = read_trajectory("t.csv", text)
+    traj = read_trajectory("t.csv", text).trajectory
     findings = [f for f in check(traj, load_limits(CLEAN_URDF, acc_limits=["100"]), CheckOptions()) if f.code == "T201"]
     assert len(findings) == 1
     f = findings[0]

@@ -89,8 +89,12 @@ def test_pipe_through_stdin(tmp_path: Path) -> None:
     (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--center-offset", "0,0,0"], "radius"),
     (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--radius", "0"], "radius"),
     (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--line", "3,0,0"], "nothing written"),
-    (["retime", "PATH", "--scale", "0"], "positive"),
-    (["retime", "PATH", "--scale", "-2"], "positive"),
+    (["retime", "PATH", "--scale", "0"], "--scale must be > 0"),
+    (["retime", "PATH", "--scale", "-2"], "--scale must be > 0"),
+    (["retime", "PATH", "--scale", "inf"], "finite"),
+    (["thin", "PATH", "--tolerance", "nan"], "finite"),
+    (["join", "PATH", "PATH", "--tolerance", "-1"], "≥ 0"),
+    (["time", "PATH", "--urdf", U, "--joint-limits", JL, "--velocity-scaling", "1.5"], "≤ 1"),
     (["time", "ONE", "--urdf", U, "--joint-limits", JL], "at least two points"),
     (["time", "NAN", "--urdf", U, "--joint-limits", JL], "nan"),
     (["time", "PATH", "--urdf", U], "acceleration limit"),
@@ -199,3 +203,103 @@ def test_time_with_jerk_limits_writes_and_says_jerk_is_not_planned(tmp_path: Pat
     result = runner.invoke(app, ["traj", "time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(jl), "-o", str(out)])
     assert result.exit_code == 0, result.output
     assert "not planned for" in result.stderr and out.exists()
+
+
+def test_output_that_is_an_input_is_refused_and_the_input_kept(tmp_path: Path) -> None:
+    path = circle(tmp_path)
+    before = path.read_bytes()
+    timed = tmp_path / "timed.yaml"
+    assert invoke("time", str(path), "--urdf", U, "--joint-limits", JL, "-o", str(timed))[0] == 0
+    timed_before = timed.read_bytes()
+    for args in (["thin", str(path), "--every", "4", "-o", str(path)],
+                 ["retime", str(timed), "--scale", "0.5", "-o", str(timed)],
+                 ["time", str(path), "--urdf", U, "--joint-limits", JL, "-o", str(path)],
+                 ["join", str(timed), str(path), "-o", str(path)],
+                 ["plot", str(path), "--urdf", U, "-o", str(path)]):
+        code, _, err = invoke(*args)
+        assert code == 2 and "input" in err, (args, err)
+    assert path.read_bytes() == before and timed.read_bytes() == timed_before
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_bytes(CLEAN_URDF.read_bytes())
+    code, _, err = invoke("cartesian", str(urdf), "--base", "base_link", "--tip", "tool0", "--start", START,
+                          "--center-offset", "0,-0.1,0", "--plot", str(urdf))
+    assert code == 2 and urdf.read_bytes() == CLEAN_URDF.read_bytes()
+
+
+def test_bad_output_path_is_refused_before_the_work(tmp_path: Path) -> None:
+    out = tmp_path / "path.csv"
+    code, stdout, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START,
+                               "--center-offset", "0,-0.1,0", "-o", str(out), "--plot", str(tmp_path / "missing" / "p.png"))
+    assert code == 2 and "missing" in err
+    assert not out.exists() and stdout == ""
+    code, _, err = invoke("thin", str(circle(tmp_path)), "--every", "4", "-o", str(tmp_path))
+    assert code == 2 and "director" in err
+
+
+def _finishes(*args: str) -> tuple[int, str, str]:
+    """invoke() in a daemon thread: a read that blocks fails the test instead of hanging it."""
+    import threading
+
+    box: list[tuple[int, str, str]] = []
+    worker = threading.Thread(target=lambda: box.append(invoke(*args)), daemon=True)
+    worker.start()
+    worker.join(60)
+    assert box, f"traj {args[0]} blocked on a FIFO"
+    return box[0]
+
+
+def test_fifo_inputs_are_refused_without_blocking(tmp_path: Path) -> None:
+    import os
+
+    fifo = tmp_path / "fifo.csv"
+    os.mkfifo(fifo)
+    code, _, err = _finishes("check", str(fifo), "--urdf", U)
+    assert code == 2 and "not a regular file" in err and "fifo.csv" in err
+    code, _, err = _finishes("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(fifo))
+    assert code == 2 and "not a regular file" in err
+    code, _, err = _finishes("check", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(fifo))
+    assert code == 2 and "not a regular file" in err
+
+
+def test_waypoints_that_are_not_utf8_are_an_input_error(tmp_path: Path) -> None:
+    wp = tmp_path / "latin1.csv"
+    wp.write_bytes("# posé\nx_m,y_m,z_m\n0.1,0.2,0.3\n".encode("latin-1"))
+    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp))
+    assert code == 2 and "UTF-8" in err and "latin1.csv" in err
+
+
+def test_stdin_output_keeps_the_input_format(tmp_path: Path) -> None:
+    timed = tmp_path / "timed.yaml"
+    assert invoke("time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", JL, "-o", str(timed))[0] == 0
+    code, out, err = invoke("retime", "-", "--scale", "0.5", stdin=timed.read_text())
+    assert code == 0, err
+    assert "joint_names:" in out and "nanosec:" in out  # ROS 2 YAML in, ROS 2 YAML out (as --help says)
+
+
+def test_check_sarif_documents_each_code(tmp_path: Path) -> None:
+    from armtool.traj.check import CODES
+
+    path = tmp_path / "bad.csv"
+    path.write_text("time_s,joint1_rad\n0,0\n0.1,1.0\n0.2,0.0\n")
+    doc = json.loads(invoke("check", str(path), "--urdf", U, "--joint-limits", JL, "--format", "sarif")[1])
+    driver = doc["runs"][0]["tool"]["driver"]
+    assert driver["name"] == "armtool traj check"
+    assert [r["id"] for r in driver["rules"]] == list(CODES)
+    assert all(r["helpUri"].startswith("https://") for r in driver["rules"])
+    result = doc["runs"][0]["results"][0]
+    assert driver["rules"][result["ruleIndex"]]["id"] == result["ruleId"] == "T301"
+
+
+@pytest.mark.parametrize("option, value, what", [
+    ("--angle", "inf", "finite"),
+    ("--angle", "nan", "finite"),
+    ("--eef-step", "inf", "finite"),
+    ("--precision", "0", "> 0"),
+    ("--min-fraction", "2", "≤ 1"),
+    ("--solver", "nope", "lm"),
+])
+def test_cartesian_numbers_and_solver_checked_at_parse_time(option: str, value: str, what: str) -> None:
+    result = runner.invoke(app, ["traj", "cartesian", U, "--center-offset", "0,-0.1,0", option, value])
+    text = (str(result.exception) if isinstance(result.exception, ArmtoolError) else "") + result.output
+    assert result.exit_code == 2 or isinstance(result.exception, ArmtoolError)
+    assert what in text and option in text and "non-zero" not in text

@@ -83,7 +83,7 @@ def test_every_format_reads_what_it_writes(tmp_path: Path, fmt: TrajFormat, rate
     assert detect_format(text) is fmt or (fmt is TrajFormat.MOVEIT and detect_format(text) is TrajFormat.MOVEIT)
     path = tmp_path / "t.txt"
     path.write_text(text)
-    back = read_trajectory(path)
+    back = read_trajectory(path).trajectory
     assert back.joint_names == traj.joint_names
     np.testing.assert_allclose(back.positions, traj.positions)
     assert back.times is not None
@@ -102,17 +102,17 @@ def test_csv_names_units_like_servo_lut_apply() -> None:
 
 
 def test_ros2_echo_is_read_with_its_times_and_lines() -> None:
-    traj = read_trajectory("echo.yaml", ROS2_ECHO)
+    traj = read_trajectory("echo.yaml", ROS2_ECHO).trajectory
     assert traj.joint_names == ("elbow", "shoulder")
     np.testing.assert_allclose(traj.times, [0.0, 1.5])
     assert traj.lines == (10, 19)
 
 
 def test_ros1_echo_secs_nsecs_and_reorder_by_name() -> None:
-    traj = read_trajectory("echo.yaml", ROS1_ECHO)
+    traj = read_trajectory("echo.yaml", ROS1_ECHO).trajectory
     assert detect_format(ROS1_ECHO) is TrajFormat.ROS1
     np.testing.assert_allclose(traj.times, [0.0, 2.25])
-    other = read_trajectory("echo2.yaml", ROS2_ECHO).reorder(traj.joint_names)
+    other = read_trajectory("echo2.yaml", ROS2_ECHO).trajectory.reorder(traj.joint_names)
     np.testing.assert_allclose(other.positions, traj.positions)  # same motion, joints listed in another order
 
 
@@ -120,12 +120,12 @@ def test_moveit_robot_trajectory() -> None:
     text = "joint_trajectory:\n" + "".join("  " + ln + "\n" for ln in ROS2_ECHO.replace("---\n", "").splitlines()) + \
         "multi_dof_joint_trajectory:\n  joint_names: []\n  points: []\n"
     assert detect_format(text) is TrajFormat.MOVEIT
-    traj = read_trajectory("plan.yaml", text)
+    traj = read_trajectory("plan.yaml", text).trajectory
     np.testing.assert_allclose(traj.positions, [[0.5, 0.1], [0.6, 0.2]])
 
 
 def test_untimed_csv_is_a_path() -> None:
-    traj = read_trajectory("p.csv", "j1_rad,j2_rad\n0,0\n1,1\n")
+    traj = read_trajectory("p.csv", "j1_rad,j2_rad\n0,0\n1,1\n").trajectory
     assert traj.times is None and traj.n_points == 2
 
 
