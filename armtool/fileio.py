@@ -296,6 +296,24 @@ def rescue_write(path: Path | str | None, text: str, stem: str = "armtool") -> P
     raise ArmtoolError("could not save the results anywhere: " + "; ".join(tried))
 
 
+class NotRegularFile(OSError):
+    """A FIFO, socket or device where a file was expected: reading it could block or never end."""
+
+
+def read_regular(path: Path | str, limit: int | None = None) -> bytes:
+    """The bytes of a regular file (its first `limit` bytes if given). Anything else raises
+    NotRegularFile without reading: opened non-blocking and checked with fstat, so a FIFO named
+    `package.xml` or a symlink to /dev/zero neither blocks nor fills memory."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise NotRegularFile(0, "not a regular file (a FIFO, socket or device)", str(path))
+        with os.fdopen(fd, "rb", closefd=False) as handle:
+            return handle.read() if limit is None else handle.read(limit)
+    finally:
+        os.close(fd)
+
+
 def read_yaml(path: Path | str, what: str = "") -> object:
     """A YAML file's content, or an ArmtoolError that names the file and line and what it is."""
     import yaml
@@ -303,7 +321,7 @@ def read_yaml(path: Path | str, what: str = "") -> object:
     path = Path(path)
     label = f"{what} " if what else ""
     try:
-        text = path.read_bytes().decode("utf-8-sig")
+        text = read_regular(path).decode("utf-8-sig")  # a FIFO or device is refused, not waited on
     except FileNotFoundError:
         raise ArmtoolError(f"{label}file not found", str(path), "check the path") from None
     except OSError as exc:

@@ -211,3 +211,12 @@ def test_atomic_directory_leaves_nothing_on_error(tmp_path: Path) -> None:
             (d / "a.txt").write_text("a")
             raise RuntimeError("boom")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_read_yaml_refuses_a_fifo_without_waiting(tmp_path: Path) -> None:
+    from armtool.fileio import read_yaml
+
+    fifo = tmp_path / "limits.yaml"
+    os.mkfifo(fifo)  # nobody writes to it: a plain read would block forever
+    with pytest.raises(ArmtoolError, match="not a regular file"):
+        read_yaml(fifo, "limits")

@@ -131,7 +131,7 @@ def load_intrinsics(path: Path) -> CameraModel:
     Raises ArmtoolError naming the file and the missing or invalid key.
     """
     from armtool.calib.limits import MAX_FILE_BYTES
-    from armtool.model.xmlsource import read_regular
+    from armtool.fileio import read_regular
 
     path = Path(path)
     try:

@@ -18,7 +18,8 @@ from armtool.lint.locate import Locator, display_path, local_tag
 from armtool.lint.registry import rule_class
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
-from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml, read_regular
+from armtool.fileio import read_regular
+from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml
 
 if TYPE_CHECKING:  # imported on use (xacro costs start-up time; SRDF support is not always needed)
     from armtool.lint.srdf_context import SrdfContext

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from armtool.model.packages import PackageResolver
-from armtool.model.xmlsource import read_regular
+from armtool.fileio import read_regular
 
 URDF_SUFFIXES = (".urdf.xacro", ".urdf", ".xacro")
 SRDF_SUFFIXES = (".srdf", ".srdf.xacro")

@@ -10,7 +10,8 @@ from typing import NamedTuple
 from lxml import etree
 
 from armtool.lint.finding import Finding
-from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml, read_regular
+from armtool.fileio import read_regular
+from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml
 
 _DIRECTIVE = re.compile(r"armtool:\s*ignore(?:\[([A-Za-z0-9_,\s-]*)\])?")
 

@@ -14,7 +14,7 @@ import re
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
-from armtool.model.xmlsource import read_regular
+from armtool.fileio import read_regular
 
 _NAME_RE = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 _SKIP = {".git", ".hg", ".svn", ".venv", "venv", "node_modules", "__pycache__", "build", "install", "log"}

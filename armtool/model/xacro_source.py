@@ -27,7 +27,8 @@ from typing import Any
 
 from lxml import etree
 
-from armtool.model.xmlsource import MAX_FILE_BYTES, NotRegularFile, XmlSyntaxProblem, declares_entities, parse_xml, read_regular
+from armtool.fileio import NotRegularFile, read_regular
+from armtool.model.xmlsource import MAX_FILE_BYTES, XmlSyntaxProblem, declares_entities, parse_xml
 from armtool.model.origin import Origin, SourceLine
 from armtool.model.packages import PackageResolver
 

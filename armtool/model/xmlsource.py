@@ -14,27 +14,6 @@ from lxml import etree
 MAX_FILE_BYTES = 64 * 1024 * 1024
 
 
-class NotRegularFile(OSError):
-    """A FIFO, socket or device where a file was expected: reading it could block or never end."""
-
-
-def read_regular(path: Path | str, limit: int | None = None) -> bytes:
-    """The bytes of a regular file (its first `limit` bytes if given). Anything else raises
-    NotRegularFile without reading: opened non-blocking and checked with fstat, so a FIFO named
-    `package.xml` or a symlink to /dev/zero neither blocks nor fills memory."""
-    import os
-    import stat
-
-    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
-    try:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            raise NotRegularFile(0, "not a regular file (a FIFO, socket or device)", str(path))
-        with os.fdopen(fd, "rb", closefd=False) as handle:
-            return handle.read() if limit is None else handle.read(limit)
-    finally:
-        os.close(fd)
-
-
 def secure_parser(*, keep_blank_text: bool = True) -> etree.XMLParser:
     # resolve_entities=False: entity references stay unexpanded (billion laughs, XXE);
     # no_network / load_dtd=False: nothing is fetched; huge_tree=False keeps libxml2's limits.

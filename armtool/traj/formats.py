@@ -52,7 +52,7 @@ class LoadedTrajectory(NamedTuple):
 def read_text_file(path: Path | str, what: str, limit: int = MAX_TRAJ_BYTES) -> str:
     """A regular UTF-8 file's text, or an ArmtoolError naming `what` and the file. A FIFO or device
     is refused without blocking (read_regular); a file over `limit` bytes is refused."""
-    from armtool.model.xmlsource import NotRegularFile, read_regular
+    from armtool.fileio import NotRegularFile, read_regular
 
     source = str(path)
     try:

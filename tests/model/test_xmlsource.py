@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from armtool.model.xmlsource import NotRegularFile, read_regular
+from armtool.fileio import NotRegularFile, read_regular
 
 
 def test_reads_a_regular_file_whole_or_its_head(tmp_path: Path) -> None:
