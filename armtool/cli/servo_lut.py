@@ -407,7 +407,7 @@ def measure(
                 "started": time.strftime("%Y-%m-%dT%H:%M:%S")}
         cap = torque_register(servo_model, torque_limit)
         motion = Motion(backoff_ticks=b, settle_timeout_s=settle_timeout, dwell_s=dwell,
-                        tolerance_ticks=2 if servo_model.ticks == 1024 else 6,
+                        tolerance_ticks=servo_model.settle_ticks,
                         torque_cap=cap / servo_model.reg("torque_limit").hi)
         t0 = time.monotonic()
         with TorqueGuard(bus) as guard, _progress(not isinstance(ref, ManualReference)) as bar:
@@ -505,7 +505,7 @@ def check(
         b = max(1, round(3.0 / servo_model.deg_per_tick))
         _check_motion_range([int(table.command_ticks([a])[0]) for a in angles], r_lo, r_hi, 0)
         _confirm(f"Energise servo {sid} and move it to {n} angles between ticks {r_lo} and {r_hi}?", yes)
-        motion = Motion(backoff_ticks=b, dwell_s=dwell, tolerance_ticks=2 if servo_model.ticks == 1024 else 6,
+        motion = Motion(backoff_ticks=b, dwell_s=dwell, tolerance_ticks=servo_model.settle_ticks,
                         torque_cap=torque / servo_model.reg("torque_limit").hi)
         with TorqueGuard(bus) as guard, _progress(not isinstance(ref, ManualReference)) as bar:
             guard.set_ram(sid, "moving_speed", speed_register(servo_model, speed))

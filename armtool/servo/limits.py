@@ -228,24 +228,6 @@ def _full_torque(model: ServoModel) -> int:
     return reg.hi
 
 
-def _load_full(model: ServoModel) -> int:
-    from armtool.servo.models import load_full_scale
-
-    return load_full_scale(model)
-
-
-def speed_units(model: ServoModel, deg_s: float) -> int:
-    """Degrees/second -> the model's speed register units (never 0: 0 means maximum)."""
-    if model.protocol == "dxl1":
-        unit = 6.0 * (0.111 if model.ticks == 1024 else 0.114)
-    elif model.protocol == "dxl2":
-        unit = 6.0 * 0.229
-    else:
-        unit = 360.0 / 4096  # STS Goal_Velocity in ticks/s
-    reg = model.reg("moving_speed")
-    return int(min(max(1, round(deg_s / unit)), reg.hi if reg.hi else 1023))
-
-
 Progress = Callable[[Joint, str, int, float], None]
 RANGE_END = "servo range end"
 
@@ -258,7 +240,7 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
         raise ArmtoolError(f"ID {sid} is not in position control mode (Operating Mode 3)",
                            hint="set Operating Mode to 3 (e.g. in Dynamixel Wizard) before `armtool limits --mode auto`")
     cap = max(1, round(p.torque_limit * _full_torque(model)))
-    speed = speed_units(model, p.speed_deg_s)
+    speed = model.speed_register(p.speed_deg_s)
     guard.set_ram(sid, "torque_limit", cap)
     guard.set_ram(sid, "moving_speed", speed)
     guard.torque_on(sid)
@@ -286,7 +268,7 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
                                    hint="raise --max-seek or --speed, or check that the joint can move")
             vals = bus.read_many(sid, ["present_position", "present_load"])
             pos, load = vals["present_position"], vals["present_load"]
-            load_frac = abs(load) / _load_full(model) / (cap / _full_torque(model))
+            load_frac = abs(load) / model.load_full_scale / (cap / _full_torque(model))
             max_load = max(max_load, load_frac)
             hist.append((now, pos))
             if progress is not None:
@@ -300,7 +282,7 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
                 if load_frac >= p.stall_load:
                     reason = f"stall (|load| {load_frac:.0%} of limit)"
                     break
-                if abs(pos - target) <= 2:
+                if abs(pos - target) <= model.settle_ticks:
                     reason = f"{RANGE_END} (no stop before it)"
                     break
             time.sleep(0.005)
@@ -312,7 +294,7 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
         goal = min(max(goal, lo_lim), hi_lim)
         bus.write(sid, "goal_position", goal, retry=True)
         deadline = time.monotonic() + 2.0
-        while time.monotonic() < deadline and abs(bus.read(sid, "present_position") - goal) > 2:
+        while time.monotonic() < deadline and abs(bus.read(sid, "present_position") - goal) > model.settle_ticks:
             time.sleep(0.01)
     (lo, rlo), (hi, rhi) = ends[-1], ends[1]
     # the servo's own range end is not a mechanical stop (no stop, or the seam): never confirmed,
@@ -335,10 +317,6 @@ def _rearm(bus: ServoBus, sid: int, model: ServoModel, cap: int) -> None:
 
 
 # ---------------------------------------------------------------- conversion and outputs
-def default_zero(model: ServoModel) -> int:
-    return 512 if model.ticks == 1024 else 2048
-
-
 def convert(r: JointRange, margin_deg: float) -> dict[str, Any]:
     model = r.model
     margin = math.ceil(margin_deg / model.deg_per_tick - 1e-9) if margin_deg > 0 else 0
@@ -346,7 +324,7 @@ def convert(r: JointRange, margin_deg: float) -> dict[str, Any]:
     if safe_min >= safe_max:
         raise ArmtoolError(f"joint '{r.joint.name}': range {r.raw_min}..{r.raw_max} ticks is too small for a "
                            f"{margin_deg:g}° margin", hint="lower --margin")
-    zero = r.joint.zero_ticks if r.joint.zero_ticks is not None else default_zero(model)
+    zero = r.joint.zero_ticks if r.joint.zero_ticks is not None else model.default_zero
     if model.wraps:  # the zero in the turn nearest the middle of the range
         mid = (r.raw_min + r.raw_max) / 2
         zero = zero + model.ticks * round((mid - zero) / model.ticks)

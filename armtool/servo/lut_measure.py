@@ -24,7 +24,7 @@ import numpy as np
 from armtool.errors import ArmtoolError
 from armtool.servo.lut import LutTable, nominal_command_ticks
 from armtool.servo.lut_meas import Sample
-from armtool.servo.models import load_full_scale
+from armtool.servo.models import ServoModel
 from armtool.servo.reference import Reference
 
 log = logging.getLogger(__name__)
@@ -132,7 +132,7 @@ class Driver:
         deadline = start + m.settle_timeout_s
         previous: int | None = None
         history: list[tuple[float, int]] = []
-        full = load_full_scale(self.bus.model(self.sid))
+        full = self.bus.model(self.sid).load_full_scale
         tel = self._telemetry()
         while True:
             now = time.monotonic()
@@ -218,7 +218,7 @@ def measure(driver: Driver, reference: Reference, commands: list[int], approach:
     samples: list[Sample] = []
     total = len(commands) * len(sides) * sweeps
     done = 0
-    full = load_full_scale(driver.bus.model(driver.sid))
+    full = driver.bus.model(driver.sid).load_full_scale
     for sweep in range(sweeps):
         for side in sides:
             order = commands if side == "up" else list(reversed(commands))
@@ -323,20 +323,11 @@ def check(driver: Driver, reference: Reference, table: LutTable, angles: list[fl
     return CheckResult(tuple(points))
 
 
-def speed_register(model: Any, deg_per_s: float) -> int:
-    """The moving-speed register value for about `deg_per_s` (AX 0.111 rpm, X 0.229 rpm, STS ticks/s units)."""
+def speed_register(model: ServoModel, deg_per_s: float) -> int:
+    """The moving-speed register value nearest `deg_per_s` (`ServoModel.speed_register`), checked > 0."""
     if not deg_per_s > 0:
         raise ArmtoolError(f"--speed must be > 0 degrees per second, got {deg_per_s:g}")
-    if model.protocol == "dxl1":
-        unit = 0.111 if model.ticks == 1024 else 0.114
-        value = deg_per_s / (6.0 * unit)
-    elif model.protocol == "dxl2":
-        value = deg_per_s / (6.0 * 0.229)
-    else:
-        value = deg_per_s / model.deg_per_tick
-    reg = model.reg("moving_speed")
-    top = reg.hi if reg.hi else (1 << (8 * reg.size)) - 1
-    return int(min(max(1, math.ceil(value)), top))
+    return model.speed_register(deg_per_s)
 
 
 def torque_register(model: Any, percent: float) -> int:

@@ -43,7 +43,7 @@ def test_read_limits(tmp_path: Path) -> None:
 
 
 def test_register_conversions() -> None:
-    assert speed_register(AX, 60) == 91  # 60°/s / (6 x 0.111 rpm)
+    assert speed_register(AX, 60) == 90  # 60°/s / (6 x 0.111 rpm) = 90.09: nearest, as limits always did
     assert speed_register(by_name("XL430-W250"), 60) == 44
     assert torque_register(AX, 50) == 512
     with pytest.raises(ArmtoolError):
