@@ -11,6 +11,7 @@ import typer
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
+from armtool.servo.registry import Protocol, transport_class
 
 
 class Mode(str, Enum):
@@ -18,16 +19,10 @@ class Mode(str, Enum):
     AUTO = "auto"
 
 
-class ProtocolOption(str, Enum):
-    DXL1 = "dxl1"
-    DXL2 = "dxl2"
-    FEETECH = "feetech"
-
-
 def limits(
     port: Optional[str] = typer.Option(None, "--port", help="Serial port of the bus adapter (e.g. /dev/ttyUSB0); required unless --from-lerobot converts a file."),
     mode: Optional[Mode] = typer.Option(None, "--mode", help="manual: you move the joints (torque off); auto: seek each stop at low torque. Required with --port."),
-    protocol: Optional[ProtocolOption] = typer.Option(None, "--protocol", help="dxl1 (AX/MX), dxl2 (X series) or feetech (STS/SCS) [default: the arm file's, else dxl1]."),
+    protocol: Optional[Protocol] = typer.Option(None, "--protocol", help="dxl1 (AX/MX), dxl2 (X series) or feetech (STS/SCS) [default: the arm file's, else dxl1]."),
     baud: Optional[int] = typer.Option(None, "--baud", callback=opt.baud(), help="Baud rate [default: the arm file's, else 1000000]."),
     ids: Optional[str] = typer.Option(None, "--ids", callback=opt.id_list(0, 252), help="Servo IDs, e.g. 1,2,3 or 1-6 (or use --arm)."),
     model: Optional[str] = typer.Option(None, "--model", help="With --ids: the model every ID must be (e.g. AX-12A)."),
@@ -98,12 +93,12 @@ def limits(
     if arm is not None:
         arm_file = L.load_arm(arm)
         joints = arm_file.joints
-        proto = protocol.value if protocol else (arm_file.protocol or "dxl1")
+        proto = protocol.value if protocol else (arm_file.protocol or Protocol.DXL1.value)
         baud_rate = baud if baud is not None else (arm_file.baud or 1_000_000)
     else:
         expected = by_name(model) if model else None
         joints = [L.Joint(f"id{i}", i, expected) for i in L.parse_ids(ids or "")]
-        proto = protocol.value if protocol else "dxl1"
+        proto = protocol.value if protocol else Protocol.DXL1.value
         baud_rate = baud if baud is not None else 1_000_000
     for j in joints:
         if j.model is not None and j.model.protocol != proto:
@@ -406,7 +401,7 @@ def _lerobot_state(bus: Any, joints: list[Any]) -> dict[str, dict[str, Any]]:
     state: dict[str, dict[str, Any]] = {}
     for j in joints:
         model = bus.model(j.id)
-        mode = bus.read(j.id, "operating_mode") if model.protocol == "dxl2" else None
+        mode = bus.read(j.id, "operating_mode") if transport_class(model.protocol).position_mode is not None else None
         rule = LR.offset_rule(model, mode)
         state[j.name] = {
             "rule": rule, "homing_offset": bus.read(j.id, "homing_offset"),

@@ -12,6 +12,7 @@ import typer
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.extras import require
+from armtool.servo.registry import Protocol, transport_class
 
 if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
     from armtool.servo.bus import ServoBus
@@ -203,12 +204,6 @@ def apply(
 # commands that move a servo
 
 
-class ProtocolOption(str, Enum):
-    DXL1 = "dxl1"
-    DXL2 = "dxl2"
-    FEETECH = "feetech"
-
-
 class MeasureApproach(str, Enum):
     UP = "up"
     DOWN = "down"
@@ -232,7 +227,7 @@ def _confirm(question: str, yes: bool) -> None:
         raise ArmtoolError("not confirmed: nothing was moved")
 
 
-def _connect(port: str, protocol: ProtocolOption, baud: int, sid: int, expected_model: Optional[str]) -> ServoBus:
+def _connect(port: str, protocol: Protocol, baud: int, sid: int, expected_model: Optional[str]) -> ServoBus:
     from armtool.servo.bus import open_bus
     from armtool.servo.lut_meas import model_named
 
@@ -274,7 +269,7 @@ def _range(bus: ServoBus, sid: int, limits: Optional[Path], lo: Optional[int], h
     if not 0 <= lo < hi <= model.max_tick:
         raise ArmtoolError(f"range {lo}..{hi} ticks is not inside 0..{model.max_tick} ({model.name}) with min < max")
     reg_lo, reg_hi = bus.read(sid, "min_limit"), bus.read(sid, "max_limit")
-    if model.protocol == "dxl1" and reg_lo == 0 and reg_hi == 0:
+    if transport_class(model.protocol).wheel_mode_when_limits_zero and reg_lo == 0 and reg_hi == 0:
         raise ArmtoolError(f"ID {sid} is in wheel mode (both angle limits 0): it cannot hold a position")
     if lo < reg_lo or hi > reg_hi:
         lo, hi = max(lo, reg_lo), min(hi, reg_hi)
@@ -338,7 +333,7 @@ def measure(
     sid: int = typer.Option(..., "--id", min=0, max=252, help="Servo ID (0..252)."),
     reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual, csv:FILE or camera:DEVICE."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Measurement CSV to write (default: stdout)."),
-    protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1 (AX), dxl2 (X series) or feetech (STS/SCS)."),
+    protocol: Protocol = typer.Option(Protocol.DXL1, "--protocol", help="dxl1 (AX), dxl2 (X series) or feetech (STS/SCS)."),
     baud: int = typer.Option(1_000_000, "--baud", callback=opt.baud(), help="Bus baud rate."),
     model: Optional[str] = typer.Option(None, "--model", help="Refuse unless the servo is this model."),
     limits: Optional[Path] = typer.Option(None, "--limits", help="Limits YAML from `armtool limits`: measure inside safe_min/max_ticks."),
@@ -453,7 +448,7 @@ def check(
     port: str = typer.Option(..., "--port", help="Serial port of the servo bus."),
     sid: int = typer.Option(..., "--id", min=0, max=252, help="Servo ID (0..252)."),
     reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual or camera:DEVICE."),
-    protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1, dxl2 or feetech."),
+    protocol: Protocol = typer.Option(Protocol.DXL1, "--protocol", help="dxl1, dxl2 or feetech."),
     baud: int = typer.Option(1_000_000, "--baud", callback=opt.baud(), help="Bus baud rate."),
     limits: Optional[Path] = typer.Option(None, "--limits", help="Limits YAML [default: the table's measured command range]."),
     lo: Optional[int] = typer.Option(None, "--min", callback=opt.ticks(), help="Lowest command in ticks."),

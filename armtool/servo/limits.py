@@ -18,6 +18,7 @@ from typing import Any, Callable, cast
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
 from armtool.servo.models import ServoModel, by_name
+from armtool.servo.registry import check_protocol, transport_class
 
 SCHEMA = "armtool.limits/1"
 LIMITS_VERSION = 1
@@ -78,8 +79,8 @@ def load_arm(path: Path) -> ArmFile:
         joints.append(Joint(name, sid, model, zero, direction))
     baud = bus.get("baud")
     protocol = bus.get("protocol")
-    if protocol is not None and protocol not in ("dxl1", "dxl2", "feetech"):
-        raise ArmtoolError(f"unknown protocol {protocol!r}", str(path), hint="dxl1, dxl2 or feetech")
+    if protocol is not None:
+        check_protocol(str(protocol), str(path))
     rate = None if baud is None else _whole(baud, "baud", str(path))
     if rate is not None and not 0 < rate <= 20_000_000:
         raise ArmtoolError(f"baud must be a positive baud rate, got {rate}", str(path), hint="e.g. baud: 1000000")
@@ -236,9 +237,10 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
     """Find both mechanical stops of one joint; leaves it holding just inside the last stop."""
     sid = joint.id
     model = bus.model(sid)
-    if model.has("operating_mode") and model.protocol == "dxl2" and bus.read(sid, "operating_mode") != 3:
-        raise ArmtoolError(f"ID {sid} is not in position control mode (Operating Mode 3)",
-                           hint="set Operating Mode to 3 (e.g. in Dynamixel Wizard) before `armtool limits --mode auto`")
+    mode = transport_class(model.protocol).position_mode
+    if model.has("operating_mode") and mode is not None and bus.read(sid, "operating_mode") != mode:
+        raise ArmtoolError(f"ID {sid} is not in position control mode (Operating Mode {mode})",
+                           hint=f"set Operating Mode to {mode} (e.g. in Dynamixel Wizard) before `armtool limits --mode auto`")
     cap = max(1, round(p.torque_limit * _full_torque(model)))
     speed = model.speed_register(p.speed_deg_s)
     guard.set_ram(sid, "torque_limit", cap)
@@ -307,10 +309,9 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
 
 
 def _rearm(bus: ServoBus, sid: int, model: ServoModel, cap: int) -> None:
-    if model.protocol == "dxl1":
-        bus.write(sid, "torque_limit", cap, retry=True)
-    elif model.protocol == "feetech":
-        bus.write(sid, "torque_enable", 1, retry=True)
+    rearm = transport_class(model.protocol).rearm
+    if rearm is not None:
+        bus.write(sid, rearm, cap if rearm == "torque_limit" else 1, retry=True)
     else:
         raise ArmtoolError(f"ID {sid} reports an overload hardware error and turned its torque off",
                            hint="lower --torque-limit; reboot the servo (power cycle) to clear the error")

@@ -20,6 +20,10 @@ _ALARM = {1: "input voltage", 2: "angle sensor", 4: "overheating", 8: "over-curr
 class Feetech(Transport):
     name = "feetech"
     label = "Feetech SCS/STS"
+    default_model = "STS3215"
+    rearm = "torque_enable"  # overload turns torque off; torque on re-arms
+    eeprom_lock = True  # EEPROM writes need Lock = 0 first
+    homing_sign = -1  # present = encoder - Homing Offset (feetech-cli measured)
 
     def __init__(self, port: Port) -> None:
         super().__init__(port)
