@@ -18,6 +18,7 @@ from typing import Any, Callable, cast
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
 from armtool.servo.models import ServoModel, by_name
+from armtool.servo.motion import StallDetector, load_fraction
 from armtool.servo.registry import check_protocol, transport_class
 
 SCHEMA = "armtool.limits/1"
@@ -259,7 +260,7 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
         target = lo_lim if direction < 0 else hi_lim
         bus.write(sid, "goal_position", target, retry=True)
         start = time.monotonic()
-        hist: list[tuple[float, int]] = []
+        stall = StallDetector(p.stall_window_s, p.stall_ticks)
         reason = ""
         pos = target
         while True:
@@ -270,17 +271,15 @@ def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress:
                                    hint="raise --max-seek or --speed, or check that the joint can move")
             vals = bus.read_many(sid, ["present_position", "present_load"])
             pos, load = vals["present_position"], vals["present_load"]
-            load_frac = abs(load) / model.load_full_scale / (cap / _full_torque(model))
+            load_frac = load_fraction(model, load, cap / _full_torque(model))
             max_load = max(max_load, load_frac)
-            hist.append((now, pos))
             if progress is not None:
                 progress(joint, label, pos, load_frac)
             if bus.transport.overload(bus.last_error.get(sid, 0)) or bus.transport.alarms(bus.last_error.get(sid, 0)):
                 if bus.overloaded(sid):
                     reason = "overload alarm"
                     break
-            window = [v for t, v in hist if now - t <= p.stall_window_s]
-            if hist[0][0] <= now - p.stall_window_s and max(window) - min(window) <= p.stall_ticks:
+            if stall.add(now, pos):
                 if load_frac >= p.stall_load:
                     reason = f"stall (|load| {load_frac:.0%} of limit)"
                     break

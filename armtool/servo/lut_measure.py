@@ -25,6 +25,7 @@ from armtool.errors import ArmtoolError
 from armtool.servo.lut import LutTable, nominal_command_ticks
 from armtool.servo.lut_meas import Sample
 from armtool.servo.models import ServoModel
+from armtool.servo.motion import StallDetector, load_fraction
 from armtool.servo.reference import Reference
 
 log = logging.getLogger(__name__)
@@ -131,8 +132,8 @@ class Driver:
         start = time.monotonic()
         deadline = start + m.settle_timeout_s
         previous: int | None = None
-        history: list[tuple[float, int]] = []
-        full = self.bus.model(self.sid).load_full_scale
+        stall = StallDetector(m.stall_window_s, m.stall_ticks, start=start)
+        model = self.bus.model(self.sid)
         tel = self._telemetry()
         while True:
             now = time.monotonic()
@@ -145,12 +146,9 @@ class Driver:
                                    hint="something blocks the joint inside the range: re-record the limits "
                                         "(armtool limits) and measure inside them")
             # stall, checked at every poll: no motion over the window, |load| near the torque limit, short of the goal
-            history.append((now, here))
-            while history and history[0][0] < now - m.stall_window_s:
-                history.pop(0)
-            load = abs(tel["present_load"]) / full / max(m.torque_cap, 1e-6)
-            if (now - start >= m.stall_window_s and abs(here - goal) > m.tolerance_ticks and load >= m.stall_load
-                    and max(v for _, v in history) - min(v for _, v in history) <= m.stall_ticks):
+            still = stall.add(now, here)
+            load = load_fraction(model, tel["present_load"], m.torque_cap)
+            if still and abs(here - goal) > m.tolerance_ticks and load >= m.stall_load:
                 raise ArmtoolError(f"ID {self.sid} stopped at {here} short of {goal} with {load:.0%} of its torque "
                                    "limit: pushing against something", hint="measure inside the recorded limits "
                                    "(--limits limits.yaml) or re-record them")
