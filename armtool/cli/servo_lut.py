@@ -16,7 +16,7 @@ from armtool.servo.registry import Protocol, transport_class
 
 if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
     from armtool.servo.bus import ServoBus
-    from armtool.servo.lut import ErrorStats, LutTable
+    from armtool.servo.lut.table import ErrorStats, LutTable
 
 HELP = "Build, export and check compensation tables for a servo's non-linear response."
 
@@ -54,7 +54,7 @@ class ReportFormat(str, Enum):
 
 def _write(text: str, output: Optional[Path], what: str) -> None:
     from armtool.console import stderr, write_stdout
-    from armtool.servo.lut_meas import write_atomic
+    from armtool.servo.lut.csv_format import write_atomic
 
     if output is None or str(output) == "-":
         write_stdout(text)
@@ -110,8 +110,8 @@ def fit(
     require("servo")  # exit 2 with the install command when the extra is missing
     import json
 
-    from armtool.servo.lut import Approach, Method, fit_table
-    from armtool.servo.lut_meas import read_measurements
+    from armtool.servo.lut.table import Approach, Method, fit_table
+    from armtool.servo.lut.csv_format import read_measurements
 
     from armtool.fileio import check_output_paths
 
@@ -123,7 +123,7 @@ def fit(
         stderr().print(f"[yellow]warning:[/yellow] {measurements} holds the readings of an interrupted run")
     table = fit_table(meas, Method(method.value), degree=degree, holdout=holdout, seed=seed,
                       approach=None if approach is None else Approach(approach.value), monotone_tol_deg=monotone_tol)
-    from armtool.servo.lut import check_table_document
+    from armtool.servo.lut.table import check_table_document
 
     doc = table.to_dict(grid_step_deg=grid_step, flag="--grid-step")
     check_table_document(doc, "the fitted table")  # never write a table that would not read back
@@ -140,8 +140,8 @@ def export(
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
 ) -> None:
     require("servo")  # exit 2 with the install command when the extra is missing
-    from armtool.servo.lut import read_table
-    from armtool.servo.lut_export import ExportFormat, render
+    from armtool.servo.lut.table import read_table
+    from armtool.servo.lut.export import ExportFormat, render
 
     from armtool.fileio import check_output_paths
 
@@ -165,8 +165,8 @@ def apply(
     import sys
 
     from armtool.console import stderr
-    from armtool.servo.lut import read_table
-    from armtool.servo.lut_apply import apply_csv, apply_list
+    from armtool.servo.lut.table import read_table
+    from armtool.servo.lut.apply import apply_csv, apply_list
 
     if direction not in (1, -1):
         raise ArmtoolError(f"--direction must be 1 or -1, got {direction}")
@@ -229,7 +229,7 @@ def _confirm(question: str, yes: bool) -> None:
 
 def _connect(port: str, protocol: Protocol, baud: int, sid: int, expected_model: Optional[str]) -> ServoBus:
     from armtool.servo.bus import open_bus
-    from armtool.servo.lut_meas import model_named
+    from armtool.servo.lut.csv_format import model_named
 
     bus = open_bus(port, protocol.value, baud, echo_check_id=sid)
     try:
@@ -245,7 +245,7 @@ def _range(bus: ServoBus, sid: int, limits: Optional[Path], lo: Optional[int], h
            fallback: Optional[tuple[int, int]] = None) -> tuple[int, int, str]:
     """The command range to stay inside: recorded limits, --min/--max, or the fallback; never
     wider than the model's ticks or the servo's own angle-limit registers."""
-    from armtool.servo.lut_measure import read_limits
+    from armtool.servo.lut.measure import read_limits
 
     model = bus.model(sid)
     source = ""
@@ -358,8 +358,8 @@ def measure(
 
     from armtool.console import stderr
     from armtool.servo.guard import TorqueGuard
-    from armtool.servo.lut_meas import Sample, render_measurements
-    from armtool.servo.lut_measure import (Driver, Motion, align_reference, measure as run_measure, plan_commands,
+    from armtool.servo.lut.csv_format import Sample, render_measurements
+    from armtool.servo.lut.measure import (Driver, Motion, align_reference, measure as run_measure, plan_commands,
                                            speed_register, torque_register)
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 
@@ -469,8 +469,8 @@ def check(
 
     from armtool.console import stderr, write_stdout
     from armtool.servo.guard import TorqueGuard
-    from armtool.servo.lut import read_table
-    from armtool.servo.lut_measure import (Driver, Motion, align_reference, check as run_check, check_angles, speed_register,
+    from armtool.servo.lut.table import read_table
+    from armtool.servo.lut.measure import (Driver, Motion, align_reference, check as run_check, check_angles, speed_register,
                                            torque_register)
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut import LutTable, Method
-from armtool.servo.lut_measure import check_angles, plan_commands, read_limits, speed_register, torque_register
+from armtool.servo.lut.table import LutTable, Method
+from armtool.servo.lut.measure import check_angles, plan_commands, read_limits, speed_register, torque_register
 from armtool.servo.models import by_name
 
 AX = by_name("AX-12A")

@@ -70,7 +70,7 @@ class _ModelBus:
 @pytest.mark.parametrize("model", MODELS, ids=lambda m: m.name)
 def test_limits_lut_and_the_simulator_share_one_speed_conversion(model: object, deg_s: float) -> None:
     from armtool.servo import limits as L
-    from armtool.servo.lut_measure import speed_register
+    from armtool.servo.lut.measure import speed_register
     from armtool.servo.sim.config import ServoSpec
     from armtool.servo.sim.servo import SimServo
 

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut_meas import Measurements, Sample, model_named
+from armtool.servo.lut.csv_format import Measurements, Sample, model_named
 from armtool.servo.models import ServoModel
 
 SCHEMA_VERSION = 1

@@ -22,8 +22,8 @@ from typing import Any, Callable, Literal
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut import LutTable, nominal_command_ticks
-from armtool.servo.lut_meas import Sample
+from armtool.servo.lut.table import LutTable, nominal_command_ticks
+from armtool.servo.lut.csv_format import Sample
 from armtool.servo.models import ServoModel
 from armtool.servo.motion import StallDetector, load_fraction
 from armtool.servo.reference import Reference

@@ -16,7 +16,7 @@ from enum import Enum
 from typing import Any
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut import Grid, LutTable
+from armtool.servo.lut.table import Grid, LutTable
 
 
 class ExportFormat(str, Enum):
