@@ -10,6 +10,7 @@ import pytest
 from armtool.errors import ArmtoolError
 from armtool.servo import eeprom, lerobot
 from armtool.servo import limits as L
+from armtool.servo.limits.auto import _rearm
 from armtool.servo.bus import Transport
 from armtool.servo.models import by_name
 from armtool.servo.registry import PROTOCOLS, Protocol, check_protocol, protocol_names, transport_class
@@ -65,7 +66,7 @@ def test_a_registered_fake_protocol_drives_limits_eeprom_and_lerobot(fake: None,
     arm.write_text("protocol: fake\njoints: [{name: a, id: 1}]\n")
     assert L.load_arm(arm).protocol == "fake"
     bus = RecordingBus()
-    L._rearm(bus, 1, FAKE_MODEL, 300)  # type: ignore[arg-type]
+    _rearm(bus, 1, FAKE_MODEL, 300)  # type: ignore[arg-type]
     assert bus.writes == [(1, "torque_enable", 1)]  # the fake's re-arm register, not dxl1's torque limit
     bus.writes.clear()
     eeprom.apply_writes(bus, [eeprom.EepromWrite(1, "min_limit", 10, 20)])  # type: ignore[arg-type]
