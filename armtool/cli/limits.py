@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import typer
 
@@ -12,6 +12,12 @@ from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
 from armtool.servo.registry import Protocol, transport_class
+
+if TYPE_CHECKING:
+    from armtool.servo.bus import ServoBus
+    from armtool.servo.eeprom import EepromWrite
+    from armtool.servo.guard import TorqueGuard
+    from armtool.servo.limits import AutoParams, Joint, JointRange
 
 
 class Mode(str, Enum):
@@ -237,8 +243,8 @@ def _check_motion_options(joint: Any, margin_deg: float, back_off_deg: float) ->
                            f"(joint '{joint.name}')", hint="a back-off of a few degrees is usual (default 3)")
 
 
-def _manual(bus: Any, guard: Any, joints: list[Any], duration: float | None, rate: float, min_dwell: float,
-            interactive: bool) -> list[Any]:
+def _manual(bus: ServoBus, guard: TorqueGuard, joints: list[Joint], duration: float | None, rate: float, min_dwell: float,
+            interactive: bool) -> list[JointRange]:
     import select
     import sys
     import time
@@ -283,7 +289,7 @@ def _manual_table(rec: Any) -> Any:
     return table
 
 
-def _auto(bus: Any, guard: Any, joints: list[Any], params: Any) -> list[Any]:
+def _auto(bus: ServoBus, guard: TorqueGuard, joints: list[Joint], params: AutoParams) -> list[JointRange]:
     from rich.progress import Progress, TextColumn, TimeElapsedColumn
 
     from armtool.console import stderr
@@ -324,7 +330,7 @@ def _summary(rows: list[dict[str, Any]], ranges: list[Any]) -> None:
     stderr().print(table)
 
 
-def _eeprom_plan(bus: Any, ranges: list[Any], rows: list[dict[str, Any]]) -> list[Any]:
+def _eeprom_plan(bus: ServoBus, ranges: list[JointRange], rows: list[dict[str, Any]]) -> list[EepromWrite]:
     from armtool.servo.eeprom import plan_writes
 
     bad = [r.joint.name for r in ranges if not r.confirmed]
@@ -341,7 +347,7 @@ def _eeprom_plan(bus: Any, ranges: list[Any], rows: list[dict[str, Any]]) -> lis
     return plan_writes(bus, wanted)
 
 
-def _do_eeprom(bus: Any, plan: list[Any], yes: bool, dry_run: bool) -> None:
+def _do_eeprom(bus: ServoBus, plan: list[EepromWrite], yes: bool, dry_run: bool) -> None:
     from armtool.console import stderr
     from armtool.servo.eeprom import apply_writes
 
@@ -393,7 +399,7 @@ def _full_turn_names(text: str | None, joints: list[Any]) -> set[str]:
     return names
 
 
-def _lerobot_state(bus: Any, joints: list[Any]) -> dict[str, dict[str, Any]]:
+def _lerobot_state(bus: ServoBus, joints: list[Joint]) -> dict[str, dict[str, Any]]:
     """Each joint's offset rule and registers, read before recording (the recording is in ticks
     under the offset the servo holds now); a model without a homing offset is refused here."""
     from armtool.servo import lerobot as LR

@@ -26,10 +26,13 @@ DEFAULT_TIMEOUT_MS = 25.0
 SYSFS_USB_SERIAL = Path("/sys/bus/usb-serial/devices")
 
 
+CommErrorKind = Literal["timeout", "corrupt"]
+
+
 class CommError(ArmtoolError):
     """No valid reply: `kind` is "timeout" (nothing came back) or "corrupt" (bad checksum/frame)."""
 
-    def __init__(self, what: str, kind: str, sid: int, where: str | None = None, hint: str | None = None) -> None:
+    def __init__(self, what: str, kind: CommErrorKind, sid: int, where: str | None = None, hint: str | None = None) -> None:
         super().__init__(what, where, hint)
         self.kind = kind
         self.sid = sid
@@ -120,7 +123,7 @@ class Transport:
     def overload(self, error: int) -> bool:
         raise NotImplementedError
 
-    def comm_error(self, sid: int, kind: str, what: str) -> CommError:
+    def comm_error(self, sid: int, kind: CommErrorKind, what: str) -> CommError:
         return CommError(f"ID {sid}: {what}: " + ("no reply" if kind == "timeout" else "corrupt reply"), kind, sid)
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, cast
+from typing import Any, Literal, cast
 
 from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel, by_name
@@ -98,7 +98,7 @@ class JointRange:
     model: ServoModel
     raw_min: int
     raw_max: int
-    method: str
+    method: Literal["manual", "auto", "lerobot"]
     evidence: dict[str, Any] = field(default_factory=dict)
 
     @property

@@ -14,6 +14,7 @@ from typing import Any, Callable
 
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
+from armtool.servo.guard import TorqueGuard
 from armtool.servo.limits.arm_file import Joint, JointRange
 from armtool.servo.models import ServoModel
 from armtool.servo.motion import StallDetector, load_fraction
@@ -41,7 +42,7 @@ Progress = Callable[[Joint, str, int, float], None]
 RANGE_END = "servo range end"
 
 
-def seek_joint(bus: ServoBus, guard: Any, joint: Joint, p: AutoParams, progress: Progress | None = None) -> JointRange:
+def seek_joint(bus: ServoBus, guard: TorqueGuard, joint: Joint, p: AutoParams, progress: Progress | None = None) -> JointRange:
     """Find both mechanical stops of one joint; leaves it holding just inside the last stop."""
     sid = joint.id
     model = bus.model(sid)

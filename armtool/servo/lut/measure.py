@@ -24,6 +24,8 @@ import numpy as np
 from armtool.errors import ArmtoolError
 from armtool.servo.lut.table import LutTable, nominal_command_ticks
 from armtool.servo.lut.csv_format import Sample
+from armtool.servo.bus import ServoBus
+from armtool.servo.guard import TorqueGuard
 from armtool.servo.models import ServoModel
 from armtool.servo.motion import StallDetector, load_fraction
 from armtool.servo.reference import Reference
@@ -109,10 +111,10 @@ def assert_in_range(commands: list[int], lo: int, hi: int) -> None:
 
 @dataclass
 class Driver:
-    """One servo on a guarded bus, moved point by point. `bus` is a `ServoBus`, `guard` its `TorqueGuard`."""
+    """One servo on a guarded bus, moved point by point."""
 
-    bus: Any
-    guard: Any
+    bus: ServoBus
+    guard: TorqueGuard
     sid: int
     motion: Motion = field(default_factory=Motion)
     sleep: Callable[[float], None] = time.sleep

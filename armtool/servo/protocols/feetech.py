@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 from typing import Mapping
 
-from armtool.servo.bus import CommError, Port, Transport
+from armtool.servo.bus import CommError, CommErrorKind, Port, Transport
 from armtool.servo.packets import BROADCAST, PING, READ, SYNC_WRITE, WRITE, Corrupt, encode1, parse1
 
 # Status error bits (scservo_sdk protocol_packet_handler)
@@ -53,7 +53,7 @@ class Feetech(Transport):
                     if pkt.id == sid:
                         return pkt.params, pkt.code
             elif time.monotonic() > deadline:
-                kind = "corrupt" if self._buf else "timeout"
+                kind: CommErrorKind = "corrupt" if self._buf else "timeout"
                 raise CommError(f"ID {sid}: {what}: " + ("no reply" if kind == "timeout" else "incomplete reply"), kind, sid)
             else:
                 time.sleep(0.0002)
