@@ -12,6 +12,7 @@ import typer
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.extras import require
+from armtool.servo.lut.choices import Approach, ExportFormat, MeasureApproach, Method
 from armtool.servo.registry import Protocol, transport_class
 
 if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
@@ -26,25 +27,6 @@ app = typer.Typer(name="servo-lut", help=HELP, no_args_is_help=True, add_complet
 MEAS_FORMAT = """Measurement CSV: '# key: value' metadata lines (servo_model: AX-12A, servo_id, reference), then a header
 with units in the column names: command_ticks,present_ticks,reference_deg,load_pct,temperature_c,voltage_v,approach,repeat.
 command_ticks and reference_deg (or reference_rad, servo frame: 0° at tick 0) are required."""
-
-
-class MethodOption(str, Enum):
-    PCHIP = "pchip"
-    LINEAR = "linear"
-    POLY = "poly"
-
-
-class ApproachChoice(str, Enum):
-    UP = "up"
-    DOWN = "down"
-    MEAN = "mean"
-
-
-class ExportFormatOption(str, Enum):
-    C = "c"
-    CSV = "csv"
-    JSON = "json"
-    YAML = "yaml"
 
 
 class ReportFormat(str, Enum):
@@ -97,11 +79,11 @@ def print_fit_report(table: LutTable) -> None:
 def fit(
     measurements: Path = typer.Argument(..., help="Measurement CSV (from `servo-lut measure` or your own)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the table JSON here (default: stdout)."),
-    method: MethodOption = typer.Option(MethodOption.PCHIP, "--method", help="pchip (monotone, default), linear or poly."),
+    method: Method = typer.Option(Method.PCHIP, "--method", help="pchip (monotone, default), linear or poly."),
     degree: int = typer.Option(3, "--degree", min=1, max=9, help="Polynomial degree for --method poly."),
     holdout: float = typer.Option(0.2, "--holdout", callback=opt.finite_float(0, 1, hi_open=True), help="Fraction of points kept out of the fit to test it (0 = none)."),
     seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed for choosing the held-out points (any integer)."),
-    approach: Optional[ApproachChoice] = typer.Option(None, "--approach", help="Use readings approached up, down, or the mean of both (default: what the file has)."),
+    approach: Optional[Approach] = typer.Option(None, "--approach", help="Use readings approached up, down, or the mean of both (default: what the file has)."),
     model: Optional[str] = typer.Option(None, "--model", help="Servo model if the CSV does not state it (AX-12A, XL430-W250, STS3215...)."),
     monotone_tol: Optional[float] = typer.Option(None, "--monotone-tol", callback=opt.finite_float(0, 90, unit="degrees"), help="Degrees a reading may step back and count as noise [default: 1 tick or 4 standard errors]."),
     grid_step: float = typer.Option(1.0, "--grid-step", callback=opt.positive_float(360, "degrees"),
@@ -110,7 +92,7 @@ def fit(
     require("servo")  # exit 2 with the install command when the extra is missing
     import json
 
-    from armtool.servo.lut.table import Approach, Method, fit_table
+    from armtool.servo.lut.table import fit_table
     from armtool.servo.lut.csv_format import read_measurements
 
     from armtool.fileio import check_output_paths
@@ -121,8 +103,8 @@ def fit(
         from armtool.console import stderr
 
         stderr().print(f"[yellow]warning:[/yellow] {measurements} holds the readings of an interrupted run")
-    table = fit_table(meas, Method(method.value), degree=degree, holdout=holdout, seed=seed,
-                      approach=None if approach is None else Approach(approach.value), monotone_tol_deg=monotone_tol)
+    table = fit_table(meas, method, degree=degree, holdout=holdout, seed=seed,
+                      approach=approach, monotone_tol_deg=monotone_tol)
     from armtool.servo.lut.table import check_table_document
 
     doc = table.to_dict(grid_step_deg=grid_step, flag="--grid-step")
@@ -134,20 +116,20 @@ def fit(
 @app.command("export", help="Write the table as a C header (uint16_t on a uniform angle grid), CSV, JSON or YAML.")
 def export(
     table_path: Path = typer.Argument(..., metavar="LUT_JSON", help="Table from `servo-lut fit`."),
-    output_format: ExportFormatOption = typer.Option(ExportFormatOption.C, "--format", help="c, csv, json or yaml."),
+    output_format: ExportFormat = typer.Option(ExportFormat.C, "--format", help="c, csv, json or yaml."),
     step: float = typer.Option(1.0, "--step", callback=opt.positive_float(360, "degrees"), help="Degrees between grid entries (a whole number of hundredths for C)."),
     name: str = typer.Option("servo_lut", "--name", help="C array name (macros are its upper-case form)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
 ) -> None:
     require("servo")  # exit 2 with the install command when the extra is missing
     from armtool.servo.lut.table import read_table
-    from armtool.servo.lut.export import ExportFormat, render
+    from armtool.servo.lut.export import render
 
     from armtool.fileio import check_output_paths
 
     check_output_paths({"-o": output}, inputs=[table_path])
     table = read_table(table_path)
-    _write(render(table, ExportFormat(output_format.value), step_deg=step, name=name), output, output_format.value)
+    _write(render(table, output_format, step_deg=step, name=name), output, output_format.value)
 
 
 @app.command("apply", help="Turn wanted servo angles (a list, or a CSV column) into compensated commands.")
@@ -202,12 +184,6 @@ def apply(
 
 # --------------------------------------------------------------------------------------------
 # commands that move a servo
-
-
-class MeasureApproach(str, Enum):
-    UP = "up"
-    DOWN = "down"
-    BOTH = "both"
 
 
 def _ask(text: str) -> str:
