@@ -27,9 +27,9 @@ from typing import Any
 
 from armtool.servo.bus import open_bus
 from armtool.servo.guard import TorqueGuard
-from armtool.servo.lut import Method, fit_table
-from armtool.servo.lut_meas import parse_measurements, render_measurements
-from armtool.servo.lut_measure import Driver, Motion, check, check_angles, measure, plan_commands, speed_register
+from armtool.servo.lut.table import Method, fit_table
+from armtool.servo.lut.csv_format import parse_measurements, render_measurements
+from armtool.servo.lut.measure import Driver, Motion, check, check_angles, measure, plan_commands, speed_register
 from armtool.servo.reference import open_reference
 from armtool.servo.sim import SimBus
 

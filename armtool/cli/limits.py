@@ -4,13 +4,20 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import typer
 
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
+from armtool.servo.registry import Protocol, transport_class
+
+if TYPE_CHECKING:
+    from armtool.servo.bus import ServoBus
+    from armtool.servo.eeprom import EepromWrite
+    from armtool.servo.guard import TorqueGuard
+    from armtool.servo.limits import AutoParams, Joint, JointRange
 
 
 class Mode(str, Enum):
@@ -18,16 +25,10 @@ class Mode(str, Enum):
     AUTO = "auto"
 
 
-class ProtocolOption(str, Enum):
-    DXL1 = "dxl1"
-    DXL2 = "dxl2"
-    FEETECH = "feetech"
-
-
 def limits(
     port: Optional[str] = typer.Option(None, "--port", help="Serial port of the bus adapter (e.g. /dev/ttyUSB0); required unless --from-lerobot converts a file."),
     mode: Optional[Mode] = typer.Option(None, "--mode", help="manual: you move the joints (torque off); auto: seek each stop at low torque. Required with --port."),
-    protocol: Optional[ProtocolOption] = typer.Option(None, "--protocol", help="dxl1 (AX/MX), dxl2 (X series) or feetech (STS/SCS) [default: the arm file's, else dxl1]."),
+    protocol: Optional[Protocol] = typer.Option(None, "--protocol", help="dxl1 (AX/MX), dxl2 (X series) or feetech (STS/SCS) [default: the arm file's, else dxl1]."),
     baud: Optional[int] = typer.Option(None, "--baud", callback=opt.baud(), help="Baud rate [default: the arm file's, else 1000000]."),
     ids: Optional[str] = typer.Option(None, "--ids", callback=opt.id_list(0, 252), help="Servo IDs, e.g. 1,2,3 or 1-6 (or use --arm)."),
     model: Optional[str] = typer.Option(None, "--model", help="With --ids: the model every ID must be (e.g. AX-12A)."),
@@ -98,12 +99,12 @@ def limits(
     if arm is not None:
         arm_file = L.load_arm(arm)
         joints = arm_file.joints
-        proto = protocol.value if protocol else (arm_file.protocol or "dxl1")
+        proto = protocol.value if protocol else (arm_file.protocol or Protocol.DXL1.value)
         baud_rate = baud if baud is not None else (arm_file.baud or 1_000_000)
     else:
         expected = by_name(model) if model else None
         joints = [L.Joint(f"id{i}", i, expected) for i in L.parse_ids(ids or "")]
-        proto = protocol.value if protocol else "dxl1"
+        proto = protocol.value if protocol else Protocol.DXL1.value
         baud_rate = baud if baud is not None else 1_000_000
     for j in joints:
         if j.model is not None and j.model.protocol != proto:
@@ -242,8 +243,8 @@ def _check_motion_options(joint: Any, margin_deg: float, back_off_deg: float) ->
                            f"(joint '{joint.name}')", hint="a back-off of a few degrees is usual (default 3)")
 
 
-def _manual(bus: Any, guard: Any, joints: list[Any], duration: float | None, rate: float, min_dwell: float,
-            interactive: bool) -> list[Any]:
+def _manual(bus: ServoBus, guard: TorqueGuard, joints: list[Joint], duration: float | None, rate: float, min_dwell: float,
+            interactive: bool) -> list[JointRange]:
     import select
     import sys
     import time
@@ -288,7 +289,7 @@ def _manual_table(rec: Any) -> Any:
     return table
 
 
-def _auto(bus: Any, guard: Any, joints: list[Any], params: Any) -> list[Any]:
+def _auto(bus: ServoBus, guard: TorqueGuard, joints: list[Joint], params: AutoParams) -> list[JointRange]:
     from rich.progress import Progress, TextColumn, TimeElapsedColumn
 
     from armtool.console import stderr
@@ -329,7 +330,7 @@ def _summary(rows: list[dict[str, Any]], ranges: list[Any]) -> None:
     stderr().print(table)
 
 
-def _eeprom_plan(bus: Any, ranges: list[Any], rows: list[dict[str, Any]]) -> list[Any]:
+def _eeprom_plan(bus: ServoBus, ranges: list[JointRange], rows: list[dict[str, Any]]) -> list[EepromWrite]:
     from armtool.servo.eeprom import plan_writes
 
     bad = [r.joint.name for r in ranges if not r.confirmed]
@@ -346,7 +347,7 @@ def _eeprom_plan(bus: Any, ranges: list[Any], rows: list[dict[str, Any]]) -> lis
     return plan_writes(bus, wanted)
 
 
-def _do_eeprom(bus: Any, plan: list[Any], yes: bool, dry_run: bool) -> None:
+def _do_eeprom(bus: ServoBus, plan: list[EepromWrite], yes: bool, dry_run: bool) -> None:
     from armtool.console import stderr
     from armtool.servo.eeprom import apply_writes
 
@@ -398,7 +399,7 @@ def _full_turn_names(text: str | None, joints: list[Any]) -> set[str]:
     return names
 
 
-def _lerobot_state(bus: Any, joints: list[Any]) -> dict[str, dict[str, Any]]:
+def _lerobot_state(bus: ServoBus, joints: list[Joint]) -> dict[str, dict[str, Any]]:
     """Each joint's offset rule and registers, read before recording (the recording is in ticks
     under the offset the servo holds now); a model without a homing offset is refused here."""
     from armtool.servo import lerobot as LR
@@ -406,7 +407,7 @@ def _lerobot_state(bus: Any, joints: list[Any]) -> dict[str, dict[str, Any]]:
     state: dict[str, dict[str, Any]] = {}
     for j in joints:
         model = bus.model(j.id)
-        mode = bus.read(j.id, "operating_mode") if model.protocol == "dxl2" else None
+        mode = bus.read(j.id, "operating_mode") if transport_class(model.protocol).position_mode is not None else None
         rule = LR.offset_rule(model, mode)
         state[j.name] = {
             "rule": rule, "homing_offset": bus.read(j.id, "homing_offset"),

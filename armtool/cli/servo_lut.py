@@ -12,10 +12,12 @@ import typer
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.extras import require
+from armtool.servo.lut.choices import Approach, ExportFormat, MeasureApproach, Method
+from armtool.servo.registry import Protocol, transport_class
 
 if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
     from armtool.servo.bus import ServoBus
-    from armtool.servo.lut import ErrorStats, LutTable
+    from armtool.servo.lut.table import ErrorStats, LutTable
 
 HELP = "Build, export and check compensation tables for a servo's non-linear response."
 
@@ -27,25 +29,6 @@ with units in the column names: command_ticks,present_ticks,reference_deg,load_p
 command_ticks and reference_deg (or reference_rad, servo frame: 0° at tick 0) are required."""
 
 
-class MethodOption(str, Enum):
-    PCHIP = "pchip"
-    LINEAR = "linear"
-    POLY = "poly"
-
-
-class ApproachChoice(str, Enum):
-    UP = "up"
-    DOWN = "down"
-    MEAN = "mean"
-
-
-class ExportFormatOption(str, Enum):
-    C = "c"
-    CSV = "csv"
-    JSON = "json"
-    YAML = "yaml"
-
-
 class ReportFormat(str, Enum):
     TEXT = "text"
     JSON = "json"
@@ -53,7 +36,7 @@ class ReportFormat(str, Enum):
 
 def _write(text: str, output: Optional[Path], what: str) -> None:
     from armtool.console import stderr, write_stdout
-    from armtool.servo.lut_meas import write_atomic
+    from armtool.servo.lut.csv_format import write_atomic
 
     if output is None or str(output) == "-":
         write_stdout(text)
@@ -96,11 +79,11 @@ def print_fit_report(table: LutTable) -> None:
 def fit(
     measurements: Path = typer.Argument(..., help="Measurement CSV (from `servo-lut measure` or your own)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the table JSON here (default: stdout)."),
-    method: MethodOption = typer.Option(MethodOption.PCHIP, "--method", help="pchip (monotone, default), linear or poly."),
+    method: Method = typer.Option(Method.PCHIP, "--method", help="pchip (monotone, default), linear or poly."),
     degree: int = typer.Option(3, "--degree", min=1, max=9, help="Polynomial degree for --method poly."),
     holdout: float = typer.Option(0.2, "--holdout", callback=opt.finite_float(0, 1, hi_open=True), help="Fraction of points kept out of the fit to test it (0 = none)."),
     seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed for choosing the held-out points (any integer)."),
-    approach: Optional[ApproachChoice] = typer.Option(None, "--approach", help="Use readings approached up, down, or the mean of both (default: what the file has)."),
+    approach: Optional[Approach] = typer.Option(None, "--approach", help="Use readings approached up, down, or the mean of both (default: what the file has)."),
     model: Optional[str] = typer.Option(None, "--model", help="Servo model if the CSV does not state it (AX-12A, XL430-W250, STS3215...)."),
     monotone_tol: Optional[float] = typer.Option(None, "--monotone-tol", callback=opt.finite_float(0, 90, unit="degrees"), help="Degrees a reading may step back and count as noise [default: 1 tick or 4 standard errors]."),
     grid_step: float = typer.Option(1.0, "--grid-step", callback=opt.positive_float(360, "degrees"),
@@ -109,8 +92,8 @@ def fit(
     require("servo")  # exit 2 with the install command when the extra is missing
     import json
 
-    from armtool.servo.lut import Approach, Method, fit_table
-    from armtool.servo.lut_meas import read_measurements
+    from armtool.servo.lut.table import fit_table
+    from armtool.servo.lut.csv_format import read_measurements
 
     from armtool.fileio import check_output_paths
 
@@ -120,9 +103,9 @@ def fit(
         from armtool.console import stderr
 
         stderr().print(f"[yellow]warning:[/yellow] {measurements} holds the readings of an interrupted run")
-    table = fit_table(meas, Method(method.value), degree=degree, holdout=holdout, seed=seed,
-                      approach=None if approach is None else Approach(approach.value), monotone_tol_deg=monotone_tol)
-    from armtool.servo.lut import check_table_document
+    table = fit_table(meas, method, degree=degree, holdout=holdout, seed=seed,
+                      approach=approach, monotone_tol_deg=monotone_tol)
+    from armtool.servo.lut.table import check_table_document
 
     doc = table.to_dict(grid_step_deg=grid_step, flag="--grid-step")
     check_table_document(doc, "the fitted table")  # never write a table that would not read back
@@ -133,20 +116,20 @@ def fit(
 @app.command("export", help="Write the table as a C header (uint16_t on a uniform angle grid), CSV, JSON or YAML.")
 def export(
     table_path: Path = typer.Argument(..., metavar="LUT_JSON", help="Table from `servo-lut fit`."),
-    output_format: ExportFormatOption = typer.Option(ExportFormatOption.C, "--format", help="c, csv, json or yaml."),
+    output_format: ExportFormat = typer.Option(ExportFormat.C, "--format", help="c, csv, json or yaml."),
     step: float = typer.Option(1.0, "--step", callback=opt.positive_float(360, "degrees"), help="Degrees between grid entries (a whole number of hundredths for C)."),
     name: str = typer.Option("servo_lut", "--name", help="C array name (macros are its upper-case form)."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
 ) -> None:
     require("servo")  # exit 2 with the install command when the extra is missing
-    from armtool.servo.lut import read_table
-    from armtool.servo.lut_export import ExportFormat, render
+    from armtool.servo.lut.table import read_table
+    from armtool.servo.lut.export import render
 
     from armtool.fileio import check_output_paths
 
     check_output_paths({"-o": output}, inputs=[table_path])
     table = read_table(table_path)
-    _write(render(table, ExportFormat(output_format.value), step_deg=step, name=name), output, output_format.value)
+    _write(render(table, output_format, step_deg=step, name=name), output, output_format.value)
 
 
 @app.command("apply", help="Turn wanted servo angles (a list, or a CSV column) into compensated commands.")
@@ -164,8 +147,8 @@ def apply(
     import sys
 
     from armtool.console import stderr
-    from armtool.servo.lut import read_table
-    from armtool.servo.lut_apply import apply_csv, apply_list
+    from armtool.servo.lut.table import read_table
+    from armtool.servo.lut.apply import apply_csv, apply_list
 
     if direction not in (1, -1):
         raise ArmtoolError(f"--direction must be 1 or -1, got {direction}")
@@ -203,18 +186,6 @@ def apply(
 # commands that move a servo
 
 
-class ProtocolOption(str, Enum):
-    DXL1 = "dxl1"
-    DXL2 = "dxl2"
-    FEETECH = "feetech"
-
-
-class MeasureApproach(str, Enum):
-    UP = "up"
-    DOWN = "down"
-    BOTH = "both"
-
-
 def _ask(text: str) -> str:
     return str(typer.prompt(text, err=True))
 
@@ -232,9 +203,9 @@ def _confirm(question: str, yes: bool) -> None:
         raise ArmtoolError("not confirmed: nothing was moved")
 
 
-def _connect(port: str, protocol: ProtocolOption, baud: int, sid: int, expected_model: Optional[str]) -> ServoBus:
+def _connect(port: str, protocol: Protocol, baud: int, sid: int, expected_model: Optional[str]) -> ServoBus:
     from armtool.servo.bus import open_bus
-    from armtool.servo.lut_meas import model_named
+    from armtool.servo.lut.csv_format import model_named
 
     bus = open_bus(port, protocol.value, baud, echo_check_id=sid)
     try:
@@ -250,7 +221,7 @@ def _range(bus: ServoBus, sid: int, limits: Optional[Path], lo: Optional[int], h
            fallback: Optional[tuple[int, int]] = None) -> tuple[int, int, str]:
     """The command range to stay inside: recorded limits, --min/--max, or the fallback; never
     wider than the model's ticks or the servo's own angle-limit registers."""
-    from armtool.servo.lut_measure import read_limits
+    from armtool.servo.lut.measure import read_limits
 
     model = bus.model(sid)
     source = ""
@@ -274,7 +245,7 @@ def _range(bus: ServoBus, sid: int, limits: Optional[Path], lo: Optional[int], h
     if not 0 <= lo < hi <= model.max_tick:
         raise ArmtoolError(f"range {lo}..{hi} ticks is not inside 0..{model.max_tick} ({model.name}) with min < max")
     reg_lo, reg_hi = bus.read(sid, "min_limit"), bus.read(sid, "max_limit")
-    if model.protocol == "dxl1" and reg_lo == 0 and reg_hi == 0:
+    if transport_class(model.protocol).wheel_mode_when_limits_zero and reg_lo == 0 and reg_hi == 0:
         raise ArmtoolError(f"ID {sid} is in wheel mode (both angle limits 0): it cannot hold a position")
     if lo < reg_lo or hi > reg_hi:
         lo, hi = max(lo, reg_lo), min(hi, reg_hi)
@@ -338,7 +309,7 @@ def measure(
     sid: int = typer.Option(..., "--id", min=0, max=252, help="Servo ID (0..252)."),
     reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual, csv:FILE or camera:DEVICE."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Measurement CSV to write (default: stdout)."),
-    protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1 (AX), dxl2 (X series) or feetech (STS/SCS)."),
+    protocol: Protocol = typer.Option(Protocol.DXL1, "--protocol", help="dxl1 (AX), dxl2 (X series) or feetech (STS/SCS)."),
     baud: int = typer.Option(1_000_000, "--baud", callback=opt.baud(), help="Bus baud rate."),
     model: Optional[str] = typer.Option(None, "--model", help="Refuse unless the servo is this model."),
     limits: Optional[Path] = typer.Option(None, "--limits", help="Limits YAML from `armtool limits`: measure inside safe_min/max_ticks."),
@@ -363,8 +334,8 @@ def measure(
 
     from armtool.console import stderr
     from armtool.servo.guard import TorqueGuard
-    from armtool.servo.lut_meas import Sample, render_measurements
-    from armtool.servo.lut_measure import (Driver, Motion, align_reference, measure as run_measure, plan_commands,
+    from armtool.servo.lut.csv_format import Sample, render_measurements
+    from armtool.servo.lut.measure import (Driver, Motion, align_reference, measure as run_measure, plan_commands,
                                            speed_register, torque_register)
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 
@@ -407,7 +378,7 @@ def measure(
                 "started": time.strftime("%Y-%m-%dT%H:%M:%S")}
         cap = torque_register(servo_model, torque_limit)
         motion = Motion(backoff_ticks=b, settle_timeout_s=settle_timeout, dwell_s=dwell,
-                        tolerance_ticks=2 if servo_model.ticks == 1024 else 6,
+                        tolerance_ticks=servo_model.settle_ticks,
                         torque_cap=cap / servo_model.reg("torque_limit").hi)
         t0 = time.monotonic()
         with TorqueGuard(bus) as guard, _progress(not isinstance(ref, ManualReference)) as bar:
@@ -453,7 +424,7 @@ def check(
     port: str = typer.Option(..., "--port", help="Serial port of the servo bus."),
     sid: int = typer.Option(..., "--id", min=0, max=252, help="Servo ID (0..252)."),
     reference: str = typer.Option(..., "--reference", help="encoder:PORT[@BAUD], manual or camera:DEVICE."),
-    protocol: ProtocolOption = typer.Option(ProtocolOption.DXL1, "--protocol", help="dxl1, dxl2 or feetech."),
+    protocol: Protocol = typer.Option(Protocol.DXL1, "--protocol", help="dxl1, dxl2 or feetech."),
     baud: int = typer.Option(1_000_000, "--baud", callback=opt.baud(), help="Bus baud rate."),
     limits: Optional[Path] = typer.Option(None, "--limits", help="Limits YAML [default: the table's measured command range]."),
     lo: Optional[int] = typer.Option(None, "--min", callback=opt.ticks(), help="Lowest command in ticks."),
@@ -474,8 +445,8 @@ def check(
 
     from armtool.console import stderr, write_stdout
     from armtool.servo.guard import TorqueGuard
-    from armtool.servo.lut import read_table
-    from armtool.servo.lut_measure import (Driver, Motion, align_reference, check as run_check, check_angles, speed_register,
+    from armtool.servo.lut.table import read_table
+    from armtool.servo.lut.measure import (Driver, Motion, align_reference, check as run_check, check_angles, speed_register,
                                            torque_register)
     from armtool.servo.reference import CsvReference, ManualReference, open_reference
 
@@ -505,7 +476,7 @@ def check(
         b = max(1, round(3.0 / servo_model.deg_per_tick))
         _check_motion_range([int(table.command_ticks([a])[0]) for a in angles], r_lo, r_hi, 0)
         _confirm(f"Energise servo {sid} and move it to {n} angles between ticks {r_lo} and {r_hi}?", yes)
-        motion = Motion(backoff_ticks=b, dwell_s=dwell, tolerance_ticks=2 if servo_model.ticks == 1024 else 6,
+        motion = Motion(backoff_ticks=b, dwell_s=dwell, tolerance_ticks=servo_model.settle_ticks,
                         torque_cap=torque / servo_model.reg("torque_limit").hi)
         with TorqueGuard(bus) as guard, _progress(not isinstance(ref, ManualReference)) as bar:
             guard.set_ram(sid, "moving_speed", speed_register(servo_model, speed))

@@ -15,7 +15,7 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Mapping, Protocol, cast
+from typing import Iterable, Literal, Mapping, Protocol, cast
 
 from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel, by_number, decode, encode, models_for
@@ -26,10 +26,13 @@ DEFAULT_TIMEOUT_MS = 25.0
 SYSFS_USB_SERIAL = Path("/sys/bus/usb-serial/devices")
 
 
+CommErrorKind = Literal["timeout", "corrupt"]
+
+
 class CommError(ArmtoolError):
     """No valid reply: `kind` is "timeout" (nothing came back) or "corrupt" (bad checksum/frame)."""
 
-    def __init__(self, what: str, kind: str, sid: int, where: str | None = None, hint: str | None = None) -> None:
+    def __init__(self, what: str, kind: CommErrorKind, sid: int, where: str | None = None, hint: str | None = None) -> None:
         super().__init__(what, where, hint)
         self.kind = kind
         self.sid = sid
@@ -76,6 +79,18 @@ class Transport:
 
     name = ""
     label = ""
+    # -- the protocol's facts, read by limits, eeprom, servo-lut, lerobot and the simulator
+    default_model = ""  # the model a simulated joint gets when its config names none
+    rearm: Literal["torque_limit", "torque_enable"] | None = None  # written after an overload cut the output
+    wheel_mode_when_limits_zero = False  # both angle limits 0 = wheel (endless turn) mode
+    position_mode: int | None = None  # Operating Mode value for position control, checked before moving
+    eeprom_lock = False  # EEPROM writes need the `lock` register at 0 first
+    homing_sign = 1  # present position = encoder + homing_sign * Homing Offset
+    framing: Literal[1, 2] = 1  # packet layout: Protocol 1.0 (FF FF id len) or 2.0 (FF FF FD 00 id len16)
+    sync_read = True  # the servos answer SYNC_READ
+    # why a servo refused an instruction -> the status error byte it answers with (no key: no bit;
+    # no "checksum" key: a packet with a bad checksum gets no reply). The simulator answers so.
+    refusal_bits: Mapping[str, int] = {}
 
     def __init__(self, port: Port) -> None:
         self.port = port
@@ -108,7 +123,7 @@ class Transport:
     def overload(self, error: int) -> bool:
         raise NotImplementedError
 
-    def comm_error(self, sid: int, kind: str, what: str) -> CommError:
+    def comm_error(self, sid: int, kind: CommErrorKind, what: str) -> CommError:
         return CommError(f"ID {sid}: {what}: " + ("no reply" if kind == "timeout" else "corrupt reply"), kind, sid)
 
 

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
+from armtool.servo.registry import transport_class
 
 
 @dataclass(frozen=True)
@@ -43,7 +44,7 @@ def apply_writes(bus: ServoBus, plan: list[EepromWrite]) -> None:
     for sid, writes in by_id.items():
         model = bus.model(sid)
         bus.write(sid, "torque_enable", 0, retry=True)  # AX/X refuse EEPROM writes with torque on
-        unlock = model.protocol == "feetech" and model.has("lock")
+        unlock = transport_class(model.protocol).eeprom_lock and model.has("lock")
         if unlock:
             bus.write(sid, "lock", 0, retry=True)
         try:

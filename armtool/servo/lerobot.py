@@ -29,6 +29,7 @@ from typing import Any
 
 from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel
+from armtool.servo.registry import transport_class
 
 HALF_TURN = 2047  # what LeRobot makes the middle of a range read (int(4095 / 2))
 KEYS = ("id", "drive_mode", "homing_offset", "range_min", "range_max")
@@ -69,7 +70,7 @@ def offset_rule(model: ServoModel, operating_mode: int | None = None) -> OffsetR
         raise ArmtoolError(f"a {model.name} has no homing offset register: LeRobot calibration files are for "
                            "Feetech STS3215 (SO-100/SO-101) and Dynamixel X (Koch) servos")
     reg = model.reg("homing_offset")
-    if model.protocol == "feetech":
+    if transport_class(model.protocol).homing_sign < 0:
         return OffsetRule(-1, reg.lo, reg.hi, model.ticks)
     if operating_mode == POSITION_MODE:
         return OffsetRule(1, -DXL_POSITION_MODE_OFFSET, DXL_POSITION_MODE_OFFSET, model.ticks)

@@ -45,6 +45,32 @@ class ServoModel:
     big_endian: bool = False  # Feetech SCS series
     overload_bit: int = 0x20  # status error bit or hardware-error bit meaning overload
     aliases: tuple[str, ...] = field(default=())
+    speed_rpm: float | None = None  # one moving/present-speed unit in rpm; None: ticks per second (Feetech)
+    load_full_scale: int = 1000  # Present Load (or Present Current) at full output
+    settle_ticks: int = 2  # present within this of the goal counts as arrived (about 0.5 deg on every model)
+
+    @property
+    def speed_unit_deg_s(self) -> float:
+        """Degrees per second of one unit of the moving-speed and present-speed registers."""
+        return 6.0 * self.speed_rpm if self.speed_rpm is not None else self.deg_per_tick
+
+    def speed_register(self, deg_s: float) -> int:
+        """The moving-speed register value nearest `deg_s`, never 0 (0 means "no limit").
+
+        Nearest, not rounded up: the register is a speed in units of `speed_unit_deg_s` (AX-12A
+        0.111 rpm, e-manual), so 60 deg/s is 90 units (59.94 deg/s), not 91 (60.61 deg/s)."""
+        reg = self.reg("moving_speed")
+        top = reg.hi if reg.hi else (1 << (8 * reg.size)) - 1
+        return int(min(max(1, round(deg_s / self.speed_unit_deg_s)), top))
+
+    def speed_deg_s(self, register: int) -> float:
+        """Degrees per second of a (present or moving) speed register value."""
+        return register * self.speed_unit_deg_s
+
+    @property
+    def default_zero(self) -> int:
+        """The tick at the middle of the range (AX 512, 4096-tick encoders 2048): the joint zero unless told."""
+        return self.ticks // 2
 
     @property
     def deg_per_tick(self) -> float:
@@ -235,28 +261,29 @@ def _scs_table(model_number: int) -> dict[str, Register]:
 def _model(name: str, protocol: str, number: int, ticks: int, table: dict[str, Register], **kw: object) -> ServoModel:
     size = max(r.addr + r.size for r in table.values())
     range_deg = 300.0 if ticks == 1024 else 360.0
+    kw.setdefault("settle_ticks", 2 if ticks == 1024 else 6)
+    if "current_limit" in table:  # the load register is Present Current: full scale is the Current Limit
+        kw.setdefault("load_full_scale", table["current_limit"].hi)
     return ServoModel(name, protocol, number, ticks, range_deg, table, size, **kw)  # type: ignore[arg-type]
 
 
+# Speed units (e-manual): AX 0.111 rpm, MX (protocol 1) 0.114 rpm, X 0.229 rpm, Feetech ticks/s.
+# Load full scale: AX/MX 1023 (0.1 %), STS and XL430 1000 (0.1 %), XM430 Present Current at its
+# Current Limit (1193, 2.69 mA units).
 MODELS: tuple[ServoModel, ...] = (
-    _model("AX-12A", "dxl1", 12, 1024, _ax_table(12), aliases=("ax12a", "ax12", "ax-12", "ax-12a")),
-    _model("AX-18A", "dxl1", 18, 1024, _ax_table(18), aliases=("ax18a", "ax18", "ax-18", "ax-18a")),
-    _model("MX-28", "dxl1", 29, 4096, _mx1_table(29), aliases=("mx28", "mx-28", "mx-28t", "mx-28ar")),
-    _model("XL430-W250", "dxl2", 1060, 4096, _x_table(1060, current=False), aliases=("xl430", "xl430-w250")),
-    _model("XM430-W350", "dxl2", 1020, 4096, _x_table(1020, current=True), aliases=("xm430", "xm430-w350")),
+    _model("AX-12A", "dxl1", 12, 1024, _ax_table(12), aliases=("ax12a", "ax12", "ax-12", "ax-12a"),
+           speed_rpm=0.111, load_full_scale=1023),
+    _model("AX-18A", "dxl1", 18, 1024, _ax_table(18), aliases=("ax18a", "ax18", "ax-18", "ax-18a"),
+           speed_rpm=0.111, load_full_scale=1023),
+    _model("MX-28", "dxl1", 29, 4096, _mx1_table(29), aliases=("mx28", "mx-28", "mx-28t", "mx-28ar"),
+           speed_rpm=0.114, load_full_scale=1023),
+    _model("XL430-W250", "dxl2", 1060, 4096, _x_table(1060, current=False), aliases=("xl430", "xl430-w250"),
+           speed_rpm=0.229),
+    _model("XM430-W350", "dxl2", 1020, 4096, _x_table(1020, current=True), aliases=("xm430", "xm430-w350"),
+           speed_rpm=0.229),
     _model("STS3215", "feetech", 777, 4096, _sts_table(777), aliases=("sts3215",)),
     _model("SCS0009", "feetech", 1284, 1024, _scs_table(1284), big_endian=True, aliases=("scs0009",)),
 )
-
-
-def load_full_scale(model: ServoModel) -> int:
-    """Present Load at full output: AX/MX 1023 (0.1 %), STS and XL430 1000 (0.1 %), XM430 Present
-    Current at its Current Limit (1193, 2.69 mA units)."""
-    if model.protocol == "dxl1":
-        return 1023
-    if model.has("current_limit"):
-        return model.reg("current_limit").hi
-    return 1000
 
 
 def by_number(protocol: str, number: int) -> ServoModel | None:

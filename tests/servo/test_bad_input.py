@@ -77,7 +77,7 @@ def _armtool(*args: str) -> subprocess.CompletedProcess[str]:
 
 
 def test_duplicated_command_without_repeat_column(tmp_path: Path) -> None:
-    from armtool.servo.lut_meas import parse_measurements
+    from armtool.servo.lut.csv_format import parse_measurements
 
     text = "# servo_model: AX-12A\n# reference: csv\ncommand_ticks,reference_deg\n100,30.1\n200,59.2\n100,30.3\n"
     with pytest.raises(ArmtoolError) as info:

@@ -152,7 +152,7 @@ def test_negative_backoff_is_refused_before_moving(sim: Any) -> None:
 
 
 def test_motion_layer_refuses_a_goal_outside_the_range() -> None:
-    from armtool.servo.lut_measure import Driver, plan_commands
+    from armtool.servo.lut.measure import Driver, plan_commands
 
     class NoBus:
         def write(self, *args: Any, **kw: Any) -> None:
@@ -190,7 +190,7 @@ def test_bad_numbers_are_refused_naming_the_flag(table: Path, args: list[str], f
 
 
 def test_torque_limit_that_rounds_to_zero_is_refused(sim: Any) -> None:
-    from armtool.servo.lut_measure import torque_register
+    from armtool.servo.lut.measure import torque_register
     from armtool.servo.models import by_name
 
     with pytest.raises(ArmtoolError, match="less than one step"):
@@ -253,7 +253,7 @@ def test_table_read_back_is_validated_like_a_fitted_one(table: Path, tmp_path: P
 
 @pytest.mark.parametrize("value", [".nan", ".inf", "1.5", "-3", "true", "5000"])
 def test_limits_file_ticks_are_validated(tmp_path: Path, value: str) -> None:
-    from armtool.servo.lut_measure import read_limits
+    from armtool.servo.lut.measure import read_limits
 
     path = tmp_path / "limits.yaml"
     path.write_text(f"joints:\n  - {{id: 1, safe_min_ticks: {value}, safe_max_ticks: 900}}\n")
@@ -562,7 +562,7 @@ def test_mutated_sim_configs(data: st.DataObject) -> None:
 @given(data=st.data())
 def test_mutated_limits_and_arm_files(tmp_path_factory: pytest.TempPathFactory, data: st.DataObject) -> None:
     from armtool.servo.limits import load_arm
-    from armtool.servo.lut_measure import read_limits
+    from armtool.servo.lut.measure import read_limits
 
     limits = {"schema": "armtool.limits/1", "joints": [{"id": 1, "model": "AX-12A", "safe_min_ticks": 100,
                                                        "safe_max_ticks": 900}]}

@@ -12,6 +12,7 @@ from armtool.errors import ArmtoolError
 from armtool.servo import limits as L
 from armtool.servo.bus import open_bus
 from armtool.servo.guard import TorqueGuard
+from armtool.servo.models import by_name
 from armtool.servo.sim import Person, PersonSpec, SimBus, load_sim_config
 from tests.servo.conftest import FIXTURES
 
@@ -121,7 +122,7 @@ def test_manual_unwraps_the_4096_tick_seam() -> None:
 
 
 def test_convert_margin_zero_and_direction() -> None:
-    model = L.by_name("AX-12A")
+    model = by_name("AX-12A")
     r = L.JointRange(L.Joint("j", 1, model, 512, -1), model, 92, 914, "auto")
     row = L.convert(r, 2.0)
     assert (row["safe_min_ticks"], row["safe_max_ticks"]) == (99, 907)  # 2 deg = 6.8 -> 7 ticks

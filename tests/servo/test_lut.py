@@ -11,8 +11,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut import Approach, Method, fit_table, read_table, table_from_dict
-from armtool.servo.lut_meas import Measurements, Sample, parse_measurements, read_measurements
+from armtool.servo.lut.table import Approach, Method, fit_table, read_table, table_from_dict
+from armtool.servo.lut.csv_format import Measurements, Sample, parse_measurements, read_measurements
 from armtool.servo.models import by_name as servo_model
 
 FIXTURE = Path(__file__).resolve().parents[2] / "fixtures" / "servo" / "lut" / "ax12a_meas.csv"

@@ -14,9 +14,9 @@ import pytest
 import yaml
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut import LutTable, Method, fit_table
-from armtool.servo.lut_export import ExportFormat, c_identifier, render
-from armtool.servo.lut_meas import read_measurements
+from armtool.servo.lut.table import LutTable, Method, fit_table
+from armtool.servo.lut.export import ExportFormat, c_identifier, render
+from armtool.servo.lut.csv_format import read_measurements
 from armtool.servo.models import by_name as servo_model
 
 FIXTURE = Path(__file__).resolve().parents[2] / "fixtures" / "servo" / "lut" / "ax12a_meas.csv"
@@ -72,7 +72,7 @@ def test_c_header_survives_hostile_metadata_and_keeps_fit_numbers(table: LutTabl
     doc = table.to_dict()
     doc["reference"] = "csv:evil*/ int x = ; /*.csv"
     (tmp_path / "t.json").write_text(json.dumps(doc))
-    from armtool.servo.lut import read_table
+    from armtool.servo.lut.table import read_table
 
     text = render(read_table(tmp_path / "t.json"), ExportFormat.C, name="t")
     assert "held-out points:" in text  # the fit's numbers survive the JSON round trip

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut_meas import Sample, parse_measurements, read_measurements, render_measurements
+from armtool.servo.lut.csv_format import Sample, parse_measurements, read_measurements, render_measurements
 
 FIXTURE = Path(__file__).resolve().parents[2] / "fixtures" / "servo" / "lut" / "ax12a_meas.csv"
 HEAD = "# servo_model: AX-12A\n# servo_id: 3\n# reference: encoder:/dev/ttyACM1\n"

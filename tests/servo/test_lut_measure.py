@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut import LutTable, Method
-from armtool.servo.lut_measure import check_angles, plan_commands, read_limits, speed_register, torque_register
+from armtool.servo.lut.table import LutTable, Method
+from armtool.servo.lut.measure import check_angles, plan_commands, read_limits, speed_register, torque_register
 from armtool.servo.models import by_name
 
 AX = by_name("AX-12A")
@@ -43,7 +43,7 @@ def test_read_limits(tmp_path: Path) -> None:
 
 
 def test_register_conversions() -> None:
-    assert speed_register(AX, 60) == 91  # 60°/s / (6 x 0.111 rpm)
+    assert speed_register(AX, 60) == 90  # 60°/s / (6 x 0.111 rpm) = 90.09: nearest, as limits always did
     assert speed_register(by_name("XL430-W250"), 60) == 44
     assert torque_register(AX, 50) == 512
     with pytest.raises(ArmtoolError):

@@ -35,3 +35,66 @@ def test_tables_are_consistent() -> None:
 def test_every_protocol_module_loads() -> None:
     for name in PROTOCOLS:
         assert transport_class(name).name == name
+
+
+class _Recorded(Exception):
+    pass
+
+
+class _RecordingGuard:
+    """Records the RAM writes `seek_joint` makes and stops it before anything moves."""
+
+    def __init__(self) -> None:
+        self.ram: dict[str, int] = {}
+
+    def set_ram(self, sid: int, name: str, value: int) -> None:
+        self.ram[name] = value
+
+    def torque_on(self, sid: int) -> None:
+        raise _Recorded
+
+
+class _ModelBus:
+    def __init__(self, model: object) -> None:
+        self._model = model
+
+    def model(self, sid: int) -> object:
+        return self._model
+
+    def read(self, sid: int, name: str) -> int:
+        assert name == "operating_mode"
+        return 3  # position control
+
+
+@pytest.mark.parametrize("deg_s", [7.5, 60.0, 200.0])
+@pytest.mark.parametrize("model", MODELS, ids=lambda m: m.name)
+def test_limits_lut_and_the_simulator_share_one_speed_conversion(model: object, deg_s: float) -> None:
+    from armtool.servo import limits as L
+    from armtool.servo.lut.measure import speed_register
+    from armtool.servo.sim.config import ServoSpec
+    from armtool.servo.sim.servo import SimServo
+
+    assert isinstance(model, type(MODELS[0]))
+    guard = _RecordingGuard()
+    bus = _ModelBus(model)
+    if not model.has("torque_limit"):
+        pytest.skip("no RAM torque limit: limits --mode auto cannot cap this model")
+    with pytest.raises(_Recorded):
+        L.seek_joint(bus, guard, L.Joint("j", 1), L.AutoParams(speed_deg_s=deg_s))  # type: ignore[arg-type]
+    register = model.speed_register(deg_s)
+    assert guard.ram["moving_speed"] == register == speed_register(model, deg_s)
+    assert abs(register * model.speed_unit_deg_s - deg_s) <= model.speed_unit_deg_s / 2  # the nearest value
+    sim = SimServo(ServoSpec(1, model, 0.0, model.range_deg, model.range_deg / 2))
+    sim.set("moving_speed", register)
+    if model.protocol == "dxl2":
+        sim.set("velocity_limit", model.reg("velocity_limit").hi)
+    assert sim.speed_deg_s() == pytest.approx(model.speed_deg_s(register))
+
+
+def test_ax12a_60_deg_s_is_90_speed_units() -> None:
+    """0.111 rpm per unit (ROBOTIS e-manual, AX-12A Moving Speed 32): 60 deg/s = 90.09 units -> 90, not 91."""
+    ax = by_name("AX-12A")
+    assert ax.speed_register(60) == 90
+    assert ax.speed_unit_deg_s == pytest.approx(0.666)
+    assert by_name("XM430-W350").load_full_scale == by_name("XM430-W350").reg("current_limit").hi
+    assert [m.default_zero for m in (ax, by_name("STS3215"))] == [512, 2048]

@@ -13,7 +13,7 @@ import pytest
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import open_bus
 from armtool.servo.guard import TorqueGuard
-from armtool.servo.lut_measure import Driver, Motion, align_reference, measure, plan_commands, speed_register
+from armtool.servo.lut.measure import Driver, Motion, align_reference, measure, plan_commands, speed_register
 from armtool.servo.reference import CameraReference, open_reference
 from armtool.servo.sim import SimBus
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
-from armtool.servo.bus import CommError, Port, Transport
+from armtool.servo.bus import CommError, CommErrorKind, Port, Transport
 
 
 class SdkTransport(Transport):
@@ -24,7 +24,7 @@ class SdkTransport(Transport):
         if result == COMM_SUCCESS:
             return
         self.port.is_using = False  # the SDK leaves it set after some failures
-        kind = "corrupt" if result == COMM_RX_CORRUPT else "timeout"
+        kind: CommErrorKind = "corrupt" if result == COMM_RX_CORRUPT else "timeout"
         raise CommError(f"ID {sid}: {what}: {self.ph.getTxRxResult(result)}", kind, sid)
 
     def ping(self, sid: int) -> tuple[int, int]:

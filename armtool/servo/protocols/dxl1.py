@@ -20,6 +20,12 @@ class Dxl1(SdkTransport):
     name = "dxl1"
     label = "Dynamixel Protocol 1.0"
     version = 1.0
+    default_model = "AX-12A"
+    rearm = "torque_limit"  # alarm shutdown sets Torque Limit to 0; writing it back re-arms
+    wheel_mode_when_limits_zero = True  # CW and CCW angle limits both 0
+    sync_read = False
+    refusal_bits = {"range": ERR_RANGE, "angle": ERR_ANGLE, "access": ERR_RANGE, "length": ERR_RANGE,
+                    "limit": ERR_ANGLE, "instruction": ERR_INSTRUCTION, "checksum": ERR_CHECKSUM}
 
     def ping_packet(self, sid: int) -> bytes:
         return encode1(sid, PING)

@@ -18,6 +18,11 @@ class Dxl2(SdkTransport):
     name = "dxl2"
     label = "Dynamixel Protocol 2.0"
     version = 2.0
+    default_model = "XL430-W250"
+    rearm = None  # Hardware Error Status latches until REBOOT or a power cycle
+    position_mode = 3  # Operating Mode 3 = position control
+    framing = 2
+    refusal_bits = {"instruction": 2, "checksum": 3, "range": 4, "length": 5, "angle": 6, "limit": 6, "access": 7}
 
     def ping_packet(self, sid: int) -> bytes:
         return encode2(sid, PING)

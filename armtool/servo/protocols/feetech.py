@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 from typing import Mapping
 
-from armtool.servo.bus import CommError, Port, Transport
+from armtool.servo.bus import CommError, CommErrorKind, Port, Transport
 from armtool.servo.packets import BROADCAST, PING, READ, SYNC_WRITE, WRITE, Corrupt, encode1, parse1
 
 # Status error bits (scservo_sdk protocol_packet_handler)
@@ -20,6 +20,10 @@ _ALARM = {1: "input voltage", 2: "angle sensor", 4: "overheating", 8: "over-curr
 class Feetech(Transport):
     name = "feetech"
     label = "Feetech SCS/STS"
+    default_model = "STS3215"
+    rearm = "torque_enable"  # overload turns torque off; torque on re-arms
+    eeprom_lock = True  # EEPROM writes need Lock = 0 first
+    homing_sign = -1  # present = encoder - Homing Offset (feetech-cli measured)
 
     def __init__(self, port: Port) -> None:
         super().__init__(port)
@@ -49,7 +53,7 @@ class Feetech(Transport):
                     if pkt.id == sid:
                         return pkt.params, pkt.code
             elif time.monotonic() > deadline:
-                kind = "corrupt" if self._buf else "timeout"
+                kind: CommErrorKind = "corrupt" if self._buf else "timeout"
                 raise CommError(f"ID {sid}: {what}: " + ("no reply" if kind == "timeout" else "incomplete reply"), kind, sid)
             else:
                 time.sleep(0.0002)

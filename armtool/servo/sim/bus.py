@@ -29,12 +29,14 @@ from typing import Any, Callable
 from armtool.errors import ArmtoolError
 from armtool.servo import packets as pk
 from armtool.servo.models import encode
+from armtool.servo.registry import transport_class
 from armtool.servo.sim.config import Faults, SimConfig, load_sim_config, sim_config_from_dict
 from armtool.servo.sim.servo import E_ACCESS, E_ANGLE, E_INSTRUCTION, E_LENGTH, E_LIMIT, E_RANGE, OK, SimServo
 
 STEP_S = 0.002
-_P1_ERR = {OK: 0, E_RANGE: 0x08, E_ANGLE: 0x02, E_ACCESS: 0x08, E_LENGTH: 0x08, E_LIMIT: 0x02, E_INSTRUCTION: 0x40}
-_P2_ERR = {OK: 0, E_RANGE: 4, E_ANGLE: 6, E_ACCESS: 7, E_LENGTH: 5, E_LIMIT: 6, E_INSTRUCTION: 2}
+# the simulated servo's refusal codes by the names the protocol classes map to error bits
+_REFUSAL = {E_RANGE: "range", E_ANGLE: "angle", E_ACCESS: "access", E_LENGTH: "length", E_LIMIT: "limit",
+            E_INSTRUCTION: "instruction"}
 _BAUDS = {getattr(termios, f"B{b}"): b for b in (9600, 19200, 38400, 57600, 115200, 230400, 460800, 500000, 576000,
                                                   921600, 1000000, 1152000, 2000000, 2500000, 3000000, 3500000, 4000000)
           if hasattr(termios, f"B{b}")}
@@ -50,6 +52,7 @@ class SimBus:
     def __init__(self, config: SimConfig) -> None:
         self.config = config
         self.protocol = config.protocol
+        self.proto = transport_class(config.protocol)  # framing, SYNC_READ, error bits
         self.faults: Faults = copy.deepcopy(config.faults)
         self.rng = random.Random(config.seed)
         self.servos: dict[int, SimServo] = {
@@ -238,7 +241,7 @@ class SimBus:
         self._buf.extend(data)
         while True:
             try:
-                pkt = pk.parse2(self._buf) if self.protocol == "dxl2" else pk.parse1(self._buf)
+                pkt = pk.parse2(self._buf) if self.proto.framing == 2 else pk.parse1(self._buf)
             except pk.Corrupt as exc:
                 self.stats["bad_checksum"] += 1
                 self._on_bad_checksum(exc.frame)
@@ -254,14 +257,13 @@ class SimBus:
                 self.last_internal_error = f"{type(exc).__name__}: {exc}"
 
     def _on_bad_checksum(self, frame: bytes) -> None:
-        sid = frame[4] if self.protocol == "dxl2" else frame[2]
+        sid = frame[4] if self.proto.framing == 2 else frame[2]
         s = self.servos.get(sid)
         if s is None or sid in self.faults.missing_ids:
             return
-        if self.protocol == "dxl1":
-            self._reply(s, 0x10 | s.error_bits(), b"")
-        elif self.protocol == "dxl2":
-            self._reply(s, 3, b"")
+        bit = self.proto.refusal_bits.get("checksum")
+        if bit is not None:  # Feetech servos stay silent
+            self._reply(s, bit | s.error_bits(), b"")
 
     def _on_encoder_bytes(self, data: bytes) -> None:
         self._enc_buf.extend(data)
@@ -291,10 +293,8 @@ class SimBus:
         if self.faults.p_drop and self.rng.random() < self.faults.p_drop:
             self.stats["dropped"] += 1
             return
-        if self.protocol == "dxl2":
-            frame = bytearray(pk.status2(s.id, error, params))
-        else:
-            frame = bytearray(pk.status1(s.id, error, params))
+        status = pk.status2 if self.proto.framing == 2 else pk.status1
+        frame = bytearray(status(s.id, error, params))
         corrupt = self.faults.corrupt_next > 0 or (self.faults.p_corrupt and self.rng.random() < self.faults.p_corrupt)
         if corrupt:
             if self.faults.corrupt_next > 0:
@@ -310,20 +310,16 @@ class SimBus:
             self.log.append((self.now(), "tx", bytes(frame)))
 
     def _err(self, s: SimServo, code: int) -> int:
-        if self.protocol == "dxl1":
-            return _P1_ERR[code] | s.error_bits()
-        if self.protocol == "dxl2":
-            return _P2_ERR[code] | s.error_bits()
-        return s.error_bits()
+        return self.proto.refusal_bits.get(_REFUSAL.get(code, ""), 0) | s.error_bits()
 
     def _dispatch(self, pkt: pk.Packet) -> None:
-        p2 = self.protocol == "dxl2"
+        p2 = self.proto.framing == 2
         inst, params, sid = pkt.code, pkt.params, pkt.id
         broadcast = sid == pk.BROADCAST
         if inst == pk.SYNC_WRITE:
             self._sync_write(params, p2)
             return
-        if inst == pk.SYNC_READ and self.protocol != "dxl1":
+        if inst == pk.SYNC_READ and self.proto.sync_read:
             self._sync_read(params, p2)
             return
         if inst == pk.ACTION:

@@ -28,6 +28,7 @@ from typing import Any
 
 from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel, by_name
+from armtool.servo.registry import Protocol, check_protocol, transport_class
 
 
 # registers the simulated servo drives (armtool/servo/sim/servo.py): a model without one cannot be simulated
@@ -115,9 +116,7 @@ def _number(d: dict[str, Any], key: str, default: Any, where: str, kind: type = 
 def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
     if not isinstance(data, dict):
         raise ArmtoolError("simulator config must be a mapping with 'protocol' and 'joints'", source)
-    protocol = str(data.get("protocol", "dxl1"))
-    if protocol not in ("dxl1", "dxl2", "feetech"):
-        raise ArmtoolError(f"unknown protocol '{protocol}'", source, hint="dxl1, dxl2 or feetech")
+    protocol = check_protocol(str(data.get("protocol", Protocol.DXL1.value)), source)
     entries = data.get("joints", data.get("servos"))
     if not isinstance(entries, list) or not entries:
         raise ArmtoolError("no 'joints' list", source, hint="joints: [{id: 1, model: AX-12A, stops: [92, 914]}]")
@@ -132,7 +131,7 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
             raise ArmtoolError(f"id {sid} is out of range 0..252 or repeated", where)
         seen.add(sid)
         try:
-            model = by_name(str(e.get("model", {"dxl1": "AX-12A", "dxl2": "XL430-W250", "feetech": "STS3215"}[protocol])))
+            model = by_name(str(e.get("model", transport_class(protocol).default_model)))
         except ArmtoolError as exc:
             raise ArmtoolError(exc.what, where, exc.hint) from None
         if model.protocol != protocol:

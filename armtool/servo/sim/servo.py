@@ -145,24 +145,21 @@ class SimServo:
 
     # -- derived quantities
     def torque_cap(self) -> float:
-        if self.family == "ax":
-            return self.get("torque_limit") / 1023.0
-        if self.family == "x":
-            return self.get("torque_limit") / 885.0
-        return self.get("torque_limit") / 1000.0
+        return self.get("torque_limit") / self.model.reg("torque_limit").hi
 
     def torque_on(self) -> bool:
         return self.get("torque_enable") >= 1 and self.torque_cap() > 0
 
     def speed_deg_s(self) -> float:
         v = self.get("moving_speed")
+        unit = self.model.speed_unit_deg_s
         if self.family == "ax":
-            unit, vmax = (0.111, 59.0) if self.model.ticks == 1024 else (0.114, 55.0)
-            return 6.0 * (vmax if v == 0 else min(v * unit, 114.0))
+            vmax = 59.0 if self.model.ticks == 1024 else 55.0  # no-load rpm
+            return 6.0 * vmax if v == 0 else min(v * unit, 6.0 * 114.0)
         if self.family == "x":
             limit = self.get("velocity_limit")
-            return 6.0 * 0.229 * (limit if v == 0 else min(v, limit))
-        return (3000 if v == 0 else min(v, 3400)) * 360.0 / 4096
+            return unit * (limit if v == 0 else min(v, limit))
+        return unit * (3000 if v == 0 else min(v, 3400))
 
     def return_delay_s(self) -> float:
         return 2e-6 * self.get("return_delay")
@@ -241,16 +238,14 @@ class SimServo:
     def _sync_present(self) -> None:
         d = self.model.deg_per_tick
         self.set("present_position", self.reported_ticks())
+        speed = self.vel / self.model.speed_unit_deg_s
         if self.family == "ax":
-            unit = 0.111 if self.model.ticks == 1024 else 0.114
-            self.set("present_speed", int(round(max(-1023, min(1023, self.vel / (6.0 * unit))))))
-            self.set("present_load", int(round(max(-1023, min(1023, self.load * 1023)))))
-        elif self.family == "x":
-            self.set("present_speed", int(round(self.vel / (6.0 * 0.229))))
-            self.set("present_load", int(round(max(-1000, min(1000, self.load * 1000)))))
-        else:
-            self.set("present_speed", int(round(max(-32767, min(32767, self.vel / d)))))
-            self.set("present_load", int(round(max(-1000, min(1000, self.load * 1000)))))
+            speed = max(-1023, min(1023, speed))
+        elif self.family == "sts":
+            speed = max(-32767, min(32767, speed))
+        full = self.model.load_full_scale
+        self.set("present_speed", int(round(speed)))
+        self.set("present_load", int(round(max(-full, min(full, self.load * full)))))
         moving = (self.torque_on() and abs(self.theta_goal - self.theta) > 0.5 * d) or abs(self.vel) > 0.5
         self.set("moving", int(moving))
 

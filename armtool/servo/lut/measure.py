@@ -22,9 +22,12 @@ from typing import Any, Callable, Literal
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut import LutTable, nominal_command_ticks
-from armtool.servo.lut_meas import Sample
-from armtool.servo.models import load_full_scale
+from armtool.servo.lut.table import LutTable, nominal_command_ticks
+from armtool.servo.lut.csv_format import Sample
+from armtool.servo.bus import ServoBus
+from armtool.servo.guard import TorqueGuard
+from armtool.servo.models import ServoModel
+from armtool.servo.motion import StallDetector, load_fraction
 from armtool.servo.reference import Reference
 
 log = logging.getLogger(__name__)
@@ -108,10 +111,10 @@ def assert_in_range(commands: list[int], lo: int, hi: int) -> None:
 
 @dataclass
 class Driver:
-    """One servo on a guarded bus, moved point by point. `bus` is a `ServoBus`, `guard` its `TorqueGuard`."""
+    """One servo on a guarded bus, moved point by point."""
 
-    bus: Any
-    guard: Any
+    bus: ServoBus
+    guard: TorqueGuard
     sid: int
     motion: Motion = field(default_factory=Motion)
     sleep: Callable[[float], None] = time.sleep
@@ -131,8 +134,8 @@ class Driver:
         start = time.monotonic()
         deadline = start + m.settle_timeout_s
         previous: int | None = None
-        history: list[tuple[float, int]] = []
-        full = load_full_scale(self.bus.model(self.sid))
+        stall = StallDetector(m.stall_window_s, m.stall_ticks, start=start)
+        model = self.bus.model(self.sid)
         tel = self._telemetry()
         while True:
             now = time.monotonic()
@@ -145,12 +148,9 @@ class Driver:
                                    hint="something blocks the joint inside the range: re-record the limits "
                                         "(armtool limits) and measure inside them")
             # stall, checked at every poll: no motion over the window, |load| near the torque limit, short of the goal
-            history.append((now, here))
-            while history and history[0][0] < now - m.stall_window_s:
-                history.pop(0)
-            load = abs(tel["present_load"]) / full / max(m.torque_cap, 1e-6)
-            if (now - start >= m.stall_window_s and abs(here - goal) > m.tolerance_ticks and load >= m.stall_load
-                    and max(v for _, v in history) - min(v for _, v in history) <= m.stall_ticks):
+            still = stall.add(now, here)
+            load = load_fraction(model, tel["present_load"], m.torque_cap)
+            if still and abs(here - goal) > m.tolerance_ticks and load >= m.stall_load:
                 raise ArmtoolError(f"ID {self.sid} stopped at {here} short of {goal} with {load:.0%} of its torque "
                                    "limit: pushing against something", hint="measure inside the recorded limits "
                                    "(--limits limits.yaml) or re-record them")
@@ -218,7 +218,7 @@ def measure(driver: Driver, reference: Reference, commands: list[int], approach:
     samples: list[Sample] = []
     total = len(commands) * len(sides) * sweeps
     done = 0
-    full = load_full_scale(driver.bus.model(driver.sid))
+    full = driver.bus.model(driver.sid).load_full_scale
     for sweep in range(sweeps):
         for side in sides:
             order = commands if side == "up" else list(reversed(commands))
@@ -323,20 +323,11 @@ def check(driver: Driver, reference: Reference, table: LutTable, angles: list[fl
     return CheckResult(tuple(points))
 
 
-def speed_register(model: Any, deg_per_s: float) -> int:
-    """The moving-speed register value for about `deg_per_s` (AX 0.111 rpm, X 0.229 rpm, STS ticks/s units)."""
+def speed_register(model: ServoModel, deg_per_s: float) -> int:
+    """The moving-speed register value nearest `deg_per_s` (`ServoModel.speed_register`), checked > 0."""
     if not deg_per_s > 0:
         raise ArmtoolError(f"--speed must be > 0 degrees per second, got {deg_per_s:g}")
-    if model.protocol == "dxl1":
-        unit = 0.111 if model.ticks == 1024 else 0.114
-        value = deg_per_s / (6.0 * unit)
-    elif model.protocol == "dxl2":
-        value = deg_per_s / (6.0 * 0.229)
-    else:
-        value = deg_per_s / model.deg_per_tick
-    reg = model.reg("moving_speed")
-    top = reg.hi if reg.hi else (1 << (8 * reg.size)) - 1
-    return int(min(max(1, math.ceil(value)), top))
+    return model.speed_register(deg_per_s)
 
 
 def torque_register(model: Any, percent: float) -> int:

@@ -12,18 +12,12 @@ import csv
 import io
 import json
 import re
-from enum import Enum
 from typing import Any
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut import Grid, LutTable
+from armtool.servo.lut.choices import ExportFormat
+from armtool.servo.lut.table import Grid, LutTable
 
-
-class ExportFormat(str, Enum):
-    C = "c"
-    CSV = "csv"
-    JSON = "json"
-    YAML = "yaml"
 
 
 MAX_C_NAME = 63  # significant initial characters of an identifier that C99 guarantees (5.2.4.1)

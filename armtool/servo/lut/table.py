@@ -18,7 +18,6 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import asdict, dataclass, field, replace
-from enum import Enum
 from pathlib import Path
 from typing import Any, Sequence, cast
 
@@ -26,7 +25,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut_meas import Measurements, Sample, model_named
+from armtool.servo.lut.choices import Approach, Method
+from armtool.servo.lut.csv_format import Measurements, Sample, model_named
 from armtool.servo.models import ServoModel
 
 SCHEMA_VERSION = 1
@@ -36,19 +36,6 @@ MAX_GRID = 65536  # entries of a uniform grid: the most a 16-bit index addresses
 MAX_KNOTS = 65536  # knots a table read from disk may have (a fit has one per measured command)
 MAX_DEGREE = 9  # highest polynomial degree (`servo-lut fit --degree`)
 
-
-class Method(str, Enum):
-    PCHIP = "pchip"
-    LINEAR = "linear"
-    POLY = "poly"
-
-
-class Approach(str, Enum):
-    """Which approach direction the table is for; `mean` averages up and down (hysteresis split)."""
-
-    UP = "up"
-    DOWN = "down"
-    MEAN = "mean"
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ from typing import Sequence
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut import LutTable
+from armtool.servo.lut.table import LutTable
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,16 @@
+"""Record each joint's real range (`armtool limits`): `arm_file` (the arm description and
+`JointRange`), `manual` (by hand, torque off), `auto` (a torque-limited seek to each stop),
+`document` (ticks to radians, the limits YAML) and `urdf` (recorded limits into a URDF's text).
+The command and the tests use the names below; each lives in one of those modules."""
+
+from __future__ import annotations
+
+from armtool.servo.limits.arm_file import ArmFile, Joint, JointRange, load_arm, parse_ids
+from armtool.servo.limits.auto import RANGE_END, AutoParams, Progress, seek_joint
+from armtool.servo.limits.document import LIMITS_VERSION, SCHEMA, convert, dump_yaml, limits_document, write_atomic
+from armtool.servo.limits.manual import ManualRecorder
+from armtool.servo.limits.urdf import UrdfJoint, check_urdf_names, patch_urdf, urdf_joints
+
+__all__ = ["ArmFile", "AutoParams", "Joint", "JointRange", "LIMITS_VERSION", "ManualRecorder", "Progress",
+           "RANGE_END", "SCHEMA", "UrdfJoint", "check_urdf_names", "convert", "dump_yaml", "limits_document",
+           "load_arm", "parse_ids", "patch_urdf", "seek_joint", "urdf_joints", "write_atomic"]
