@@ -314,6 +314,30 @@ def read_regular(path: Path | str, limit: int | None = None) -> bytes:
         os.close(fd)
 
 
+MAX_TEXT_BYTES = 256 * 1024 * 1024
+
+
+def read_text(path: Path | str, what: str, limit: int = MAX_TEXT_BYTES) -> str:
+    """A regular UTF-8 file's text, or an ArmtoolError naming `what` and the file. A FIFO or device
+    is refused without blocking (read_regular); a file over `limit` bytes is refused."""
+    source = str(path)
+    try:
+        data = read_regular(path, limit + 1)
+    except FileNotFoundError:
+        raise ArmtoolError(f"{what} not found", source, "check the path") from None
+    except NotRegularFile:
+        raise ArmtoolError(f"{what} is not a regular file (a FIFO, socket or device)", source,
+                           "pass a file") from None
+    except OSError as exc:
+        raise ArmtoolError(f"cannot read {what}: {exc.strerror or exc}", source) from None
+    if len(data) > limit:
+        raise ArmtoolError(f"{what} is larger than {limit / (1024 * 1024):g} MB", source) from None
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ArmtoolError(f"{what} is not UTF-8 text (byte {exc.start})", source, "save it as UTF-8") from None
+
+
 def read_yaml(path: Path | str, what: str = "") -> object:
     """A YAML file's content, or an ArmtoolError that names the file and line and what it is."""
     import yaml

@@ -220,3 +220,16 @@ def test_read_yaml_refuses_a_fifo_without_waiting(tmp_path: Path) -> None:
     os.mkfifo(fifo)  # nobody writes to it: a plain read would block forever
     with pytest.raises(ArmtoolError, match="not a regular file"):
         read_yaml(fifo, "limits")
+
+
+@pytest.mark.parametrize("reader", ["lerobot", "measurements", "table"])
+def test_servo_file_readers_refuse_a_fifo_without_waiting(tmp_path: Path, reader: str) -> None:
+    from armtool.servo.lerobot import read_calibration
+    from armtool.servo.lut.csv_format import read_measurements
+    from armtool.servo.lut.table import read_table
+
+    fifo = tmp_path / "input"
+    os.mkfifo(fifo)
+    read = {"lerobot": read_calibration, "measurements": read_measurements, "table": read_table}[reader]
+    with pytest.raises(ArmtoolError, match="not a regular file"):
+        read(fifo)

@@ -257,9 +257,9 @@ def _waypoint_segments(path: Path, T0: Any) -> list[Segment]:
     from armtool.ik.chain import rpy_matrix
     from armtool.traj import cartesian as cart
 
-    from armtool.traj.formats import read_text_file
+    from armtool.fileio import read_text
 
-    text = read_text_file(path, "waypoints file", MAX_WAYPOINT_BYTES)
+    text = read_text(path, "waypoints file", MAX_WAYPOINT_BYTES)
     rows = [(i + 1, r) for i, r in enumerate(csv.reader(text.splitlines())) if r and not r[0].lstrip().startswith("#")]
     if not rows:
         raise ArmtoolError("no waypoints", str(path))

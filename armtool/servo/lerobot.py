@@ -143,14 +143,9 @@ def _line_of(text: str, motor: str, key: str | None = None) -> int | None:
 def read_calibration(path: Path) -> dict[str, MotorCalibration]:
     """A LeRobot calibration file, checked strictly: every motor an object with exactly the five
     keys, whole numbers (JSON integers, not 12.0 or "12"), ticks 0..4095, range_min < range_max."""
-    try:
-        text = path.read_bytes().decode("utf-8-sig")
-    except FileNotFoundError:
-        raise ArmtoolError("LeRobot calibration file not found", str(path), "check the path") from None
-    except OSError as exc:
-        raise ArmtoolError(f"cannot read LeRobot calibration file: {exc.strerror or exc}", str(path)) from None
-    except UnicodeDecodeError:
-        raise ArmtoolError("LeRobot calibration file is not UTF-8 text", str(path)) from None
+    from armtool.fileio import read_text
+
+    text = read_text(path, "LeRobot calibration file", 1024 * 1024)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
@@ -202,7 +197,9 @@ def check_against_arm(calibration: dict[str, MotorCalibration], joints: list[Any
                       rules: dict[str, OffsetRule]) -> None:
     """The file names exactly the arm's joints, with the arm's IDs, and offsets its registers accept.
     `joints` are armtool.servo.limits.Joint; `rules` maps joint name -> OffsetRule."""
-    text = path.read_text(encoding="utf-8-sig")
+    from armtool.fileio import read_text
+
+    text = read_text(path, "LeRobot calibration file", 1024 * 1024)  # for line numbers in messages
     names = [j.name for j in joints]
     missing = [n for n in names if n not in calibration]
     if missing:

@@ -123,10 +123,9 @@ class CsvReference:
 
     @classmethod
     def load(cls, path: Path) -> CsvReference:
-        try:
-            text = path.read_text(encoding="utf-8-sig")
-        except OSError as exc:
-            raise ArmtoolError(f"cannot read the reference file {path}: {exc.strerror or exc}") from None
+        from armtool.fileio import read_text
+
+        text = read_text(path, "reference file")
         lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
         reader = csv.DictReader(io.StringIO("\n".join(lines)))
         if not {"command_ticks", "reference_deg"} <= {f.strip() for f in reader.fieldnames or []}:

@@ -49,34 +49,13 @@ class LoadedTrajectory(NamedTuple):
     format: TrajFormat
 
 
-def read_text_file(path: Path | str, what: str, limit: int = MAX_TRAJ_BYTES) -> str:
-    """A regular UTF-8 file's text, or an ArmtoolError naming `what` and the file. A FIFO or device
-    is refused without blocking (read_regular); a file over `limit` bytes is refused."""
-    from armtool.fileio import NotRegularFile, read_regular
-
-    source = str(path)
-    try:
-        data = read_regular(path, limit + 1)
-    except FileNotFoundError:
-        raise ArmtoolError(f"{what} not found", source, "check the path") from None
-    except NotRegularFile:
-        raise ArmtoolError(f"{what} is not a regular file (a FIFO, socket or device)", source,
-                           "pass a file; - reads stdin") from None
-    except OSError as exc:
-        raise ArmtoolError(f"cannot read {what}: {exc.strerror or exc}", source) from None
-    if len(data) > limit:
-        raise ArmtoolError(f"{what} is larger than {limit // (1024 * 1024)} MB", source) from None
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise ArmtoolError(f"{what} is not UTF-8 text (byte {exc.start})", source, "save it as UTF-8") from None
-
-
 def read_trajectory(path: Path | str, text: str | None = None) -> LoadedTrajectory:
     """Read a trajectory file (or `text` named `path`, e.g. stdin), detecting its format."""
     source = str(path)
     if text is None:
-        text = read_text_file(path, "trajectory file")
+        from armtool.fileio import read_text
+
+        text = read_text(path, "trajectory file", MAX_TRAJ_BYTES)
     fmt = detect_format(text, source)
     if fmt is TrajFormat.CSV:
         return LoadedTrajectory(_read_csv(text, source), fmt)

@@ -206,13 +206,9 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
 
 
 def read_measurements(path: Path, model: str | None = None) -> Measurements:
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise ArmtoolError(f"no such file: {path}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ArmtoolError(f"cannot read {path}: {exc}") from None
-    return parse_measurements(text, str(path), model)
+    from armtool.fileio import read_text
+
+    return parse_measurements(read_text(path, "measurement file"), str(path), model)
 
 
 def _fmt(value: float | int | bool | str | None) -> str:

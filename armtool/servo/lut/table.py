@@ -504,12 +504,11 @@ def _non_finite(value: Any, path: str = "") -> str | None:
 
 
 def read_table(path: Path) -> LutTable:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ArmtoolError(f"no such file: {path}", hint="make a table with `armtool servo-lut fit meas.csv -o lut.json`") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ArmtoolError(f"cannot read {path}: {exc}") from None
+    from armtool.fileio import read_text
+
+    if not path.exists():
+        raise ArmtoolError(f"no such file: {path}", hint="make a table with `armtool servo-lut fit meas.csv -o lut.json`")
+    text = read_text(path, "table file")
     try:
         doc = json.loads(text, parse_constant=_refuse_constant)
     except json.JSONDecodeError as exc:
