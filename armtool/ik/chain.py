@@ -25,15 +25,28 @@ Array = NDArray[np.float64]
 JointKind = Literal["revolute", "prismatic", "continuous"]
 
 
-def _floats(text: str | None, n: int, default: Sequence[float]) -> list[float]:
+# Beyond this (m, or rad for a revolute limit) a number is no robot's: 1000 km. Below it, FK and
+# squared errors stay far from overflow (an origin of 1e200 m overflowed them; a limit range of
+# ±1e308 made sampling the targets fail).
+MAX_ABS = 1e6
+
+
+def _floats(text: str | None, n: int, default: Sequence[float], what: str = "", bound: float = math.inf) -> list[float]:
+    """`n` finite numbers from an attribute (default when absent); `what` names it in messages
+    ("joint 'elbow' <origin xyz>"); `bound`: the largest magnitude accepted."""
     if text is None:
         return list(default)
     try:
         values = [float(v) for v in text.split()]
     except ValueError:
         values = []
+    label = f"{what}: " if what else ""
     if len(values) != n or not all(math.isfinite(v) for v in values):
-        raise ArmtoolError(f"bad numbers '{text}'", hint="run `armtool lint` on the URDF")
+        raise ArmtoolError(f"{label}bad numbers '{text[:80]}' (expected {n} finite number{'s' if n > 1 else ''})",
+                           hint="run `armtool lint` on the URDF")
+    if any(abs(v) > bound for v in values):
+        raise ArmtoolError(f"{label}'{text[:80]}' is beyond ±{bound:g} (m or rad), larger than any robot",
+                           hint="check the units, or run `armtool lint` on the URDF")
     return values
 
 
@@ -49,11 +62,12 @@ def rpy_matrix(roll: float, pitch: float, yaw: float) -> Array:
     )
 
 
-def origin_matrix(el: etree._Element | None) -> Array:
+def origin_matrix(el: etree._Element | None, what: str = "") -> Array:
+    """The 4x4 transform of an <origin xyz rpy> (identity when absent); `what` names its owner in messages."""
     T = np.eye(4)
     if el is not None:
-        T[:3, :3] = rpy_matrix(*_floats(el.get("rpy"), 3, (0, 0, 0)))
-        T[:3, 3] = _floats(el.get("xyz"), 3, (0, 0, 0))
+        T[:3, :3] = rpy_matrix(*_floats(el.get("rpy"), 3, (0, 0, 0), f"{what} <origin rpy>".strip()))
+        T[:3, 3] = _floats(el.get("xyz"), 3, (0, 0, 0), f"{what} <origin xyz>".strip(), MAX_ABS)
     return T
 
 
@@ -439,7 +453,7 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
     joints: list[ChainJoint] = []
     pending = np.eye(4)
     for uj in path:
-        origin = pending @ origin_matrix(uj.el.find("origin"))
+        origin = pending @ origin_matrix(uj.el.find("origin"), f"joint '{uj.name}'")
         if uj.type == "fixed":
             pending = origin
             continue
@@ -447,7 +461,8 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
             raise ArmtoolError(f"joint '{uj.name}' has type '{uj.type}', which a serial IK chain cannot use", hint="choose a chain of revolute/prismatic/continuous joints")
         if uj.el.find("mimic") is not None:
             raise ArmtoolError(f"joint '{uj.name}' is a mimic joint", hint="IK chains cannot contain mimic joints; choose another --tip")
-        axis = np.array(_floats((uj.el.find("axis").get("xyz") if uj.el.find("axis") is not None else None), 3, (1, 0, 0)))
+        axis_el = uj.el.find("axis")
+        axis = np.array(_floats(axis_el.get("xyz") if axis_el is not None else None, 3, (1, 0, 0), f"joint '{uj.name}' <axis xyz>"))
         norm = math.hypot(*axis)  # no overflow for `1e200 1e200 0`, no underflow for tiny ones
         if norm < 1e-12:
             raise ArmtoolError(f"joint '{uj.name}' has a zero axis", hint="run `armtool lint` on the URDF")
@@ -455,8 +470,8 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
             lower, upper = -math.pi, math.pi
         else:
             limit = uj.el.find("limit")
-            lower = _floats(limit.get("lower") if limit is not None else None, 1, (0.0,))[0]
-            upper = _floats(limit.get("upper") if limit is not None else None, 1, (0.0,))[0]
+            lower = _floats(limit.get("lower") if limit is not None else None, 1, (0.0,), f"joint '{uj.name}' <limit lower>", MAX_ABS)[0]
+            upper = _floats(limit.get("upper") if limit is not None else None, 1, (0.0,), f"joint '{uj.name}' <limit upper>", MAX_ABS)[0]
             if not lower < upper:
                 raise ArmtoolError(f"joint '{uj.name}' has limits [{lower}, {upper}], no room to move", hint="fix <limit lower upper>")
         joints.append(ChainJoint(uj.name, uj.type, origin, axis / norm, lower, upper))  # type: ignore[arg-type]
