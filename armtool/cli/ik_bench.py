@@ -8,8 +8,10 @@ from typing import List, Optional
 
 import typer
 
+from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
+from armtool.ik import MAX_SAMPLES, MAX_TIMEOUT_S
 
 
 class BenchFormat(str, Enum):
@@ -34,11 +36,11 @@ def ik_bench(
     solvers: Optional[str] = typer.Option(None, "--solvers", help="Comma-separated built-in solvers (default: all)."),
     peers: Optional[str] = typer.Option(None, "--peers", help="Comma-separated peer solvers, or 'all' (needs armtool[peers])."),
     batch: bool = typer.Option(True, "--batch/--no-batch", help="Also time one vectorized solve_batch call per solver that has one."),
-    samples: int = typer.Option(1000, "--samples", min=1, help="Number of random targets."),
-    seed: int = typer.Option(0, "--seed", help="Random seed for targets (and restarts)."),
+    samples: int = typer.Option(1000, "--samples", callback=opt.int_range(1, MAX_SAMPLES), help=f"Number of random targets (1..{MAX_SAMPLES:,})."),
+    seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed for targets (and restarts); any integer."),
     seed_mode: SeedModeOption = typer.Option(SeedModeOption.MID, "--seed-mode", help="Start each solve from mid-range, random, or near the answer."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", help="Seconds per solve [default: 0.005, or the group's in --kinematics-yaml]."),
-    tolerance: float = typer.Option(1e-5, "--tolerance", help="Pose tolerance (m and rad)."),
+    timeout: Optional[float] = typer.Option(None, "--timeout", callback=opt.seconds(MAX_TIMEOUT_S), help=f"Seconds per solve, > 0 and ≤ {MAX_TIMEOUT_S:g} [default: 0.005, or the group's in --kinematics-yaml]."),
+    tolerance: float = typer.Option(1e-5, "--tolerance", callback=opt.positive_float(1.0, unit="(m and rad)"), help="Pose tolerance (m and rad), > 0 and ≤ 1."),
     output_format: BenchFormat = typer.Option(BenchFormat.TABLE, "--format", help="table, json or csv on stdout."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write a PNG: solve-time CDF and success per solver."),
     xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
@@ -49,17 +51,23 @@ def ik_bench(
 
     from armtool.cli.lint import _parse_xacro_args
     from armtool.console import say, stderr, write_stdout
+    from armtool.fileio import check_output_paths
     from armtool.ik.bench import BenchConfig, NotApplicable, SeedMode, SolverReport, make_targets, run_solver
     from armtool.ik.chain import chain_from_xml, default_base_tip
     from armtool.ik.group import GroupSettings, group_chain, group_settings
-    from armtool.ik.peers import make_peer, peer_names
+    from armtool.ik.peers import check_peer_name, make_peer, native_stdout_to_stderr, peer_names
     from armtool.ik.registry import solver_class, solver_names
     from armtool.ik.report import render_csv, render_json, render_table
     from armtool.ik.solver import Solver
     from armtool.model.load import load_robot_xml, load_srdf_xml
 
-    if timeout is not None and not timeout > 0:
-        raise ArmtoolError(f"--timeout must be > 0 seconds, got {timeout}", hint="e.g. --timeout 0.005 (5 ms)")
+    names = _names("--solvers", solvers, solver_names())
+    wanted = _names("--peers", peers, peer_names(), everything="all", what="peer") if peers is not None else []
+    for name in names:
+        solver_class(name)  # an unknown name fails now, before any file is read
+    for name in wanted:
+        check_peer_name(name)
+    check_output_paths({"--plot": plot}, inputs=[urdf, srdf, kinematics_yaml])  # before the work, not after it
     if group is not None:
         if srdf is None:
             raise ArmtoolError("--group needs --srdf", hint="pass the MoveIt SRDF that defines the group")
@@ -76,7 +84,7 @@ def ik_bench(
         if kinematics_yaml is not None:
             settings = group_settings(kinematics_yaml, group)
     elif base is None and tip is None:
-        base, tip = default_base_tip(root)
+        base, tip = default_base_tip(root, source=urdf.name)
         how = "default chain (pass --base/--tip for another)"
     chain = chain_from_xml(root, base, tip, source=urdf.name)
     if timeout is None:
@@ -84,22 +92,22 @@ def ik_bench(
     position_only = settings.position_only
     # Position-only: every solver gets the chain with a free (virtual) wrist at the tip.
     solve_chain = chain.with_free_orientation() if position_only else chain
-    names = [s.strip() for s in solvers.split(",") if s.strip()] if solvers else solver_names()
-    built: list[Solver] = []
-    rows_na: list[NotApplicable] = []
-    for name in names:
-        # An unknown name is a usage error (exit 2); a solver that cannot take this chain gets an n/a row.
-        cls = solver_class(name)
-        if position_only and not cls.position_only_capable:
-            rows_na.append(NotApplicable(name, "it solves full poses of the real chain only; this group is position-only (position_only_ik)"))
-            continue
-        try:
-            built.append(cls(solve_chain, timeout=timeout, tolerance=tolerance, seed=seed))
-        except ArmtoolError as exc:  # e.g. no closed form for this chain: its row says so, the others run
-            rows_na.append(NotApplicable(name, exc.what + (f" (hint: {exc.hint})" if exc.hint else "")))
-    peer_list = []
-    if peers:
-        wanted = peer_names() if peers.strip() == "all" else [p.strip() for p in peers.split(",")]
+    # Native peers print on fd 1 themselves (TRAC-IK: a WARNING per solve of a 1-joint chain): while
+    # solvers are built and run, fd 1 is stderr, so stdout carries the JSON/CSV/table only.
+    with native_stdout_to_stderr():
+        built: list[Solver] = []
+        rows_na: list[NotApplicable] = []
+        for name in names:
+            # An unknown name is a usage error (exit 2); a solver that cannot take this chain gets an n/a row.
+            cls = solver_class(name)
+            if position_only and not cls.position_only_capable:
+                rows_na.append(NotApplicable(name, "it solves full poses of the real chain only; this group is position-only (position_only_ik)"))
+                continue
+            try:
+                built.append(cls(solve_chain, timeout=timeout, tolerance=tolerance, seed=seed))
+            except ArmtoolError as exc:  # e.g. no closed form for this chain: its row says so, the others run
+                rows_na.append(NotApplicable(name, exc.what + (f" (hint: {exc.hint})" if exc.hint else "")))
+        peer_list = []
         for name in wanted:
             if position_only:
                 rows_na.append(NotApplicable(name, "peers solve full poses only; this group is position-only (position_only_ik)"))
@@ -109,35 +117,35 @@ def ik_bench(
                 say(peer, label=f"peer {name} skipped:", style="yellow")
             else:
                 peer_list.append(peer)
-    config = BenchConfig(samples=samples, rng_seed=seed, seed_mode=SeedMode(seed_mode.value), timeout=timeout,
-                         tolerance=tolerance, position_only=position_only)
-    targets = make_targets(solve_chain, config)
-    for row in rows_na:
-        say(row.reason, label=f"{row.solver} not applicable:", style="yellow")
-    stderr().print(escape(
-        f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
-        + (f", {how}" if how else "") + f"; {samples} targets, seed {seed_mode.value}, "
-        f"timeout {timeout * 1e3:g} ms, tolerance {tolerance:g}"
-        + ("; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position, the solvers"
-           " get the chain with a free virtual wrist at the tip" if position_only else "")
-    ))
-    from rich.progress import TaskID
+        config = BenchConfig(samples=samples, rng_seed=seed, seed_mode=SeedMode(seed_mode.value), timeout=timeout,
+                             tolerance=tolerance, position_only=position_only)
+        targets = make_targets(solve_chain, config)
+        for row in rows_na:
+            say(row.reason, label=f"{row.solver} not applicable:", style="yellow")
+        stderr().print(escape(
+            f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
+            + (f", {how}" if how else "") + f"; {samples} targets, seed {seed_mode.value}, "
+            f"timeout {timeout * 1e3:g} ms, tolerance {tolerance:g}"
+            + ("; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position, the solvers"
+               " get the chain with a free virtual wrist at the tip" if position_only else "")
+        ))
+        from rich.progress import TaskID
 
-    from armtool.console import progress_bar
+        from armtool.console import progress_bar
 
-    reports: list[SolverReport | NotApplicable] = []
-    runs = [(s, False) for s in [*built, *peer_list]]
-    if batch:
-        runs += [(s, True) for s in built if type(s).solve_batch is not Solver.solve_batch]
-    with progress_bar(label_width=16) as bar:
-        for solver, as_batch in runs:
-            label = solver.name + (" (batch)" if as_batch else "")
-            task = bar.add_task(label, total=samples)
+        reports: list[SolverReport | NotApplicable] = []
+        runs = [(s, False) for s in [*built, *peer_list]]
+        if batch:
+            runs += [(s, True) for s in built if type(s).solve_batch is not Solver.solve_batch]
+        with progress_bar(label_width=16) as bar:
+            for solver, as_batch in runs:
+                label = solver.name + (" (batch)" if as_batch else "")
+                task = bar.add_task(label, total=samples)
 
-            def advance(k: int, t: TaskID = task) -> None:
-                bar.advance(t, k)
+                def advance(k: int, t: TaskID = task) -> None:
+                    bar.advance(t, k)
 
-            reports.append(run_solver(solve_chain, solver, targets, config, batch=as_batch, progress=advance))
+                reports.append(run_solver(solve_chain, solver, targets, config, batch=as_batch, progress=advance))
     reports += rows_na
     if output_format is BenchFormat.JSON:
         write_stdout(render_json(chain, config, reports))
@@ -150,3 +158,20 @@ def ik_bench(
 
         write_plot(plot, [r for r in reports if isinstance(r, SolverReport)])
         stderr().print(f"wrote {escape(str(plot))}")
+
+
+def _names(flag: str, text: Optional[str], known: list[str], everything: str = "", what: str = "solver") -> list[str]:
+    """A comma-separated list of names (None: every known one). An empty list (`--solvers ,`) is an
+    error: it would run an empty benchmark and exit 0. Unknown names are reported where they are built."""
+    if text is None:
+        return list(known)
+    if everything and text.strip() == everything:
+        return list(known)
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise ArmtoolError(f"{flag} {text!r} names no {what}", hint=f"choose from: {', '.join(known)}"
+                           + (f", or {everything}" if everything else ""))
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise ArmtoolError(f"{flag} names {', '.join(repeated)} twice", hint=f"list each {what} once")
+    return names

@@ -26,9 +26,11 @@ def tree(
 ) -> None:
     from armtool.cli.lint import _parse_xacro_args
     from armtool.console import write_stdout
+    from armtool.fileio import check_output_paths
     from armtool.model.load import load_robot_xml
     from armtool.model.tree import read_tree, render_dot, render_mermaid, render_text
 
+    check_output_paths({"--output": output}, inputs=[urdf])  # `-o arm.urdf` must not overwrite the robot
     model = read_tree(load_robot_xml(urdf, _parse_xacro_args(xacro_arg), package_path))
     render = {TreeFormat.TEXT: render_text, TreeFormat.DOT: render_dot, TreeFormat.MERMAID: render_mermaid}[output_format]
     text = render(model) + "\n"

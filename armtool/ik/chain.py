@@ -25,15 +25,28 @@ Array = NDArray[np.float64]
 JointKind = Literal["revolute", "prismatic", "continuous"]
 
 
-def _floats(text: str | None, n: int, default: Sequence[float]) -> list[float]:
+# Beyond this (m, or rad for a revolute limit) a number is no robot's: 1000 km. Below it, FK and
+# squared errors stay far from overflow (an origin of 1e200 m overflowed them; a limit range of
+# ±1e308 made sampling the targets fail).
+MAX_ABS = 1e6
+
+
+def _floats(text: str | None, n: int, default: Sequence[float], what: str = "", bound: float = math.inf) -> list[float]:
+    """`n` finite numbers from an attribute (default when absent); `what` names it in messages
+    ("joint 'elbow' <origin xyz>"); `bound`: the largest magnitude accepted."""
     if text is None:
         return list(default)
     try:
         values = [float(v) for v in text.split()]
     except ValueError:
         values = []
+    label = f"{what}: " if what else ""
     if len(values) != n or not all(math.isfinite(v) for v in values):
-        raise ArmtoolError(f"bad numbers '{text}'", hint="run `armtool lint` on the URDF")
+        raise ArmtoolError(f"{label}bad numbers '{text[:80]}' (expected {n} finite number{'s' if n > 1 else ''})",
+                           hint="run `armtool lint` on the URDF")
+    if any(abs(v) > bound for v in values):
+        raise ArmtoolError(f"{label}'{text[:80]}' is beyond ±{bound:g} (m or rad), larger than any robot",
+                           hint="check the units, or run `armtool lint` on the URDF")
     return values
 
 
@@ -49,11 +62,12 @@ def rpy_matrix(roll: float, pitch: float, yaw: float) -> Array:
     )
 
 
-def origin_matrix(el: etree._Element | None) -> Array:
+def origin_matrix(el: etree._Element | None, what: str = "") -> Array:
+    """The 4x4 transform of an <origin xyz rpy> (identity when absent); `what` names its owner in messages."""
     T = np.eye(4)
     if el is not None:
-        T[:3, :3] = rpy_matrix(*_floats(el.get("rpy"), 3, (0, 0, 0)))
-        T[:3, 3] = _floats(el.get("xyz"), 3, (0, 0, 0))
+        T[:3, :3] = rpy_matrix(*_floats(el.get("rpy"), 3, (0, 0, 0), f"{what} <origin rpy>".strip()))
+        T[:3, 3] = _floats(el.get("xyz"), 3, (0, 0, 0), f"{what} <origin xyz>".strip(), MAX_ABS)
     return T
 
 
@@ -132,15 +146,17 @@ def _is_gripper_joint(joint: _UrdfJoint, mimicked: set[str]) -> bool:
     )
 
 
-def _default_chain(links: list[str], by_child: Mapping[str, _UrdfJoint]) -> tuple[str, str]:
+def _default_chain(links: list[str], by_child: Mapping[str, _UrdfJoint], source: str = "the URDF") -> tuple[str, str]:
     """Root link and the default tip: the end of the arm through the most moving joints, not counting
-    finger/gripper joints (nor chains through them), at a tool frame when the arm has one."""
+    finger/gripper joints (nor chains through them), at a tool frame when the arm has one. With
+    several roots (a URDF error lint reports), the root whose tree has that arm."""
     roots = [name for name in links if name not in by_child]
     if not roots:
-        raise ArmtoolError("the URDF has no root link", hint="run `armtool lint` on it")
-    root = roots[0]
+        raise ArmtoolError(f"{source} has no root link: every link is the child of a joint (a kinematic loop)",
+                           hint="run `armtool lint` on it")
     mimicked = _gripper_drives(by_child)
-    paths: list[tuple[str, int, int, bool]] = []  # link, moving joints, depth, passes a gripper joint
+    paths: list[tuple[str, str, int, int, bool]] = []  # root, link, moving joints, depth, passes a gripper joint
+    looped: list[str] = []  # links whose walk up never reaches a root
     for link in links:
         moving, depth, gripper, cur = 0, 0, False, link
         while cur in by_child and depth <= len(links):
@@ -149,21 +165,30 @@ def _default_chain(links: list[str], by_child: Mapping[str, _UrdfJoint]) -> tupl
             gripper = gripper or _is_gripper_joint(joint, mimicked)
             depth += 1
             cur = joint.parent
-        if cur == root:
-            paths.append((link, moving, depth, gripper))
-    arm = [p for p in paths if not p[3]] or paths  # a gripper-only model: its own joints are the chain
-    most = max(p[1] for p in arm)
-    ends = [p for p in arm if p[1] == most]
+        if cur in by_child:
+            looped.append(link)
+        elif cur in roots:
+            paths.append((cur, link, moving, depth, gripper))
+    arm = [p for p in paths if not p[4]] or paths  # a gripper-only model: its own joints are the chain
+    most = max(p[2] for p in arm)
+    if most == 0:
+        why = (f"; links {', '.join(looped[:10])} form a kinematic loop and reach no root" if looped
+               else "; it has no revolute, prismatic or continuous joint")
+        raise ArmtoolError(f"{source} has no moving joint below its root link{'s' if len(roots) > 1 else ''} "
+                           f"{', '.join(repr(r) for r in roots[:10])}{why}", hint="run `armtool lint` on it")
+    ends = [p for p in arm if p[2] == most]
     order = {name: i for i, name in enumerate(links)}
+    root_order = {name: i for i, name in enumerate(roots)}
 
-    def rank(p: tuple[str, int, int, bool]) -> tuple[int, int, int]:
-        tool = next((len(_TOOL_FRAMES) - k for k, pattern in enumerate(_TOOL_FRAMES) if pattern.search(p[0])), 0)
-        return (tool, p[2], -order[p[0]])
+    def rank(p: tuple[str, str, int, int, bool]) -> tuple[int, int, int, int]:
+        tool = next((len(_TOOL_FRAMES) - k for k, pattern in enumerate(_TOOL_FRAMES) if pattern.search(p[1])), 0)
+        return (-root_order[p[0]], tool, p[3], -order[p[1]])
 
-    return root, max(ends, key=rank)[0]
+    best = max(ends, key=rank)
+    return best[0], best[1]
 
 
-def default_base_tip(root: etree._Element) -> tuple[str, str]:
+def default_base_tip(root: etree._Element, source: str = "the URDF") -> tuple[str, str]:
     """The chain armtool uses when none is given (ik-bench, calibrate --flange): (base link, tip link).
 
     The base is the URDF's root link; the tip ends the chain through the most moving joints that
@@ -172,7 +197,7 @@ def default_base_tip(root: etree._Element) -> tuple[str, str]:
     then the deepest link.
     """
     links = [el.get("name", "") for el in root.findall("link")]
-    return _default_chain(links, _urdf_joints(root))
+    return _default_chain(links, _urdf_joints(root), source)
 
 
 class Chain:
@@ -180,7 +205,8 @@ class Chain:
 
     def __init__(self, name: str, base: str, tip: str, joints: list[ChainJoint], tip_offset: Array) -> None:
         if not joints:
-            raise ArmtoolError(f"no moving joint between '{base}' and '{tip}'", hint="choose another --base/--tip")
+            raise ArmtoolError(f"no moving joint between '{base}' and '{tip}': only fixed joints join them",
+                               hint="pick a tip further from the base (`armtool tree` shows the joints)")
         self.name = name
         self.base = base
         self.tip = tip
@@ -243,6 +269,8 @@ class Chain:
         """Tip pose and its 6xn Jacobian [v; w] in the base frame at the tip origin."""
         pin, model, data, frame = self._model()
         J = pin.computeFrameJacobian(model, data, q, frame, pin.LOCAL_WORLD_ALIGNED)
+        if J.ndim == 1:  # eigenpy returns a 6x1 matrix as a 1-D array: a 1-joint chain's J stays (6, 1)
+            J = J.reshape(6, 1)
         pin.updateFramePlacement(model, data, frame)
         return data.oMf[frame].homogeneous, J
 
@@ -399,7 +427,7 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
     links = [el.get("name", "") for el in root.findall("link")]
     by_child = _urdf_joints(root)
     if base is None or tip is None:
-        default_base, default_tip = _default_chain(links, by_child)
+        default_base, default_tip = _default_chain(links, by_child, source)
         base = base or default_base
         tip = tip or default_tip
     for role, name in (("base", base), ("tip", tip)):
@@ -408,6 +436,9 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
                 f"{role} link '{name}' is not in {source}{did_you_mean(name, links)}",
                 hint="links: " + ", ".join(links[:30]) + (" …" if len(links) > 30 else ""),
             )
+    if base == tip:
+        raise ArmtoolError(f"base and tip are the same link '{base}' in {source}: a chain needs at least one moving joint between them",
+                           hint="pick a tip link below the base (`armtool tree` shows the links)")
     path: list[_UrdfJoint] = []
     cur = tip
     while cur != base:
@@ -422,7 +453,7 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
     joints: list[ChainJoint] = []
     pending = np.eye(4)
     for uj in path:
-        origin = pending @ origin_matrix(uj.el.find("origin"))
+        origin = pending @ origin_matrix(uj.el.find("origin"), f"joint '{uj.name}'")
         if uj.type == "fixed":
             pending = origin
             continue
@@ -430,16 +461,17 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
             raise ArmtoolError(f"joint '{uj.name}' has type '{uj.type}', which a serial IK chain cannot use", hint="choose a chain of revolute/prismatic/continuous joints")
         if uj.el.find("mimic") is not None:
             raise ArmtoolError(f"joint '{uj.name}' is a mimic joint", hint="IK chains cannot contain mimic joints; choose another --tip")
-        axis = np.array(_floats((uj.el.find("axis").get("xyz") if uj.el.find("axis") is not None else None), 3, (1, 0, 0)))
-        norm = float(np.linalg.norm(axis))
+        axis_el = uj.el.find("axis")
+        axis = np.array(_floats(axis_el.get("xyz") if axis_el is not None else None, 3, (1, 0, 0), f"joint '{uj.name}' <axis xyz>"))
+        norm = math.hypot(*axis)  # no overflow for `1e200 1e200 0`, no underflow for tiny ones
         if norm < 1e-12:
             raise ArmtoolError(f"joint '{uj.name}' has a zero axis", hint="run `armtool lint` on the URDF")
         if uj.type == "continuous":
             lower, upper = -math.pi, math.pi
         else:
             limit = uj.el.find("limit")
-            lower = _floats(limit.get("lower") if limit is not None else None, 1, (0.0,))[0]
-            upper = _floats(limit.get("upper") if limit is not None else None, 1, (0.0,))[0]
+            lower = _floats(limit.get("lower") if limit is not None else None, 1, (0.0,), f"joint '{uj.name}' <limit lower>", MAX_ABS)[0]
+            upper = _floats(limit.get("upper") if limit is not None else None, 1, (0.0,), f"joint '{uj.name}' <limit upper>", MAX_ABS)[0]
             if not lower < upper:
                 raise ArmtoolError(f"joint '{uj.name}' has limits [{lower}, {upper}], no room to move", hint="fix <limit lower upper>")
         joints.append(ChainJoint(uj.name, uj.type, origin, axis / norm, lower, upper))  # type: ignore[arg-type]

@@ -10,6 +10,7 @@ but fixed joints in between). The order the SRDF lists them in means nothing.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -161,32 +162,51 @@ class GroupSettings:
 
 
 def group_settings(kinematics_yaml: Path, group: str) -> GroupSettings:
-    """The group's kinematics_solver_timeout (seconds) and position_only_ik from a MoveIt kinematics.yaml."""
-    import yaml
+    """The group's kinematics_solver_timeout (seconds) and position_only_ik from a MoveIt kinematics.yaml.
 
+    The file must hold the group (the user named both): a group it lacks, a group whose value is
+    not a mapping, a timeout that is not a finite number of seconds in (0, MAX_TIMEOUT_S]
+    (`.inf` would never end a solve) are errors naming the file and line."""
+    from armtool.fileio import read_yaml
+    from armtool.ik import MAX_TIMEOUT_S
     from armtool.lint.kinematics_context import read_groups
 
-    try:
-        groups = read_groups(kinematics_yaml.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
-        raise ArmtoolError(f"cannot read kinematics.yaml: {exc}", str(kinematics_yaml)) from None
-    for g in groups:
-        if g.name != group:
-            continue
-        timeout = None
-        if "kinematics_solver_timeout" in g.settings:
-            value = g.settings["kinematics_solver_timeout"].value
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or value <= 0:
-                raise ArmtoolError(f"kinematics_solver_timeout of '{group}' is {value!r}", f"{kinematics_yaml}:{g.settings['kinematics_solver_timeout'].line}", "a positive number of seconds")
-            timeout = float(value)
-        position_only = False
-        if "position_only_ik" in g.settings:
-            flag = g.settings["position_only_ik"].value
-            if not isinstance(flag, bool):
-                raise ArmtoolError(f"position_only_ik of '{group}' is {flag!r}", f"{kinematics_yaml}:{g.settings['position_only_ik'].line}", "true or false")
-            position_only = flag
-        return GroupSettings(timeout, position_only)
-    return GroupSettings()
+    data = read_yaml(kinematics_yaml, "kinematics.yaml")  # syntax, encoding and nesting errors with file:line
+    for wrapper in ("/**", "ros__parameters", "robot_description_kinematics"):  # the ROS 2 layout, as read_groups
+        if isinstance(data, dict) and wrapper in data:
+            data = data[wrapper]
+    if not isinstance(data, dict):
+        raise ArmtoolError(f"kinematics.yaml is a {type(data).__name__}, not a mapping of group names to settings",
+                           str(kinematics_yaml), "write `GROUP:` followed by its settings (kinematics_solver, ...)")
+    if group not in data:
+        names = sorted(str(k) for k in data)
+        raise ArmtoolError(f"group '{group}' is not in kinematics.yaml{did_you_mean(group, names)}", str(kinematics_yaml),
+                           "groups: " + (", ".join(names) if names else "none") + "; or leave out --kinematics-yaml")
+    groups = {g.name: g for g in read_groups(kinematics_yaml.read_text(encoding="utf-8-sig"))}
+    g = groups[group]
+    if data[group] is not None and not isinstance(data[group], dict):
+        shown = repr(data[group])[:40] if isinstance(data[group], (str, int, float)) else f"a {type(data[group]).__name__}"
+        raise ArmtoolError(f"group '{group}' in kinematics.yaml is {shown}, not a mapping of settings",
+                           f"{kinematics_yaml}:{g.line}", "e.g. `kinematics_solver_timeout: 0.005` on the next line, indented")
+    timeout = None
+    if "kinematics_solver_timeout" in g.settings:
+        setting = g.settings["kinematics_solver_timeout"]
+        value = setting.value
+        where = f"{kinematics_yaml}:{setting.line}"
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ArmtoolError(f"kinematics_solver_timeout of '{group}' is {value!r}, not a number", where,
+                               "a number of seconds such as 0.005")
+        if not (math.isfinite(value) and 0 < value <= MAX_TIMEOUT_S):
+            raise ArmtoolError(f"kinematics_solver_timeout of '{group}' is {value!r}", where,
+                               f"a finite number of seconds > 0 and ≤ {MAX_TIMEOUT_S:g}, such as 0.005")
+        timeout = float(value)
+    position_only = False
+    if "position_only_ik" in g.settings:
+        flag = g.settings["position_only_ik"].value
+        if not isinstance(flag, bool):
+            raise ArmtoolError(f"position_only_ik of '{group}' is {flag!r}", f"{kinematics_yaml}:{g.settings['position_only_ik'].line}", "true or false")
+        position_only = flag
+    return GroupSettings(timeout, position_only)
 
 
 def group_timeout(kinematics_yaml: Path, group: str) -> float | None:

@@ -10,7 +10,10 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
-from collections.abc import Callable
+import os
+import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
@@ -33,12 +36,17 @@ def peer_names() -> list[str]:
     return list(PEERS)
 
 
-def make_peer(name: str, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> Solver | str:
-    """A ready peer solver, or the reason it cannot run here (with the install command)."""
+def check_peer_name(name: str) -> None:
+    """An ArmtoolError (exit 2) for a name that is not a peer, with the closest one."""
     if name not in PEERS:
         from armtool.lint.suggest import did_you_mean
 
         raise ArmtoolError(f"unknown peer '{name}'{did_you_mean(name, PEERS)}", hint="peers: " + ", ".join(PEERS))
+
+
+def make_peer(name: str, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> Solver | str:
+    """A ready peer solver, or the reason it cannot run here (with the install command)."""
+    check_peer_name(name)
     target, needs, install = PEERS[name]
     if importlib.util.find_spec(needs) is None:
         return f"{needs} is not installed: {install}"
@@ -83,3 +91,46 @@ def check_fk(name: str, chain: Chain, fk: Callable[[Array], Array]) -> None:
             f"peer '{name}' reads {chain.base} → {chain.tip} differently from armtool (FK differs by {worst:.3g})",
             hint="its answers could not be compared; please report this with the URDF",
         )
+
+
+@contextmanager
+def native_stdout_to_stderr() -> Iterator[None]:
+    """File descriptor 1 points at stderr while the block runs, then back at stdout.
+
+    Peers are C/C++ libraries that print on the process's stdout themselves (TRAC-IK's
+    `WARNING:NLOpt_IK ...` on every solve of a 1-joint chain, KDL's warnings), past Python's
+    sys.stdout, where ik-bench's JSON or CSV goes. C stdio buffers are flushed before fd 1 is
+    restored, so nothing buffered inside the block lands on stdout later. Without a usable fd 1
+    or fd 2 (closed), the block runs as it is.
+    """
+    try:
+        sys.stdout.flush()
+    except (OSError, ValueError):  # closed or broken: nothing of ours is pending
+        pass
+    try:
+        saved = os.dup(1)
+    except OSError:
+        saved = -1
+    if saved >= 0:
+        try:
+            os.dup2(2, 1)
+        except OSError:
+            os.close(saved)
+            saved = -1
+    try:
+        yield
+    finally:
+        if saved >= 0:
+            _flush_c_stdio()
+            os.dup2(saved, 1)
+            os.close(saved)
+
+
+def _flush_c_stdio() -> None:
+    """fflush(NULL): whatever C code printf-ed into stdio's buffers goes out now (to stderr)."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, AttributeError, TypeError):  # no C library to ask (Windows: CDLL(None) fails)
+        pass
