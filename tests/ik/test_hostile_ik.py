@@ -68,10 +68,7 @@ def test_one_joint_chain_has_a_6x1_jacobian() -> None:
     assert np.allclose(J[:, 0], [0, 0, 0, 0, 0, 1])
 
 
-ONE_JOINT_SOLVERS = ["dls", "kdl-nr-jl", "kdl-lma", "trac",
-                     pytest.param("lm", marks=pytest.mark.xfail(
-                         strict=True, reason="lm.py takes pin.getFrameJacobian's (6,) array for a 1-joint chain; "
-                                             "fix owned by the lm helper (reshape to (6, 1)): remove this mark then"))]
+ONE_JOINT_SOLVERS = ["dls", "kdl-nr-jl", "kdl-lma", "trac", "lm"]
 
 
 @pytest.mark.parametrize("solver", ONE_JOINT_SOLVERS)

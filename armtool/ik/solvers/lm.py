@@ -69,7 +69,11 @@ class LevenbergMarquardt(Solver):
         self._lapack_dposv = lapack.dposv
         self._blas_dsyrk = blas.dsyrk
         # Per-solve constants, computed once: every microsecond counts at ~10 µs per iteration.
-        self._pin_calls = (pin.computeJointJacobians, pin.updateFramePlacement, pin.getFrameJacobian, pin.log6, pin.LOCAL)
+        frame_jacobian = pin.getFrameJacobian
+        if chain.n == 1:  # eigenpy hands a 6x1 matrix back as a flat (6,) array; the steps need (6, 1)
+            def frame_jacobian(*args: Any) -> Any:
+                return pin.getFrameJacobian(*args).reshape(6, 1)
+        self._pin_calls = (pin.computeJointJacobians, pin.updateFramePlacement, frame_jacobian, pin.log6, pin.LOCAL)
         cont = chain.continuous
         self._k = float(self.opts["error_damping"])
         self._bias = float(self.opts["damping_bias"])
