@@ -207,8 +207,3 @@ def group_settings(kinematics_yaml: Path, group: str) -> GroupSettings:
             raise ArmtoolError(f"position_only_ik of '{group}' is {flag!r}", f"{kinematics_yaml}:{g.settings['position_only_ik'].line}", "true or false")
         position_only = flag
     return GroupSettings(timeout, position_only)
-
-
-def group_timeout(kinematics_yaml: Path, group: str) -> float | None:
-    """The group's kinematics_solver_timeout in seconds, or None when not set."""
-    return group_settings(kinematics_yaml, group).timeout_s
