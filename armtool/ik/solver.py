@@ -121,7 +121,7 @@ class Solver:
 
     def __init__(self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
         if not (math.isfinite(timeout) and timeout > 0):  # inf would never end a solve
-            raise ArmtoolError(f"timeout must be a finite number of seconds > 0, got {timeout}", hint="e.g. 0.005 (5 ms)")
+            raise ArmtoolError(f"timeout must be > 0 seconds and finite, got {timeout}", hint="e.g. 0.005 (5 ms)")
         if not (math.isfinite(tolerance) and tolerance > 0):
             raise ArmtoolError(f"tolerance must be a finite number > 0 (m and rad), got {tolerance}", hint="e.g. 1e-5")
         unknown = set(options) - set(self.options)
