@@ -67,6 +67,7 @@ def _check_outputs(outputs: dict[str, Optional[Path]], inputs: Sequence[Optional
 
 def _solver_name(value: str) -> str:
     """--solver at parse time: one of the registered IK solvers."""
+    require("traj")  # the registry imports the chain model (numpy): say which extra is missing first
     from armtool.ik.registry import SOLVERS
     from armtool.lint.suggest import did_you_mean
 
