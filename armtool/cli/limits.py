@@ -197,22 +197,7 @@ def limits(
         if unconfirmed:
             con.print(f"[yellow]unconfirmed ends[/yellow] (the joint did not rest there {min_dwell:g} s): "
                       + ", ".join(unconfirmed))
-        if output is not None:
-            try:
-                L.write_atomic(output, doc_text)
-            except ArmtoolError as exc:  # the recording is kept: a run must not be repeated for a write
-                saved = rescue_write(output, doc_text, "armtool-limits")
-                raise ArmtoolError(f"{exc.what}; the limits were saved to {saved}", exc.where, exc.hint) from None
-            con.print(f"wrote {output}")
-        else:
-            write_stdout(doc_text)
-        if new_urdf is not None and urdf is not None:
-            if in_place:
-                backup = write_with_backup(urdf, new_urdf, urdf_text or "")
-                con.print(escape(f"wrote {urdf} (previous version in {backup.name})"))
-            elif urdf_out is not None:
-                L.write_atomic(urdf_out, new_urdf)
-                con.print(f"wrote {urdf_out}")
+        _write_outputs(doc_text, output, new_urdf, urdf, urdf_text, urdf_out, in_place)
         if lerobot_error is not None:
             raise ArmtoolError(f"{lerobot_error.what} (the limits YAML was written; no LeRobot file)",
                                lerobot_error.where, lerobot_error.hint)
@@ -503,9 +488,26 @@ def _convert_lerobot(calibration: Any, source: Path, joints: list[Any], margin: 
     doc["source"] = {"lerobot_calibration": str(source)}
     doc_text = L.dump_yaml(doc)
     _summary(rows, ranges)
+    _write_outputs(doc_text, output, new_urdf, urdf, urdf_text, urdf_out, in_place)
+
+
+def _write_outputs(doc_text: str, output: Optional[Path], new_urdf: Optional[str], urdf: Optional[Path],
+                   urdf_text: Optional[str], urdf_out: Optional[Path], in_place: bool) -> None:
+    """The limits YAML (to -o or stdout) and the URDF with the new limits. A failed -o keeps the
+    limits in a .partial file: a recording must not be repeated for a write."""
+    from rich.markup import escape
+
+    from armtool.console import stderr, write_stdout
+    from armtool.fileio import rescue_write, write_with_backup
+    from armtool.servo import limits as L
+
     con = stderr()
     if output is not None:
-        L.write_atomic(output, doc_text)
+        try:
+            L.write_atomic(output, doc_text)
+        except ArmtoolError as exc:
+            saved = rescue_write(output, doc_text, "armtool-limits")
+            raise ArmtoolError(f"{exc.what}; the limits were saved to {saved}", exc.where, exc.hint) from None
         con.print(escape(f"wrote {output}"))
     else:
         write_stdout(doc_text)
