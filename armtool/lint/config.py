@@ -187,6 +187,8 @@ def load_config(path: Path | None = None) -> LintConfig:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ArmtoolError(f"invalid TOML: {exc}", str(path)) from None
+    except RecursionError:  # the parser recurses per nested array or inline table
+        raise ArmtoolError("TOML nested too deeply to read", str(path), "no armtool setting nests more than a few levels") from None
     where = f"{path} [lint]" if own_file else f"{path} [tool.armtool.lint]"
     if own_file:
         section = data.get("lint")

@@ -427,6 +427,14 @@ def test_mutated_pyproject(data: bytes, tmp_path: Path) -> None:
     _check_cli(root, "urdf/clean_arm.urdf", "config/kinematics.yaml")
 
 
+def test_deeply_nested_pyproject_is_a_message(tmp_path: Path) -> None:
+    """Found by test_mutated_pyproject: tomllib raises RecursionError on deep nesting."""
+    root = _package(tmp_path, "pyproject.toml", b"[tool.armtool.lint]\nselect = " + b"[" * 5000 + b"\n")
+    _check_cli(root, "urdf/clean_arm.urdf", "config/kinematics.yaml")
+    code, out, err = invoke("lint", "--config", str(root / "pyproject.toml"), str(root / "urdf" / "clean_arm.urdf"))
+    assert code == 2 and "nested too deeply" in err
+
+
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
 def test_expand_of_a_fifo_says_what_it_is(tmp_path: Path) -> None:
     os.mkfifo(tmp_path / "arm.urdf.xacro")
