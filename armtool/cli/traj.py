@@ -134,6 +134,25 @@ LIMIT_OPTS = dict(
     vel=typer.Option([], "--vel-limit", help="Velocity limit (rad/s or m/s): VALUE for every joint or JOINT=VALUE[,..]; overrides the URDF."),
     acc=typer.Option([], "--acc-limit", help="Acceleration limit (rad/s², m/s²): VALUE or JOINT=VALUE[,..]; overrides joint_limits.yaml."),
 )
+# The output options of the commands that read one trajectory and write one.
+OUTPUT_OPTS = dict(
+    output=typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
+    to=typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
+)
+
+
+def _retime_within(traj: Trajectory, urdf: Optional[Path], joint_limits: Optional[Path], vel: List[str],
+                   acc: List[str]) -> tuple[Trajectory, Optional[JointLimits]]:
+    """thin's and join's optional --urdf: the edited path re-timed time-optimally within the limits."""
+    if urdf is None:
+        return traj, None
+    from armtool.console import stderr
+    from armtool.traj.timing import time_optimal
+
+    limits = _limits(urdf, joint_limits, vel, acc)
+    timed = time_optimal(traj, limits)
+    stderr().print(f"re-timed: {timed.duration_s:.4f} s")
+    return timed, limits
 
 
 # ---- cartesian ---------------------------------------------------------------------------------
@@ -300,8 +319,8 @@ def time_cmd(
     acc: List[str] = LIMIT_OPTS["acc"],
     vscale: Optional[float] = typer.Option(None, "--velocity-scaling", callback=finite_float(0.0, 1.0, lo_open=True), help="Fraction of the velocity limits to use (default: joint_limits.yaml's, else 1)."),
     ascale: Optional[float] = typer.Option(None, "--acceleration-scaling", callback=finite_float(0.0, 1.0, lo_open=True), help="Fraction of the acceleration limits to use (default: joint_limits.yaml's, else 1)."),
-    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
-    to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
+    output: Optional[Path] = OUTPUT_OPTS["output"],
+    to: Optional[OutFormat] = OUTPUT_OPTS["to"],
 ) -> None:
     require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.console import stderr
@@ -326,8 +345,8 @@ def retime_cmd(
     urdf: Optional[Path] = typer.Option(None, "--urdf", help="Check the result against this URDF's limits before writing."),
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml for that check."),
     acc: List[str] = LIMIT_OPTS["acc"],
-    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
-    to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
+    output: Optional[Path] = OUTPUT_OPTS["output"],
+    to: Optional[OutFormat] = OUTPUT_OPTS["to"],
 ) -> None:
     require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.traj.edit import retime
@@ -349,8 +368,8 @@ def thin_cmd(
     joint_limits: Optional[Path] = typer.Option(None, "--joint-limits", help="MoveIt joint_limits.yaml (acceleration limits)."),
     vel: List[str] = LIMIT_OPTS["vel"],
     acc: List[str] = LIMIT_OPTS["acc"],
-    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here (default: stdout)."),
-    to: Optional[OutFormat] = typer.Option(None, "--to", help="Output format (default: from -o's extension, else the input's)."),
+    output: Optional[Path] = OUTPUT_OPTS["output"],
+    to: Optional[OutFormat] = OUTPUT_OPTS["to"],
 ) -> None:
     require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.console import stderr
@@ -360,13 +379,7 @@ def thin_cmd(
     traj, in_fmt = _read(path)
     out = thin(traj, every, tolerance)
     stderr().print(f"thinned {traj.n_points} -> {out.n_points} points")
-    limits = None
-    if urdf is not None:
-        from armtool.traj.timing import time_optimal
-
-        limits = _limits(urdf, joint_limits, vel, acc)
-        out = time_optimal(out, limits)
-        stderr().print(f"re-timed: {out.duration_s:.4f} s")
+    out, limits = _retime_within(out, urdf, joint_limits, vel, acc)
     _write(out, output, _out_format(output, to, in_fmt), limits)
 
 
@@ -390,13 +403,7 @@ def join_cmd(
     parts = [lt.trajectory for lt in loaded]
     out = join(parts, tolerance)
     stderr().print(f"joined {len(parts)} trajectories: {out.n_points} points")
-    limits = None
-    if urdf is not None:
-        from armtool.traj.timing import time_optimal
-
-        limits = _limits(urdf, joint_limits, vel, acc)
-        out = time_optimal(out, limits)
-        stderr().print(f"re-timed: {out.duration_s:.4f} s")
+    out, limits = _retime_within(out, urdf, joint_limits, vel, acc)
     _write(out, output, _out_format(output, to, loaded[0].format), limits)
 
 
