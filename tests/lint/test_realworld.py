@@ -5,38 +5,19 @@ where the corpus is absent. The cases run in-process (one `armtool lint` start-u
 
 from __future__ import annotations
 
-import importlib.util
 import os
-from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import pytest
 from typer.testing import CliRunner
 
-CORPUS = Path(__file__).resolve().parents[2] / ".." / "shared" / "realworld"
-if not (CORPUS / "cases.yaml").is_file() or not (CORPUS / "score.py").is_file():
+from tests import realworld
+
+if not realworld.PRESENT:
     pytest.skip("the real-world corpus (../shared/realworld) is not here", allow_module_level=True)
-CORPUS = CORPUS.resolve()
-
-
-def _score_module() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("realworld_score", CORPUS / "score.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def _lint_cases() -> list[dict[str, Any]]:
-    import yaml
-
-    cases = yaml.safe_load((CORPUS / "cases.yaml").read_text(encoding="utf-8"))
-    return [c for c in cases if str(c["cmd"][0]) in ("lint", "lint-urdf")]
-
-
-SCORE = _score_module()
-CASES = _lint_cases()
+CORPUS = realworld.CORPUS
+SCORE = realworld.score_module()
+CASES = realworld.cases("lint", "lint-urdf")
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c["id"] for c in CASES])
