@@ -158,5 +158,5 @@ def test_peer_rejects_a_chain_it_reads_differently() -> None:
     shifted = etree.fromstring(etree.tostring(root))
     origin = shifted.find("joint[@name='elbow_joint']/origin")
     origin.set("xyz", "0 -0.2 0.425")  # what the peer reads (from the URDF) is no longer our chain
-    with pytest.raises(ArmtoolError, match="reads world → ee_link differently"):
+    with pytest.raises(ArmtoolError, match="reads world → tool0 differently"):
         make_peer("pytracik", chain, shifted, timeout=0.005, tolerance=1e-5)
