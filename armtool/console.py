@@ -39,8 +39,14 @@ def progress_bar(label_width: int = 18) -> Progress:
     """The progress bar every long subcommand shows on stderr: label, bar, done/total, time left."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
-    return Progress(TextColumn(f"{{task.description:<{label_width}}}"), BarColumn(), MofNCompleteColumn(),
-                    TimeRemainingColumn(), console=stderr(), transient=True)
+    return Progress(
+        TextColumn(f"{{task.description:<{label_width}}}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeRemainingColumn(),
+        console=stderr(),
+        transient=True,
+    )
 
 
 def write_stdout(text: str) -> None:

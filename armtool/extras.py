@@ -31,14 +31,26 @@ DISTRIBUTIONS: dict[str, str] = {
 # Extra -> the modules its commands import (tests/test_extras.py keeps this and pyproject.toml in step).
 MODULES: dict[Extra, tuple[str, ...]] = {
     "ik": ("numpy", "scipy", "pinocchio", "threadpoolctl", "cv2"),  # cv2: the --plot PNG
-    "calib": ("numpy", "scipy", "pinocchio", "cv2", "rosbags"),  # pinocchio: fit's URDF check, simulate's IK; rosbags: import-bag
+    "calib": (
+        "numpy",
+        "scipy",
+        "pinocchio",
+        "cv2",
+        "rosbags",
+    ),  # pinocchio: fit's URDF check, simulate's IK; rosbags: import-bag
     "servo": ("numpy", "scipy", "serial", "dynamixel_sdk"),  # servo-sim needs none of them
     "traj": ("numpy", "scipy", "pinocchio", "threadpoolctl", "cv2"),  # lm for IK, cv2 for the PNGs
 }
 
 # Where a module comes from when the running command's extra does not have it.
-_HOME: dict[str, Extra] = {"pinocchio": "ik", "threadpoolctl": "ik", "cv2": "calib", "serial": "servo", "dynamixel_sdk": "servo",
-                           "rosbags": "calib"}
+_HOME: dict[str, Extra] = {
+    "pinocchio": "ik",
+    "threadpoolctl": "ik",
+    "cv2": "calib",
+    "serial": "servo",
+    "dynamixel_sdk": "servo",
+    "rosbags": "calib",
+}
 
 _current: Extra | None = None  # the extra of the running command, for missing_extra_error
 

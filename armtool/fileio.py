@@ -31,9 +31,9 @@ import os
 import shutil
 import stat
 import tempfile
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Iterator, Mapping
 
 from armtool.errors import ArmtoolError
 
@@ -148,8 +148,10 @@ def check_output_path(path: Path | str, flag: str, inputs: Iterable[Path | str] 
     label = f"{flag} {path}" if flag else str(path)
     for source in inputs:
         if _same_file(path, Path(source)):
-            raise ArmtoolError(f"{label} is also an input of this run ({source}): it would be overwritten",
-                               hint="write the result to another file")
+            raise ArmtoolError(
+                f"{label} is also an input of this run ({source}): it would be overwritten",
+                hint="write the result to another file",
+            )
     target = Path(os.path.realpath(path))
     if target.is_dir():
         raise ArmtoolError(f"{label} is a directory", hint="give a file name")
@@ -157,14 +159,17 @@ def check_output_path(path: Path | str, flag: str, inputs: Iterable[Path | str] 
         return  # a device or FIFO (/dev/stdout, a pipe): written in place
     parent = target.parent
     if not parent.exists():
-        raise ArmtoolError(f"directory {parent} does not exist (for {label})", hint="create it first, or check the path")
+        raise ArmtoolError(
+            f"directory {parent} does not exist (for {label})", hint="create it first, or check the path"
+        )
     if not parent.is_dir():
         raise ArmtoolError(f"{parent} is not a directory (for {label})", hint="check the path")
     if target.exists() and not os.access(target, os.W_OK):
         raise ArmtoolError(f"{label} is not writable", hint="check its permissions, or write somewhere else")
     if not os.access(parent, os.W_OK | os.X_OK):
-        raise ArmtoolError(f"directory {parent} is not writable (for {label})",
-                           hint="check its permissions, or write somewhere else")
+        raise ArmtoolError(
+            f"directory {parent} is not writable (for {label})", hint="check its permissions, or write somewhere else"
+        )
 
 
 def check_output_paths(outputs: Mapping[str, Path | str | None], inputs: Iterable[Path | str | None] = ()) -> None:
@@ -176,8 +181,9 @@ def check_output_paths(outputs: Mapping[str, Path | str | None], inputs: Iterabl
         check_output_path(path, flag, sources)
         for other_flag, other in chosen[:k]:
             if os.path.realpath(path) == os.path.realpath(other) and not _is_device(path):
-                raise ArmtoolError(f"{other_flag} and {flag} name the same file {path}",
-                                   hint="give each output its own file")
+                raise ArmtoolError(
+                    f"{other_flag} and {flag} name the same file {path}", hint="give each output its own file"
+                )
 
 
 def _is_device(path: Path) -> bool:
@@ -202,8 +208,11 @@ def backup_path(path: Path | str) -> Path:
         candidate = path.with_name(f"{path.name}.bak.{n}")
         if not os.path.lexists(candidate):
             return candidate
-    raise ArmtoolError(f"{path} already has {MAX_BACKUPS} backups ({first.name} .. {path.name}.bak.{MAX_BACKUPS - 1})",
-                       str(path.parent), hint="remove the old .bak files you no longer need")
+    raise ArmtoolError(
+        f"{path} already has {MAX_BACKUPS} backups ({first.name} .. {path.name}.bak.{MAX_BACKUPS - 1})",
+        str(path.parent),
+        hint="remove the old .bak files you no longer need",
+    )
 
 
 def write_with_backup(path: Path | str, text: str | bytes, previous: str | bytes) -> Path:
@@ -247,8 +256,10 @@ class PortFile:
     def claim(self, flag: str = "--port-file") -> None:
         """Before starting anything: the path is free (or a stale port file) and writable."""
         if os.path.lexists(self.path) and not self.looks_like_ours(self.path):
-            raise ArmtoolError(f"{flag} {self.path} exists and is not a port file written by armtool",
-                               hint="name a new file (it is created, and removed at exit)")
+            raise ArmtoolError(
+                f"{flag} {self.path} exists and is not a port file written by armtool",
+                hint="name a new file (it is created, and removed at exit)",
+            )
         check_output_path(self.path, flag)
 
     def write(self, device: str) -> None:
@@ -326,8 +337,7 @@ def read_text(path: Path | str, what: str, limit: int = MAX_TEXT_BYTES) -> str:
     except FileNotFoundError:
         raise ArmtoolError(f"{what} not found", source, "check the path") from None
     except NotRegularFile:
-        raise ArmtoolError(f"{what} is not a regular file (a FIFO, socket or device)", source,
-                           "pass a file") from None
+        raise ArmtoolError(f"{what} is not a regular file (a FIFO, socket or device)", source, "pass a file") from None
     except OSError as exc:
         raise ArmtoolError(f"cannot read {what}: {exc.strerror or exc}", source) from None
     if len(data) > limit:

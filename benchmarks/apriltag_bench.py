@@ -36,8 +36,18 @@ def run(images: int, seed: int, distortion: bool) -> str:
         cMt = random_view_pose(camera, rng, distance_m=(0.3, 1.0), max_tilt_deg=60.0)
         if not tag_in_view(camera, cMt, size):
             continue
-        img = render_tag(camera, cMt, size, "tag36h11", 0, blur_sigma_px=rng.uniform(0.8, 1.2), noise_sigma=3 / 255,
-                         black=rng.uniform(0.08, 0.20), white=rng.uniform(0.60, 0.90), rng=rng)
+        img = render_tag(
+            camera,
+            cMt,
+            size,
+            "tag36h11",
+            0,
+            blur_sigma_px=rng.uniform(0.8, 1.2),
+            noise_sigma=3 / 255,
+            black=rng.uniform(0.08, 0.20),
+            white=rng.uniform(0.60, 0.90),
+            rng=rng,
+        )
         if img is None:
             continue
         true = camera.project(tag_object_points(size) @ cMt[:3, :3].T + cMt[:3, 3])
@@ -61,8 +71,10 @@ def run(images: int, seed: int, distortion: bool) -> str:
 
     mean = np.mean(vectors, axis=0)
     lens = "§2 distortion" if distortion else "none"
-    return (f"| {lens} | {found}/{images} | {pct(errors, 50, 90, 99)} | ({mean[0]:+.3f}, {mean[1]:+.3f}) | "
-            f"{pct(trans_mm, 50, 90)} | {pct(rot_deg, 50, 90)} | {np.percentile(cpu_ms, 10):.0f}–{np.percentile(cpu_ms, 90):.0f} |")
+    return (
+        f"| {lens} | {found}/{images} | {pct(errors, 50, 90, 99)} | ({mean[0]:+.3f}, {mean[1]:+.3f}) | "
+        f"{pct(trans_mm, 50, 90)} | {pct(rot_deg, 50, 90)} | {np.percentile(cpu_ms, 10):.0f}–{np.percentile(cpu_ms, 90):.0f} |"
+    )
 
 
 def main() -> int:
@@ -71,7 +83,9 @@ def main() -> int:
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
     print(f"{args.images} rendered images per row, 80 mm tag36h11 at 0.3-1.0 m, typical quality\n")
-    print("| lens | detected | corner error median / p90 / p99 px | mean error vector px | translation median / p90 mm | rotation median / p90 ° | CPU ms / image (p10–p90) |")
+    print(
+        "| lens | detected | corner error median / p90 / p99 px | mean error vector px | translation median / p90 mm | rotation median / p90 ° | CPU ms / image (p10–p90) |"
+    )
     print("|---|---|---|---|---|---|---|")
     for distortion in (False, True):
         print(run(args.images, args.seed, distortion))

@@ -32,13 +32,27 @@ ROBOTS = {
 
 
 def robot_file(relative: str) -> Path:
-    hits = glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share", "example-robot-data", "robots", relative))
+    hits = glob.glob(
+        os.path.join(
+            sys.prefix,
+            "lib",
+            "python*",
+            "site-packages",
+            "cmeel.prefix",
+            "share",
+            "example-robot-data",
+            "robots",
+            relative,
+        )
+    )
     if not hits:
         sys.exit("example-robot-data is not installed: pip install example-robot-data")
     return Path(hits[0])
 
 
-def run_case(robot: str, seed: int, samples: int, bad: int, workdir: Path, quality: str = "typical", setup: str = "eye_to_hand") -> dict[str, object]:
+def run_case(
+    robot: str, seed: int, samples: int, bad: int, workdir: Path, quality: str = "typical", setup: str = "eye_to_hand"
+) -> dict[str, object]:
     from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import load_dataset, read_samples, require_ok
     from armtool.calib.fit import FitOptions, calibrate
@@ -66,9 +80,17 @@ def run_case(robot: str, seed: int, samples: int, bad: int, workdir: Path, quali
     truth = load_truth(out, result.model)
     before, after = score(result.model, result.x_handeye, truth), score(result.model, result.x, truth)
     return {
-        "robot": robot, "seed": seed, "bad": bad, "before": before, "after": after,
-        "identified": len(result.free), "outliers": sorted(result.outliers, key=int), "truth_bad": sorted(truth.bad_samples, key=int),
-        "rejected": len(result.rejected), "detect_s": t1 - t0, "fit_s": t2 - t1,
+        "robot": robot,
+        "seed": seed,
+        "bad": bad,
+        "before": before,
+        "after": after,
+        "identified": len(result.free),
+        "outliers": sorted(result.outliers, key=int),
+        "truth_bad": sorted(truth.bad_samples, key=int),
+        "rejected": len(result.rejected),
+        "detect_s": t1 - t0,
+        "fit_s": t2 - t1,
     }
 
 
@@ -77,8 +99,11 @@ def main() -> int:
     parser.add_argument("--robots", default="ur5,panda")
     parser.add_argument("--seeds", default="0")
     parser.add_argument("--samples", type=int, default=60)
-    parser.add_argument("--stress", action="store_true",
-                        help="instead: the outlier rule on UR5 with six bad samples (typical seeds 0-5, poor 0-3, eye-in-hand 0-2)")
+    parser.add_argument(
+        "--stress",
+        action="store_true",
+        help="instead: the outlier rule on UR5 with six bad samples (typical seeds 0-5, poor 0-3, eye-in-hand 0-2)",
+    )
     args = parser.parse_args()
     if args.stress:
         return stress(args.samples)
@@ -90,15 +115,23 @@ def main() -> int:
                     print(f"{robot} seed {seed} bad {bad} …", file=sys.stderr)
                     rows.append(run_case(robot, seed, args.samples, bad, Path(tmp)))
     print(f"{args.samples} images, 80 mm tag, typical quality; flange error on 30 validation poses vs truth\n")
-    print("| robot | seed | bad samples | hand-eye only RMS / max mm | calibrated RMS / max mm | rotation RMS ° | better × | identified | bad named | detect s | fit s |")
+    print(
+        "| robot | seed | bad samples | hand-eye only RMS / max mm | calibrated RMS / max mm | rotation RMS ° | better × | identified | bad named | detect s | fit s |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     ok = True
     for r in rows:
         b, a = r["before"], r["after"]
         ratio = b.position_rms_mm / a.position_rms_mm
-        named = "—" if not r["truth_bad"] else ("yes" if set(r["truth_bad"]) <= set(r["outliers"]) else f"no ({r['outliers']} vs {r['truth_bad']})")
-        print(f"| {r['robot']} | {r['seed']} | {r['bad']} | {b.position_rms_mm:.2f} / {b.position_max_mm:.2f} | {a.position_rms_mm:.3f} / {a.position_max_mm:.3f} | "
-              f"{a.rotation_rms_deg:.4f} | {ratio:.0f} | {r['identified']} | {named} | {r['detect_s']:.1f} | {r['fit_s']:.1f} |")
+        named = (
+            "—"
+            if not r["truth_bad"]
+            else ("yes" if set(r["truth_bad"]) <= set(r["outliers"]) else f"no ({r['outliers']} vs {r['truth_bad']})")
+        )
+        print(
+            f"| {r['robot']} | {r['seed']} | {r['bad']} | {b.position_rms_mm:.2f} / {b.position_max_mm:.2f} | {a.position_rms_mm:.3f} / {a.position_max_mm:.3f} | "
+            f"{a.rotation_rms_deg:.4f} | {ratio:.0f} | {r['identified']} | {named} | {r['detect_s']:.1f} | {r['fit_s']:.1f} |"
+        )
         checks = {
             "position RMS <= 0.15 mm": a.position_rms_mm <= 0.15,
             "position max <= 0.4 mm": a.position_max_mm <= 0.4,
@@ -131,8 +164,10 @@ def stress(samples: int) -> int:
             missed = set(r["truth_bad"]) - set(r["outliers"])  # type: ignore[arg-type]
             false = set(r["outliers"]) - set(r["truth_bad"])  # type: ignore[arg-type]
             ok &= not missed and not false
-            print(f"| {quality} | {setup} | {seed} | {a.position_rms_mm:.3f} / {a.position_max_mm:.3f} | {a.rotation_rms_deg:.4f} | "  # type: ignore[attr-defined]
-                  f"{6 - len(missed)} of 6 | {len(false)} |")
+            print(
+                f"| {quality} | {setup} | {seed} | {a.position_rms_mm:.3f} / {a.position_max_mm:.3f} | {a.rotation_rms_deg:.4f} | "  # type: ignore[attr-defined]
+                f"{6 - len(missed)} of 6 | {len(false)} |"
+            )
     print("\nevery bad sample named, no good one flagged" if ok else "\nthe outlier rule missed or flagged a sample")
     return 0 if ok else 1
 

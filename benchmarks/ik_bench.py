@@ -155,7 +155,9 @@ def stalled(report: Any, cpu_s: Sequence[float], timeout: float) -> int:
     )
 
 
-def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float, cpu_runs: Sequence[Sequence[float]] = ()) -> Row:
+def summarize(
+    label: str, batch: bool, reports: Sequence[Any], timeout: float, cpu_runs: Sequence[Sequence[float]] = ()
+) -> Row:
     med = statistics.median
     over = None if batch else int(med([sum(t > timeout * 1e6 for t in r.wall_times_us) for r in reports]))
     stall = None if batch or not cpu_runs else int(med([stalled(r, c, timeout) for r, c in zip(reports, cpu_runs)]))
@@ -221,7 +223,9 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
             else:
                 reports[label].append(run_solver(chain, solver, targets, config, batch=batch))
     rows = {
-        label: summarize(label, batch, reports[label], args.timeout, solver.runs if isinstance(solver, CpuWatch) else ())
+        label: summarize(
+            label, batch, reports[label], args.timeout, solver.runs if isinstance(solver, CpuWatch) else ()
+        )
         for label, solver, batch in runs
     }
     return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows
@@ -253,7 +257,11 @@ def print_table(title: str, rows: dict[str, Row]) -> None:
         parts = []
         for row in shown:
             sp = spread(row.round_medians_us)
-            parts.append(f"{row.label} " + ", ".join(f"{t:,.0f}" for t in row.round_medians_us) + ("" if sp is None else f" (spread {sp:.0%})"))
+            parts.append(
+                f"{row.label} "
+                + ", ".join(f"{t:,.0f}" for t in row.round_medians_us)
+                + ("" if sp is None else f" (spread {sp:.0%})")
+            )
         print("\nMedian µs per round: " + "; ".join(parts))
     print()
 
@@ -275,7 +283,9 @@ def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
         rounds = list(zip(lm.round_medians_us, tracik.round_medians_us))
         check(
             all(a < b for a, b in rounds),
-            "lm median below pytracik's in every round (" + ", ".join(f"{a:,.0f} vs {b:,.0f}" for a, b in rounds) + " µs)",
+            "lm median below pytracik's in every round ("
+            + ", ".join(f"{a:,.0f} vs {b:,.0f}" for a, b in rounds)
+            + " µs)",
         )
     else:
         check(None, "lm median below pytracik's (pytracik not installed)")
@@ -296,16 +306,29 @@ def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
     if sp is None:
         check(None, "lm's run-to-run spread (needs --rounds 2 or more)")
     else:
-        peers = "; ".join(f"{r.label} {s:.0%}" for r in (tracik, rtb) if r is not None and (s := spread(r.round_medians_us)) is not None)
-        check(sp <= MAX_SPREAD, f"lm's median spread over rounds <= {MAX_SPREAD:.0%} ({sp:.0%}" + (f"; peers: {peers})" if peers else ")"))
+        peers = "; ".join(
+            f"{r.label} {s:.0%}"
+            for r in (tracik, rtb)
+            if r is not None and (s := spread(r.round_medians_us)) is not None
+        )
+        check(
+            sp <= MAX_SPREAD,
+            f"lm's median spread over rounds <= {MAX_SPREAD:.0%} ({sp:.0%}" + (f"; peers: {peers})" if peers else ")"),
+        )
     if robot == "ur5":
         a = rows.get("analytic")
         if a is not None:
-            check(a.success == 100.0 and a.median_us <= 50, f"analytic 100 % with median <= 50 µs ({a.success:.1f} %, {a.median_us:.0f} µs)")
+            check(
+                a.success == 100.0 and a.median_us <= 50,
+                f"analytic 100 % with median <= 50 µs ({a.success:.1f} %, {a.median_us:.0f} µs)",
+            )
     if robot == "panda":
         kdl = rows.get("kdl-nr-jl")
         if kdl is not None:
-            check(abs(kdl.success - KDL_PUBLISHED_PANDA) <= 3, f"kdl-nr-jl success within 3 points of {KDL_PUBLISHED_PANDA:.0f} % ({kdl.success:.1f} %)")
+            check(
+                abs(kdl.success - KDL_PUBLISHED_PANDA) <= 3,
+                f"kdl-nr-jl success within 3 points of {KDL_PUBLISHED_PANDA:.0f} % ({kdl.success:.1f} %)",
+            )
     return out
 
 
@@ -315,10 +338,21 @@ def main() -> int:
     parser.add_argument("--timeout", type=float, default=0.005, help="seconds per solve (default 0.005)")
     parser.add_argument("--robots", default=",".join(ROBOTS), help="comma-separated, from: " + ", ".join(ROBOTS))
     parser.add_argument("--solvers", default="", help="armtool solvers to run, comma-separated (default: all)")
-    parser.add_argument("--peers", default=",".join(PEERS), help="peers to run, comma-separated (default: " + ", ".join(PEERS) + ")")
-    parser.add_argument("--corpus", type=Path, default=DEFAULT_CORPUS, help="the real-repository corpus (default: ../shared/realworld beside the checkout)")
-    parser.add_argument("--ikpy-samples", type=int, default=100, help="targets for ikpy, the first of the same set (default 100)")
-    parser.add_argument("--rounds", type=int, default=3, help="run every solver this many times; report medians (default 3)")
+    parser.add_argument(
+        "--peers", default=",".join(PEERS), help="peers to run, comma-separated (default: " + ", ".join(PEERS) + ")"
+    )
+    parser.add_argument(
+        "--corpus",
+        type=Path,
+        default=DEFAULT_CORPUS,
+        help="the real-repository corpus (default: ../shared/realworld beside the checkout)",
+    )
+    parser.add_argument(
+        "--ikpy-samples", type=int, default=100, help="targets for ikpy, the first of the same set (default 100)"
+    )
+    parser.add_argument(
+        "--rounds", type=int, default=3, help="run every solver this many times; report medians (default 3)"
+    )
     parser.add_argument("--strict", action="store_true", help="exit 1 when a target is missed")
     args = parser.parse_args()
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
@@ -326,7 +360,9 @@ def main() -> int:
     args.peers = [p.strip() for p in args.peers.split(",") if p.strip()]
     unknown = [r for r in robots if r not in ROBOTS] + [p for p in args.peers if p not in PEERS]
     if unknown or args.samples < 1 or args.rounds < 1 or not args.timeout > 0:
-        parser.error(f"robots must be among {', '.join(ROBOTS)}, peers among {', '.join(PEERS)}; --samples, --rounds >= 1; --timeout > 0")
+        parser.error(
+            f"robots must be among {', '.join(ROBOTS)}, peers among {', '.join(PEERS)}; --samples, --rounds >= 1; --timeout > 0"
+        )
 
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(

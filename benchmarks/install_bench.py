@@ -49,8 +49,18 @@ else:
 ROOT = Path(__file__).resolve().parents[1]
 TIME_TARGET_S = 15.0
 SIZE_TARGET_MB = 40.0
-HEAVY = {"pin", "numpy", "scipy", "opencv-python-headless", "opencv-python", "yourdfpy", "trimesh",
-         "dynamixel-sdk", "pyserial", "threadpoolctl"}
+HEAVY = {
+    "pin",
+    "numpy",
+    "scipy",
+    "opencv-python-headless",
+    "opencv-python",
+    "yourdfpy",
+    "trimesh",
+    "dynamixel-sdk",
+    "pyserial",
+    "threadpoolctl",
+}
 
 
 def _du_bytes(path: Path) -> int:
@@ -108,8 +118,9 @@ def measure_once(venv_tool: str, tmp: Path, wheels: Path | None) -> dict[str, ob
     vpy = venv / ("Scripts" if os.name == "nt" else "bin") / "python"
     empty = _du_bytes(venv)
     offline = {"PIP_NO_INDEX": "1", "PIP_FIND_LINKS": str(wheels)} if wheels is not None else {}
-    install_s, install_cpu, inst = _run([vpy, "-m", "pip", "install", "--quiet", "."], cwd=src,
-                                        env={**os.environ, **offline})
+    install_s, install_cpu, inst = _run(
+        [vpy, "-m", "pip", "install", "--quiet", "."], cwd=src, env={**os.environ, **offline}
+    )
     if inst.returncode != 0:
         sys.exit(f"pip install failed:\n{inst.stderr}")
     _, _, listed = _run([vpy, "-m", "pip", "list", "--format", "json"])
@@ -138,9 +149,15 @@ def measure_once(venv_tool: str, tmp: Path, wheels: Path | None) -> dict[str, ob
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=1, help="fresh venvs to time (medians reported)")
-    parser.add_argument("--venv-tool", choices=("virtualenv", "venv"), default=None,
-                        help="how to make the venv [default: virtualenv, as pre-commit, if installed]")
-    parser.add_argument("--online", action="store_true", help="install from the configured indexes, not a local wheel cache")
+    parser.add_argument(
+        "--venv-tool",
+        choices=("virtualenv", "venv"),
+        default=None,
+        help="how to make the venv [default: virtualenv, as pre-commit, if installed]",
+    )
+    parser.add_argument(
+        "--online", action="store_true", help="install from the configured indexes, not a local wheel cache"
+    )
     args = parser.parse_args()
     venv_tool = args.venv_tool or ("virtualenv" if importlib.util.find_spec("virtualenv") else "venv")
 
@@ -160,9 +177,12 @@ def _measure(repeat: int, venv_tool: str, wheels: Path | None) -> list[dict[str,
         with tempfile.TemporaryDirectory(prefix="armtool-install-bench-") as tmp:
             run = measure_once(venv_tool, Path(tmp), wheels)
         runs.append(run)
-        print(f"run {i + 1}: {venv_tool} {run['venv_s']:.1f} s (CPU {run['venv_cpu_s']:.1f} s) + pip install "
-              f"{run['install_s']:.1f} s (CPU {run['install_cpu_s']:.1f} s), added {run['added_mb']:.1f} MB, "
-              f"load average {os.getloadavg()[0]:.1f}", file=sys.stderr)
+        print(
+            f"run {i + 1}: {venv_tool} {run['venv_s']:.1f} s (CPU {run['venv_cpu_s']:.1f} s) + pip install "
+            f"{run['install_s']:.1f} s (CPU {run['install_cpu_s']:.1f} s), added {run['added_mb']:.1f} MB, "
+            f"load average {os.getloadavg()[0]:.1f}",
+            file=sys.stderr,
+        )
     return runs
 
 
@@ -179,17 +199,32 @@ def _report(runs: list[dict[str, object]], venv_tool: str, source: str) -> int:
     lint_ok = last["lint_clean_exit"] == 0 and last["lint_broken_exit"] == 1 and last["lint_broken_findings"] > 0  # type: ignore[operator]
     cpu_s = med("total_cpu_s")
     checks = [
-        (f"{venv_tool} + `pip install .` (wall)", f"{total_s:.1f} s (runs: {', '.join(format(r['total_s'], '.1f') for r in runs)} s; "
-         f"CPU {cpu_s:.1f} s)", f"<= {TIME_TARGET_S:g} s", total_s <= TIME_TARGET_S),
-        ("size of the install (du, venv after - before)", f"{med('added_mb'):.1f} MB (whole venv with its pip and "
-         f"setuptools: {med('venv_mb'):.1f} MB)", f"<= {SIZE_TARGET_MB:g} MB", med("added_mb") <= SIZE_TARGET_MB),
-        ("`armtool lint` in that venv", f"clean arm exit {last['lint_clean_exit']}, broken arm exit "
-         f"{last['lint_broken_exit']} with {last['lint_broken_findings']} findings", "0; 1 with findings", lint_ok),
+        (
+            f"{venv_tool} + `pip install .` (wall)",
+            f"{total_s:.1f} s (runs: {', '.join(format(r['total_s'], '.1f') for r in runs)} s; CPU {cpu_s:.1f} s)",
+            f"<= {TIME_TARGET_S:g} s",
+            total_s <= TIME_TARGET_S,
+        ),
+        (
+            "size of the install (du, venv after - before)",
+            f"{med('added_mb'):.1f} MB (whole venv with its pip and setuptools: {med('venv_mb'):.1f} MB)",
+            f"<= {SIZE_TARGET_MB:g} MB",
+            med("added_mb") <= SIZE_TARGET_MB,
+        ),
+        (
+            "`armtool lint` in that venv",
+            f"clean arm exit {last['lint_clean_exit']}, broken arm exit "
+            f"{last['lint_broken_exit']} with {last['lint_broken_findings']} findings",
+            "0; 1 with findings",
+            lint_ok,
+        ),
         ("heavy distributions installed", ", ".join(heavy) or "none", "none", not heavy),
     ]
-    print(f"Base install (`pip install .`, no extras) into a fresh {venv_tool} from {source}, median of {len(runs)} run(s), "
-          f"Python {'.'.join(map(str, sys.version_info[:3]))}, load average {os.getloadavg()[0]:.1f} on "
-          f"{os.cpu_count()} CPUs; installed: {', '.join(last['distributions'])}")  # type: ignore[arg-type]
+    print(
+        f"Base install (`pip install .`, no extras) into a fresh {venv_tool} from {source}, median of {len(runs)} run(s), "
+        f"Python {'.'.join(map(str, sys.version_info[:3]))}, load average {os.getloadavg()[0]:.1f} on "
+        f"{os.cpu_count()} CPUs; installed: {', '.join(last['distributions'])}"
+    )  # type: ignore[arg-type]
     print()
     print("| measurement | result | target | |")
     print("|---|---|---|---|")

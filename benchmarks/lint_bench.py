@@ -24,8 +24,8 @@ import platform
 import shutil
 import statistics
 import subprocess
-import tempfile
 import sys
+import tempfile
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -127,7 +127,9 @@ def run_loop(cmds: Sequence[Sequence[str]], env: dict[str, str]) -> float:
     return time.perf_counter() - start
 
 
-def interleaved(jobs: Mapping[str, Sequence[Sequence[str]]], repeat: int, warmup: int, env: dict[str, str]) -> dict[str, Timing]:
+def interleaved(
+    jobs: Mapping[str, Sequence[Sequence[str]]], repeat: int, warmup: int, env: dict[str, str]
+) -> dict[str, Timing]:
     """Each job is a list of commands run one after another; jobs take turns, order rotating."""
     names = list(jobs)
     for _ in range(warmup):
@@ -142,7 +144,9 @@ def interleaved(jobs: Mapping[str, Sequence[Sequence[str]]], repeat: int, warmup
 
 
 def imported_by_lint(python: str, urdf: Path, env: dict[str, str]) -> list[str]:
-    result = subprocess.run([python, "-c", _PROBE, "lint", str(urdf)], capture_output=True, text=True, env=env, check=False)
+    result = subprocess.run(
+        [python, "-c", _PROBE, "lint", str(urdf)], capture_output=True, text=True, env=env, check=False
+    )
     lines = result.stdout.strip().splitlines()
     if not lines:
         sys.exit(f"error: the import probe printed nothing\n{result.stderr}")
@@ -155,12 +159,21 @@ def ms(value: float) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--repeat", type=int, default=30, help="measured runs per command for (a) (default: 30)")
     parser.add_argument("--repeat-all", type=int, default=7, help="measured runs per side for (b) (default: 7)")
     parser.add_argument("--warmup", type=int, default=2, help="unmeasured runs per command first (default: 2)")
-    parser.add_argument("--robots", type=Path, default=None, help="example-robot-data's robots/ directory (default: found under sys.prefix)")
-    parser.add_argument("--check-urdf", default=None, help="check_urdf binary (default: the first compiled one on PATH)")
+    parser.add_argument(
+        "--robots",
+        type=Path,
+        default=None,
+        help="example-robot-data's robots/ directory (default: found under sys.prefix)",
+    )
+    parser.add_argument(
+        "--check-urdf", default=None, help="check_urdf binary (default: the first compiled one on PATH)"
+    )
     parser.add_argument("--strict", action="store_true", help="exit 1 when a target is missed")
     args = parser.parse_args(argv)
     if args.repeat < 1 or args.repeat_all < 1 or args.warmup < 0:
@@ -194,8 +207,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         ok = ratio <= STARTUP_TARGET
         failed |= not ok
         shown = "armtool lint panda.urdf" if name.startswith("armtool") else "python -m armtool lint panda.urdf"
-        rows.append((f"(a) `{shown}` vs `python -c \"import typer, rich, lxml.etree\"`",
-                     ms(timing.median_ms), ms(base.median_ms), f"{ratio:.2f}x", f"<= {STARTUP_TARGET}x", "PASS" if ok else "FAIL"))
+        rows.append(
+            (
+                f'(a) `{shown}` vs `python -c "import typer, rich, lxml.etree"`',
+                ms(timing.median_ms),
+                ms(base.median_ms),
+                f"{ratio:.2f}x",
+                f"<= {STARTUP_TARGET}x",
+                "PASS" if ok else "FAIL",
+            )
+        )
     if not script.is_file():
         rows.append(("(a) `armtool` console script", "-", "-", "-", "-", f"skipped: no {script}"))
 
@@ -215,29 +236,53 @@ def main(argv: Sequence[str] | None = None) -> int:
         ok = ratio < THROUGHPUT_TARGET
         failed |= not ok
         verdict = f"armtool {1 / ratio:.2f}x faster" if ratio < 1 else f"armtool {ratio:.2f}x slower"
-        rows.append((label_b, ms(both["armtool"].median_ms), ms(both["check_urdf"].median_ms), f"{ratio:.2f}x",
-                     f"< {THROUGHPUT_TARGET:.2f}x", f"{'PASS' if ok else 'FAIL'} ({verdict})"))
+        rows.append(
+            (
+                label_b,
+                ms(both["armtool"].median_ms),
+                ms(both["check_urdf"].median_ms),
+                f"{ratio:.2f}x",
+                f"< {THROUGHPUT_TARGET:.2f}x",
+                f"{'PASS' if ok else 'FAIL'} ({verdict})",
+            )
+        )
 
     # (c) imports
     modules = set(imported_by_lint(python, panda, env))
     heavy = sorted(modules.intersection(HEAVY))
     failed |= bool(heavy)
-    rows.append(("(c) heavy modules imported by `armtool lint panda.urdf` (" + ", ".join(HEAVY) + ")",
-                 ", ".join(heavy) or "none", "-", "-", "none", "FAIL" if heavy else "PASS"))
+    rows.append(
+        (
+            "(c) heavy modules imported by `armtool lint panda.urdf` (" + ", ".join(HEAVY) + ")",
+            ", ".join(heavy) or "none",
+            "-",
+            "-",
+            "none",
+            "FAIL" if heavy else "PASS",
+        )
+    )
 
-    print(f"armtool lint benchmark: Python {platform.python_version()} on {platform.machine()}, "
-          f"{os.cpu_count()} CPUs; medians of {args.repeat} interleaved runs for (a), {args.repeat_all} for (b).")
+    print(
+        f"armtool lint benchmark: Python {platform.python_version()} on {platform.machine()}, "
+        f"{os.cpu_count()} CPUs; medians of {args.repeat} interleaved runs for (a), {args.repeat_all} for (b)."
+    )
     print()
     print("| measurement | armtool | peer | ratio | target | result |")
     print("|---|---|---|---|---|---|")
     for row in rows:
         print("| " + " | ".join(row) + " |")
     print()
-    spread = ", ".join(f"{t.label} {ms(min(t.samples_s) * 1e3)}..{ms(max(t.samples_s) * 1e3)}" for t in startup.values())
+    spread = ", ".join(
+        f"{t.label} {ms(min(t.samples_s) * 1e3)}..{ms(max(t.samples_s) * 1e3)}" for t in startup.values()
+    )
     print(f"(a) min..max: {spread}.")
     if check_urdf is not None:
-        spread_b = ", ".join(f"{t.label} {ms(min(t.samples_s) * 1e3)}..{ms(max(t.samples_s) * 1e3)}" for t in both.values())
-        print(f"(b) min..max: {spread_b}. check_urdf: {check_urdf}; armtool's exit code 1 (findings) is expected there.")
+        spread_b = ", ".join(
+            f"{t.label} {ms(min(t.samples_s) * 1e3)}..{ms(max(t.samples_s) * 1e3)}" for t in both.values()
+        )
+        print(
+            f"(b) min..max: {spread_b}. check_urdf: {check_urdf}; armtool's exit code 1 (findings) is expected there."
+        )
         print("(b) no cache: every run reads, parses and checks every file; with >= 16 files armtool forks one")
         print("    worker per extra CPU (the parent lints too).")
     return 1 if failed and args.strict else 0

@@ -27,9 +27,9 @@ from typing import Any
 
 from armtool.servo.bus import open_bus
 from armtool.servo.guard import TorqueGuard
-from armtool.servo.lut.table import Method, fit_table
 from armtool.servo.lut.csv_format import parse_measurements, render_measurements
 from armtool.servo.lut.measure import Driver, Motion, check, check_angles, measure, plan_commands, speed_register
+from armtool.servo.lut.table import Method, fit_table
 from armtool.servo.reference import open_reference
 from armtool.servo.sim import SimBus
 
@@ -38,10 +38,26 @@ SAFE = (100, 906)  # the range `armtool limits` would give with a small margin
 
 
 def run(points: int, n: int, noise: float, seed: int, reads: int, speed: float) -> dict[str, Any]:
-    config = {"protocol": "dxl1", "baud": 1000000, "return_delay": 0, "seed": seed, "encoder": {"noise_deg": noise},
-              "joints": [{"id": 1, "model": "AX-12A", "stops": list(STOPS), "start": 512}]}
-    out: dict[str, Any] = {"schema_version": 1, "config": {"points": points, "n": n, "noise_deg": noise, "seed": seed,
-                                                         "reads": reads, "speed_deg_s": speed, "range_ticks": SAFE}}
+    config = {
+        "protocol": "dxl1",
+        "baud": 1000000,
+        "return_delay": 0,
+        "seed": seed,
+        "encoder": {"noise_deg": noise},
+        "joints": [{"id": 1, "model": "AX-12A", "stops": list(STOPS), "start": 512}],
+    }
+    out: dict[str, Any] = {
+        "schema_version": 1,
+        "config": {
+            "points": points,
+            "n": n,
+            "noise_deg": noise,
+            "seed": seed,
+            "reads": reads,
+            "speed_deg_s": speed,
+            "range_ticks": SAFE,
+        },
+    }
     with SimBus.start(config) as sim:
         bus = open_bus(sim.port_path, "dxl1", 1000000, echo_check_id=1)
         ref = open_reference(f"encoder:{sim.encoder_port_path}")
@@ -57,9 +73,13 @@ def run(points: int, n: int, noise: float, seed: int, reads: int, speed: float) 
                 commands = plan_commands(*SAFE, "up", motion.backoff_ticks, points=points)
                 samples = measure(driver, ref, commands, "up", *SAFE, reads=reads)
                 out["measure_s"] = round(time.monotonic() - t0, 2)
-                sys.stderr.write(f"measured {len(samples)} readings at {len(commands)} points in {out['measure_s']} s\n")
-                meas = parse_measurements(render_measurements({"servo_id": "1", "servo_model": model.name,
-                                                               "reference": ref.spec}, samples), "sim")
+                sys.stderr.write(
+                    f"measured {len(samples)} readings at {len(commands)} points in {out['measure_s']} s\n"
+                )
+                meas = parse_measurements(
+                    render_measurements({"servo_id": "1", "servo_model": model.name, "reference": ref.spec}, samples),
+                    "sim",
+                )
                 rows = []
                 for method in Method:
                     table = fit_table(meas, method, degree=3, holdout=0.2, seed=seed)
@@ -69,15 +89,26 @@ def run(points: int, n: int, noise: float, seed: int, reads: int, speed: float) 
                     t1 = time.monotonic()
                     result = check(driver, ref, table, angles, *SAFE, reads=reads)
                     sys.stderr.write(f"checked {method.value} at {n} angles in {time.monotonic() - t1:.1f} s\n")
-                    rows.append({"method": method.value if method is not Method.POLY else "poly (cubic)",
-                                 "fit_holdout": report.holdout,
-                                 "fit_holdout_nominal": {"rms_deg": report.holdout_nominal.rms_deg,
-                                                         "max_deg": report.holdout_nominal.max_deg},
-                                 "fit_holdout_lut": {"rms_deg": report.holdout_lut.rms_deg,
-                                                     "max_deg": report.holdout_lut.max_deg},
-                                 "check_nominal": result.nominal, "check_lut": result.lut})
-                out["nonlinearity"] = {"nominal_max_deg": report.nominal_max_deg,
-                                       "best_line_max_deg": report.nonlinearity_deg}
+                    rows.append(
+                        {
+                            "method": method.value if method is not Method.POLY else "poly (cubic)",
+                            "fit_holdout": report.holdout,
+                            "fit_holdout_nominal": {
+                                "rms_deg": report.holdout_nominal.rms_deg,
+                                "max_deg": report.holdout_nominal.max_deg,
+                            },
+                            "fit_holdout_lut": {
+                                "rms_deg": report.holdout_lut.rms_deg,
+                                "max_deg": report.holdout_lut.max_deg,
+                            },
+                            "check_nominal": result.nominal,
+                            "check_lut": result.lut,
+                        }
+                    )
+                out["nonlinearity"] = {
+                    "nominal_max_deg": report.nominal_max_deg,
+                    "best_line_max_deg": report.nonlinearity_deg,
+                }
                 out["methods"] = rows
             out["torque_enable_after"] = sim.peek(1, "torque_enable")
         finally:
@@ -88,23 +119,32 @@ def run(points: int, n: int, noise: float, seed: int, reads: int, speed: float) 
 
 def render_markdown(doc: dict[str, Any]) -> str:
     c = doc["config"]
-    lines = [f"Simulated AX-12A (potentiometer off by up to {doc['nonlinearity']['nominal_max_deg']:.2f}° from the "
-             f"datasheet map), encoder noise σ = {c['noise_deg']}°, {c['points']} points x {c['reads']} readings "
-             f"({doc['measure_s']} s), seed {c['seed']}. RMS / max error in degrees.",
-             "",
-             "| table | fit held-out: nominal | fit held-out: table | live check: nominal | live check: table | check ratio (max) |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        f"Simulated AX-12A (potentiometer off by up to {doc['nonlinearity']['nominal_max_deg']:.2f}° from the "
+        f"datasheet map), encoder noise σ = {c['noise_deg']}°, {c['points']} points x {c['reads']} readings "
+        f"({doc['measure_s']} s), seed {c['seed']}. RMS / max error in degrees.",
+        "",
+        "| table | fit held-out: nominal | fit held-out: table | live check: nominal | live check: table | check ratio (max) |",
+        "|---|---|---|---|---|---|",
+    ]
     for r in doc["methods"]:
+
         def cell(s: dict[str, float]) -> str:
             return f"{s['rms_deg']:.3f} / {s['max_deg']:.3f}"
 
-        ratio = r["check_nominal"]["max_deg"] / r["check_lut"]["max_deg"] if r["check_lut"]["max_deg"] > 0 else float("inf")
-        lines.append(f"| {r['method']} | {cell(r['fit_holdout_nominal'])} | {cell(r['fit_holdout_lut'])} | "
-                     f"{cell(r['check_nominal'])} | {cell(r['check_lut'])} | {ratio:.1f}x |")
+        ratio = (
+            r["check_nominal"]["max_deg"] / r["check_lut"]["max_deg"] if r["check_lut"]["max_deg"] > 0 else float("inf")
+        )
+        lines.append(
+            f"| {r['method']} | {cell(r['fit_holdout_nominal'])} | {cell(r['fit_holdout_lut'])} | "
+            f"{cell(r['check_nominal'])} | {cell(r['check_lut'])} | {ratio:.1f}x |"
+        )
     lines.append("")
-    lines.append(f"Fit held-out: {doc['methods'][0]['fit_holdout']} measured points left out of the fit. Live check: "
-                 f"{c['n']} random angles (not knots), commanded and measured by the encoder; a servo takes whole "
-                 "ticks, so the table's floor is about half a tick (0.15°).")
+    lines.append(
+        f"Fit held-out: {doc['methods'][0]['fit_holdout']} measured points left out of the fit. Live check: "
+        f"{c['n']} random angles (not knots), commanded and measured by the encoder; a servo takes whole "
+        "ticks, so the table's floor is about half a tick (0.15°)."
+    )
     return "\n".join(lines)
 
 

@@ -56,8 +56,10 @@ ACC = {
     "panda": [3.75, 1.875, 2.5, 3.125, 3.75, 5.0, 5.0],
     "ur5": [5.0] * 6,
 }
-ROBOTS = {"panda": ("panda_description/urdf/panda.urdf", "panda_link0", "panda_link8"),
-          "ur5": ("ur_description/urdf/ur5_robot.urdf", None, None)}
+ROBOTS = {
+    "panda": ("panda_description/urdf/panda.urdf", "panda_link0", "panda_link8"),
+    "ur5": ("ur_description/urdf/ur5_robot.urdf", None, None),
+}
 
 
 def erd(relative: str) -> Path:
@@ -92,8 +94,11 @@ def toppra_time(path: Any, lim: JointLimits) -> tuple[float, Trajectory]:
     spline = ta.SplineInterpolator(path.s, path.waypoints, bc_type="natural")
     vlim = np.stack([-lim.velocity, lim.velocity], axis=1)
     alim = np.stack([-lim.acceleration, lim.acceleration], axis=1)
-    inst = algo.TOPPRA([constraint.JointVelocityConstraint(vlim), constraint.JointAccelerationConstraint(alim)], spline,
-                       parametrizer="ParametrizeConstAccel")
+    inst = algo.TOPPRA(
+        [constraint.JointVelocityConstraint(vlim), constraint.JointAccelerationConstraint(alim)],
+        spline,
+        parametrizer="ParametrizeConstAccel",
+    )
     jt = inst.compute_trajectory()
     return float(jt.duration), sampled(lim.names, float(jt.duration), lambda t: (jt(t), jt(t, 1), jt(t, 2)))
 
@@ -114,7 +119,11 @@ def trapezoid_time(path: Any, lim: JointLimits) -> tuple[float, Trajectory]:
     def profile(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         a1, c1 = t < t_acc, t < t_acc + t_cruise
         td = T - t
-        sv = np.where(a1, 0.5 * sdd_max * t**2, np.where(c1, 0.5 * sdd_max * t_acc**2 + sd_max * (t - t_acc), L - 0.5 * sdd_max * td**2))
+        sv = np.where(
+            a1,
+            0.5 * sdd_max * t**2,
+            np.where(c1, 0.5 * sdd_max * t_acc**2 + sd_max * (t - t_acc), L - 0.5 * sdd_max * td**2),
+        )
         v = np.where(a1, sdd_max * t, np.where(c1, sd_max, sdd_max * td))
         acc = np.where(a1, sdd_max, np.where(c1, 0.0, -sdd_max))
         q, d1, d2 = path.eval(np.clip(sv, 0, L))
@@ -143,9 +152,17 @@ def limits_bench(robot: str, count: int) -> dict[str, Any]:
     names = chain.joint_names
     full = load_limits(urdf, acc_limits=[",".join(f"{n}={a}" for n, a in zip(names, ACC[robot]))])
     lim = full.subset(names)
-    rows: dict[str, dict[str, Any]] = {k: {"duration_s": 0.0, "violating_paths": 0, "worst_velocity_ratio": 0.0,
-                                           "worst_acceleration_ratio": 0.0, "worst_acceleration_ratio_at_samples": 0.0,
-                                           "cpu_s": 0.0} for k in ("armtool", "toppra", "trapezoid")}
+    rows: dict[str, dict[str, Any]] = {
+        k: {
+            "duration_s": 0.0,
+            "violating_paths": 0,
+            "worst_velocity_ratio": 0.0,
+            "worst_acceleration_ratio": 0.0,
+            "worst_acceleration_ratio_at_samples": 0.0,
+            "cpu_s": 0.0,
+        }
+        for k in ("armtool", "toppra", "trapezoid")
+    }
     ratios = []
     for path in random_paths(lim, count, seed=1 if robot == "panda" else 2):
         spline = joint_path(path.positions)
@@ -169,9 +186,16 @@ def limits_bench(robot: str, count: int) -> dict[str, Any]:
             row["worst_acceleration_ratio"] = max(row["worst_acceleration_ratio"], a)
             row["worst_acceleration_ratio_at_samples"] = max(row["worst_acceleration_ratio_at_samples"], a_at)
         ratios.append(results["armtool"][0] / results["toppra"][0])
-    return {"robot": robot, "paths": count, "per_method": rows,
-            "duration_ratio_to_toppra": {"total": rows["armtool"]["duration_s"] / rows["toppra"]["duration_s"],
-                                         "max_per_path": max(ratios), "min_per_path": min(ratios)}}
+    return {
+        "robot": robot,
+        "paths": count,
+        "per_method": rows,
+        "duration_ratio_to_toppra": {
+            "total": rows["armtool"]["duration_s"] / rows["toppra"]["duration_s"],
+            "max_per_path": max(ratios),
+            "min_per_path": min(ratios),
+        },
+    }
 
 
 def circle_bench() -> dict[str, Any]:
@@ -199,19 +223,36 @@ def circle_bench() -> dict[str, Any]:
     exe = str(Path(sys.executable).with_name("armtool"))
     with tempfile.TemporaryDirectory() as d:
         jl = Path(d) / "jl.yaml"
-        jl.write_text("joint_limits:\n" + "".join(f"  {n}: {{has_acceleration_limits: true, max_acceleration: {a}}}\n"
-                                                  for n, a in zip(chain.joint_names, ACC["panda"])))
+        jl.write_text(
+            "joint_limits:\n"
+            + "".join(
+                f"  {n}: {{has_acceleration_limits: true, max_acceleration: {a}}}\n"
+                for n, a in zip(chain.joint_names, ACC["panda"])
+            )
+        )
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        cmd = (f"{exe} traj cartesian {urdf} --base panda_link0 --tip panda_link8 --start {','.join(map(str, q0))} "
-               f"--center-offset 0,-0.1,0 --normal 1,0,0 --eef-step 0.001 2>/dev/null | {exe} traj time - --urdf {urdf} "
-               f"--joint-limits {jl} -o {d}/out.csv 2>/dev/null")
+        cmd = (
+            f"{exe} traj cartesian {urdf} --base panda_link0 --tip panda_link8 --start {','.join(map(str, q0))} "
+            f"--center-offset 0,-0.1,0 --normal 1,0,0 --eef-step 0.001 2>/dev/null | {exe} traj time - --urdf {urdf} "
+            f"--joint-limits {jl} -o {d}/out.csv 2>/dev/null"
+        )
         subprocess.run(cmd, shell=True, check=True, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
     pipeline_cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return {"points": len(r.q), "fraction": r.fraction, "inserted": r.inserted, "max_deviation_mm": dev_m * 1000,
-            "max_deviation_rad": dev_rad, "relative_jumps": r.relative_jumps, "absolute_jumps": r.absolute_jumps,
-            "cpu_cartesian_s": c1 - c0, "cpu_time_s": c2 - c1, "duration_s": timed.duration_s, "check_findings": findings,
-            "cpu_pipeline_two_processes_s": pipeline_cpu}
+    return {
+        "points": len(r.q),
+        "fraction": r.fraction,
+        "inserted": r.inserted,
+        "max_deviation_mm": dev_m * 1000,
+        "max_deviation_rad": dev_rad,
+        "relative_jumps": r.relative_jumps,
+        "absolute_jumps": r.absolute_jumps,
+        "cpu_cartesian_s": c1 - c0,
+        "cpu_time_s": c2 - c1,
+        "duration_s": timed.duration_s,
+        "check_findings": findings,
+        "cpu_pipeline_two_processes_s": pipeline_cpu,
+    }
 
 
 def flip_bench() -> dict[str, Any]:
@@ -222,9 +263,17 @@ def flip_bench() -> dict[str, Any]:
     seg = cart.line_segment(chain.fk(qa), chain.fk(qb))
     out = {}
     for name in ("lm", "analytic"):
-        r = cart.compute_cartesian(chain, make_solver(name, chain), qa, [seg], cart.CartesianOptions(eef_step_m=0.002, eef_step_rad=0.01))
-        out[name] = {"fraction": r.fraction, "reason": r.reason, "detail": r.detail, "relative_jumps": r.relative_jumps,
-                     "absolute_jumps": r.absolute_jumps, "points": len(r.q)}
+        r = cart.compute_cartesian(
+            chain, make_solver(name, chain), qa, [seg], cart.CartesianOptions(eef_step_m=0.002, eef_step_rad=0.01)
+        )
+        out[name] = {
+            "fraction": r.fraction,
+            "reason": r.reason,
+            "detail": r.detail,
+            "relative_jumps": r.relative_jumps,
+            "absolute_jumps": r.absolute_jumps,
+            "points": len(r.q),
+        }
     return out
 
 
@@ -233,29 +282,43 @@ def main() -> None:
     ap.add_argument("--paths", type=int, default=100)
     ap.add_argument("--format", choices=["markdown", "json"], default="markdown")
     args = ap.parse_args()
-    results = {"limits": [limits_bench(r, args.paths) for r in ("panda", "ur5")], "circle": circle_bench(), "flip": flip_bench()}
+    results = {
+        "limits": [limits_bench(r, args.paths) for r in ("panda", "ur5")],
+        "circle": circle_bench(),
+        "flip": flip_bench(),
+    }
     if args.format == "json":
         print(json.dumps(results, indent=2))
         return
-    print("| robot | timing | total duration (s) | paths over a limit | worst v/limit | worst a/limit | worst a/limit at its samples | CPU per path (ms) |")
+    print(
+        "| robot | timing | total duration (s) | paths over a limit | worst v/limit | worst a/limit | worst a/limit at its samples | CPU per path (ms) |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for res in results["limits"]:
         for key, row in res["per_method"].items():
             cpu = f"{row['cpu_s'] / res['paths'] * 1000:.1f}" if key != "trapezoid" else "-"
-            print(f"| {res['robot']} | {key} | {row['duration_s']:.2f} | {row['violating_paths']}/{res['paths']} | "
-                  f"{row['worst_velocity_ratio']:.4f} | {row['worst_acceleration_ratio']:.4f} | "
-                  f"{row['worst_acceleration_ratio_at_samples']:.4f} | {cpu} |")
+            print(
+                f"| {res['robot']} | {key} | {row['duration_s']:.2f} | {row['violating_paths']}/{res['paths']} | "
+                f"{row['worst_velocity_ratio']:.4f} | {row['worst_acceleration_ratio']:.4f} | "
+                f"{row['worst_acceleration_ratio_at_samples']:.4f} | {cpu} |"
+            )
     for res in results["limits"]:
         r = res["duration_ratio_to_toppra"]
-        print(f"\n{res['robot']}: armtool / toppra duration: total {r['total']:.4f}, per path {r['min_per_path']:.4f}..{r['max_per_path']:.4f}")
+        print(
+            f"\n{res['robot']}: armtool / toppra duration: total {r['total']:.4f}, per path {r['min_per_path']:.4f}..{r['max_per_path']:.4f}"
+        )
     c = results["circle"]
-    print(f"\nPanda circle: {c['points']} points, fraction {c['fraction']}, {c['inserted']} inserted, worst deviation "
-          f"{c['max_deviation_mm']:.4f} mm / {c['max_deviation_rad']:.5f} rad, jumps rel {c['relative_jumps']} abs {c['absolute_jumps']}, "
-          f"check findings {c['check_findings']}; CPU in-process: cartesian {c['cpu_cartesian_s']:.3f} s + time {c['cpu_time_s']:.3f} s; "
-          f"pipeline of two processes (start-up included): {c['cpu_pipeline_two_processes_s']:.2f} s; duration {c['duration_s']:.3f} s")
+    print(
+        f"\nPanda circle: {c['points']} points, fraction {c['fraction']}, {c['inserted']} inserted, worst deviation "
+        f"{c['max_deviation_mm']:.4f} mm / {c['max_deviation_rad']:.5f} rad, jumps rel {c['relative_jumps']} abs {c['absolute_jumps']}, "
+        f"check findings {c['check_findings']}; CPU in-process: cartesian {c['cpu_cartesian_s']:.3f} s + time {c['cpu_time_s']:.3f} s; "
+        f"pipeline of two processes (start-up included): {c['cpu_pipeline_two_processes_s']:.2f} s; duration {c['duration_s']:.3f} s"
+    )
     for name, f in results["flip"].items():
-        print(f"UR5 wrist flip, {name}: fraction {f['fraction']:.4f}, reason '{f['reason']}' {f['detail']}; "
-              f"relative-rule jumps {f['relative_jumps']}, absolute-rule jumps {f['absolute_jumps']}")
+        print(
+            f"UR5 wrist flip, {name}: fraction {f['fraction']:.4f}, reason '{f['reason']}' {f['detail']}; "
+            f"relative-rule jumps {f['relative_jumps']}, absolute-rule jumps {f['absolute_jumps']}"
+        )
 
 
 if __name__ == "__main__":

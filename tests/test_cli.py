@@ -17,7 +17,11 @@ from armtool.lint.registry import RULES
 
 def run(*args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
-        [sys.executable, "-m", "armtool", *args], capture_output=True, text=True, env={**os.environ, **(env or {})}, timeout=120
+        [sys.executable, "-m", "armtool", *args],
+        capture_output=True,
+        text=True,
+        env={**os.environ, **(env or {})},
+        timeout=120,
     )
 
 
@@ -68,7 +72,9 @@ def test_bad_xacro_arg_is_usage_error(tmp_path: Path) -> None:
 
 def test_lint_urdf_alias_and_json(tmp_path: Path) -> None:
     path = tmp_path / "r.urdf"
-    path.write_text('<robot name="r">\n<link name="a"/>\n<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>\n</robot>')
+    path.write_text(
+        '<robot name="r">\n<link name="a"/>\n<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>\n</robot>'
+    )
     result = CliRunner().invoke(app, ["lint-urdf", "--format", "json", str(path)])
     assert result.exit_code == 1
     doc = json.loads(result.stdout)

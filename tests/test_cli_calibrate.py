@@ -27,14 +27,39 @@ def armtool(*args: str) -> subprocess.CompletedProcess[str]:
 @pytest.fixture(scope="module")
 def dataset(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("calib") / "ds"
-    result = runner.invoke(app, ["calibrate", "simulate", str(CLEAN_ARM), "--flange", "tool0", "-o", str(out),
-                                 "--samples", "30", "--validation", "20", "--bad-samples", "2", "--seed", "1"])
+    result = runner.invoke(
+        app,
+        [
+            "calibrate",
+            "simulate",
+            str(CLEAN_ARM),
+            "--flange",
+            "tool0",
+            "-o",
+            str(out),
+            "--samples",
+            "30",
+            "--validation",
+            "20",
+            "--bad-samples",
+            "2",
+            "--seed",
+            "1",
+        ],
+    )
     assert result.exit_code == 0, result.output
     return out
 
 
 def test_simulate_writes_a_dataset_and_keeps_the_truth_apart(dataset: Path) -> None:
-    assert {p.name for p in dataset.iterdir()} == {"dataset.yaml", "robot.urdf", "camera.yaml", "samples.csv", "images", "truth"}
+    assert {p.name for p in dataset.iterdir()} == {
+        "dataset.yaml",
+        "robot.urdf",
+        "camera.yaml",
+        "samples.csv",
+        "images",
+        "truth",
+    }
     assert len(list((dataset / "images").glob("*.png"))) == 30
     assert {p.name for p in (dataset / "truth").iterdir()} == {"truth.yaml", "robot_true.urdf", "validation.csv"}
     assert "truth" not in (dataset / "dataset.yaml").read_text()
@@ -47,8 +72,22 @@ def test_check_passes_on_a_good_dataset(dataset: Path) -> None:
 
 def test_fit_end_to_end(dataset: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
-    result = runner.invoke(app, ["calibrate", "fit", str(dataset), "--out", str(out), "--holdout", "0.2",
-                                 "--format", "json", "--plot", str(tmp_path / "res.png")])
+    result = runner.invoke(
+        app,
+        [
+            "calibrate",
+            "fit",
+            str(dataset),
+            "--out",
+            str(out),
+            "--holdout",
+            "0.2",
+            "--format",
+            "json",
+            "--plot",
+            str(tmp_path / "res.png"),
+        ],
+    )
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     truth = summary["against_truth"]
@@ -139,15 +178,33 @@ def test_bad_output_paths_fail_before_the_work(dataset: Path, tmp_path: Path) ->
     (tmp_path / "file").write_text("x")
     r = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "file" / "sub"))
     assert r.returncode == 2 and "is a file" in r.stderr
-    r = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--plot", str(tmp_path / "nodir" / "p.png"))
+    r = armtool(
+        "calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--plot", str(tmp_path / "nodir" / "p.png")
+    )
     assert r.returncode == 2 and "--plot's directory does not exist" in r.stderr
     assert not (tmp_path / "o").exists()
 
 
 def test_validation_dataset_of_another_setup_is_refused(dataset: Path, tmp_path: Path) -> None:
     other = tmp_path / "other"
-    r = runner.invoke(app, ["calibrate", "simulate", str(CLEAN_ARM), "--flange", "tool0", "-o", str(other),
-                            "--samples", "10", "--validation", "2", "--setup", "eye_in_hand"])
+    r = runner.invoke(
+        app,
+        [
+            "calibrate",
+            "simulate",
+            str(CLEAN_ARM),
+            "--flange",
+            "tool0",
+            "-o",
+            str(other),
+            "--samples",
+            "10",
+            "--validation",
+            "2",
+            "--setup",
+            "eye_in_hand",
+        ],
+    )
     assert r.exit_code == 0, r.output
     fit = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--validation", str(other))
     assert fit.returncode == 2 and "setup (eye_in_hand vs eye_to_hand)" in fit.stderr
@@ -167,8 +224,26 @@ def test_simulate_refuses_a_non_empty_directory(tmp_path: Path) -> None:
 
 def test_eye_in_hand_simulate_and_fit(tmp_path: Path) -> None:
     ds = tmp_path / "eih"
-    result = runner.invoke(app, ["calibrate", "simulate", str(CLEAN_ARM), "--flange", "tool0", "-o", str(ds),
-                                 "--samples", "30", "--validation", "15", "--setup", "eye_in_hand", "--seed", "2"])
+    result = runner.invoke(
+        app,
+        [
+            "calibrate",
+            "simulate",
+            str(CLEAN_ARM),
+            "--flange",
+            "tool0",
+            "-o",
+            str(ds),
+            "--samples",
+            "30",
+            "--validation",
+            "15",
+            "--setup",
+            "eye_in_hand",
+            "--seed",
+            "2",
+        ],
+    )
     assert result.exit_code == 0, result.output
     result = runner.invoke(app, ["calibrate", "fit", str(ds), "--out", str(tmp_path / "o"), "--format", "json"])
     assert result.exit_code == 0, result.output
@@ -215,9 +290,11 @@ def _xacro_arm(tmp: Path) -> tuple[Path, Path]:
     (robot_dir / "meshes").mkdir(parents=True)
     (robot_dir / "meshes" / "base.stl").write_bytes(b"solid base\nendsolid base\n")
     text = CLEAN_ARM.read_text()
-    text = text.replace('<robot name="clean_arm">',
-                        '<robot name="clean_arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
-                        '  <xacro:include filename="$(find calib_test_parts)/tool.xacro"/>')
+    text = text.replace(
+        '<robot name="clean_arm">',
+        '<robot name="clean_arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="$(find calib_test_parts)/tool.xacro"/>',
+    )
     text = text.replace("package://clean_arm/meshes/base.stl", "meshes/base.stl")
     tool = text.index('<joint name="tool0_joint"')
     origin = text.index("<origin", tool)
@@ -236,8 +313,26 @@ def test_simulate_takes_xacro_args_and_package_paths(tmp_path: Path) -> None:
     for option in ("--xacro-arg", "--package-path"):  # the hint names options this command has
         if option in bare.stderr:
             assert option in armtool("calibrate", "simulate", "--help").stdout
-    ok = runner.invoke(app, ["calibrate", "simulate", str(xacro), "--flange", "tool0", "-o", str(out), "--samples", "12",
-                             "--validation", "2", "--xacro-arg", "tool_length:=0.1", "--package-path", str(parts)])
+    ok = runner.invoke(
+        app,
+        [
+            "calibrate",
+            "simulate",
+            str(xacro),
+            "--flange",
+            "tool0",
+            "-o",
+            str(out),
+            "--samples",
+            "12",
+            "--validation",
+            "2",
+            "--xacro-arg",
+            "tool_length:=0.1",
+            "--package-path",
+            str(parts),
+        ],
+    )
     assert ok.exit_code == 0, ok.output
     robot = (out / "robot.urdf").read_text()
     assert 'xyz="0 0 0.1"' in robot
@@ -262,7 +357,9 @@ def test_check_and_fit_take_xacro_args_from_the_dataset_and_the_command_line(dat
     assert missing.returncode == 1 and "--package-path" in missing.stderr
     help_text = armtool("calibrate", "check", "--help").stdout
     assert "--xacro-arg" in help_text and "--package-path" in help_text
-    cli = armtool("calibrate", "check", str(ds), "--no-detect", "--xacro-arg", "tool_length:=0.1", "--package-path", str(parts))
+    cli = armtool(
+        "calibrate", "check", str(ds), "--no-detect", "--xacro-arg", "tool_length:=0.1", "--package-path", str(parts)
+    )
     assert cli.returncode == 0, cli.stderr
     # The dataset names them (package paths relative to the dataset); the command line overrides.
     manifest["robot"]["xacro_args"] = {"tool_length": 0.1}
@@ -289,8 +386,26 @@ def test_simulate_on_the_ur_xacro_with_its_documented_arguments(tmp_path: Path) 
     out = tmp_path / "ur"
     bare = armtool("calibrate", "simulate", str(UR_XACRO), "--flange", "tool0", "-o", str(out), "--samples", "4")
     assert bare.returncode == 2 and "--xacro-arg" in bare.stderr and not out.exists()
-    ok = runner.invoke(app, ["calibrate", "simulate", str(UR_XACRO), "--flange", "tool0", "-o", str(out), "--samples", "6",
-                             "--validation", "2", "--xacro-arg", "name:=ur", "--xacro-arg", "ur_type:=ur5e"])
+    ok = runner.invoke(
+        app,
+        [
+            "calibrate",
+            "simulate",
+            str(UR_XACRO),
+            "--flange",
+            "tool0",
+            "-o",
+            str(out),
+            "--samples",
+            "6",
+            "--validation",
+            "2",
+            "--xacro-arg",
+            "name:=ur",
+            "--xacro-arg",
+            "ur_type:=ur5e",
+        ],
+    )
     assert ok.exit_code == 0, ok.output
     text = (out / "robot.urdf").read_text()
     assert "package://ur_description/meshes/ur5e/" in text  # package:// kept as the source had it
@@ -304,8 +419,17 @@ UR_KINEMATICS = REALWORLD / "Universal_Robots_ROS2_Description" / "config" / "ur
 def test_ur_kinematics_on_a_non_ur_arm_is_refused_before_the_work(dataset: Path, tmp_path: Path) -> None:
     given = tmp_path / "kin.yaml"
     given.write_text("kinematics:\n  hash: calib_1\n")
-    r = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--ur-kinematics", str(tmp_path / "ur.yaml"),
-                "--ur-kinematics-in", str(given))
+    r = armtool(
+        "calibrate",
+        "fit",
+        str(dataset),
+        "--out",
+        str(tmp_path / "o"),
+        "--ur-kinematics",
+        str(tmp_path / "ur.yaml"),
+        "--ur-kinematics-in",
+        str(given),
+    )
     assert r.returncode == 2 and "needs a Universal Robots arm" in r.stderr and "Traceback" not in r.stderr
     assert not (tmp_path / "o").exists() and not (tmp_path / "ur.yaml").exists()
 
@@ -314,30 +438,62 @@ def test_ur_kinematics_on_a_non_ur_arm_is_refused_before_the_work(dataset: Path,
 def test_ur_kinematics_yaml_reproduces_the_fit_through_the_ur_xacro(tmp_path: Path) -> None:
     import yaml
 
-    from armtool.model.load import load_robot_xml
     from armtool.ik.chain import chain_from_xml
+    from armtool.model.load import load_robot_xml
 
     ds = tmp_path / "ur"
-    ok = runner.invoke(app, ["calibrate", "simulate", str(UR_XACRO), "--flange", "tool0", "-o", str(ds), "--samples", "16",
-                             "--validation", "2", "--xacro-arg", "name:=ur", "--xacro-arg", "ur_type:=ur5e", "--seed", "3"])
+    ok = runner.invoke(
+        app,
+        [
+            "calibrate",
+            "simulate",
+            str(UR_XACRO),
+            "--flange",
+            "tool0",
+            "-o",
+            str(ds),
+            "--samples",
+            "16",
+            "--validation",
+            "2",
+            "--xacro-arg",
+            "name:=ur",
+            "--xacro-arg",
+            "ur_type:=ur5e",
+            "--seed",
+            "3",
+        ],
+    )
     assert ok.exit_code == 0, ok.output
     # The dataset names the UR xacro itself, with its arguments: the hash comes from kinematics_params.
     manifest = yaml.safe_load((ds / "dataset.yaml").read_text())
     manifest["robot"]["urdf"] = str(UR_XACRO.resolve())
-    manifest["robot"]["xacro_args"] = {"name": "ur", "ur_type": "ur5e", "kinematics_params": str(UR_KINEMATICS.resolve())}
+    manifest["robot"]["xacro_args"] = {
+        "name": "ur",
+        "ur_type": "ur5e",
+        "kinematics_params": str(UR_KINEMATICS.resolve()),
+    }
     (ds / "dataset.yaml").write_text(yaml.safe_dump(manifest))
     written = tmp_path / "my_robot_calibration.yaml"
-    fit = runner.invoke(app, ["calibrate", "fit", str(ds), "--out", str(tmp_path / "o"), "--ur-kinematics", str(written)])
+    fit = runner.invoke(
+        app, ["calibrate", "fit", str(ds), "--out", str(tmp_path / "o"), "--ur-kinematics", str(written)]
+    )
     assert fit.exit_code == 0, fit.output
     doc = yaml.safe_load(written.read_text())["kinematics"]
     assert doc["hash"] == yaml.safe_load(UR_KINEMATICS.read_text())["kinematics"]["hash"]
     assert list(doc) == ["shoulder", "upper_arm", "forearm", "wrist_1", "wrist_2", "wrist_3", "hash"]
     assert "kinematics_params:=" in written.read_text()
     # The UR description expanded with the written file is the calibrated robot.
-    expanded = chain_from_xml(load_robot_xml(UR_XACRO, {"name": "ur", "ur_type": "ur5e", "kinematics_params": str(written)}),
-                              "base_link", "tool0", source="ur.urdf.xacro")
+    expanded = chain_from_xml(
+        load_robot_xml(UR_XACRO, {"name": "ur", "ur_type": "ur5e", "kinematics_params": str(written)}),
+        "base_link",
+        "tool0",
+        source="ur.urdf.xacro",
+    )
     calibrated = load_chain(tmp_path / "o" / "calibrated.urdf", "base_link", "tool0")
-    nominal = chain_from_xml(load_robot_xml(UR_XACRO, {"name": "ur", "ur_type": "ur5e"}), "base_link", "tool0", source="ur.urdf.xacro")
+    nominal = chain_from_xml(
+        load_robot_xml(UR_XACRO, {"name": "ur", "ur_type": "ur5e"}), "base_link", "tool0", source="ur.urdf.xacro"
+    )
     Q = calibrated.random(np.random.default_rng(0), 20)
     worst = max(float(np.abs(expanded.fk(q) - calibrated.fk(q)).max()) for q in Q)
     moved = max(float(np.abs(nominal.fk(q) - calibrated.fk(q))[:3, 3].max()) for q in Q)

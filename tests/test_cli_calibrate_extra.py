@@ -35,13 +35,21 @@ def board_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def test_camera_writes_intrinsics_that_a_dataset_can_use(board_dir: Path, tmp_path: Path) -> None:
     out = tmp_path / "camera.yaml"
-    result = runner.invoke(app, ["calibrate", "camera", str(board_dir), "--board", APRILGRID, "-o", str(out), "--format", "json"])
+    result = runner.invoke(
+        app, ["calibrate", "camera", str(board_dir), "--board", APRILGRID, "-o", str(out), "--format", "json"]
+    )
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     assert summary["schema_version"] == 1 and len(summary["images"]) == 16 and all(i["used"] for i in summary["images"])
-    assert abs(summary["fx_px"] / 600 - 1) < 0.002 and abs(summary["cx_px"] - 322.4) < 1.0 and abs(summary["cy_px"] - 236.8) < 1.0
+    assert (
+        abs(summary["fx_px"] / 600 - 1) < 0.002
+        and abs(summary["cx_px"] - 322.4) < 1.0
+        and abs(summary["cy_px"] - 236.8) < 1.0
+    )
     camera = load_intrinsics(out)
-    assert np.allclose(camera.K, [[summary["fx_px"], 0, summary["cx_px"]], [0, summary["fy_px"], summary["cy_px"]], [0, 0, 1]])
+    assert np.allclose(
+        camera.K, [[summary["fx_px"], 0, summary["cx_px"]], [0, summary["fy_px"], summary["cy_px"]], [0, 0, 1]]
+    )
     assert (camera.width, camera.height) == (TRUE_CAMERA.width, TRUE_CAMERA.height)
     assert "RMS px" in result.stderr and f"wrote {out}" in result.stderr
 
@@ -51,12 +59,12 @@ def test_camera_with_too_few_board_images_exits_2_and_writes_nothing(board_dir: 
     images = sorted(board_dir.glob("*.png"))[:4]
     proc = armtool("calibrate", "camera", *map(str, images), "--board", APRILGRID, "-o", str(out))
     assert proc.returncode == 2, proc.stderr
-    assert "the board was found in 4 of 4 images; at least 10 are needed" in proc.stderr and "Traceback" not in proc.stderr
+    assert (
+        "the board was found in 4 of 4 images; at least 10 are needed" in proc.stderr and "Traceback" not in proc.stderr
+    )
     assert not out.exists()
     proc = armtool("calibrate", "camera", str(board_dir), "--board", "charuco:9x7:0.03", "-o", str(out))
     assert proc.returncode == 2 and "needs 4 or 5 fields" in proc.stderr and not out.exists()
-
-
 
 
 @pytest.fixture(scope="module")
@@ -71,12 +79,36 @@ def bag(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def test_import_bag_builds_a_dataset_that_check_accepts(bag: Path, tmp_path: Path) -> None:
     out = tmp_path / "ds"
-    result = runner.invoke(app, ["calibrate", "import-bag", str(bag), "--image-topic", "/camera/image_raw", "--urdf", str(CLEAN_ARM),
-                                 "--flange", "tool0", "--tag-size", "0.05", "-o", str(out), "--format", "json"])
+    result = runner.invoke(
+        app,
+        [
+            "calibrate",
+            "import-bag",
+            str(bag),
+            "--image-topic",
+            "/camera/image_raw",
+            "--urdf",
+            str(CLEAN_ARM),
+            "--flange",
+            "tool0",
+            "--tag-size",
+            "0.05",
+            "-o",
+            str(out),
+            "--format",
+            "json",
+        ],
+    )
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     assert len(summary["samples"]) == 3 and summary["clock"] == "header stamps"
-    assert sorted(p.name for p in out.iterdir()) == ["camera.yaml", "dataset.yaml", "images", "robot.urdf", "samples.csv"]
+    assert sorted(p.name for p in out.iterdir()) == [
+        "camera.yaml",
+        "dataset.yaml",
+        "images",
+        "robot.urdf",
+        "samples.csv",
+    ]
     check = runner.invoke(app, ["calibrate", "check", str(out), "--no-detect"])
     assert check.exit_code == 0, check.output
 
@@ -85,13 +117,20 @@ def test_import_bag_builds_a_dataset_that_check_accepts(bag: Path, tmp_path: Pat
     ("args", "message"),
     [
         (["--image-topic", "/cam/image"], "topic '/cam/image' is not in the bag"),
-        (["--image-topic", "/camera/image_raw", "--joints-topic", "/arm/joint_states"], "topic '/arm/joint_states' is not in the bag"),
+        (
+            ["--image-topic", "/camera/image_raw", "--joints-topic", "/arm/joint_states"],
+            "topic '/arm/joint_states' is not in the bag",
+        ),
         (["--image-topic", "/camera/image_raw", "--flange", "tool0", "--base", "nowhere"], "nowhere"),
     ],
 )
-def test_import_bag_bad_input_exits_2_and_writes_nothing(bag: Path, tmp_path: Path, args: list[str], message: str) -> None:
+def test_import_bag_bad_input_exits_2_and_writes_nothing(
+    bag: Path, tmp_path: Path, args: list[str], message: str
+) -> None:
     out = tmp_path / "ds"
-    proc = armtool("calibrate", "import-bag", str(bag), "--urdf", str(CLEAN_ARM), "--tag-size", "0.05", "-o", str(out), *args)
+    proc = armtool(
+        "calibrate", "import-bag", str(bag), "--urdf", str(CLEAN_ARM), "--tag-size", "0.05", "-o", str(out), *args
+    )
     assert proc.returncode == 2, proc.stderr
     assert message in proc.stderr and "Traceback" not in proc.stderr
     assert not out.exists() and not list(tmp_path.iterdir())
@@ -102,7 +141,20 @@ def test_import_bag_with_joints_the_urdf_lacks_exits_2(tmp_path: Path) -> None:
     from tests.calib.bag_builder import JOINTS, simulate_motion, write_bag
 
     write_bag(tmp_path / "cal", "mcap", simulate_motion(n_stops=2), joint_names=[j.upper() for j in JOINTS])
-    proc = armtool("calibrate", "import-bag", str(tmp_path / "cal"), "--image-topic", "/camera/image_raw", "--urdf", str(CLEAN_ARM),
-                   "--flange", "tool0", "--tag-size", "0.05", "-o", str(tmp_path / "ds"))
+    proc = armtool(
+        "calibrate",
+        "import-bag",
+        str(tmp_path / "cal"),
+        "--image-topic",
+        "/camera/image_raw",
+        "--urdf",
+        str(CLEAN_ARM),
+        "--flange",
+        "tool0",
+        "--tag-size",
+        "0.05",
+        "-o",
+        str(tmp_path / "ds"),
+    )
     assert proc.returncode == 2 and "are not in the JointState messages on '/joint_states'" in proc.stderr
     assert "JOINT1" in proc.stderr and not (tmp_path / "ds").exists()

@@ -17,8 +17,21 @@ runner = CliRunner()
 
 def test_json_output_on_ur5(tmp_path: Path) -> None:
     urdf = erd(ARMS["ur5"][0])
-    result = runner.invoke(app, ["ik-bench", str(urdf), "--samples", "20", "--solvers", "lm", "--format", "json",
-                                 "--plot", str(tmp_path / "bench.png")])
+    result = runner.invoke(
+        app,
+        [
+            "ik-bench",
+            str(urdf),
+            "--samples",
+            "20",
+            "--solvers",
+            "lm",
+            "--format",
+            "json",
+            "--plot",
+            str(tmp_path / "bench.png"),
+        ],
+    )
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
     assert doc["schema_version"] == 1 and doc["config"]["samples"] == 20
@@ -30,7 +43,9 @@ def test_json_output_on_ur5(tmp_path: Path) -> None:
 def test_csv_and_no_batch(tmp_path: Path) -> None:
     urdf = tmp_path / "planar.urdf"
     urdf.write_text(PLANAR_2R)
-    result = runner.invoke(app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm", "--no-batch", "--format", "csv"])
+    result = runner.invoke(
+        app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm", "--no-batch", "--format", "csv"]
+    )
     assert result.exit_code == 0, result.output
     rows = list(csv.DictReader(io.StringIO(result.stdout)))
     assert [r["solver"] for r in rows] == ["lm"]
@@ -42,9 +57,28 @@ def test_group_from_srdf_and_timeout_from_kinematics_yaml(tmp_path: Path) -> Non
     srdf = tmp_path / "planar.srdf"
     srdf.write_text('<robot name="planar"><group name="arm"><chain base_link="base" tip_link="l2"/></group></robot>')
     kin = tmp_path / "kinematics.yaml"
-    kin.write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  kinematics_solver_timeout: 0.02\n")
-    result = runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin),
-                                 "--samples", "5", "--solvers", "lm", "--format", "json"])
+    kin.write_text(
+        "arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  kinematics_solver_timeout: 0.02\n"
+    )
+    result = runner.invoke(
+        app,
+        [
+            "ik-bench",
+            str(urdf),
+            "--group",
+            "arm",
+            "--srdf",
+            str(srdf),
+            "--kinematics-yaml",
+            str(kin),
+            "--samples",
+            "5",
+            "--solvers",
+            "lm",
+            "--format",
+            "json",
+        ],
+    )
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
     assert (doc["base"], doc["tip"], doc["config"]["timeout_s"]) == ("base", "l2", 0.02)
@@ -58,7 +92,9 @@ def test_bad_input_is_exit_2(tmp_path: Path) -> None:
     urdf.write_text(PLANAR_2R)
 
     def run(*args: str) -> subprocess.CompletedProcess[str]:
-        return subprocess.run([sys.executable, "-m", "armtool", "ik-bench", str(urdf), *args], capture_output=True, text=True, timeout=120)
+        return subprocess.run(
+            [sys.executable, "-m", "armtool", "ik-bench", str(urdf), *args], capture_output=True, text=True, timeout=120
+        )
 
     for args, needle in [
         (["--tip", "tol"], "did you mean 'tool'"),
@@ -75,7 +111,9 @@ def test_requested_solver_that_does_not_apply_gets_a_row(tmp_path: Path) -> None
     """`--solvers lm,analytic` on a 2-joint arm: analytic is marked not applicable, lm still runs (exit 0)."""
     urdf = tmp_path / "planar.urdf"
     urdf.write_text(PLANAR_2R)
-    result = runner.invoke(app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm,analytic", "--no-batch", "--format", "json"])
+    result = runner.invoke(
+        app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm,analytic", "--no-batch", "--format", "json"]
+    )
     assert result.exit_code == 0, result.output
     rows = {r["solver"]: r for r in json.loads(result.stdout)["solvers"]}
     assert rows["lm"]["applicable"] and rows["lm"]["success_rate"] >= 0.8  # wall-clock timeouts on a busy machine
@@ -95,7 +133,11 @@ def test_table_labels_maxima_and_shows_stalled_failures(tmp_path: Path) -> None:
     import re
 
     assert "failures (stalled)" in result.stdout and re.search(r"│\s+\d+ \(\d+\) │", result.stdout)
-    doc = json.loads(runner.invoke(app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm", "--no-batch", "--format", "json"]).stdout)
+    doc = json.loads(
+        runner.invoke(
+            app, ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm", "--no-batch", "--format", "json"]
+        ).stdout
+    )
     assert isinstance(doc["solvers"][0]["stalled_failures"], int)
 
 
@@ -106,12 +148,32 @@ def test_group_from_srdf_xacro_with_xacro_args(tmp_path: Path) -> None:
     urdf = tmp_path / "arm.urdf"
     urdf.write_text(ARM)
     srdf = tmp_path / "arm.srdf.xacro"
-    srdf.write_text('<robot xmlns:xacro="http://wiki.ros.org/xacro" name="arm"><xacro:arg name="prefix" default=""/>'
-                    '<xacro:macro name="arm_group" params="p"><group name="${p}arm">'
-                    '<joint name="tool_frame_joint"/><joint name="j2"/><joint name="j1"/><joint name="j3"/>'
-                    '<joint name="flange_joint"/></group></xacro:macro><xacro:arm_group p="$(arg prefix)"/></robot>')
-    result = runner.invoke(app, ["ik-bench", str(urdf), "--group", "my_arm", "--srdf", str(srdf), "--xacro-arg", "prefix:=my_",
-                                 "--samples", "5", "--solvers", "lm", "--no-batch", "--format", "json"])
+    srdf.write_text(
+        '<robot xmlns:xacro="http://wiki.ros.org/xacro" name="arm"><xacro:arg name="prefix" default=""/>'
+        '<xacro:macro name="arm_group" params="p"><group name="${p}arm">'
+        '<joint name="tool_frame_joint"/><joint name="j2"/><joint name="j1"/><joint name="j3"/>'
+        '<joint name="flange_joint"/></group></xacro:macro><xacro:arm_group p="$(arg prefix)"/></robot>'
+    )
+    result = runner.invoke(
+        app,
+        [
+            "ik-bench",
+            str(urdf),
+            "--group",
+            "my_arm",
+            "--srdf",
+            str(srdf),
+            "--xacro-arg",
+            "prefix:=my_",
+            "--samples",
+            "5",
+            "--solvers",
+            "lm",
+            "--no-batch",
+            "--format",
+            "json",
+        ],
+    )
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
     assert (doc["base"], doc["tip"], doc["joints"]) == ("base", "tool_frame", ["j1", "j2", "j3"])
@@ -128,8 +190,24 @@ def test_realworld_gen3_lite_group_joint_order() -> None:
     srdf = REALWORLD / "ros2_kortex/kortex_moveit_config/kinova_gen3_lite_moveit_config/config/gen3_lite.srdf"
     if not urdf.is_file():
         pytest.skip("the realworld corpus is absent")
-    result = runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--samples", "20",
-                                 "--solvers", "lm", "--no-batch", "--format", "json"])
+    result = runner.invoke(
+        app,
+        [
+            "ik-bench",
+            str(urdf),
+            "--group",
+            "arm",
+            "--srdf",
+            str(srdf),
+            "--samples",
+            "20",
+            "--solvers",
+            "lm",
+            "--no-batch",
+            "--format",
+            "json",
+        ],
+    )
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
     assert (doc["base"], doc["tip"], doc["joints"]) == ("base_link", "tool_frame", [f"joint_{i}" for i in range(1, 7)])
@@ -142,11 +220,31 @@ def test_position_only_ik_from_kinematics_yaml(tmp_path: Path) -> None:
     urdf = tmp_path / "arm.urdf"
     urdf.write_text(ARM)
     srdf = tmp_path / "arm.srdf"
-    srdf.write_text('<robot name="arm"><group name="arm"><chain base_link="base" tip_link="tool_frame"/></group></robot>')
+    srdf.write_text(
+        '<robot name="arm"><group name="arm"><chain base_link="base" tip_link="tool_frame"/></group></robot>'
+    )
     kin = tmp_path / "kinematics.yaml"
     kin.write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  position_only_ik: true\n")
-    result = runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin),
-                                 "--samples", "20", "--solvers", "lm,dls,analytic", "--no-batch", "--format", "json"])
+    result = runner.invoke(
+        app,
+        [
+            "ik-bench",
+            str(urdf),
+            "--group",
+            "arm",
+            "--srdf",
+            str(srdf),
+            "--kinematics-yaml",
+            str(kin),
+            "--samples",
+            "20",
+            "--solvers",
+            "lm,dls,analytic",
+            "--no-batch",
+            "--format",
+            "json",
+        ],
+    )
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
     assert doc["config"]["position_only"] is True and doc["joints"] == ["j1", "j2", "j3"]
@@ -156,8 +254,28 @@ def test_position_only_ik_from_kinematics_yaml(tmp_path: Path) -> None:
     assert "position only (position_only_ik" in result.stderr
     # Without position_only_ik the 3-joint arm cannot reach the same targets' orientations from the mid seed as often:
     kin.write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n")
-    full = json.loads(runner.invoke(app, ["ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin),
-                                          "--samples", "20", "--solvers", "lm", "--no-batch", "--format", "json"]).stdout)
+    full = json.loads(
+        runner.invoke(
+            app,
+            [
+                "ik-bench",
+                str(urdf),
+                "--group",
+                "arm",
+                "--srdf",
+                str(srdf),
+                "--kinematics-yaml",
+                str(kin),
+                "--samples",
+                "20",
+                "--solvers",
+                "lm",
+                "--no-batch",
+                "--format",
+                "json",
+            ],
+        ).stdout
+    )
     assert full["config"]["position_only"] is False
 
 
@@ -169,7 +287,21 @@ def test_missing_peer_hint_keeps_its_brackets(tmp_path: Path, monkeypatch: objec
     monkeypatch.setitem(peers.PEERS, "ikpy", (entry[0], "no_such_module_for_armtool_test", entry[2]))  # type: ignore[attr-defined]
     urdf = tmp_path / "planar.urdf"
     urdf.write_text(PLANAR_2R)
-    result = runner.invoke(app, ["ik-bench", str(urdf), "--samples", "5", "--solvers", "lm", "--no-batch", "--peers", "ikpy",
-                                 "--format", "json"])
+    result = runner.invoke(
+        app,
+        [
+            "ik-bench",
+            str(urdf),
+            "--samples",
+            "5",
+            "--solvers",
+            "lm",
+            "--no-batch",
+            "--peers",
+            "ikpy",
+            "--format",
+            "json",
+        ],
+    )
     assert result.exit_code == 0, result.output
     assert "pip install 'armtool[peers]'" in result.stderr

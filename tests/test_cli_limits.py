@@ -19,16 +19,35 @@ from armtool.servo.sim import Person, PersonSpec, SimBus, load_sim_config
 
 FIXTURES = Path(__file__).resolve().parent.parent / "fixtures" / "servo"
 AX_ARM = FIXTURES / "ax12_arm.yaml"
-KEYS = ["name", "id", "model", "zero_ticks", "direction", "raw_min_ticks", "raw_max_ticks", "safe_min_ticks",
-        "safe_max_ticks", "lower_rad", "upper_rad", "method", "evidence"]
+KEYS = [
+    "name",
+    "id",
+    "model",
+    "zero_ticks",
+    "direction",
+    "raw_min_ticks",
+    "raw_max_ticks",
+    "safe_min_ticks",
+    "safe_max_ticks",
+    "lower_rad",
+    "upper_rad",
+    "method",
+    "evidence",
+]
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="the simulator needs a pty")
 
 
 def armtool(*args: str, timeout: float = 60) -> subprocess.CompletedProcess[str]:
     env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "120"}
-    return subprocess.run([sys.executable, "-m", "armtool", *args], capture_output=True, text=True,
-                          timeout=timeout, stdin=subprocess.DEVNULL, env=env)
+    return subprocess.run(
+        [sys.executable, "-m", "armtool", *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        stdin=subprocess.DEVNULL,
+        env=env,
+    )
 
 
 def sub_arm(tmp_path: Path, ids: list[int]) -> Path:
@@ -47,8 +66,24 @@ def test_auto_writes_yaml_and_a_urdf_that_passes_lint(tmp_path: Path) -> None:
     arm = sub_arm(tmp_path, [4, 5])
     out, urdf_out = tmp_path / "limits.yaml", tmp_path / "arm.limited.urdf"
     with SimBus.start(AX_ARM) as sim:
-        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
-                    "-o", str(out), "--urdf", str(FIXTURES / "ax12_arm.urdf"), "--urdf-out", str(urdf_out))
+        r = armtool(
+            "limits",
+            "--port",
+            sim.port_path,
+            "--arm",
+            str(arm),
+            "--mode",
+            "auto",
+            "--yes",
+            "--speed",
+            "300",
+            "-o",
+            str(out),
+            "--urdf",
+            str(FIXTURES / "ax12_arm.urdf"),
+            "--urdf-out",
+            str(urdf_out),
+        )
         assert r.returncode == 0, r.stderr
         assert all_off(sim)
         doc = yaml.safe_load(out.read_text())
@@ -81,9 +116,27 @@ def test_manual_with_the_simulated_person(tmp_path: Path) -> None:
             moves.append((abs(here - lo) + (hi - lo) + abs(hi - (lo + hi) / 2)) / spec.speed_deg_s + 2 * spec.dwell_s)
         duration = spec.start_s + max(moves) + 2.0
         env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "120"}
-        proc = subprocess.Popen([sys.executable, "-m", "armtool", "limits", "--port", sim.port_path, "--arm", str(arm),
-                                 "--mode", "manual", "--duration", f"{duration:.1f}"],
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True, env=env)
+        proc = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "armtool",
+                "limits",
+                "--port",
+                sim.port_path,
+                "--arm",
+                str(arm),
+                "--mode",
+                "manual",
+                "--duration",
+                f"{duration:.1f}",
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            stdin=subprocess.DEVNULL,
+            text=True,
+            env=env,
+        )
         try:
             assert proc.stderr is not None
             first = ""
@@ -108,9 +161,29 @@ def test_manual_with_the_simulated_person(tmp_path: Path) -> None:
 def test_signal_during_auto_leaves_every_servo_torque_off(tmp_path: Path, signum: int, code: int) -> None:
     out = tmp_path / "limits.yaml"
     with SimBus.start(AX_ARM) as sim:
-        proc = subprocess.Popen([sys.executable, "-m", "armtool", "limits", "--port", sim.port_path, "--arm", str(AX_ARM),
-                                 "--mode", "auto", "--yes", "--speed", "30", "-o", str(out)],
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True)
+        proc = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "armtool",
+                "limits",
+                "--port",
+                sim.port_path,
+                "--arm",
+                str(AX_ARM),
+                "--mode",
+                "auto",
+                "--yes",
+                "--speed",
+                "30",
+                "-o",
+                str(out),
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            stdin=subprocess.DEVNULL,
+            text=True,
+        )
         try:
             deadline = time.monotonic() + 20
             while sim.peek(1, "torque_enable") == 0 and time.monotonic() < deadline:
@@ -128,11 +201,14 @@ def test_signal_during_auto_leaves_every_servo_torque_off(tmp_path: Path, signum
         assert not out.exists()
 
 
-@pytest.mark.parametrize("fault, message", [
-    ({"missing_ids": [3]}, "ID 3 did not answer"),
-    ({"p_corrupt": 1.0}, "corrupt packets"),
-    ({"echo": True}, "echoes what it sends"),
-])
+@pytest.mark.parametrize(
+    "fault, message",
+    [
+        ({"missing_ids": [3]}, "ID 3 did not answer"),
+        ({"p_corrupt": 1.0}, "corrupt packets"),
+        ({"echo": True}, "echoes what it sends"),
+    ],
+)
 def test_bus_faults_give_clear_errors(tmp_path: Path, fault: dict[str, Any], message: str) -> None:
     cfg = load_sim_config(AX_ARM)
     for k, v in fault.items():
@@ -157,7 +233,12 @@ def test_bad_port_busy_port_wrong_baud_wrong_model(tmp_path: Path) -> None:
         holder.close()
         assert r.returncode == 2 and "busy" in r.stderr
         r = armtool("limits", "--port", sim.port_path, "--ids", "1,2", "--baud", "57600", "--mode", "auto", "--yes")
-        assert r.returncode == 2 and "no servo answered" in r.stderr and "57600 baud" in r.stderr and "tried ID 1-2" in r.stderr
+        assert (
+            r.returncode == 2
+            and "no servo answered" in r.stderr
+            and "57600 baud" in r.stderr
+            and "tried ID 1-2" in r.stderr
+        )
         r = armtool("limits", "--port", sim.port_path, "--ids", "1", "--model", "AX-18A", "--mode", "auto", "--yes")
         assert r.returncode == 2 and "ID 1 is a AX-12A (model number 12), not the AX-18A expected" in r.stderr
         assert all_off(sim)
@@ -170,8 +251,23 @@ def test_limits_outside_the_urdf_exit_2_and_write_nothing(tmp_path: Path) -> Non
     narrow.write_text(original)
     out = tmp_path / "limits.yaml"
     with SimBus.start(AX_ARM) as sim:
-        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
-                    "-o", str(out), "--urdf", str(narrow), "--in-place")
+        r = armtool(
+            "limits",
+            "--port",
+            sim.port_path,
+            "--arm",
+            str(arm),
+            "--mode",
+            "auto",
+            "--yes",
+            "--speed",
+            "300",
+            "-o",
+            str(out),
+            "--urdf",
+            str(narrow),
+            "--in-place",
+        )
         assert r.returncode == 2 and "outside the URDF's: gripper" in r.stderr, r.stderr
         assert all_off(sim)
     assert not out.exists() and narrow.read_text() == original and not (tmp_path / "narrow.urdf.bak").exists()
@@ -213,8 +309,21 @@ def test_write_eeprom_refuses_a_range_end_but_keeps_the_yaml(tmp_path: Path) -> 
     out = tmp_path / "limits.yaml"
     with SimBus.start(so101) as sim:
         before = (sim.peek(5, "min_limit"), sim.peek(5, "max_limit"))
-        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
-                    "-o", str(out), "--write-eeprom")
+        r = armtool(
+            "limits",
+            "--port",
+            sim.port_path,
+            "--arm",
+            str(arm),
+            "--mode",
+            "auto",
+            "--yes",
+            "--speed",
+            "300",
+            "-o",
+            str(out),
+            "--write-eeprom",
+        )
         assert r.returncode == 2 and "not writing EEPROM limits: unconfirmed ends on wrist_roll" in r.stderr, r.stderr
         assert (sim.peek(5, "min_limit"), sim.peek(5, "max_limit")) == before and all_off(sim)
     row = yaml.safe_load(out.read_text())["joints"][0]  # the recording is kept
@@ -228,8 +337,21 @@ def test_in_place_twice_keeps_the_original_in_bak(tmp_path: Path) -> None:
     original = (FIXTURES / "ax12_arm.urdf").read_text()
     urdf.write_text(original)
     with SimBus.start(AX_ARM) as sim:
-        base = ["limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
-                "--urdf", str(urdf), "--in-place"]
+        base = [
+            "limits",
+            "--port",
+            sim.port_path,
+            "--arm",
+            str(arm),
+            "--mode",
+            "auto",
+            "--yes",
+            "--speed",
+            "300",
+            "--urdf",
+            str(urdf),
+            "--in-place",
+        ]
         first = armtool(*base)
         assert first.returncode == 0, first.stderr
         after_first = urdf.read_text()
@@ -248,8 +370,20 @@ def test_unwritable_output_is_found_before_anything_moves(tmp_path: Path) -> Non
     with SimBus.start(AX_ARM) as sim:
         goal = sim.peek(5, "goal_position")
         for out in (tmp_path / "missing" / "limits.yaml", blocker / "limits.yaml"):
-            r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes",
-                        "--speed", "300", "-o", str(out))
+            r = armtool(
+                "limits",
+                "--port",
+                sim.port_path,
+                "--arm",
+                str(arm),
+                "--mode",
+                "auto",
+                "--yes",
+                "--speed",
+                "300",
+                "-o",
+                str(out),
+            )
             assert r.returncode == 2 and "(for -o" in r.stderr, r.stderr
             assert sim.peek(5, "goal_position") == goal and all_off(sim)
             assert sim.servo(5).overload_trips == 0
@@ -276,9 +410,26 @@ def record_manual(sim: SimBus, args: list[str], spec: PersonSpec) -> tuple[int, 
         moves.append((abs(here - lo) + (hi - lo) + abs(hi - (lo + hi) / 2)) / spec.speed_deg_s + 2 * spec.dwell_s)
     duration = spec.start_s + max(moves) + 2.0
     env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "160"}
-    proc = subprocess.Popen([sys.executable, "-m", "armtool", "limits", "--port", sim.port_path, "--mode", "manual",
-                             "--duration", f"{duration:.1f}", *args],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True, env=env)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "armtool",
+            "limits",
+            "--port",
+            sim.port_path,
+            "--mode",
+            "manual",
+            "--duration",
+            f"{duration:.1f}",
+            *args,
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        stdin=subprocess.DEVNULL,
+        text=True,
+        env=env,
+    )
     try:
         assert proc.stderr is not None
         first = ""
@@ -325,12 +476,34 @@ def test_lerobot_calibration_refuses_before_moving(tmp_path: Path) -> None:
     arm = sub_arm(tmp_path, [5])
     with SimBus.start(AX_ARM) as sim:
         goal = sim.peek(5, "goal_position")
-        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
-                    "--lerobot-calibration", str(tmp_path / "cal.json"))
+        r = armtool(
+            "limits",
+            "--port",
+            sim.port_path,
+            "--arm",
+            str(arm),
+            "--mode",
+            "auto",
+            "--yes",
+            "--speed",
+            "300",
+            "--lerobot-calibration",
+            str(tmp_path / "cal.json"),
+        )
         assert r.returncode == 2 and "AX-12A has no homing offset register" in r.stderr, r.stderr
         assert sim.peek(5, "goal_position") == goal and all_off(sim) and not (tmp_path / "cal.json").exists()
-        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes",
-                    "--lerobot-calibration", str(tmp_path / "missing" / "cal.json"))
+        r = armtool(
+            "limits",
+            "--port",
+            sim.port_path,
+            "--arm",
+            str(arm),
+            "--mode",
+            "auto",
+            "--yes",
+            "--lerobot-calibration",
+            str(tmp_path / "missing" / "cal.json"),
+        )
         assert r.returncode == 2 and "(for --lerobot-calibration" in r.stderr, r.stderr
     r = armtool("limits", "--port", "/dev/null", "--ids", "1", "--mode", "auto", "--lerobot-calibration", "x.json")
     assert r.returncode == 2 and "need --arm" in r.stderr
@@ -342,10 +515,26 @@ def test_lerobot_calibration_refuses_an_unconfirmed_end_but_keeps_the_yaml(tmp_p
     arm = so_arm(tmp_path, [5])
     out, cal = tmp_path / "limits.yaml", tmp_path / "cal.json"
     with SimBus.start(SO101) as sim:
-        base = ["limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--speed", "300",
-                "-o", str(out), "--lerobot-calibration", str(cal)]
+        base = [
+            "limits",
+            "--port",
+            sim.port_path,
+            "--arm",
+            str(arm),
+            "--mode",
+            "auto",
+            "--yes",
+            "--speed",
+            "300",
+            "-o",
+            str(out),
+            "--lerobot-calibration",
+            str(cal),
+        ]
         r = armtool(*base)
-        assert r.returncode == 2 and "unconfirmed ends on wrist_roll" in r.stderr and "limits YAML was written" in r.stderr
+        assert (
+            r.returncode == 2 and "unconfirmed ends on wrist_roll" in r.stderr and "limits YAML was written" in r.stderr
+        )
         assert out.exists() and not cal.exists()
         r = armtool(*base, "--lerobot-full-turn", "wrist_roll")
         assert r.returncode == 0, r.stderr
@@ -388,16 +577,24 @@ def test_from_lerobot_converts_and_checks_against_the_arm(tmp_path: Path) -> Non
         assert math.isclose(row["lower_rad"], (entry["range_min"] - 2048) * 2 * math.pi / 4096, abs_tol=1e-5)
 
 
-@pytest.mark.parametrize("edit, message", [
-    (lambda d: d.pop("wrist_flex"), "motor(s) wrist_flex of the arm file are missing"),
-    (lambda d: d["wrist_flex"].update(range_min=12.5), "wrist_flex.range_min must be a whole number of ticks"),
-    (lambda d: d["wrist_flex"].update(range_min=4000), "range_min 4000 is not below range_max"),
-    (lambda d: d["wrist_flex"].update(homing_offset=-2100), "wrist_flex.homing_offset -2100 does not fit the register"),
-])
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        (lambda d: d.pop("wrist_flex"), "motor(s) wrist_flex of the arm file are missing"),
+        (lambda d: d["wrist_flex"].update(range_min=12.5), "wrist_flex.range_min must be a whole number of ticks"),
+        (lambda d: d["wrist_flex"].update(range_min=4000), "range_min 4000 is not below range_max"),
+        (
+            lambda d: d["wrist_flex"].update(homing_offset=-2100),
+            "wrist_flex.homing_offset -2100 does not fit the register",
+        ),
+    ],
+)
 def test_from_lerobot_bad_files_exit_2_and_write_nothing(tmp_path: Path, edit: Any, message: str) -> None:
     arm = so_arm(tmp_path, [1, 4])
-    doc = {"shoulder_pan": {"id": 1, "drive_mode": 0, "homing_offset": 0, "range_min": 800, "range_max": 3300},
-           "wrist_flex": {"id": 4, "drive_mode": 0, "homing_offset": 0, "range_min": 850, "range_max": 3250}}
+    doc = {
+        "shoulder_pan": {"id": 1, "drive_mode": 0, "homing_offset": 0, "range_min": 800, "range_max": 3300},
+        "wrist_flex": {"id": 4, "drive_mode": 0, "homing_offset": 0, "range_min": 850, "range_max": 3250},
+    }
     edit(doc)
     cal = tmp_path / "cal.json"
     cal.write_text(json.dumps(doc, indent=4))
@@ -407,16 +604,28 @@ def test_from_lerobot_bad_files_exit_2_and_write_nothing(tmp_path: Path, edit: A
     assert "Traceback" not in r.stderr and not out.exists()
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--ids", "1", "--mode", "auto"], "--port is required"),
-    (["--port", "/dev/null", "--ids", "1"], "--mode is required"),
-    (["--from-lerobot", "cal.json", "--ids", "1"], "need --arm"),
-    (["--from-lerobot", "cal.json", "--arm", "a.yaml", "--mode", "auto"], "--mode records the arm: it needs --port"),
-    (["--from-lerobot", "cal.json", "--arm", "a.yaml", "--port", "/dev/null"], "--mode is required with --port"),
-    (["--from-lerobot", "c.json", "--arm", "a.yaml", "--lerobot-calibration", "o.json"], "give one of --lerobot-calibration"),
-    (["--arm", "a.yaml", "--lerobot-calibration", "o.json"], "needs --port and --mode"),
-    (["--port", "/dev/null", "--mode", "auto", "--arm", "a.yaml", "--lerobot-full-turn", "x"], "applies to --lerobot-calibration"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--ids", "1", "--mode", "auto"], "--port is required"),
+        (["--port", "/dev/null", "--ids", "1"], "--mode is required"),
+        (["--from-lerobot", "cal.json", "--ids", "1"], "need --arm"),
+        (
+            ["--from-lerobot", "cal.json", "--arm", "a.yaml", "--mode", "auto"],
+            "--mode records the arm: it needs --port",
+        ),
+        (["--from-lerobot", "cal.json", "--arm", "a.yaml", "--port", "/dev/null"], "--mode is required with --port"),
+        (
+            ["--from-lerobot", "c.json", "--arm", "a.yaml", "--lerobot-calibration", "o.json"],
+            "give one of --lerobot-calibration",
+        ),
+        (["--arm", "a.yaml", "--lerobot-calibration", "o.json"], "needs --port and --mode"),
+        (
+            ["--port", "/dev/null", "--mode", "auto", "--arm", "a.yaml", "--lerobot-full-turn", "x"],
+            "applies to --lerobot-calibration",
+        ),
+    ],
+)
 def test_lerobot_usage_errors_before_touching_anything(args: list[str], message: str) -> None:
     r = armtool("limits", *args)
     assert r.returncode == 2 and message in r.stderr, r.stderr
@@ -440,7 +649,9 @@ def test_lerobot_on_dynamixel_recorded_under_an_offset(tmp_path: Path) -> None:
         assert -1024 <= entry["homing_offset"] <= 1024  # Position Control Mode ignores anything else
         sim.poke(11, "homing_offset", entry["homing_offset"])
         lo, hi = sim.stop_ticks(11)
-        assert abs(entry["range_min"] - lo) <= 2 and abs(entry["range_max"] - hi) <= 2 and abs((lo + hi) / 2 - 2047) <= 2
+        assert (
+            abs(entry["range_min"] - lo) <= 2 and abs(entry["range_max"] - hi) <= 2 and abs((lo + hi) / 2 - 2047) <= 2
+        )
         sim.poke(11, "homing_offset", 500)  # the servo back at its old offset: the file must still fit the arm
         r = armtool(*base, "--from-lerobot", str(cal))
         assert r.returncode == 0 and "differ from the file on base (offset 500" in r.stderr, r.stderr
@@ -454,10 +665,15 @@ def test_from_lerobot_offset_ignored_in_position_mode_is_refused_before_recordin
     arm = tmp_path / "x_arm.yaml"
     arm.write_text(yaml.safe_dump(cfg))
     cal = tmp_path / "koch.json"
-    cal.write_text(json.dumps({"base": {"id": 11, "drive_mode": 0, "homing_offset": 1500, "range_min": 700,
-                                        "range_max": 3400}}))
+    cal.write_text(
+        json.dumps({"base": {"id": 11, "drive_mode": 0, "homing_offset": 1500, "range_min": 700, "range_max": 3400}})
+    )
     with SimBus.start(arm) as sim:
         goal = sim.peek(11, "goal_position")
-        r = armtool("limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--from-lerobot", str(cal))
-        assert r.returncode == 2 and "base.homing_offset 1500 does not fit the register (-1024..1024)" in r.stderr, r.stderr
+        r = armtool(
+            "limits", "--port", sim.port_path, "--arm", str(arm), "--mode", "auto", "--yes", "--from-lerobot", str(cal)
+        )
+        assert r.returncode == 2 and "base.homing_offset 1500 does not fit the register (-1024..1024)" in r.stderr, (
+            r.stderr
+        )
         assert sim.peek(11, "goal_position") == goal and all_off(sim)

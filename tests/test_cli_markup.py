@@ -14,7 +14,9 @@ runner = CliRunner()
 
 
 def _help(*command: str) -> str:
-    result = runner.invoke(build_app(), [*command, "--help"], env={"COLUMNS": "400", "NO_COLOR": "1"}, terminal_width=400)
+    result = runner.invoke(
+        build_app(), [*command, "--help"], env={"COLUMNS": "400", "NO_COLOR": "1"}, terminal_width=400
+    )
     assert result.exit_code == 0, result.output
     return re.sub(r"\s+", " ", result.output)
 

@@ -31,7 +31,7 @@ def invoke(*args: str, stdin: str | None = None) -> tuple[int, str, str]:
 
 def fit(tmp_path: Path, *extra: str) -> Path:
     lut = tmp_path / "lut.json"
-    code, out, err = invoke("fit", str(FIXTURE), "-o", str(lut), *extra)
+    code, _out, err = invoke("fit", str(FIXTURE), "-o", str(lut), *extra)
     assert code == 0, err
     return lut
 
@@ -42,15 +42,21 @@ def test_fit_writes_table_and_reports_before_after(tmp_path: Path) -> None:
     assert code == 0 and out == ""
     assert "held out" in err and "nominal map" in err and "non-linearity" in err
     doc = json.loads(lut.read_text())
-    assert doc["servo"] == {"id": 1, "model": "AX-12A", "model_number": 12, "max_tick": 1023,
-                            "deg_per_tick": 300 / 1023}
+    assert doc["servo"] == {
+        "id": 1,
+        "model": "AX-12A",
+        "model_number": 12,
+        "max_tick": 1023,
+        "deg_per_tick": 300 / 1023,
+    }
     assert doc["method"] == "pchip" and doc["approach"] == "up" and doc["fit"]["holdout"] == 10
     assert doc["fit"]["holdout_lut"]["max_deg"] <= doc["fit"]["holdout_nominal"]["max_deg"] / 3
 
 
 def test_fit_to_stdout_with_options() -> None:
-    code, out, _ = invoke("fit", str(FIXTURE), "--method", "poly", "--degree", "5", "--holdout", "0.3", "--seed", "2",
-                          "--grid-step", "5")
+    code, out, _ = invoke(
+        "fit", str(FIXTURE), "--method", "poly", "--degree", "5", "--holdout", "0.3", "--seed", "2", "--grid-step", "5"
+    )
     assert code == 0
     doc = json.loads(out)
     assert doc["method"] == "poly" and doc["poly"]["degree"] == 5 and doc["grid"]["step_deg"] == 5
@@ -64,7 +70,7 @@ def test_export_formats(tmp_path: Path) -> None:
     code, out, _ = invoke("export", str(lut), "--format", "csv")
     assert code == 0 and out.startswith("angle_deg,command_ticks\n")
     header = tmp_path / "lut.h"
-    code, _, err = invoke("export", str(lut), "--format", "c", "-o", str(header))
+    code, _, _err = invoke("export", str(lut), "--format", "c", "-o", str(header))
     assert code == 0 and header.read_text().startswith("/* servo_lut:")
     code, out, _ = invoke("export", str(lut), "--format", "yaml")
     assert code == 0 and "kind: armtool-servo-lut" in out
@@ -94,8 +100,7 @@ def test_bad_input_is_exit_2_naming_row_or_field(tmp_path: Path) -> None:
         "few.csv": (head + "command_ticks,reference_deg\n100,30\n200,60\n300,90\n", "too few points: 3"),
         "nan.csv": (head + "command_ticks,reference_deg\n100,30\n200,nan\n", "nan.csv:4"),
         "dup.csv": (head + "command_ticks,reference_deg,repeat\n100,30,0\n100,30,0\n", "duplicated command 100"),
-        "reverse.csv": (head + "command_ticks,reference_deg\n100,30\n200,60\n300,40\n400,120\n500,150\n",
-                        "lines 4, 5"),
+        "reverse.csv": (head + "command_ticks,reference_deg\n100,30\n200,60\n300,40\n400,120\n500,150\n", "lines 4, 5"),
     }
     for name, (text, needle) in cases.items():
         path = tmp_path / name
@@ -113,8 +118,13 @@ def test_bad_input_is_exit_2_naming_row_or_field(tmp_path: Path) -> None:
 def test_real_process_exit_2_without_traceback(tmp_path: Path) -> None:
     bad = tmp_path / "bad.csv"
     bad.write_text("# servo_model: AX-12A\ncommand_ticks,reference_deg\n100,30\n116,inf\n")
-    done = subprocess.run([sys.executable, "-m", "armtool", "servo-lut", "fit", str(bad)], capture_output=True,
-                          text=True, timeout=120, env={**os.environ, "NO_COLOR": "1"})
+    done = subprocess.run(
+        [sys.executable, "-m", "armtool", "servo-lut", "fit", str(bad)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "NO_COLOR": "1"},
+    )
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert "'reference_deg' is inf" in done.stderr and f"{bad}:4" in done.stderr
 

@@ -31,8 +31,21 @@ LUT_MEAS = FIXTURES / "servo" / "lut" / "ax12a_meas.csv"
 
 # Distributions the base install must never pull in (sizes from issue 12: pin's cmeel prefix
 # 380 MB, OpenCV 150 MB, SciPy 140 MB, yourdfpy -> trimesh/embree).
-HEAVY_DISTRIBUTIONS = {"pin", "numpy", "scipy", "opencv-python", "opencv-python-headless", "yourdfpy", "trimesh",
-                       "threadpoolctl", "dynamixel-sdk", "pyserial", "matplotlib", "pandas", "torch"}
+HEAVY_DISTRIBUTIONS = {
+    "pin",
+    "numpy",
+    "scipy",
+    "opencv-python",
+    "opencv-python-headless",
+    "yourdfpy",
+    "trimesh",
+    "threadpoolctl",
+    "dynamixel-sdk",
+    "pyserial",
+    "matplotlib",
+    "pandas",
+    "torch",
+}
 BASE_ALLOWED = {"typer", "rich", "lxml", "xacro", "pyyaml", "tomli"}
 OPTIONAL_MODULES = sorted(extras.DISTRIBUTIONS)
 
@@ -57,11 +70,15 @@ main()
 """
 
 
-def _run(*args: str, blocked: list[str] = OPTIONAL_MODULES, bypass_require: bool = False,
-         timeout: float = 60) -> subprocess.CompletedProcess[str]:
+def _run(
+    *args: str, blocked: list[str] = OPTIONAL_MODULES, bypass_require: bool = False, timeout: float = 60
+) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
         [sys.executable, "-c", _PRELUDE, json.dumps(blocked), json.dumps(bypass_require), *args],
-        capture_output=True, text=True, timeout=timeout, stdin=subprocess.DEVNULL,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        stdin=subprocess.DEVNULL,
         env={**os.environ, "NO_COLOR": "1", "COLUMNS": "200"},
     )
 
@@ -80,6 +97,7 @@ def _project() -> dict[str, object]:
 
 
 # ---- pyproject.toml ---------------------------------------------------------------------------
+
 
 def test_base_dependencies_have_no_heavy_package() -> None:
     base = {_name(r) for r in _project()["dependencies"]}  # type: ignore[attr-defined]
@@ -107,6 +125,7 @@ def test_all_extra_is_every_command_extra() -> None:
 
 # ---- require() and the CLI's net ----------------------------------------------------------------
 
+
 def test_require_passes_when_installed_and_names_the_install_command_when_not(monkeypatch: pytest.MonkeyPatch) -> None:
     extras.require("servo")  # the test environment has every extra
     real = extras.importlib.util.find_spec
@@ -117,15 +136,19 @@ def test_require_passes_when_installed_and_names_the_install_command_when_not(mo
     assert err.value.what.endswith("not installed: opencv-python-headless")
 
 
-@pytest.mark.parametrize(("module", "current", "extra"), [
-    ("cv2", None, "calib"),          # one home
-    ("numpy", None, "all"),          # in every extra, no command running
-    ("numpy", "servo", "servo"),     # the running command's extra
-    ("cv2", "servo", "calib"),       # a camera reference in servo-lut: not the servo extra's module
-    ("pinocchio.utils", None, "ik"),
-])
-def test_missing_extra_error_names_the_extra(module: str, current: str | None, extra: str,
-                                             monkeypatch: pytest.MonkeyPatch) -> None:
+@pytest.mark.parametrize(
+    ("module", "current", "extra"),
+    [
+        ("cv2", None, "calib"),  # one home
+        ("numpy", None, "all"),  # in every extra, no command running
+        ("numpy", "servo", "servo"),  # the running command's extra
+        ("cv2", "servo", "calib"),  # a camera reference in servo-lut: not the servo extra's module
+        ("pinocchio.utils", None, "ik"),
+    ],
+)
+def test_missing_extra_error_names_the_extra(
+    module: str, current: str | None, extra: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setattr(extras, "_current", current)
     error = extras.missing_extra_error(ModuleNotFoundError(f"No module named {module!r}", name=module))
     assert error is not None and error.hint == f"install them: pip install 'armtool[{extra}]'"
@@ -136,6 +159,7 @@ def test_missing_extra_error_ignores_other_modules() -> None:
 
 
 # ---- every command in a base-only environment -----------------------------------------------------
+
 
 def _assert_needs(result: subprocess.CompletedProcess[str], extra: str) -> None:
     assert result.returncode == 2, result.stderr
@@ -156,14 +180,75 @@ def _commands(tmp: Path) -> list[tuple[list[str], str]]:
         (["servo-lut", "fit", str(LUT_MEAS), "-o", str(tmp / "out")], "servo"),
         (["servo-lut", "export", str(tmp / "lut.json"), "--format", "c", "-o", str(tmp / "out")], "servo"),
         (["servo-lut", "apply", str(tmp / "lut.json"), "--angles", "90"], "servo"),
-        (["servo-lut", "measure", "--port", port, "--id", "1", "--reference", "manual", "--yes", "-o", str(tmp / "out")], "servo"),
-        (["servo-lut", "check", str(tmp / "lut.json"), "--port", port, "--id", "1", "--reference", "manual", "--yes"], "servo"),
-        (["calibrate", "camera", str(tmp / "a.png"), "--board", "charuco:10x7:0.03:0.022", "-o", str(tmp / "out")], "calib"),
-        (["calibrate", "import-bag", str(tmp / "bag"), "--image-topic", "/image", "--urdf", str(URDF),
-          "--tag-size", "0.05", "-o", str(tmp / "out")], "calib"),
+        (
+            [
+                "servo-lut",
+                "measure",
+                "--port",
+                port,
+                "--id",
+                "1",
+                "--reference",
+                "manual",
+                "--yes",
+                "-o",
+                str(tmp / "out"),
+            ],
+            "servo",
+        ),
+        (
+            [
+                "servo-lut",
+                "check",
+                str(tmp / "lut.json"),
+                "--port",
+                port,
+                "--id",
+                "1",
+                "--reference",
+                "manual",
+                "--yes",
+            ],
+            "servo",
+        ),
+        (
+            ["calibrate", "camera", str(tmp / "a.png"), "--board", "charuco:10x7:0.03:0.022", "-o", str(tmp / "out")],
+            "calib",
+        ),
+        (
+            [
+                "calibrate",
+                "import-bag",
+                str(tmp / "bag"),
+                "--image-topic",
+                "/image",
+                "--urdf",
+                str(URDF),
+                "--tag-size",
+                "0.05",
+                "-o",
+                str(tmp / "out"),
+            ],
+            "calib",
+        ),
         (["traj", "time", str(tmp / "path.csv"), "--urdf", str(URDF), "-o", str(tmp / "out")], "traj"),
         (["traj", "check", str(tmp / "path.csv"), "--urdf", str(URDF)], "traj"),
-        (["traj", "cartesian", str(URDF), "--base", "base_link", "--tip", "tool0", "--line", "0,0,0.1", "-o", str(tmp / "out")], "traj"),
+        (
+            [
+                "traj",
+                "cartesian",
+                str(URDF),
+                "--base",
+                "base_link",
+                "--tip",
+                "tool0",
+                "--line",
+                "0,0,0.1",
+                "-o",
+                str(tmp / "out"),
+            ],
+            "traj",
+        ),
     ]
 
 
@@ -192,10 +277,23 @@ def test_internal_module_errors_are_not_mistaken_for_extras() -> None:
     assert result.returncode == 2 and "internal error" in result.stderr and "pip install" not in result.stderr
 
 
-@pytest.mark.parametrize("args", [
-    ["--help"], ["calibrate", "fit", "--help"], ["servo-lut", "--help"], ["rules", "U301"],
-    ["lint", "--format", "json", str(FIXTURES / "robots" / "clean_arm" / "urdf"), str(FIXTURES / "robots" / "clean_arm" / "config")],
-], ids=lambda args: " ".join(args[:2]))
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--help"],
+        ["calibrate", "fit", "--help"],
+        ["servo-lut", "--help"],
+        ["rules", "U301"],
+        [
+            "lint",
+            "--format",
+            "json",
+            str(FIXTURES / "robots" / "clean_arm" / "urdf"),
+            str(FIXTURES / "robots" / "clean_arm" / "config"),
+        ],
+    ],
+    ids=lambda args: " ".join(args[:2]),
+)
 def test_base_commands_and_help_work_without_extras(args: list[str]) -> None:
     result = _run(*args)
     assert result.returncode == 0, result.stderr

@@ -157,7 +157,11 @@ def test_backups_are_numbered_never_overwritten(tmp_path: Path, monkeypatch: pyt
     target.write_text("v0")
     for k in range(3):
         fileio.write_with_backup(target, f"v{k + 1}", target.read_text())
-    assert [(tmp_path / n).read_text() for n in ("arm.urdf.bak", "arm.urdf.bak.1", "arm.urdf.bak.2")] == ["v0", "v1", "v2"]
+    assert [(tmp_path / n).read_text() for n in ("arm.urdf.bak", "arm.urdf.bak.1", "arm.urdf.bak.2")] == [
+        "v0",
+        "v1",
+        "v2",
+    ]
     monkeypatch.setattr(fileio, "MAX_BACKUPS", 3)
     with pytest.raises(ArmtoolError, match="already has 3 backups"):
         fileio.backup_path(target)

@@ -148,8 +148,22 @@ def _try_repo(tmp_path: Path, files: dict[str, str]) -> subprocess.CompletedProc
         (work / name).write_text(text)
     _git(work, env, "add", "-A")
     return subprocess.run(
-        [sys.executable, "-m", "pre_commit", "try-repo", str(hook_repo), "armtool-lint", "--all-files", "--color", "never"],
-        cwd=work, env=env, capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "pre_commit",
+            "try-repo",
+            str(hook_repo),
+            "armtool-lint",
+            "--all-files",
+            "--color",
+            "never",
+        ],
+        cwd=work,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
 
 

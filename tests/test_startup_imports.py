@@ -55,7 +55,10 @@ SMALL_URDF = """\
 def _imported_after(*args: str) -> tuple[int, set[str]]:
     result = subprocess.run(
         [sys.executable, "-c", _PROBE, json.dumps(args)],
-        capture_output=True, text=True, timeout=120, env={**os.environ, "NO_COLOR": "1"},
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "NO_COLOR": "1"},
     )
     assert result.returncode == 0, result.stderr
     probe = json.loads(result.stdout.strip().splitlines()[-1])

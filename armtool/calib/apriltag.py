@@ -14,7 +14,7 @@ pupil-apriltags is as accurate but segfaulted in long runs, so it is not used.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 from typing import Any, cast
 
 import numpy as np
@@ -42,7 +42,7 @@ def tag_object_points(size_m: float) -> Array:
     return np.array([[-h, h, 0.0], [h, h, 0.0], [h, -h, 0.0], [-h, -h, 0.0]])
 
 
-@lru_cache(maxsize=None)
+@cache
 def family_dictionary(family: str) -> Any:
     """The cv2.aruco.Dictionary of an AprilTag family (tag36h11, tag25h9, tag16h5, tag36h10)."""
     import cv2
@@ -110,7 +110,7 @@ def _not_found(tag_id: int, reason: str) -> TagDetection:
     return TagDetection(tag_id, np.full((4, 2), np.nan), False, reason, float("nan"), float("nan"))
 
 
-@lru_cache(maxsize=None)
+@cache
 def _detector(family: str, refine: str) -> Any:
     import cv2
 
@@ -211,7 +211,10 @@ def _refine(
             xn = (gx - K[0, 2] - K[0, 1] * yn) / K[0, 0]
             rays = np.stack([xn.reshape(-1), yn.reshape(-1), np.ones(xn.size)], axis=1)
             source = camera.project(rays).reshape(gx.shape + (2,)).astype(np.float32)
-            crop = cast("NDArray[np.uint8]", cv2.remap(gray, source[..., 0], source[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE))
+            crop = cast(
+                "NDArray[np.uint8]",
+                cv2.remap(gray, source[..., 0], source[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE),
+            )
         else:
             x0, y0, x1, y1 = _crop_box(rough, pad_fraction, (w, h))
             crop = np.ascontiguousarray(gray[y0:y1, x0:x1])
@@ -332,10 +335,14 @@ def _quality_reason(side: float, sharpness: float, contrast: float, min_side_px:
     if side < min_side_px:
         return f"too small: {side:.0f} px side (minimum {min_side_px:.0f})"
     if contrast < _MIN_CONTRAST:
-        return f"low contrast: the tag's black-to-white step is {contrast:.0f} grey levels (minimum {_MIN_CONTRAST:.0f})"
+        return (
+            f"low contrast: the tag's black-to-white step is {contrast:.0f} grey levels (minimum {_MIN_CONTRAST:.0f})"
+        )
     if sharpness < min_sharpness:
         blur = 1.0 / sharpness / np.sqrt(2 * np.pi) if sharpness > 0 else float("inf")
-        return f"blurred: edge sharpness {sharpness:.3f} below {min_sharpness:.3f} (an edge blur of about {blur:.1f} px)"
+        return (
+            f"blurred: edge sharpness {sharpness:.3f} below {min_sharpness:.3f} (an edge blur of about {blur:.1f} px)"
+        )
     return ""
 
 

@@ -155,13 +155,18 @@ def _bag_path(bag: Path) -> Path:
         if (bag.parent / "metadata.yaml").is_file():
             return bag.parent
         raise ArmtoolError(
-            f"a ROS 2 {bag.suffix} file without its bag directory's metadata.yaml", str(bag),
+            f"a ROS 2 {bag.suffix} file without its bag directory's metadata.yaml",
+            str(bag),
             "pass the bag directory that `ros2 bag record` wrote (it holds metadata.yaml and the storage files)",
         )
     if bag.is_dir():
         if (bag / "metadata.yaml").is_file():
             return bag
-        raise ArmtoolError("directory has no metadata.yaml: not a ROS 2 bag", str(bag), "pass a ROS 1 .bag file or a ROS 2 bag directory")
+        raise ArmtoolError(
+            "directory has no metadata.yaml: not a ROS 2 bag",
+            str(bag),
+            "pass a ROS 1 .bag file or a ROS 2 bag directory",
+        )
     raise ArmtoolError(f"not a ROS bag (expected a .bag file or a ROS 2 bag directory), got '{bag.suffix}'", str(bag))
 
 
@@ -192,8 +197,10 @@ def decode_image(msg: Any, msgtype: str) -> tuple[bytes, str]:
         if size is not None:
             check_pixels(size[0], size[1], f"a {msg.format} image message")
         if not ext or cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED) is None:
-            raise ArmtoolError(f"compressed image (format '{msg.format}') is neither a readable JPEG nor PNG",
-                               hint="compressedDepth and other codecs are not supported; record the raw or JPEG/PNG topic")
+            raise ArmtoolError(
+                f"compressed image (format '{msg.format}') is neither a readable JPEG nor PNG",
+                hint="compressedDepth and other codecs are not supported; record the raw or JPEG/PNG topic",
+            )
         return data, ext
     image = raw_image_array(msg)
     ok, buf = cv2.imencode(".png", image)
@@ -202,8 +209,27 @@ def decode_image(msg: Any, msgtype: str) -> tuple[bytes, str]:
     return buf.tobytes(), ".png"
 
 
-_BAYER = {"bayer_rggb8": "COLOR_BayerRG2BGR", "bayer_bggr8": "COLOR_BayerBG2BGR", "bayer_gbrg8": "COLOR_BayerGB2BGR", "bayer_grbg8": "COLOR_BayerGR2BGR"}
-_RAW_ENCODINGS = ("mono8", "8UC1", "mono16", "16UC1", "bgr8", "rgb8", "bgra8", "rgba8", "8UC3", "yuv422", "uyvy", "yuyv", *_BAYER)
+_BAYER = {
+    "bayer_rggb8": "COLOR_BayerRG2BGR",
+    "bayer_bggr8": "COLOR_BayerBG2BGR",
+    "bayer_gbrg8": "COLOR_BayerGB2BGR",
+    "bayer_grbg8": "COLOR_BayerGR2BGR",
+}
+_RAW_ENCODINGS = (
+    "mono8",
+    "8UC1",
+    "mono16",
+    "16UC1",
+    "bgr8",
+    "rgb8",
+    "bgra8",
+    "rgba8",
+    "8UC3",
+    "yuv422",
+    "uyvy",
+    "yuyv",
+    *_BAYER,
+)
 
 
 def raw_image_array(msg: Any) -> NDArray[Any]:
@@ -222,7 +248,9 @@ def raw_image_array(msg: Any) -> NDArray[Any]:
     if depth == 2:
         dtype = np.dtype(">u2" if msg.is_bigendian else "<u2")
         return np.ascontiguousarray(rows).view(dtype).reshape(h, w).astype(np.uint16)
-    img = np.ascontiguousarray(rows).reshape(h, w, channels) if channels > 1 else np.ascontiguousarray(rows).reshape(h, w)
+    img = (
+        np.ascontiguousarray(rows).reshape(h, w, channels) if channels > 1 else np.ascontiguousarray(rows).reshape(h, w)
+    )
     if enc == "rgb8":
         return cv2.cvtColor(img, cv2.COLOR_RGB2BGR)
     if enc == "rgba8":
@@ -246,7 +274,9 @@ class _Bag:
             from rosbags.highlevel import AnyReader
             from rosbags.typesys import Stores, get_typestore
         except ImportError:
-            raise ArmtoolError("reading ROS bags needs the 'rosbags' package", hint="pip install 'armtool[calib]'") from None
+            raise ArmtoolError(
+                "reading ROS bags needs the 'rosbags' package", hint="pip install 'armtool[calib]'"
+            ) from None
 
         self.path = path
         try:
@@ -255,7 +285,9 @@ class _Bag:
         except ArmtoolError:
             raise
         except Exception as exc:  # rosbags raises its own errors, and OSError/KeyError on damaged files
-            raise ArmtoolError(f"cannot read the bag: {exc}", str(path), "is it a complete ROS 1 .bag or ROS 2 bag directory?") from None
+            raise ArmtoolError(
+                f"cannot read the bag: {exc}", str(path), "is it a complete ROS 1 .bag or ROS 2 bag directory?"
+            ) from None
         self.topics: dict[str, str] = {c.topic: c.msgtype for c in self.reader.connections}
 
     def close(self) -> None:
@@ -266,10 +298,17 @@ class _Bag:
             from armtool.lint.suggest import did_you_mean
 
             listing = ", ".join(f"{t} ({m})" for t, m in sorted(self.topics.items())) or "none"
-            raise ArmtoolError(f"topic '{topic}' is not in the bag{did_you_mean(topic, self.topics)}", str(self.path),
-                               f"pass {option} with one of the recorded topics: {listing}")
+            raise ArmtoolError(
+                f"topic '{topic}' is not in the bag{did_you_mean(topic, self.topics)}",
+                str(self.path),
+                f"pass {option} with one of the recorded topics: {listing}",
+            )
         if self.topics[topic] not in types:
-            raise ArmtoolError(f"topic '{topic}' is {self.topics[topic]}, not {' or '.join(types)}", str(self.path), f"pass {option} with a topic of that type")
+            raise ArmtoolError(
+                f"topic '{topic}' is {self.topics[topic]}, not {' or '.join(types)}",
+                str(self.path),
+                f"pass {option} with a topic of that type",
+            )
         return self.topics[topic]
 
     def messages(self, topic: str) -> Iterator[tuple[int, Any]]:
@@ -321,8 +360,13 @@ def _camera_info(bag: _Bag, topic: str) -> Any:
             d = np.asarray(_field(msg, "d", "D"), dtype=np.float64)
             model = str(msg.distortion_model)
             if model not in ("plumb_bob", "rational_polynomial", ""):
-                raise ArmtoolError(f"camera_info on '{topic}' uses distortion_model '{model}'", hint="only plumb_bob and rational_polynomial (OpenCV's pinhole model) are supported; pass --intrinsics")
-            return CameraModel(K.reshape(3, 3), d if d.size in (0, 4, 5, 8, 12, 14) else np.zeros(5), int(msg.width), int(msg.height))
+                raise ArmtoolError(
+                    f"camera_info on '{topic}' uses distortion_model '{model}'",
+                    hint="only plumb_bob and rational_polynomial (OpenCV's pinhole model) are supported; pass --intrinsics",
+                )
+            return CameraModel(
+                K.reshape(3, 3), d if d.size in (0, 4, 5, 8, 12, 14) else np.zeros(5), int(msg.width), int(msg.height)
+            )
     return None
 
 
@@ -375,7 +419,9 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         use_headers = bool(np.all(stamps > 0) and np.all(np.array(image_stamps) > 0))
         clock = "header stamps" if use_headers else "bag receive time"
         if not use_headers:
-            warnings.append("some messages have no header stamp: images and joint states were matched by the time the bag received them")
+            warnings.append(
+                "some messages have no header stamp: images and joint states were matched by the time the bag received them"
+            )
         jt = stamps if use_headers else times
         it = np.array(image_stamps if use_headers else image_times)
         order = np.argsort(jt, kind="stable")
@@ -385,17 +431,23 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         t0 = float(jt[0])
         if options.still_by == "velocity":
             if velocity is None:
-                raise ArmtoolError(f"the JointState messages on '{options.joints_topic}' carry no velocity for every joint", str(bag),
-                                   "use --still-by position")
-            windows = settled_windows(jt - t0, q, options.min_still_s, velocity=velocity, max_velocity=options.max_velocity)
+                raise ArmtoolError(
+                    f"the JointState messages on '{options.joints_topic}' carry no velocity for every joint",
+                    str(bag),
+                    "use --still-by position",
+                )
+            windows = settled_windows(
+                jt - t0, q, options.min_still_s, velocity=velocity, max_velocity=options.max_velocity
+            )
         else:
             windows = settled_windows(jt - t0, q, options.min_still_s, tolerance=options.tolerance)
         if not windows:
             raise ArmtoolError(
                 f"no settled window: the joints never stayed within {options.tolerance} for {options.min_still_s} s"
-                if options.still_by == "position" else
-                f"no settled window: the joint velocities never stayed below {options.max_velocity} for {options.min_still_s} s",
-                str(bag), "let the arm stop at each pose for a second, or loosen --tolerance / --max-velocity / --min-still",
+                if options.still_by == "position"
+                else f"no settled window: the joint velocities never stayed below {options.max_velocity} for {options.min_still_s} s",
+                str(bag),
+                "let the arm stop at each pose for a second, or loosen --tolerance / --max-velocity / --min-still",
             )
         # The image nearest each window's centre, among those taken inside the window.
         chosen: dict[int, tuple[int, Window]] = {}
@@ -405,13 +457,18 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
             inside = np.nonzero((it_rel >= w.start_s) & (it_rel <= w.end_s))[0]
             if len(inside) == 0:
                 nearest = float(np.min(np.abs(it_rel - w.centre_s)))
-                skipped.append((w.start_s, w.end_s, f"no image during the window (nearest {nearest:.2f} s from its centre)"))
+                skipped.append(
+                    (w.start_s, w.end_s, f"no image during the window (nearest {nearest:.2f} s from its centre)")
+                )
                 continue
             best = int(inside[np.argmin(np.abs(it_rel[inside] - w.centre_s))])
             chosen[best] = (len(chosen), w)
         if not chosen:
-            raise ArmtoolError(f"{len(windows)} settled windows, but no image of '{options.image_topic}' was taken during any of them", str(bag),
-                               "check that both topics were recorded at the same time (and that their clocks agree)")
+            raise ArmtoolError(
+                f"{len(windows)} settled windows, but no image of '{options.image_topic}' was taken during any of them",
+                str(bag),
+                "check that both topics were recorded at the same time (and that their clocks agree)",
+            )
         if intrinsics_camera is None:
             info_topic = options.camera_info_topic or _default_camera_info_topic(options.image_topic)
             if info_topic in rb.topics:
@@ -422,8 +479,10 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
                 rb.require(info_topic, (CAMERA_INFO_TYPE,), "--camera-info-topic")
             if intrinsics_camera is None:
                 intrinsics_source = "none: camera.yaml is missing"
-                warnings.append("no intrinsics (no --intrinsics, no calibrated camera_info in the bag): write OUT/camera.yaml with "
-                                "`armtool calibrate camera IMAGES --board ... -o OUT/camera.yaml` before `calibrate fit`")
+                warnings.append(
+                    "no intrinsics (no --intrinsics, no calibrated camera_info in the bag): write OUT/camera.yaml with "
+                    "`armtool calibrate camera IMAGES --board ... -o OUT/camera.yaml` before `calibrate fit`"
+                )
         # Second pass: the chosen images only.
         files: dict[int, tuple[bytes, str]] = {}
         shape: tuple[int, int] | None = None
@@ -435,21 +494,48 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
     finally:
         rb.close()
 
-    if intrinsics_camera is not None and shape is not None and shape != (intrinsics_camera.width, intrinsics_camera.height):
-        warnings.append(f"the images are {shape[0]}x{shape[1]} but the intrinsics are for {intrinsics_camera.width}x{intrinsics_camera.height}")
+    if (
+        intrinsics_camera is not None
+        and shape is not None
+        and shape != (intrinsics_camera.width, intrinsics_camera.height)
+    ):
+        warnings.append(
+            f"the images are {shape[0]}x{shape[1]} but the intrinsics are for {intrinsics_camera.width}x{intrinsics_camera.height}"
+        )
     samples: list[ImportedSample] = []
     for k, (i, w) in sorted(chosen.items(), key=lambda kv: kv[1][0]):
         ext = files[k][1]
-        samples.append(ImportedSample(f"{i:04d}", f"images/{i:04d}{ext}", w.start_s, w.end_s, float(it_rel[k] - w.centre_s),
-                                      {n: float(v) for n, v in zip(names, w.q)}))
+        samples.append(
+            ImportedSample(
+                f"{i:04d}",
+                f"images/{i:04d}{ext}",
+                w.start_s,
+                w.end_s,
+                float(it_rel[k] - w.centre_s),
+                {n: float(v) for n, v in zip(names, w.q)},
+            )
+        )
     manifest = {
         "format": "armtool-calib-dataset/1",
         "created_by": f"armtool calibrate import-bag {bag.name}",
         "setup": options.setup,
-        "robot": {"urdf": "robot.urdf", "base_link": chain.base, "flange_link": chain.tip, "joints": names, "joint_units": "rad"},
-        "camera": {"intrinsics": "camera.yaml", "convention": "opencv (x right, y down, z forward)", "images_rectified": False},
+        "robot": {
+            "urdf": "robot.urdf",
+            "base_link": chain.base,
+            "flange_link": chain.tip,
+            "joints": names,
+            "joint_units": "rad",
+        },
+        "camera": {
+            "intrinsics": "camera.yaml",
+            "convention": "opencv (x right, y down, z forward)",
+            "images_rectified": False,
+        },
         "target": {
-            "type": "apriltag", "family": options.family, "id": options.tag_id, "size_m": options.tag_size_m,
+            "type": "apriltag",
+            "family": options.family,
+            "id": options.tag_id,
+            "size_m": options.tag_size_m,
             "size_definition": "edge of the black border square",
             "frame": "opencv aruco: origin at centre, x right, y up, z out of the face",
             "mounted_on": chain.tip if options.setup == "eye_to_hand" else chain.base,
@@ -489,7 +575,11 @@ def _missing_joints(names: list[str], seen: set[str], topic: str, urdf: Path, ba
         lines = [f"{n}{did_you_mean(n, seen)}" for n in missing]
         raise ArmtoolError(
             f"the chain's joint(s) {', '.join(lines)} of {urdf.name} are not in the JointState messages on '{topic}'",
-            str(bag), f"the bag names: {', '.join(sorted(seen))}; use the URDF the robot ran with, or pick the chain with --base/--flange",
+            str(bag),
+            f"the bag names: {', '.join(sorted(seen))}; use the URDF the robot ran with, or pick the chain with --base/--flange",
         )
-    raise ArmtoolError(f"no single JointState message on '{topic}' carries all of {', '.join(names)} (with positions)", str(bag),
-                       "armtool needs each message to hold the whole chain")
+    raise ArmtoolError(
+        f"no single JointState message on '{topic}' carries all of {', '.join(names)} (with positions)",
+        str(bag),
+        "armtool needs each message to hold the whole chain",
+    )

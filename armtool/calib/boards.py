@@ -89,9 +89,13 @@ def parse_board(text: str) -> BoardSpec:
     try:
         a, b = float(parts[2]), float(parts[3])
     except ValueError:
-        raise ArmtoolError(f"board lengths '{parts[2]}' and '{parts[3]}' must be numbers in metres", hint=_SPEC_HINT) from None
+        raise ArmtoolError(
+            f"board lengths '{parts[2]}' and '{parts[3]}' must be numbers in metres", hint=_SPEC_HINT
+        ) from None
     if not (0 < a < 2 and 0 < b < 2):
-        raise ArmtoolError(f"board lengths must be in metres (0 < length < 2), got {a} and {b}", hint="e.g. 0.03 for 30 mm")
+        raise ArmtoolError(
+            f"board lengths must be in metres (0 < length < 2), got {a} and {b}", hint="e.g. 0.03 for 30 mm"
+        )
     if kind is BoardKind.CHARUCO:
         if cols < 3 or rows < 3:
             raise ArmtoolError(f"a ChArUco board needs at least 3x3 squares, got {cols}x{rows}")
@@ -100,9 +104,11 @@ def parse_board(text: str) -> BoardSpec:
         name = parts[4] if len(parts) == 5 else DEFAULT_CHARUCO_DICT
         name = name.upper() if name.upper().startswith("DICT_") else "DICT_" + name.upper()
         if name.startswith("DICT_APRILTAG_"):
-            name = "DICT_APRILTAG_" + name[len("DICT_APRILTAG_"):].lower()
+            name = "DICT_APRILTAG_" + name[len("DICT_APRILTAG_") :].lower()
         if not isinstance(getattr(cv2.aruco, name, None), int):
-            known = sorted(n for n in dir(cv2.aruco) if n.startswith("DICT_") and isinstance(getattr(cv2.aruco, n), int))
+            known = sorted(
+                n for n in dir(cv2.aruco) if n.startswith("DICT_") and isinstance(getattr(cv2.aruco, n), int)
+            )
             raise ArmtoolError(f"unknown ArUco dictionary '{parts[4]}'", hint="known: " + ", ".join(known))
         spec = BoardSpec(kind, cols, rows, a, b, name)
         markers = (cols * rows) // 2
@@ -116,7 +122,9 @@ def parse_board(text: str) -> BoardSpec:
         markers = cols * rows
     size = int(_dictionary(spec.dictionary).bytesList.shape[0])
     if markers > size:
-        raise ArmtoolError(f"the board needs {markers} markers but {spec.dictionary} has only {size}", hint="use a larger dictionary")
+        raise ArmtoolError(
+            f"the board needs {markers} markers but {spec.dictionary} has only {size}", hint="use a larger dictionary"
+        )
     return spec
 
 
@@ -131,7 +139,9 @@ def cv_board(spec: BoardSpec) -> Any:
     import cv2
 
     if spec.kind is BoardKind.CHARUCO:
-        return cv2.aruco.CharucoBoard((spec.cols, spec.rows), spec.square_m, spec.marker_m, _dictionary(spec.dictionary))
+        return cv2.aruco.CharucoBoard(
+            (spec.cols, spec.rows), spec.square_m, spec.marker_m, _dictionary(spec.dictionary)
+        )
     return cv2.aruco.GridBoard((spec.cols, spec.rows), spec.square_m, spec.marker_m, _dictionary(spec.dictionary))
 
 
@@ -161,7 +171,9 @@ def find_board(gray: NDArray[np.uint8], spec: BoardSpec) -> BoardView:
     ids, pixels = _charuco_corners(gray, spec) if spec.kind is BoardKind.CHARUCO else _grid_corners(gray, spec)
     if len(ids) < spec.min_points_per_view:
         what = "ChArUco corners" if spec.kind is BoardKind.CHARUCO else "tag corners"
-        return BoardView(ids, pixels, f"board not found: {len(ids)} {what} (at least {spec.min_points_per_view} needed)")
+        return BoardView(
+            ids, pixels, f"board not found: {len(ids)} {what} (at least {spec.min_points_per_view} needed)"
+        )
     return BoardView(ids, pixels)
 
 

@@ -137,8 +137,11 @@ def load_intrinsics(path: Path) -> CameraModel:
     try:
         size = path.stat().st_size
         if size > MAX_FILE_BYTES:
-            raise ArmtoolError(f"intrinsics file is {size / 2**20:.0f} MB, more than the {MAX_FILE_BYTES // 2**20} MB armtool reads", str(path),
-                               "is this the right file? intrinsics files are a few hundred bytes")
+            raise ArmtoolError(
+                f"intrinsics file is {size / 2**20:.0f} MB, more than the {MAX_FILE_BYTES // 2**20} MB armtool reads",
+                str(path),
+                "is this the right file? intrinsics files are a few hundred bytes",
+            )
         raw = read_regular(path)  # a FIFO or device is refused, not waited on
     except OSError as exc:
         raise ArmtoolError(f"cannot read intrinsics file: {exc.strerror}", str(path)) from None
@@ -146,16 +149,26 @@ def load_intrinsics(path: Path) -> CameraModel:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
-        raise ArmtoolError("intrinsics file is not UTF-8 text", f"{path}:{line}",
-                           "is it the right file? intrinsics are a YAML or XML text file") from None
+        raise ArmtoolError(
+            "intrinsics file is not UTF-8 text",
+            f"{path}:{line}",
+            "is it the right file? intrinsics are a YAML or XML text file",
+        ) from None
     deep = _too_deep_line(text)
     if deep is not None:
-        raise ArmtoolError(f"intrinsics file is nested more than {MAX_NESTING} levels deep", f"{path}:{deep}",
-                           "camera_matrix and distortion_coefficients are flat lists")
+        raise ArmtoolError(
+            f"intrinsics file is nested more than {MAX_NESTING} levels deep",
+            f"{path}:{deep}",
+            "camera_matrix and distortion_coefficients are flat lists",
+        )
     try:
         data = _read_filestorage(path) if _is_filestorage(path, text) else _read_plain_yaml(path, text)
     except RecursionError:
-        raise ArmtoolError("intrinsics file is nested too deeply", str(path), "camera_matrix and distortion_coefficients are flat lists") from None
+        raise ArmtoolError(
+            "intrinsics file is nested too deeply",
+            str(path),
+            "camera_matrix and distortion_coefficients are flat lists",
+        ) from None
     try:
         return _camera_from_mapping(data, path)
     except ArmtoolError as exc:
@@ -193,7 +206,7 @@ def _too_deep_line(text: str) -> int | None:
 def _key_line(text: str, key: str) -> int | None:
     """The line where `key` is defined (`key:` in YAML, `<key` in XML), 1-based."""
     found = re.search(rf"^\s*(?:{re.escape(key)}\s*:|<{re.escape(key)}\b)", text, re.MULTILINE)
-    return text.count("\n", 0, found.start()) + 1 + (text[found.start():found.end()].count("\n")) if found else None
+    return text.count("\n", 0, found.start()) + 1 + (text[found.start() : found.end()].count("\n")) if found else None
 
 
 def save_intrinsics(camera: CameraModel, path: Path) -> None:
@@ -247,15 +260,21 @@ def _read_filestorage(path: Path) -> dict[str, Any]:
             root = fs.root()
             names = list(root.keys())
         except (cv2.error, SystemError, UnicodeDecodeError) as exc:
-            raise ArmtoolError(f"not a readable OpenCV FileStorage file: {(str(exc).strip().splitlines() or ['parse error'])[-1]}", str(path)) from None
+            raise ArmtoolError(
+                f"not a readable OpenCV FileStorage file: {(str(exc).strip().splitlines() or ['parse error'])[-1]}",
+                str(path),
+            ) from None
         values: dict[str, Any] = {}
         for name in names:
             try:
                 values[name] = _node_value(root.getNode(name))
             except (cv2.error, SystemError, UnicodeDecodeError) as exc:  # e.g. a matrix whose data is not all numbers
                 lines = str(exc.__cause__ or exc).strip().splitlines()
-                raise ArmtoolError(f"key '{name}' cannot be read: {lines[-1].strip() if lines else 'bad value'}", str(path),
-                                   "a matrix is {rows, cols, dt, data: [numbers]}") from None
+                raise ArmtoolError(
+                    f"key '{name}' cannot be read: {lines[-1].strip() if lines else 'bad value'}",
+                    str(path),
+                    "a matrix is {rows, cols, dt, data: [numbers]}",
+                ) from None
         return values
     finally:
         fs.release()

@@ -67,7 +67,9 @@ class Dataset:
     xacro_args: dict[str, str] = field(default_factory=dict)  # robot.xacro_args: for a .xacro robot.urdf
     package_paths: list[Path] = field(default_factory=list)  # robot.package_paths, resolved against the dataset
 
-    def robot_sources(self, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None) -> tuple[dict[str, str], list[Path]]:
+    def robot_sources(
+        self, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None
+    ) -> tuple[dict[str, str], list[Path]]:
         """xacro arguments and package paths for robot.urdf: the command line's over the dataset's."""
         return {**self.xacro_args, **(xacro_args or {})}, [*(package_paths or []), *self.package_paths]
 
@@ -92,14 +94,18 @@ def _rel(root: Path, path: Path) -> str:
         return str(path)
 
 
-def _get(doc: dict[str, Any], dotted: str, problems: list[Problem], where: str, kind: type | tuple[type, ...] = str) -> Any:
+def _get(
+    doc: dict[str, Any], dotted: str, problems: list[Problem], where: str, kind: type | tuple[type, ...] = str
+) -> Any:
     cur: Any = doc
     for key in dotted.split("."):
         if not isinstance(cur, dict) or key not in cur:
-            problems.append(Problem(where, f"missing key '{dotted}'", f"add `{dotted}:` (see the dataset format in the README)"))
+            problems.append(
+                Problem(where, f"missing key '{dotted}'", f"add `{dotted}:` (see the dataset format in the README)")
+            )
             return None
         cur = cur[key]
-    if not isinstance(cur, kind) or isinstance(cur, bool) and kind is not bool:
+    if not isinstance(cur, kind) or (isinstance(cur, bool) and kind is not bool):
         names = {str: "a string", list: "a list", int: "an integer", bool: "true or false"}
         wanted = "a number" if isinstance(kind, tuple) else names.get(kind, kind.__name__)
         problems.append(Problem(where, f"'{dotted}' must be {wanted}, got {cur!r}"))
@@ -120,13 +126,21 @@ def _hint_pose(value: Any) -> Array | None:
         return None
 
 
-def _robot_sources(doc: dict[str, Any], root: Path, where: str, problems: list[Problem]) -> tuple[dict[str, str], list[Path]]:
+def _robot_sources(
+    doc: dict[str, Any], root: Path, where: str, problems: list[Problem]
+) -> tuple[dict[str, str], list[Path]]:
     """robot.xacro_args (NAME: VALUE) and robot.package_paths (directories, relative to the dataset)."""
     robot: dict[str, Any] = doc["robot"] if isinstance(doc.get("robot"), dict) else {}
     raw_args = robot.get("xacro_args") or {}
     args: dict[str, str] = {}
     if not isinstance(raw_args, dict):
-        problems.append(Problem(where, f"robot.xacro_args must be a mapping NAME: VALUE, got {raw_args!r}", "e.g. xacro_args: {ur_type: ur5e, name: ur}"))
+        problems.append(
+            Problem(
+                where,
+                f"robot.xacro_args must be a mapping NAME: VALUE, got {raw_args!r}",
+                "e.g. xacro_args: {ur_type: ur5e, name: ur}",
+            )
+        )
     else:
         for k, v in raw_args.items():
             args[str(k)] = ("true" if v else "false") if isinstance(v, bool) else str(v)
@@ -135,12 +149,22 @@ def _robot_sources(doc: dict[str, Any], root: Path, where: str, problems: list[P
         raw_paths = [raw_paths]
     paths: list[Path] = []
     if not isinstance(raw_paths, list):
-        problems.append(Problem(where, f"robot.package_paths must be a list of directories, got {raw_paths!r}", "e.g. package_paths: [../src]"))
+        problems.append(
+            Problem(
+                where,
+                f"robot.package_paths must be a list of directories, got {raw_paths!r}",
+                "e.g. package_paths: [../src]",
+            )
+        )
     else:
         for item in raw_paths:
             path = _resolve(root / str(item))
             if not os.path.isdir(path):
-                problems.append(Problem(where, f"robot.package_paths entry '{item}' is not a directory", f"paths are relative to {root}"))
+                problems.append(
+                    Problem(
+                        where, f"robot.package_paths entry '{item}' is not a directory", f"paths are relative to {root}"
+                    )
+                )
             paths.append(path)
     return args, paths
 
@@ -157,7 +181,11 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         root = root.parent
     where = _rel(root, manifest)
     if not manifest.is_file():
-        raise ArmtoolError("no dataset.yaml", str(manifest), "pass a dataset directory (see `armtool calibrate simulate` for an example)")
+        raise ArmtoolError(
+            "no dataset.yaml",
+            str(manifest),
+            "pass a dataset directory (see `armtool calibrate simulate` for an example)",
+        )
     from armtool.fileio import read_yaml
 
     doc = read_yaml(manifest, "dataset.yaml")
@@ -165,7 +193,9 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         raise ArmtoolError("dataset.yaml must be a mapping", where)
     problems: list[Problem] = []
     if doc.get("format") != FORMAT:
-        problems.append(Problem(where, f"format is {doc.get('format')!r}, expected '{FORMAT}'", f"add `format: {FORMAT}`"))
+        problems.append(
+            Problem(where, f"format is {doc.get('format')!r}, expected '{FORMAT}'", f"add `format: {FORMAT}`")
+        )
     setup_text = doc.get("setup", "eye_to_hand")
     try:
         setup = Setup(setup_text)
@@ -178,9 +208,17 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     joints = _get(doc, "robot.joints", problems, where, list) or []
     units = (doc.get("robot") or {}).get("joint_units", "rad") if isinstance(doc.get("robot"), dict) else "rad"
     if units not in ("rad", "radians"):
-        problems.append(Problem(where, f"robot.joint_units is '{units}'", "armtool expects radians: convert the CSV and set `joint_units: rad`"))
+        problems.append(
+            Problem(
+                where,
+                f"robot.joint_units is '{units}'",
+                "armtool expects radians: convert the CSV and set `joint_units: rad`",
+            )
+        )
     intr_name = _get(doc, "camera.intrinsics", problems, where)
-    rectified = (doc.get("camera") or {}).get("images_rectified", False) if isinstance(doc.get("camera"), dict) else False
+    rectified = (
+        (doc.get("camera") or {}).get("images_rectified", False) if isinstance(doc.get("camera"), dict) else False
+    )
     if not isinstance(rectified, bool):
         problems.append(Problem(where, f"camera.images_rectified must be true or false, got {rectified!r}"))
         rectified = False
@@ -188,21 +226,34 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     tag_id = _get(doc, "target.id", problems, where, int)
     size_m = _get(doc, "target.size_m", problems, where, (int, float))
     if size_m is not None and not (TAG_SIZE_M[0] <= float(size_m) <= TAG_SIZE_M[1]):  # NaN fails too
-        problems.append(Problem(where, f"target.size_m is {size_m}: the black square's edge in metres, {TAG_SIZE_M[0]:g} to {TAG_SIZE_M[1]:g}",
-                                "e.g. 0.08 for an 80 mm tag"))
+        problems.append(
+            Problem(
+                where,
+                f"target.size_m is {size_m}: the black square's edge in metres, {TAG_SIZE_M[0]:g} to {TAG_SIZE_M[1]:g}",
+                "e.g. 0.08 for an 80 mm tag",
+            )
+        )
         size_m = None
     if tag_id is not None and not 0 <= tag_id <= MAX_TAG_ID:
-        problems.append(Problem(where, f"target.id is {tag_id}: AprilTag ids are 0 to {MAX_TAG_ID}", "the number printed under the tag"))
+        problems.append(
+            Problem(
+                where, f"target.id is {tag_id}: AprilTag ids are 0 to {MAX_TAG_ID}", "the number printed under the tag"
+            )
+        )
         tag_id = None
     if not isinstance(family, str):
         problems.append(Problem(where, f"target.family must be a string, got {family!r}", "e.g. tag36h11"))
         family = "tag36h11"
     bad_joints = [j for j in joints if not isinstance(j, str)]
     if bad_joints:
-        problems.append(Problem(where, f"robot.joints must be joint names, got {bad_joints[0]!r}", "e.g. joints: [joint1, joint2]"))
+        problems.append(
+            Problem(where, f"robot.joints must be joint names, got {bad_joints[0]!r}", "e.g. joints: [joint1, joint2]")
+        )
     samples_name = doc.get("samples", "samples.csv")
     if not isinstance(samples_name, str):
-        problems.append(Problem(where, f"'samples' must be a file name, got {samples_name!r}", "e.g. samples: samples.csv"))
+        problems.append(
+            Problem(where, f"'samples' must be a file name, got {samples_name!r}", "e.g. samples: samples.csv")
+        )
         samples_name = "samples.csv"
 
     def file_in_root(name: str | None, what: str) -> Path:
@@ -211,7 +262,9 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         path = _resolve(root / name)
         why = unreadable_reason(path)
         if why is not None:
-            problems.append(Problem(where, f"{what} '{name}' {why}", f"put the file in {root} or fix the path in dataset.yaml"))
+            problems.append(
+                Problem(where, f"{what} '{name}' {why}", f"put the file in {root} or fix the path in dataset.yaml")
+            )
         return path
 
     urdf = file_in_root(urdf_name, "robot.urdf")
@@ -221,7 +274,14 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     hints: dict[str, Array] = {}
     raw_hints = doc.get("hints") or {}
     if not isinstance(raw_hints, dict):
-        problems.append(Problem(where, f"'hints' must be a mapping, got {raw_hints!r}", "e.g. hints: {camera_in_base: {xyz: [...], rpy: [...]}}", "warning"))
+        problems.append(
+            Problem(
+                where,
+                f"'hints' must be a mapping, got {raw_hints!r}",
+                "e.g. hints: {camera_in_base: {xyz: [...], rpy: [...]}}",
+                "warning",
+            )
+        )
         raw_hints = {}
     for key, value in raw_hints.items():
         pose = _hint_pose(value)
@@ -231,16 +291,32 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
             hints[key] = pose
     corners_name = doc.get("corners")
     if corners_name is not None and not isinstance(corners_name, str):
-        problems.append(Problem(where, f"'corners' must be a file name, got {corners_name!r}", "e.g. corners: corners.csv"))
+        problems.append(
+            Problem(where, f"'corners' must be a file name, got {corners_name!r}", "e.g. corners: corners.csv")
+        )
         corners_name = None
     corners_file = _resolve(root / corners_name) if corners_name else None
     if corners_file is None and (root / "corners.csv").is_file():
         corners_file = _resolve(root / "corners.csv")
 
     ds = Dataset(
-        root, setup, urdf, base, flange, [str(j) for j in joints], intrinsics, rectified, str(family),
-        int(tag_id) if tag_id is not None else 0, float(size_m) if size_m is not None else 0.0, [],
-        corners_file=corners_file, hints=hints, problems=problems, xacro_args=xacro_args, package_paths=package_paths,
+        root,
+        setup,
+        urdf,
+        base,
+        flange,
+        [str(j) for j in joints],
+        intrinsics,
+        rectified,
+        str(family),
+        int(tag_id) if tag_id is not None else 0,
+        float(size_m) if size_m is not None else 0.0,
+        [],
+        corners_file=corners_file,
+        hints=hints,
+        problems=problems,
+        xacro_args=xacro_args,
+        package_paths=package_paths,
     )
     ds.samples_file = samples_path
     if corners_file is not None and (why := unreadable_reason(corners_file)) is not None:
@@ -272,12 +348,20 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
                 return
             header = [h.strip() for h in header]
             if "id" not in header:
-                ds.problems.append(Problem(f"{where}:1", "no 'id' column", "the header must start with id,image,<joint names>"))
+                ds.problems.append(
+                    Problem(f"{where}:1", "no 'id' column", "the header must start with id,image,<joint names>")
+                )
                 return
             names = chain_joint_names if chain_joint_names is not None else ds.joints
             missing = [n for n in names if n not in header]
             if missing:
-                ds.problems.append(Problem(f"{where}:1", f"joint column(s) missing: {', '.join(missing)}", "the header names URDF joints: " + ", ".join(names)))
+                ds.problems.append(
+                    Problem(
+                        f"{where}:1",
+                        f"joint column(s) missing: {', '.join(missing)}",
+                        "the header names URDF joints: " + ", ".join(names),
+                    )
+                )
                 return
             unknown = [h for h in header if h not in ("id", "image") and h not in names]
             if unknown and chain_joint_names is not None:
@@ -285,8 +369,12 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
 
                 for u in unknown:
                     ds.problems.append(
-                        Problem(f"{where}:1", f"column '{u}' is not a joint of the chain {ds.base_link} → {ds.flange_link}{did_you_mean(u, names)}",
-                                "remove the column, or fix robot.base_link / robot.flange_link", severity="warning" if u not in ds.joints else "error")
+                        Problem(
+                            f"{where}:1",
+                            f"column '{u}' is not a joint of the chain {ds.base_link} → {ds.flange_link}{did_you_mean(u, names)}",
+                            "remove the column, or fix robot.base_link / robot.flange_link",
+                            severity="warning" if u not in ds.joints else "error",
+                        )
                     )
             cols = [header.index(n) for n in names]
             id_col = header.index("id")
@@ -296,7 +384,13 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
                 if not row or all(not c.strip() for c in row):
                     continue
                 if len(ds.samples) >= MAX_SAMPLES:
-                    ds.problems.append(Problem(f"{where}:{line}", f"more than {MAX_SAMPLES} samples", "split the dataset: 30-300 well-spread poses are plenty"))
+                    ds.problems.append(
+                        Problem(
+                            f"{where}:{line}",
+                            f"more than {MAX_SAMPLES} samples",
+                            "split the dataset: 30-300 well-spread poses are plenty",
+                        )
+                    )
                     break
                 if len(row) < len(header):
                     ds.problems.append(Problem(f"{where}:{line}", f"{len(row)} values, header has {len(header)}"))
@@ -321,14 +415,21 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
     except csv.Error as exc:
         ds.problems.append(_csv_problem(exc, where, text))
     if not ds.samples and not any(p.where.startswith(where) for p in ds.problems):
-        ds.problems.append(Problem(where, "samples.csv has a header but no rows", "one row per robot pose: id,image,<joint values in rad>"))
+        ds.problems.append(
+            Problem(
+                where, "samples.csv has a header but no rows", "one row per robot pose: id,image,<joint values in rad>"
+            )
+        )
     if ds.samples and ds.samples[0].q.size:  # no joint columns when robot.joints is missing (reported)
         Q = np.stack([s.q for s in ds.samples])
         if float(np.abs(Q).max()) > 2 * math.pi + 0.5:
             worst = int(np.abs(Q).max(axis=1).argmax())
             ds.problems.append(
-                Problem(f"{where}:{ds.samples[worst].row}", f"joint values up to {float(np.abs(Q).max()):.1f}: these look like degrees, but the dataset states radians",
-                        "convert the joint columns to radians (value × π/180)")
+                Problem(
+                    f"{where}:{ds.samples[worst].row}",
+                    f"joint values up to {float(np.abs(Q).max()):.1f}: these look like degrees, but the dataset states radians",
+                    "convert the joint columns to radians (value × π/180)",
+                )
             )
 
 
@@ -343,12 +444,20 @@ def _read_corners(ds: Dataset, path: Path) -> None:
             fields = [f.strip() for f in (reader.fieldnames or [])]
             missing = [c for c in ["id", "tag_id", *CORNER_COLUMNS] if c not in fields]
             if missing:
-                ds.problems.append(Problem(f"{where}:1", f"corners.csv lacks column(s) {', '.join(missing)}", "header: id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3"))
+                ds.problems.append(
+                    Problem(
+                        f"{where}:1",
+                        f"corners.csv lacks column(s) {', '.join(missing)}",
+                        "header: id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3",
+                    )
+                )
                 return
             ids = {s.id for s in ds.samples}
             for line, row in enumerate(reader, start=2):
                 if line > MAX_SAMPLES + 1:
-                    ds.problems.append(Problem(f"{where}:{line}", f"more than {MAX_SAMPLES} rows", "one row per sample"))
+                    ds.problems.append(
+                        Problem(f"{where}:{line}", f"more than {MAX_SAMPLES} rows", "one row per sample")
+                    )
                     break
                 row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
                 try:
@@ -362,7 +471,13 @@ def _read_corners(ds: Dataset, path: Path) -> None:
                     ds.problems.append(Problem(f"{where}:{line}", "a corner coordinate is NaN or infinite"))
                     continue
                 if float(np.abs(uv).max()) > MAX_CORNER_PX:
-                    ds.problems.append(Problem(f"{where}:{line}", f"a corner coordinate is beyond ±{MAX_CORNER_PX:g} px", "corners are pixel coordinates in the image"))
+                    ds.problems.append(
+                        Problem(
+                            f"{where}:{line}",
+                            f"a corner coordinate is beyond ±{MAX_CORNER_PX:g} px",
+                            "corners are pixel coordinates in the image",
+                        )
+                    )
                     continue
                 if row["id"] not in ids:
                     ds.problems.append(Problem(f"{where}:{line}", f"sample id '{row['id']}' is not in samples.csv"))
@@ -377,7 +492,11 @@ def _csv_problem(exc: csv.Error, where: str, text: str) -> Problem:
     message = str(exc)
     if "field larger than field limit" in message:
         line = _line_of_long_field(text)
-        return Problem(f"{where}:{line}", f"a field is longer than {MAX_CSV_FIELD // 1024} KB", "is this the right file? each field is one id, path or number")
+        return Problem(
+            f"{where}:{line}",
+            f"a field is longer than {MAX_CSV_FIELD // 1024} KB",
+            "is this the right file? each field is one id, path or number",
+        )
     return Problem(where, f"not a readable CSV file: {message}", "one row per line, fields separated by commas")
 
 
@@ -392,8 +511,13 @@ def _text(path: Path, where: str, problems: list[Problem]) -> str | None:
     try:
         size = path.stat().st_size
         if size > MAX_FILE_BYTES:
-            problems.append(Problem(where, f"file is {size / 2**20:.0f} MB, more than the {MAX_FILE_BYTES // 2**20} MB armtool reads",
-                                    f"a dataset holds at most {MAX_SAMPLES} samples"))
+            problems.append(
+                Problem(
+                    where,
+                    f"file is {size / 2**20:.0f} MB, more than the {MAX_FILE_BYTES // 2**20} MB armtool reads",
+                    f"a dataset holds at most {MAX_SAMPLES} samples",
+                )
+            )
             return None
         return path.read_bytes().decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -411,4 +535,6 @@ def require_ok(ds: Dataset) -> None:
         first = errors[0]
         more = "".join(f"\n  {p.where}: {p.what}" for p in errors[1:8])
         extra = f"\n  … and {len(errors) - 8} more" if len(errors) > 8 else ""
-        raise ArmtoolError(first.what + more + extra, first.where, first.hint or "run `armtool calibrate check` for the full list")
+        raise ArmtoolError(
+            first.what + more + extra, first.where, first.hint or "run `armtool calibrate check` for the full list"
+        )

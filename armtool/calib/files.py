@@ -72,8 +72,11 @@ def header_size(head: bytes) -> tuple[int, int] | None:
 
 def check_pixels(width: int, height: int, where: str) -> None:
     if width * height > MAX_IMAGE_PIXELS:
-        raise ArmtoolError(f"image is {width}x{height} pixels, more than the {MAX_IMAGE_PIXELS // 1_000_000} MP armtool reads", where,
-                           "is it really a camera image? scale it down, or check the file")
+        raise ArmtoolError(
+            f"image is {width}x{height} pixels, more than the {MAX_IMAGE_PIXELS // 1_000_000} MP armtool reads",
+            where,
+            "is it really a camera image? scale it down, or check the file",
+        )
 
 
 def read_gray(path: Path) -> NDArray[np.uint8] | None:

@@ -123,7 +123,16 @@ def _solve(problem: Problem, x0: Array, free: list[int], robust: bool, f_scale: 
     scale = np.full(len(free), 1e-3)
     m = problem.uv.size
     if robust or m < len(free):
-        res = least_squares(fun, x0[free], jac=jac, method="trf", loss="soft_l1" if robust else "linear", f_scale=f_scale, x_scale=scale, max_nfev=200)
+        res = least_squares(
+            fun,
+            x0[free],
+            jac=jac,
+            method="trf",
+            loss="soft_l1" if robust else "linear",
+            f_scale=f_scale,
+            x_scale=scale,
+            max_nfev=200,
+        )
     else:
         res = least_squares(fun, x0[free], jac=jac, method="lm", x_scale=scale, max_nfev=400)
     x = x0.copy()
@@ -131,7 +140,9 @@ def _solve(problem: Problem, x0: Array, free: list[int], robust: bool, f_scale: 
     return x, int(res.nfev)
 
 
-def _start_frames(model: CalibModel, camera: CameraModel, Q: Array, uv: Array, size_m: float, hints: dict[str, Array]) -> tuple[Array, Array]:
+def _start_frames(
+    model: CalibModel, camera: CameraModel, Q: Array, uv: Array, size_m: float, hints: dict[str, Array]
+) -> tuple[Array, Array]:
     from armtool.calib.apriltag import pnp_pose
     from armtool.calib.handeye import initial_frames
 
@@ -264,10 +275,15 @@ def calibrate(
             break
         for k in new:
             s = fit_samples[k]
-            outliers[s.id] = f"residual {rms_all[k]:.1f} px RMS against a median of {median:.2f} px (row {s.row}: wrong joint reading or mislabeled image?)"
+            outliers[s.id] = (
+                f"residual {rms_all[k]:.1f} px RMS against a median of {median:.2f} px (row {s.row}: wrong joint reading or mislabeled image?)"
+            )
         inliers = [k for k in inliers if k not in new]
         if len(inliers) * 8 < 2 * len(free):
-            raise ArmtoolError(f"{len(outliers)} of {len(fit_samples)} samples disagree with the model", hint="check the joint readings and image names in samples.csv")
+            raise ArmtoolError(
+                f"{len(outliers)} of {len(fit_samples)} samples disagree with the model",
+                hint="check the joint readings and image names in samples.csv",
+            )
 
     say("final Levenberg–Marquardt on the inliers")
     final = Problem(model, camera, Q[inliers], uv[inliers], tag_points)
@@ -287,7 +303,9 @@ def calibrate(
         sigma = np.full(len(free), math.nan)
 
     say("which zero offsets the data determines")
-    zero_offsets = analyse_offsets(model, final.jacobian(x, candidates), candidates, ident, x, dict(zip(free, (float(v) for v in sigma))))
+    zero_offsets = analyse_offsets(
+        model, final.jacobian(x, candidates), candidates, ident, x, dict(zip(free, (float(v) for v in sigma)))
+    )
     residuals: list[SampleResidual] = []
     before = problem.per_sample_rms(x_he)
     after = problem.per_sample_rms(x)
@@ -306,9 +324,13 @@ def calibrate(
         for k, s in enumerate(hold_samples):
             if hold_after[k] > limit:
                 keep[k] = False
-                outliers[s.id] = f"held-out residual {hold_after[k]:.1f} px RMS against a median of {median:.2f} px (row {s.row}: wrong joint reading or mislabeled image?)"
+                outliers[s.id] = (
+                    f"held-out residual {hold_after[k]:.1f} px RMS against a median of {median:.2f} px (row {s.row}: wrong joint reading or mislabeled image?)"
+                )
             role = "holdout" if keep[k] else "outlier"
-            residuals.append(SampleResidual(s.id, role, float(hold_before[k]), float(hold_after[k]), outliers.get(s.id, "")))
+            residuals.append(
+                SampleResidual(s.id, role, float(hold_before[k]), float(hold_after[k]), outliers.get(s.id, ""))
+            )
         if (~keep).sum() * 3 > len(keep):
             warnings.append(
                 f"{int((~keep).sum())} of {len(keep)} held-out samples disagree with the calibrated model: "
@@ -328,10 +350,24 @@ def calibrate(
     if len(inliers) < 20:
         warnings.append(f"only {len(inliers)} samples were fitted: 30-60 poses give a reliable calibration")
     if options.families and Family.GAINS in options.families and any(model.params[i].kind == "gain" for i in free):
-        warnings.append("joint gains were fitted: a URDF cannot hold them, so apply `gain` from calibration.yaml in the driver")
+        warnings.append(
+            "joint gains were fitted: a URDF cannot hold them, so apply `gain` from calibration.yaml in the driver"
+        )
     kept = keep if hold_samples else np.zeros(0, dtype=bool)
     return CalibrationResult(
-        model, x, x_he, free, sigma, ident, residuals, outliers, rejected, warnings,
-        (rms(before[inliers]), rms(after[inliers])), (rms(hold_before), rms(hold_after)), nfev,
-        (rms(hold_before[kept]), rms(hold_after[kept])), zero_offsets,
+        model,
+        x,
+        x_he,
+        free,
+        sigma,
+        ident,
+        residuals,
+        outliers,
+        rejected,
+        warnings,
+        (rms(before[inliers]), rms(after[inliers])),
+        (rms(hold_before), rms(hold_after)),
+        nfev,
+        (rms(hold_before[kept]), rms(hold_after[kept])),
+        zero_offsets,
     )

@@ -70,7 +70,9 @@ def analyse(model: CalibModel, J: Array, candidates: list[int], tolerance: float
     return Identifiability([candidates[k] for k in kept_cols], dropped, cond, o1, s)
 
 
-def _explain(model: CalibModel, J: Array, norms: Array, candidates: list[int], kept_cols: list[int], k: int, scaled: Array) -> str:
+def _explain(
+    model: CalibModel, J: Array, norms: Array, candidates: list[int], kept_cols: list[int], k: int, scaled: Array
+) -> str:
     p = model.params[candidates[k]]
     if norms[k] <= 1e-12 * max(1.0, float(norms.max())):
         return f"{p.describe()} does not change any measurement"

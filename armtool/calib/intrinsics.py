@@ -19,7 +19,6 @@ from enum import Enum
 from pathlib import Path
 
 import numpy as np
-from numpy.typing import NDArray
 
 from armtool.calib.boards import BoardSpec, BoardView, board_points, find_board
 from armtool.calib.camera import Array, CameraModel
@@ -82,23 +81,31 @@ def image_paths(inputs: Sequence[Path]) -> list[Path]:
             try:
                 found = sorted(q for q in p.iterdir() if q.suffix.lower() in _IMAGE_SUFFIXES)
             except OSError as exc:
-                raise ArmtoolError(f"cannot list the image directory: {exc.strerror or exc}", str(p), "check its permissions") from None
+                raise ArmtoolError(
+                    f"cannot list the image directory: {exc.strerror or exc}", str(p), "check its permissions"
+                ) from None
             out.extend(q for q in found if unreadable_reason(q) is None)  # skip sub-directories, FIFOs named *.png
         elif (why := unreadable_reason(p)) is None:
             out.append(p)
         else:
             raise ArmtoolError(f"image {why}", str(p), "pass image files or a directory of images")
     if not out and any(p.is_dir() for p in inputs):
-        raise ArmtoolError("no readable image files in the director" + ("ies" if len(inputs) > 1 else "y"), ", ".join(str(p) for p in inputs),
-                           f"images end in {', '.join(_IMAGE_SUFFIXES)}")
+        raise ArmtoolError(
+            "no readable image files in the director" + ("ies" if len(inputs) > 1 else "y"),
+            ", ".join(str(p) for p in inputs),
+            f"images end in {', '.join(_IMAGE_SUFFIXES)}",
+        )
     if not out:
-        raise ArmtoolError("no images given", ", ".join(str(p) for p in inputs), f"images end in {', '.join(_IMAGE_SUFFIXES)}")
+        raise ArmtoolError(
+            "no images given", ", ".join(str(p) for p in inputs), f"images end in {', '.join(_IMAGE_SUFFIXES)}"
+        )
     return out
 
 
-def find_boards(paths: Sequence[Path], spec: BoardSpec, progress: Callable[[int, int], None] | None = None) -> tuple[list[tuple[str, BoardView]], tuple[int, int]]:
+def find_boards(
+    paths: Sequence[Path], spec: BoardSpec, progress: Callable[[int, int], None] | None = None
+) -> tuple[list[tuple[str, BoardView]], tuple[int, int]]:
     """The board's corners in every image, and the common image size (width, height)."""
-    import cv2
 
     from armtool.calib.files import read_gray
 
@@ -112,8 +119,11 @@ def find_boards(paths: Sequence[Path], spec: BoardSpec, progress: Callable[[int,
         if size is None:
             size = here
         elif here != size:
-            raise ArmtoolError(f"image is {here[0]}x{here[1]} but {paths[0].name} is {size[0]}x{size[1]}", str(path),
-                               "intrinsics hold for one image size: calibrate each resolution separately")
+            raise ArmtoolError(
+                f"image is {here[0]}x{here[1]} but {paths[0].name} is {size[0]}x{size[1]}",
+                str(path),
+                "intrinsics hold for one image size: calibrate each resolution separately",
+            )
         views.append((str(path), find_board(gray, spec)))
         if progress is not None:
             progress(k + 1, len(paths))
@@ -147,12 +157,19 @@ def _fit(obj: list[Array], img: list[Array], size: tuple[int, int], model: Disto
     criteria = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 200, 1e-12)
     try:
         _, K, dist, rvecs, tvecs, std_intr, _, _ = cv2.calibrateCameraExtended(  # type: ignore[call-overload]  # None K/dist: OpenCV starts from its own guess
-            [o.astype(np.float32) for o in obj], [i.astype(np.float32) for i in img], size, None, None,
-            flags=_flags(model), criteria=criteria,
+            [o.astype(np.float32) for o in obj],
+            [i.astype(np.float32) for i in img],
+            size,
+            None,
+            None,
+            flags=_flags(model),
+            criteria=criteria,
         )
     except cv2.error as exc:
-        raise ArmtoolError(f"OpenCV could not calibrate from these images: {str(exc).strip().splitlines()[-1]}",
-                           hint="use more images with the board tilted in different directions") from None
+        raise ArmtoolError(
+            f"OpenCV could not calibrate from these images: {str(exc).strip().splitlines()[-1]}",
+            hint="use more images with the board tilted in different directions",
+        ) from None
     K = np.asarray(K, dtype=np.float64)
     dist = np.asarray(dist, dtype=np.float64).reshape(-1)
     dist = dist[:8] if model is DistortionModel.RATIONAL else dist[:5]
@@ -198,7 +215,9 @@ def calibrate_views(
         if fit.rms_per_view[worst] <= limit or len(used) <= min_images:
             break
         name = used.pop(worst)
-        rejected[name] = f"outlier: reprojection RMS {fit.rms_per_view[worst]:.2f} px, more than max({OUTLIER_MIN_PX} px, {OUTLIER_FACTOR:g} × median {median:.2f} px)"
+        rejected[name] = (
+            f"outlier: reprojection RMS {fit.rms_per_view[worst]:.2f} px, more than max({OUTLIER_MIN_PX} px, {OUTLIER_FACTOR:g} × median {median:.2f} px)"
+        )
         log.info("%s rejected: %s", name, rejected[name])
 
     rms_of = dict(zip(used, fit.rms_per_view))
@@ -217,7 +236,11 @@ def calibrate_views(
     coverage, empty_corners = _coverage(np.concatenate([img[n] for n in used]), image_size)
     warnings = []
     if coverage < MIN_COVERAGE or empty_corners:
-        where = f"; never near the image's {', '.join(empty_corners)} corner(s), where distortion is largest" if empty_corners else ""
+        where = (
+            f"; never near the image's {', '.join(empty_corners)} corner(s), where distortion is largest"
+            if empty_corners
+            else ""
+        )
         warnings.append(
             f"poor coverage: the board's corners reach {coverage:.0%} of a {COVERAGE_GRID[0]}x{COVERAGE_GRID[1]} grid over the image{where}. "
             "Distortion is extrapolated where the board never was: add images with the board there"
@@ -256,7 +279,12 @@ def _coverage(pixels: Array, size: tuple[int, int]) -> tuple[float, list[str]]:
     cy = np.clip((pixels[:, 1] / size[1] * rows).astype(int), 0, rows - 1)
     hit = np.zeros((rows, cols), dtype=bool)
     hit[cy, cx] = True
-    corners = {"top-left": (0, 0), "top-right": (0, cols - 1), "bottom-left": (rows - 1, 0), "bottom-right": (rows - 1, cols - 1)}
+    corners = {
+        "top-left": (0, 0),
+        "top-right": (0, cols - 1),
+        "bottom-left": (rows - 1, 0),
+        "bottom-right": (rows - 1, cols - 1),
+    }
     return float(hit.mean()), [name for name, rc in corners.items() if not hit[rc]]
 
 
@@ -302,6 +330,9 @@ def write_intrinsics(result: IntrinsicsResult, spec: BoardSpec, path: Path) -> N
         probe = Path(tmp) / "camera.yaml"
         probe.write_text(text, encoding="utf-8")
         back = load_intrinsics(probe)
-    if not (np.allclose(back.K, result.camera.K, rtol=1e-12, atol=1e-9) and np.allclose(back.dist, result.camera.dist, atol=1e-12)):
+    if not (
+        np.allclose(back.K, result.camera.K, rtol=1e-12, atol=1e-9)
+        and np.allclose(back.dist, result.camera.dist, atol=1e-12)
+    ):
         raise ArmtoolError("internal error: the intrinsics file does not read back as written", str(path))
     write_atomic(path, text)

@@ -90,7 +90,9 @@ class CalibModel:
         for j in self.chain.joints:
             for c in ORIGIN_COMPONENTS:
                 out.append(Parameter(f"{j.name}.origin.{c}", j.name, "origin", c, "m" if c[0] == "t" else "rad"))
-            out.append(Parameter(f"{j.name}.offset", j.name, "offset", "offset", "rad" if j.kind != "prismatic" else "m"))
+            out.append(
+                Parameter(f"{j.name}.offset", j.name, "offset", "offset", "rad" if j.kind != "prismatic" else "m")
+            )
             out.append(Parameter(f"{j.name}.gain", j.name, "gain", "gain", "1"))
         return out
 
@@ -100,7 +102,9 @@ class CalibModel:
 
     def indices(self, families: Sequence[Family]) -> list[int]:
         """Candidate parameters: both frames always, plus the chosen kinematic families."""
-        kinds = {"frame"} | {{Family.ORIGINS: "origin", Family.OFFSETS: "offset", Family.GAINS: "gain"}[f] for f in families}
+        kinds = {"frame"} | {
+            {Family.ORIGINS: "origin", Family.OFFSETS: "offset", Family.GAINS: "gain"}[f] for f in families
+        }
         return [i for i, p in enumerate(self.params) if p.kind in kinds]
 
     # -- evaluation ------------------------------------------------------------------------------

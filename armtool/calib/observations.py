@@ -29,7 +29,6 @@ class Observation:
 
 
 def _detect_one(args: tuple[str, str, str, int, CameraModel]) -> tuple[str, Array | None, str]:
-    import cv2
 
     from armtool.calib.apriltag import detect_tag
 
@@ -43,7 +42,11 @@ def _detect_one(args: tuple[str, str, str, int, CameraModel]) -> tuple[str, Arra
     if gray is None:
         return sample_id, None, f"cannot read image {image_path}"
     if (gray.shape[1], gray.shape[0]) != (camera.width, camera.height):
-        return sample_id, None, f"image is {gray.shape[1]}x{gray.shape[0]}, the intrinsics say {camera.width}x{camera.height}"
+        return (
+            sample_id,
+            None,
+            f"image is {gray.shape[1]}x{gray.shape[0]}, the intrinsics say {camera.width}x{camera.height}",
+        )
     det = detect_tag(gray, family, tag_id, camera)
     if not det.ok:
         return sample_id, None, det.reason

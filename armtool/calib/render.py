@@ -63,7 +63,9 @@ def plate_outline_px(camera: CameraModel, cMt: Array, size_m: float, family: str
     return px
 
 
-def tag_in_view(camera: CameraModel, cMt: Array, size_m: float, family: str = "tag36h11", margin_cells: int = 2) -> bool:
+def tag_in_view(
+    camera: CameraModel, cMt: Array, size_m: float, family: str = "tag36h11", margin_cells: int = 2
+) -> bool:
     """True when `render_tag` would draw this pose (the whole plate in the image, in front of the camera)."""
     return plate_outline_px(camera, np.asarray(cMt, dtype=np.float64), size_m, family, margin_cells) is not None
 
@@ -169,7 +171,9 @@ def render_tag(
     if len(rows):
         fx, fy = _subsample_offsets(supersample).T
         weights = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy], axis=1)  # (S, 4)
-        quad = np.stack([lattice[rows, cols], lattice[rows, cols + 1], lattice[rows + 1, cols], lattice[rows + 1, cols + 1]], axis=1)
+        quad = np.stack(
+            [lattice[rows, cols], lattice[rows, cols + 1], lattice[rows + 1, cols], lattice[rows + 1, cols + 1]], axis=1
+        )
         xy = weights @ quad  # (M, S, 2): bilinear inside each pixel
         box[rows, cols] = table[region_ids(xy)].mean(axis=1)
 
@@ -186,7 +190,9 @@ def render_tag(
     illumination += v[:, None]
     image = reflect * illumination
     if blur_sigma_px > 0:
-        image = cast("NDArray[np.float32]", cv2.GaussianBlur(image, (0, 0), blur_sigma_px, borderType=cv2.BORDER_REFLECT))
+        image = cast(
+            "NDArray[np.float32]", cv2.GaussianBlur(image, (0, 0), blur_sigma_px, borderType=cv2.BORDER_REFLECT)
+        )
     if noise_sigma > 0:
         # OpenCV's generator, seeded from rng: 3 ms per frame against numpy's 10 ms.
         cv2.setRNGSeed(int(rng.integers(2**31 - 1)))

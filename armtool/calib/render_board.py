@@ -78,8 +78,16 @@ class _Layout:
 
 def board_outline_m(spec: BoardSpec, margin_m: float) -> Array:
     """Corners (4,3) of the printed board including its margin, in the board frame."""
-    lay_w = spec.cols * spec.square_m if spec.kind is BoardKind.CHARUCO else spec.cols * (spec.square_m + spec.marker_m) - spec.marker_m
-    lay_h = spec.rows * spec.square_m if spec.kind is BoardKind.CHARUCO else spec.rows * (spec.square_m + spec.marker_m) - spec.marker_m
+    lay_w = (
+        spec.cols * spec.square_m
+        if spec.kind is BoardKind.CHARUCO
+        else spec.cols * (spec.square_m + spec.marker_m) - spec.marker_m
+    )
+    lay_h = (
+        spec.rows * spec.square_m
+        if spec.kind is BoardKind.CHARUCO
+        else spec.rows * (spec.square_m + spec.marker_m) - spec.marker_m
+    )
     m = margin_m
     return np.array([[-m, -m, 0.0], [lay_w + m, -m, 0.0], [lay_w + m, lay_h + m, 0.0], [-m, lay_h + m, 0.0]])
 
@@ -150,10 +158,14 @@ def render_board(
     if len(rows):
         fx, fy = _subsample_offsets(supersample).T
         weights = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy], axis=1)
-        quad = np.stack([lattice[rows, cols], lattice[rows, cols + 1], lattice[rows + 1, cols], lattice[rows + 1, cols + 1]], axis=1)
+        quad = np.stack(
+            [lattice[rows, cols], lattice[rows, cols + 1], lattice[rows + 1, cols], lattice[rows + 1, cols + 1]], axis=1
+        )
         image[rows, cols] = layout.table[regions(weights @ quad)].mean(axis=1)
     if blur_sigma_px > 0:
-        image = cast("NDArray[np.float32]", cv2.GaussianBlur(image, (0, 0), blur_sigma_px, borderType=cv2.BORDER_REFLECT))
+        image = cast(
+            "NDArray[np.float32]", cv2.GaussianBlur(image, (0, 0), blur_sigma_px, borderType=cv2.BORDER_REFLECT)
+        )
     if noise_sigma > 0:
         image = image + rng.normal(0.0, noise_sigma, image.shape).astype(np.float32)
     return cast("NDArray[np.uint8]", np.clip(np.round(image * 255.0), 0, 255).astype(np.uint8))
@@ -209,7 +221,9 @@ def spread_board_poses(
     for k in range(n):
         a = np.deg2rad(135.0 * k) + rng.uniform(-0.2, 0.2)
         tilt = np.deg2rad(rng.uniform(*tilt_deg))
-        R = _rotvec(np.array([np.cos(a), np.sin(a), 0.0]) * tilt) @ _rotvec(np.array([0.0, 0.0, rng.uniform(-0.3, 0.3)]))
+        R = _rotvec(np.array([np.cos(a), np.sin(a), 0.0]) * tilt) @ _rotvec(
+            np.array([0.0, 0.0, rng.uniform(-0.3, 0.3)])
+        )
         fx, fy = spots[k % len(spots)]
         dist = rng.uniform(*distance_m)
         pose = None

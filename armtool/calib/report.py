@@ -75,15 +75,25 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
         },
         "metrics": {
             "fit_rms_px": {"hand_eye_only": _num(result.fit_rms_px[0]), "calibrated": _num(result.fit_rms_px[1])},
-            "holdout_rms_px": {"hand_eye_only": _num(result.holdout_rms_px[0]), "calibrated": _num(result.holdout_rms_px[1])},
+            "holdout_rms_px": {
+                "hand_eye_only": _num(result.holdout_rms_px[0]),
+                "calibrated": _num(result.holdout_rms_px[1]),
+            },
             "holdout_without_outliers_rms_px": {
-                "hand_eye_only": _num(result.holdout_inlier_rms_px[0]), "calibrated": _num(result.holdout_inlier_rms_px[1]),
+                "hand_eye_only": _num(result.holdout_inlier_rms_px[0]),
+                "calibrated": _num(result.holdout_inlier_rms_px[1]),
             },
         },
         "outliers": dict(result.outliers),
         "rejected": dict(result.rejected),
         "samples": [
-            {"id": r.sample_id, "role": r.role, "hand_eye_only_px": _num(r.before_px), "calibrated_px": _num(r.after_px), **({"note": r.note} if r.note else {})}
+            {
+                "id": r.sample_id,
+                "role": r.role,
+                "hand_eye_only_px": _num(r.before_px),
+                "calibrated_px": _num(r.after_px),
+                **({"note": r.note} if r.note else {}),
+            }
             for r in result.residuals
         ],
         "warnings": list(result.warnings),
@@ -102,8 +112,15 @@ def zero_offsets_section(result: CalibrationResult) -> dict[str, Any]:
             "value_deg": round(math.degrees(z.value_rad), 6),
             "uncertainty_deg": _num(round(math.degrees(z.uncertainty_rad), 6)),
             "physical": z.physical,
-            "trades_with": [{"parameter": p.parameter, ("deg_per_mm" if p.unit == "m" else "deg_per_deg"):
-                             round(math.degrees(p.coefficient) * 1e-3 if p.unit == "m" else p.coefficient, 6)} for p in z.partners[:5]],
+            "trades_with": [
+                {
+                    "parameter": p.parameter,
+                    ("deg_per_mm" if p.unit == "m" else "deg_per_deg"): round(
+                        math.degrees(p.coefficient) * 1e-3 if p.unit == "m" else p.coefficient, 6
+                    ),
+                }
+                for p in z.partners[:5]
+            ],
             "note": z.note,
         }
     return out
@@ -141,6 +158,15 @@ def residual_plot_png(result: CalibrationResult) -> bytes:
         color = (40, 39, 214) if r.role == "outlier" else ((44, 160, 44) if r.role == "holdout" else (180, 119, 31))
         if math.isfinite(r.after_px):
             cv2.rectangle(img, (xa + w, ypos(r.after_px)), (xa + 2 * w, y1), color, -1)
-    cv2.putText(img, "corner RMS per sample (px, log): grey hand-eye only, blue calibrated, green held out, red outlier", (x0, y1 + 40), font, 0.45, (0, 0, 0), 1, cv2.LINE_AA)
+    cv2.putText(
+        img,
+        "corner RMS per sample (px, log): grey hand-eye only, blue calibrated, green held out, red outlier",
+        (x0, y1 + 40),
+        font,
+        0.45,
+        (0, 0, 0),
+        1,
+        cv2.LINE_AA,
+    )
     ok, buf = cv2.imencode(".png", img)
     return bytes(buf) if ok else b""

@@ -90,7 +90,9 @@ def _look_at(eye: Array, target: Array, up: Array) -> Array:
     return se3.make(np.column_stack([x, y, z]), eye)
 
 
-def _place(model0: CalibModel, spec: SimulationSpec, rng: np.random.Generator, camera: CameraModel | None = None) -> tuple[Array, Array, Array]:
+def _place(
+    model0: CalibModel, spec: SimulationSpec, rng: np.random.Generator, camera: CameraModel | None = None
+) -> tuple[Array, Array, Array]:
     """(L, R, Q_pool): measurement frames of the true setup and a pool of joint vectors.
 
     Eye-to-hand: a camera looking at the middle of the workspace, random joint vectors. Eye-in-hand:
@@ -110,7 +112,9 @@ def _place(model0: CalibModel, spec: SimulationSpec, rng: np.random.Generator, c
         bMc = _look_at(eye, centre, np.array([0.0, 0.0, 1.0]))
         return se3.inv(bMc), fMt, Q
     fMc = se3.xyz_rpy([0.04, 0.0, 0.03], [0.0, 0.0, 0.0])
-    bMt, views = _eye_in_hand_views(model0, fMc, camera or default_camera(spec.distortion), spec, rng, Q, 3 * (spec.samples + spec.validation))
+    bMt, views = _eye_in_hand_views(
+        model0, fMc, camera or default_camera(spec.distortion), spec, rng, Q, 3 * (spec.samples + spec.validation)
+    )
     return se3.inv(fMc), bMt, views
 
 
@@ -125,13 +129,25 @@ def _good_views(bMc: Array, bMt: Array, camera: CameraModel, spec: SimulationSpe
     facing = -(v @ bMt[:3, 2]) / np.maximum(dist, 1e-9)  # cos(angle between the tag normal and the ray)
     lo, hi = spec.distances
     mask: Array = (
-        (pc[:, 2] > 0) & (dist > lo) & (dist < hi) & (facing > math.cos(math.radians(spec.max_tilt_deg)))
-        & (np.abs(u - camera.width / 2) < 0.38 * camera.width) & (np.abs(w - camera.height / 2) < 0.38 * camera.height)
+        (pc[:, 2] > 0)
+        & (dist > lo)
+        & (dist < hi)
+        & (facing > math.cos(math.radians(spec.max_tilt_deg)))
+        & (np.abs(u - camera.width / 2) < 0.38 * camera.width)
+        & (np.abs(w - camera.height / 2) < 0.38 * camera.height)
     )
     return mask
 
 
-def _eye_in_hand_views(model: CalibModel, fMc: Array, camera: CameraModel, spec: SimulationSpec, rng: np.random.Generator, Q: Array, count: int) -> tuple[Array, Array]:
+def _eye_in_hand_views(
+    model: CalibModel,
+    fMc: Array,
+    camera: CameraModel,
+    spec: SimulationSpec,
+    rng: np.random.Generator,
+    Q: Array,
+    count: int,
+) -> tuple[Array, Array]:
     """(bMt, joint vectors) for a camera on the flange: sample, place the tag, then explore.
 
     No IK on 6-D camera poses (an arm with fewer than six joints reaches almost none of them):
@@ -195,7 +211,13 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     from armtool.calib.apriltag import family_dictionary
     from armtool.calib.camera import save_intrinsics
     from armtool.calib.render import render_tag
-    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections, relocate_meshes
+    from armtool.calib.urdf_out import (
+        check_reproduces,
+        corrected_text,
+        expanded_text,
+        joint_corrections,
+        relocate_meshes,
+    )
     from armtool.ik.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
@@ -236,9 +258,16 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     images = [f"images/{i:04d}.png" for i in range(spec.samples)]
     for i in range(spec.samples):
         img = render_tag(
-            camera, C[i], spec.tag_size_m, spec.family, spec.tag_id,
-            blur_sigma_px=rng.uniform(*q_cfg["blur"]), noise_sigma=q_cfg["noise"][0],
-            black=rng.uniform(*q_cfg["black"]), white=rng.uniform(*q_cfg["white"]), rng=rng,
+            camera,
+            C[i],
+            spec.tag_size_m,
+            spec.family,
+            spec.tag_id,
+            blur_sigma_px=rng.uniform(*q_cfg["blur"]),
+            noise_sigma=q_cfg["noise"][0],
+            black=rng.uniform(*q_cfg["black"]),
+            white=rng.uniform(*q_cfg["white"]),
+            rng=rng,
         )
         if img is None:  # cannot happen: poses were chosen by the same visibility test
             raise ArmtoolError(f"internal: pose {i} is not renderable")
@@ -269,10 +298,23 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
         "format": "armtool-calib-dataset/1",
         "created_by": "armtool calibrate simulate",
         "setup": spec.setup.value,
-        "robot": {"urdf": "robot.urdf", "base_link": chain.base, "flange_link": chain.tip, "joints": chain.joint_names, "joint_units": "rad"},
-        "camera": {"intrinsics": "camera.yaml", "convention": "opencv (x right, y down, z forward)", "images_rectified": False},
+        "robot": {
+            "urdf": "robot.urdf",
+            "base_link": chain.base,
+            "flange_link": chain.tip,
+            "joints": chain.joint_names,
+            "joint_units": "rad",
+        },
+        "camera": {
+            "intrinsics": "camera.yaml",
+            "convention": "opencv (x right, y down, z forward)",
+            "images_rectified": False,
+        },
         "target": {
-            "type": "apriltag", "family": spec.family, "id": spec.tag_id, "size_m": spec.tag_size_m,
+            "type": "apriltag",
+            "family": spec.family,
+            "id": spec.tag_id,
+            "size_m": spec.tag_size_m,
             "size_definition": "edge of the black border square",
             "frame": "opencv aruco: origin at centre, x right, y up, z out of the face",
             "mounted_on": chain.tip if spec.setup is Setup.EYE_TO_HAND else chain.base,
@@ -294,7 +336,11 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
         "left_frame": _pose_dict(L),
         "right_frame": _pose_dict(R),
         "joints": {
-            name: {"origin_t_m": true_k[i, :3].tolist(), "origin_r_rad": true_k[i, 3:6].tolist(), "offset_rad": float(true_k[i, 6])}
+            name: {
+                "origin_t_m": true_k[i, :3].tolist(),
+                "origin_r_rad": true_k[i, 3:6].tolist(),
+                "offset_rad": float(true_k[i, 6]),
+            }
             for i, name in enumerate(chain.joint_names)
         },
         "bad_samples": bad,

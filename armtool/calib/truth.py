@@ -42,7 +42,9 @@ def load_truth(dataset: Path, model: CalibModel) -> Truth:
 
     path = dataset / "truth" / "truth.yaml"
     if not path.is_file():
-        raise ArmtoolError("no truth/truth.yaml", str(path), "only datasets made by `armtool calibrate simulate` have a truth")
+        raise ArmtoolError(
+            "no truth/truth.yaml", str(path), "only datasets made by `armtool calibrate simulate` have a truth"
+        )
     try:
         doc = yaml.safe_load(path.read_text(encoding="utf-8"))
         x = np.zeros(model.size)
@@ -55,11 +57,25 @@ def load_truth(dataset: Path, model: CalibModel) -> Truth:
         rows = (dataset / "truth" / "validation.csv").read_text(encoding="utf-8").strip().splitlines()
         header = rows[0].split(",")
         order = [header.index(n) for n in model.chain.joint_names]
-        Q = np.array([[float(r.split(",")[c]) for c in order] for r in rows[1:]], dtype=float).reshape(-1, model.chain.n)
+        Q = np.array([[float(r.split(",")[c]) for c in order] for r in rows[1:]], dtype=float).reshape(
+            -1, model.chain.n
+        )
         bad = {str(key): str(v) for key, v in (doc.get("bad_samples") or {}).items()}
-    except (OSError, UnicodeDecodeError, yaml.YAMLError, RecursionError, KeyError, IndexError, TypeError, ValueError, AttributeError) as exc:
-        raise ArmtoolError(f"the truth files are not as `calibrate simulate` wrote them ({type(exc).__name__}: {str(exc)[:80]})",
-                           str(path.parent)) from None
+    except (
+        OSError,
+        UnicodeDecodeError,
+        yaml.YAMLError,
+        RecursionError,
+        KeyError,
+        IndexError,
+        TypeError,
+        ValueError,
+        AttributeError,
+    ) as exc:
+        raise ArmtoolError(
+            f"the truth files are not as `calibrate simulate` wrote them ({type(exc).__name__}: {str(exc)[:80]})",
+            str(path.parent),
+        ) from None
     if not (np.isfinite(x).all() and np.isfinite(Q).all()) or len(Q) == 0:
         raise ArmtoolError("the truth files hold no validation pose or non-finite values", str(path.parent))
     return Truth(x, Q, bad)

@@ -45,12 +45,20 @@ def read_hash(path: Path) -> str:
     from armtool.fileio import read_yaml
 
     if not path.is_file():
-        raise ArmtoolError("UR kinematics file not found", str(path), "pass the robot's default_kinematics.yaml (or the file ur_calibration wrote)")
+        raise ArmtoolError(
+            "UR kinematics file not found",
+            str(path),
+            "pass the robot's default_kinematics.yaml (or the file ur_calibration wrote)",
+        )
     doc = read_yaml(path, "UR kinematics file")
     kin = doc.get("kinematics") if isinstance(doc, dict) else None
     value = kin.get("hash") if isinstance(kin, dict) else None
     if not isinstance(value, str) or not value:
-        raise ArmtoolError("no kinematics.hash in the UR kinematics file", str(path), "use the file ur_calibration or the robot's description package provides")
+        raise ArmtoolError(
+            "no kinematics.hash in the UR kinematics file",
+            str(path),
+            "use the file ur_calibration or the robot's description package provides",
+        )
     return value
 
 
@@ -64,7 +72,9 @@ def kinematics_params_path(value: str, dataset_root: Path, package_paths: list[P
     def find(m: re.Match[str]) -> str:
         found = resolver.find(m.group(1), dataset_root)
         if found is None:
-            raise ArmtoolError(f"package '{m.group(1)}' in kinematics_params:={value} not found", hint="pass --package-path DIR")
+            raise ArmtoolError(
+                f"package '{m.group(1)}' in kinematics_params:={value} not found", hint="pass --package-path DIR"
+            )
         return str(found)
 
     path = Path(re.sub(r"\$\(find\s+([^)\s]+)\s*\)", find, value))
@@ -95,9 +105,11 @@ def ur_kinematics_yaml(urdf_text: str, joints: dict[str, str], hash_value: str, 
             raise ArmtoolError(f"joint '{name}' has a non-finite origin", source)
         kinematics[key] = dict(zip(("x", "y", "z", "roll", "pitch", "yaw"), xyz + rpy))
     kinematics["hash"] = hash_value
-    header = ("# Calibrated by armtool calibrate fit. Use it as the arm's kinematics:\n"
-              "#   xacro ur.urdf.xacro ur_type:=... name:=... kinematics_params:=THIS_FILE\n"
-              "# (or the kinematics_params launch argument of ur_robot_driver / ur_description).\n"
-              "# The hash is the robot's original one, kept so the driver's calibration check still matches.\n")
+    header = (
+        "# Calibrated by armtool calibrate fit. Use it as the arm's kinematics:\n"
+        "#   xacro ur.urdf.xacro ur_type:=... name:=... kinematics_params:=THIS_FILE\n"
+        "# (or the kinematics_params launch argument of ur_robot_driver / ur_description).\n"
+        "# The hash is the robot's original one, kept so the driver's calibration check still matches.\n"
+    )
     text: str = yaml.safe_dump({"kinematics": kinematics}, sort_keys=False)
     return header + text

@@ -126,21 +126,32 @@ def corrected_text(text: str, corrections: dict[str, Array], source: str = "URDF
         elif inside and depth == 2 and name == "origin" and spans[-1][3] is None:
             spans[-1] = (*spans[-1][:3], (start, end))
     if len(spans) != len(elements):
-        raise ArmtoolError(f"could not match the <joint> elements of {source} in its text", hint="report this with the file")
+        raise ArmtoolError(
+            f"could not match the <joint> elements of {source} in its text", hint="report this with the file"
+        )
     by_name = {el.get("name"): k for k, el in enumerate(elements)}
     edits: list[tuple[int, int, str]] = []
     for name, C in corrections.items():
         k = by_name.get(name)
         if k is None:
-            raise ArmtoolError(f"joint '{name}' is not in {source}", hint="the dataset's URDF and the one being written must match")
+            raise ArmtoolError(
+                f"joint '{name}' is not in {source}", hint="the dataset's URDF and the one being written must match"
+            )
         el = elements[k]
         start, end, closing, origin_span = spans[k]
         new = origin_matrix(el.find("origin")) @ C
-        values = {"xyz": " ".join(_fmt(v) for v in new[:3, 3]), "rpy": " ".join(_fmt(v) for v in se3.rpy_of(new[:3, :3]))}
+        values = {
+            "xyz": " ".join(_fmt(v) for v in new[:3, 3]),
+            "rpy": " ".join(_fmt(v) for v in se3.rpy_of(new[:3, :3])),
+        }
         if origin_span is not None:
-            edits.append((origin_span[0], origin_span[1], _set_attributes(text[origin_span[0] : origin_span[1]], values)))
+            edits.append(
+                (origin_span[0], origin_span[1], _set_attributes(text[origin_span[0] : origin_span[1]], values))
+            )
         elif closing:
-            raise ArmtoolError(f"joint '{name}' is an empty element", f"{source}:{el.sourceline}", "a joint needs <parent> and <child>")
+            raise ArmtoolError(
+                f"joint '{name}' is an empty element", f"{source}:{el.sourceline}", "a joint needs <parent> and <child>"
+            )
         else:
             line_start = text.rfind("\n", 0, start) + 1
             indent = re.match(r"[ \t]*", text[line_start:start]).group(0)  # type: ignore[union-attr]
@@ -192,7 +203,8 @@ def check_reproduces(text: str, model: CalibModel, x: Array, source: str) -> Non
     if worst > 1e-7:
         raise ArmtoolError(
             f"internal error: the corrected URDF does not reproduce the fitted kinematics (off by {worst:.2g})",
-            source, "nothing was written; please report this with the dataset",
+            source,
+            "nothing was written; please report this with the dataset",
         )
 
 

@@ -71,7 +71,9 @@ def _rms(values: Array) -> float:
     return float(np.sqrt(np.mean(values**2))) if values.size else 0.0
 
 
-def analyse_offsets(model: CalibModel, J: Array, candidates: list[int], ident: Identifiability, x: Array, sigma: dict[int, float]) -> list[ZeroOffset]:
+def analyse_offsets(
+    model: CalibModel, J: Array, candidates: list[int], ident: Identifiability, x: Array, sigma: dict[int, float]
+) -> list[ZeroOffset]:
     """One entry per revolute joint's zero offset. `J` has one column per candidate (at the fit)."""
     kept = [candidates.index(i) for i in ident.kept]
     dropped = [candidates.index(i) for i in ident.dropped]
@@ -89,8 +91,18 @@ def analyse_offsets(model: CalibModel, J: Array, candidates: list[int], ident: I
             continue
         value = float(x[index])
         if index in ident.dropped:
-            out.append(ZeroOffset(joint.name, value, False, math.nan, math.inf, False, (),
-                                  f"not identified: {ident.dropped[index]}; no encoder correction can be read from this data"))
+            out.append(
+                ZeroOffset(
+                    joint.name,
+                    value,
+                    False,
+                    math.nan,
+                    math.inf,
+                    False,
+                    (),
+                    f"not identified: {ident.dropped[index]}; no encoder correction can be read from this data",
+                )
+            )
             continue
         row = C[ident.kept.index(index)]
         coefficients = {candidates[dropped[k]]: float(row[k]) for k in range(len(dropped))}
@@ -118,12 +130,21 @@ def analyse_offsets(model: CalibModel, J: Array, candidates: list[int], ident: I
         physical = math.isfinite(uncertainty) and 2 * uncertainty <= PHYSICAL_LIMIT_RAD
         named = ", ".join(q.describe() for q in partners[:3])
         if physical:
-            note = (f"±{math.degrees(uncertainty):.2f}° (noise and origin errors of the size found here"
-                    + (f"; trades against {named}" if partners else "") + ")")
+            note = (
+                f"±{math.degrees(uncertainty):.2f}° (noise and origin errors of the size found here"
+                + (f"; trades against {named}" if partners else "")
+                + ")"
+            )
         else:
-            size = f"±{math.degrees(uncertainty):.1f}°" if uncertainty < math.pi else "without bound (a nearly degenerate combination)"
-            note = (f"not a physical encoder zero: the data cannot tell it from {named or 'other parameters'}; "
-                    f"origin errors of the size found here (RMS {scale['m'] * 1e3:.2f} mm, {math.degrees(scale['rad']):.2f}°) move it {size}. "
-                    "It is right only together with the origin corrections in calibrated.urdf: do not re-zero the encoder on it")
+            size = (
+                f"±{math.degrees(uncertainty):.1f}°"
+                if uncertainty < math.pi
+                else "without bound (a nearly degenerate combination)"
+            )
+            note = (
+                f"not a physical encoder zero: the data cannot tell it from {named or 'other parameters'}; "
+                f"origin errors of the size found here (RMS {scale['m'] * 1e3:.2f} mm, {math.degrees(scale['rad']):.2f}°) move it {size}. "
+                "It is right only together with the origin corrections in calibrated.urdf: do not re-zero the encoder on it"
+            )
         out.append(ZeroOffset(joint.name, value, True, s, spread, physical, tuple(partners), note))
     return out

@@ -22,7 +22,9 @@ def _version(value: bool) -> None:
 
 
 def _root(
-    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Show the version and exit."),
+    version: bool = typer.Option(
+        False, "--version", callback=_version, is_eager=True, help="Show the version and exit."
+    ),
     verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="More log output on stderr (-vv for debug)."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="Only errors on stderr."),
 ) -> None:
@@ -103,25 +105,35 @@ def build_app() -> typer.Typer:
     from armtool.cli import expand as expand_cmd
 
     full.command("expand", help=expand_cmd.HELP)(expand_cmd.expand)
-    full.command("ik-bench", help="Compare IK solvers on your robot: success, speed, accuracy, repeatability.")(ik_bench_cmd.ik_bench)
+    full.command("ik-bench", help="Compare IK solvers on your robot: success, speed, accuracy, repeatability.")(
+        ik_bench_cmd.ik_bench
+    )
     from armtool.cli import calibrate as calibrate_cmd
 
-    full.add_typer(calibrate_cmd.app, name="calibrate", help="Fit a real arm's kinematic errors from AprilTag images and write a corrected URDF.")
+    full.add_typer(
+        calibrate_cmd.app,
+        name="calibrate",
+        help="Fit a real arm's kinematic errors from AprilTag images and write a corrected URDF.",
+    )
     from armtool.cli import servo_lut as servo_lut_cmd
 
     full.add_typer(servo_lut_cmd.app, name="servo-lut", help=servo_lut_cmd.HELP)
     from armtool.cli import servo_sim as servo_sim_cmd
 
-    full.command("servo-sim", help="Simulate a Dynamixel/Feetech servo bus on a pseudo-terminal (tests, demos).")(servo_sim_cmd.servo_sim)
+    full.command("servo-sim", help="Simulate a Dynamixel/Feetech servo bus on a pseudo-terminal (tests, demos).")(
+        servo_sim_cmd.servo_sim
+    )
     from armtool.cli import tree as tree_cmd
 
     full.command("tree", help=tree_cmd.HELP)(tree_cmd.tree)
     from armtool.cli import limits as limits_cmd
-
     from armtool.cli import traj as traj_cmd
 
     full.add_typer(traj_cmd.app, name="traj", help=traj_cmd.HELP)
-    full.command("limits", help="Record each joint's real range over a Dynamixel/Feetech bus; write limits YAML, URDF limits, EEPROM.")(limits_cmd.limits)
+    full.command(
+        "limits",
+        help="Record each joint's real range over a Dynamixel/Feetech bus; write limits YAML, URDF limits, EEPROM.",
+    )(limits_cmd.limits)
     return escape_help(full)
 
 

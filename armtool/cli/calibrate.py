@@ -6,7 +6,7 @@ import json
 import math
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, List, Optional
+from typing import TYPE_CHECKING, Any
 
 import typer
 
@@ -55,7 +55,9 @@ def _families(text: str) -> tuple[Family, ...]:
         try:
             out.append(Family(part))
         except ValueError:
-            raise ArmtoolError(f"unknown parameter family '{part}' in --params", hint="choose from: origins, offsets, gains") from None
+            raise ArmtoolError(
+                f"unknown parameter family '{part}' in --params", hint="choose from: origins, offsets, gains"
+            ) from None
     if not out:
         raise ArmtoolError("--params is empty", hint="e.g. --params origins,offsets")
     return tuple(dict.fromkeys(out))
@@ -65,7 +67,9 @@ XACRO_ARG_HELP = "xacro argument NAME:=VALUE for a .xacro robot (repeatable; ove
 PACKAGE_PATH_HELP = "Directory holding ROS packages for package:// and $(find) (repeatable; searched before the dataset's robot.package_paths)."
 
 
-def _load(dataset: Path, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None) -> tuple[Dataset, Chain | None, CameraModel | None]:
+def _load(
+    dataset: Path, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None
+) -> tuple[Dataset, Chain | None, CameraModel | None]:
     """Dataset, chain and camera: the manifest first, then the chain it names, then the samples
     checked against the chain's joints. Command-line xacro arguments and package paths are merged
     over the dataset's own (robot.xacro_args, robot.package_paths)."""
@@ -78,24 +82,38 @@ def _load(dataset: Path, xacro_args: dict[str, str] | None = None, package_paths
     ds.xacro_args, ds.package_paths = ds.robot_sources(xacro_args, package_paths)
     chain = camera = None
     if ds.base_link and ds.base_link == ds.flange_link:
-        ds.problems.append(Problem("dataset.yaml", f"robot.base_link and robot.flange_link are the same link '{ds.base_link}': the chain between them has no joints",
-                                   "robot.flange_link names the link the tag (or camera) is mounted on, robot.base_link the robot's fixed base"))
+        ds.problems.append(
+            Problem(
+                "dataset.yaml",
+                f"robot.base_link and robot.flange_link are the same link '{ds.base_link}': the chain between them has no joints",
+                "robot.flange_link names the link the tag (or camera) is mounted on, robot.base_link the robot's fixed base",
+            )
+        )
     elif unreadable_reason(ds.urdf) is None and ds.base_link and ds.flange_link:
         try:
-            chain = load_chain(ds.urdf, ds.base_link, ds.flange_link, xacro_args=ds.xacro_args, package_paths=ds.package_paths)
+            chain = load_chain(
+                ds.urdf, ds.base_link, ds.flange_link, xacro_args=ds.xacro_args, package_paths=ds.package_paths
+            )
         except ArmtoolError as exc:
             ds.problems.append(Problem(str(ds.urdf.name), exc.what, exc.hint or ""))
     read_samples(ds, chain.joint_names if chain is not None else None)
     if chain is not None and ds.joints and set(ds.joints) != set(chain.joint_names):
-        ds.problems.append(Problem("dataset.yaml", f"robot.joints {sorted(ds.joints)} differ from the chain's moving joints {chain.joint_names}",
-                                   f"list the joints between {ds.base_link} and {ds.flange_link}"))
+        ds.problems.append(
+            Problem(
+                "dataset.yaml",
+                f"robot.joints {sorted(ds.joints)} differ from the chain's moving joints {chain.joint_names}",
+                f"list the joints between {ds.base_link} and {ds.flange_link}",
+            )
+        )
     if unreadable_reason(ds.intrinsics) is None:
         try:
             camera = load_intrinsics(ds.intrinsics)
             if ds.images_rectified:
                 camera = camera.without_distortion()
         except ArmtoolError as exc:
-            ds.problems.append(Problem(Path(exc.where).name if exc.where else ds.intrinsics.name, exc.what, exc.hint or ""))
+            ds.problems.append(
+                Problem(Path(exc.where).name if exc.where else ds.intrinsics.name, exc.what, exc.hint or "")
+            )
     return ds, chain, camera
 
 
@@ -112,8 +130,8 @@ def _detect(ds: Dataset, camera: CameraModel) -> dict[str, Observation]:
 def check(
     dataset: Path = typer.Argument(..., help="Dataset directory (with dataset.yaml)."),
     detect: bool = typer.Option(True, "--detect/--no-detect", help="Also look for the tag in every image."),
-    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
-    package_path: List[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
+    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
+    package_path: list[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
 ) -> None:
     """Validate a dataset: files, joints, units, images, and the tag in every image."""
     require("calib")  # exit 2 with the install command when the extra is missing
@@ -133,8 +151,13 @@ def check(
             else:
                 found += 1
         if found < max(3, len(ds.samples) // 2):
-            ds.problems.append(Problem("dataset.yaml", f"tag {ds.tag_id} ({ds.family}) was usable in only {found} of {len(ds.samples)} samples",
-                                       "check target.family, target.id and the images (the warnings above say what was seen)"))
+            ds.problems.append(
+                Problem(
+                    "dataset.yaml",
+                    f"tag {ds.tag_id} ({ds.family}) was usable in only {found} of {len(ds.samples)} samples",
+                    "check target.family, target.id and the images (the warnings above say what was seen)",
+                )
+            )
     out = stderr()
     for p in ds.problems:
         color = "red" if p.severity == "error" else "yellow"
@@ -152,20 +175,37 @@ def check(
 def fit(
     dataset: Path = typer.Argument(..., help="Dataset directory (with dataset.yaml)."),
     out: Path = typer.Option(..., "--out", "-o", help="Directory for calibrated.urdf and calibration.yaml."),
-    params: Optional[str] = typer.Option(None, "--params", help="Kinematic parameter families to fit: origins, offsets, gains [default: origins,offsets]."),
-    holdout: float = typer.Option(0.0, "--holdout", callback=opt.finite_float(0.0, 0.9), help="Fraction of samples kept out of the fit to validate it (0 to 0.9)."),
-    validation: Optional[Path] = typer.Option(None, "--validation", help="A second dataset of the same setup, used only to validate."),
-    seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed for the hold-out split (any integer)."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write a PNG of per-sample residuals before and after."),
-    output_format: ReportFormat = typer.Option(ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
-    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
-    package_path: List[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
-    ur_kinematics: Optional[Path] = typer.Option(
-        None, "--ur-kinematics",
+    params: str | None = typer.Option(
+        None,
+        "--params",
+        help="Kinematic parameter families to fit: origins, offsets, gains [default: origins,offsets].",
+    ),
+    holdout: float = typer.Option(
+        0.0,
+        "--holdout",
+        callback=opt.finite_float(0.0, 0.9),
+        help="Fraction of samples kept out of the fit to validate it (0 to 0.9).",
+    ),
+    validation: Path | None = typer.Option(
+        None, "--validation", help="A second dataset of the same setup, used only to validate."
+    ),
+    seed: int = typer.Option(
+        0, "--seed", callback=opt.seed(), help="Random seed for the hold-out split (any integer)."
+    ),
+    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG of per-sample residuals before and after."),
+    output_format: ReportFormat = typer.Option(
+        ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
+    ),
+    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
+    package_path: list[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
+    ur_kinematics: Path | None = typer.Option(
+        None,
+        "--ur-kinematics",
         help="Universal Robots arm: also write its calibration YAML (default_kinematics.yaml format) here; use it as kinematics_params:=FILE.",
     ),
-    ur_kinematics_in: Optional[Path] = typer.Option(
-        None, "--ur-kinematics-in",
+    ur_kinematics_in: Path | None = typer.Option(
+        None,
+        "--ur-kinematics-in",
         help="The robot's current UR kinematics YAML, whose hash is kept [default: the dataset's kinematics_params xacro argument].",
     ),
 ) -> None:
@@ -178,11 +218,16 @@ def fit(
     from armtool.calib.fit import FitOptions, calibrate
     from armtool.calib.model import CalibModel
     from armtool.calib.report import calibration_document, residual_plot_png
-    from armtool.fileio import write_atomic
-    from armtool.calib.urdf_out import check_reproduces, corrected_text, expanded_text, joint_corrections, relocate_meshes
-    from armtool.console import stderr, write_stdout
-
+    from armtool.calib.urdf_out import (
+        check_reproduces,
+        corrected_text,
+        expanded_text,
+        joint_corrections,
+        relocate_meshes,
+    )
     from armtool.cli.lint import _parse_xacro_args
+    from armtool.console import stderr, write_stdout
+    from armtool.fileio import write_atomic
 
     explicit = params is not None
     families = _families(params or "origins,offsets")
@@ -195,8 +240,12 @@ def fit(
     assert chain is not None and camera is not None
     vloaded = _load(validation, cli_args, cli_paths) if validation is not None else None
     ur_joints, ur_hash, ur_source = _ur_inputs(ds, chain, ur_kinematics, ur_kinematics_in)
-    _check_fit_outputs(out, plot, ur_kinematics, _fit_inputs(ds, vloaded[0] if vloaded else None)
-                       + [p for p in (ur_source,) if p is not None])
+    _check_fit_outputs(
+        out,
+        plot,
+        ur_kinematics,
+        _fit_inputs(ds, vloaded[0] if vloaded else None) + [p for p in (ur_source,) if p is not None],
+    )
     observations = _detect(ds, camera)
     samples = list(ds.samples)
     holdout_ids: set[str] | None = None
@@ -228,19 +277,30 @@ def fit(
     status = stderr().status("fitting")
     with status:
         result = calibrate(
-            model, camera, samples, observations, ds.size_m,
+            model,
+            camera,
+            samples,
+            observations,
+            ds.size_m,
             FitOptions(families=families, families_explicit=explicit, holdout=holdout, seed=seed),
-            ds.hints, holdout_ids=holdout_ids, progress=lambda msg: status.update(msg),
+            ds.hints,
+            holdout_ids=holdout_ids,
+            progress=lambda msg: status.update(msg),
         )
     # Everything computed and checked first; then each file is written atomically.
     text = expanded_text(ds.urdf, ds.xacro_args, ds.package_paths)
-    new_urdf = relocate_meshes(corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name), ds.urdf.parent, out)
+    new_urdf = relocate_meshes(
+        corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name), ds.urdf.parent, out
+    )
     check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)
     doc = calibration_document(result, str(dataset), ds.urdf.name)
     truth_scores = _truth_scores(dataset, result)
     if truth_scores:
         doc["against_truth"] = truth_scores
-    outputs: dict[Path, str | bytes] = {out / "calibrated.urdf": new_urdf, out / "calibration.yaml": yaml.safe_dump(doc, sort_keys=False, allow_unicode=True)}
+    outputs: dict[Path, str | bytes] = {
+        out / "calibrated.urdf": new_urdf,
+        out / "calibration.yaml": yaml.safe_dump(doc, sort_keys=False, allow_unicode=True),
+    }
     if plot is not None:
         outputs[plot] = residual_plot_png(result)
     if ur_kinematics is not None and ur_joints is not None and ur_hash is not None:
@@ -250,11 +310,25 @@ def fit(
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise ArmtoolError(f"cannot create --out: {exc.strerror or exc}", str(out), "check the path and its permissions") from None
+        raise ArmtoolError(
+            f"cannot create --out: {exc.strerror or exc}", str(out), "check the path and its permissions"
+        ) from None
     for path, data in outputs.items():
         write_atomic(path, data)
     if output_format is ReportFormat.JSON:
-        summary = {k: doc[k] for k in ("setup", "frames", "identifiability", "zero_offsets", "metrics", "outliers", "rejected", "warnings")}
+        summary = {
+            k: doc[k]
+            for k in (
+                "setup",
+                "frames",
+                "identifiability",
+                "zero_offsets",
+                "metrics",
+                "outliers",
+                "rejected",
+                "warnings",
+            )
+        }
         summary["schema_version"] = 1
         if truth_scores:
             summary["against_truth"] = truth_scores
@@ -264,17 +338,23 @@ def fit(
         stderr().print(f"wrote {ur_kinematics}: pass it to the UR description as kinematics_params:={ur_kinematics}")
 
 
-def _ur_inputs(ds: Dataset, chain: Chain, out: Optional[Path], given: Optional[Path]) -> tuple[dict[str, str] | None, str | None, Path | None]:
+def _ur_inputs(
+    ds: Dataset, chain: Chain, out: Path | None, given: Path | None
+) -> tuple[dict[str, str] | None, str | None, Path | None]:
     """For --ur-kinematics, checked before the fit: the chain is a UR arm's, and the hash to keep
     (from --ur-kinematics-in, or the file the dataset's kinematics_params xacro argument names)."""
     from armtool.calib.ur_kinematics import kinematics_params_path, read_hash, ur_joint_names
 
     if out is None:
         if given is not None:
-            raise ArmtoolError("--ur-kinematics-in needs --ur-kinematics", hint="add --ur-kinematics FILE for the calibrated file")
+            raise ArmtoolError(
+                "--ur-kinematics-in needs --ur-kinematics", hint="add --ur-kinematics FILE for the calibrated file"
+            )
         return None, None, None
     if out.parent != Path("") and not out.parent.is_dir():
-        raise ArmtoolError("--ur-kinematics's directory does not exist", str(out), "create it, or write the file elsewhere")
+        raise ArmtoolError(
+            "--ur-kinematics's directory does not exist", str(out), "create it, or write the file elsewhere"
+        )
     joints = ur_joint_names(chain.joint_names, str(ds.urdf))
     if given is None:
         value = ds.xacro_args.get("kinematics_params")
@@ -300,16 +380,21 @@ def _check_out_dir(out: Path, flag: str = "--out") -> None:
             what = "is a file" if p.is_file() else "is not a directory"
             raise ArmtoolError(f"{flag} cannot be a directory: {p} {what}", str(out), "pass a directory path")
         if not os.access(p, os.W_OK | os.X_OK):
-            raise ArmtoolError(f"{flag}: directory {p} is not writable", str(out), "check its permissions, or write somewhere else")
+            raise ArmtoolError(
+                f"{flag}: directory {p} is not writable", str(out), "check its permissions, or write somewhere else"
+            )
         return
 
 
-def _check_chain_ends(base: Optional[str], tip: Optional[str], base_name: str, tip_name: str, where: str = "") -> None:
+def _check_chain_ends(base: str | None, tip: str | None, base_name: str, tip_name: str, where: str = "") -> None:
     """Base and tip must be two links: the same name twice is a chain of no joints, reported
     here instead of as "no moving joint between 'r' and 'r'"."""
     if base is not None and base == tip:
-        raise ArmtoolError(f"{base_name} and {tip_name} are the same link '{base}': the chain between them has no joints", where or None,
-                           f"{tip_name} names the link the tag (or camera) is mounted on, {base_name} the robot's fixed base")
+        raise ArmtoolError(
+            f"{base_name} and {tip_name} are the same link '{base}': the chain between them has no joints",
+            where or None,
+            f"{tip_name} names the link the tag (or camera) is mounted on, {base_name} the robot's fixed base",
+        )
 
 
 def _fit_inputs(*datasets: Dataset | None) -> list[Path]:
@@ -324,17 +409,29 @@ def _fit_inputs(*datasets: Dataset | None) -> list[Path]:
     return files
 
 
-def _check_fit_outputs(out: Path, plot: Optional[Path], ur_kinematics: Optional[Path], inputs: list[Path]) -> None:
+def _check_fit_outputs(out: Path, plot: Path | None, ur_kinematics: Path | None, inputs: list[Path]) -> None:
     """Every file fit writes, checked against the run's inputs before the work starts."""
     from armtool.fileio import check_output_paths
 
     outputs: dict[str, Path | None] = {"--plot": plot, "--ur-kinematics": ur_kinematics}
     if out.is_dir():  # else created by the fit: nothing in it can be an input
-        outputs = {"--out (calibrated.urdf)": out / "calibrated.urdf", "--out (calibration.yaml)": out / "calibration.yaml", **outputs}
+        outputs = {
+            "--out (calibrated.urdf)": out / "calibrated.urdf",
+            "--out (calibration.yaml)": out / "calibration.yaml",
+            **outputs,
+        }
     check_output_paths(outputs, inputs)
 
 
-def _same_setup(ds: Dataset, chain: Chain, camera: CameraModel, vds: Dataset, vchain: Chain | None, vcamera: CameraModel | None, where: Path) -> None:
+def _same_setup(
+    ds: Dataset,
+    chain: Chain,
+    camera: CameraModel,
+    vds: Dataset,
+    vchain: Chain | None,
+    vcamera: CameraModel | None,
+    where: Path,
+) -> None:
     """A validation dataset must share the robot chain, setup, camera and tag, or its residuals mean nothing."""
     import numpy as np
 
@@ -343,14 +440,19 @@ def _same_setup(ds: Dataset, chain: Chain, camera: CameraModel, vds: Dataset, vc
         differences.append("robot chain (joints)")
     if vds.setup != ds.setup:
         differences.append(f"setup ({vds.setup.value} vs {ds.setup.value})")
-    if vcamera is None or (vcamera.width, vcamera.height) != (camera.width, camera.height) or not np.allclose(vcamera.K, camera.K) \
-            or not np.allclose(np.resize(vcamera.dist, 5), np.resize(camera.dist, 5)):
+    if (
+        vcamera is None
+        or (vcamera.width, vcamera.height) != (camera.width, camera.height)
+        or not np.allclose(vcamera.K, camera.K)
+        or not np.allclose(np.resize(vcamera.dist, 5), np.resize(camera.dist, 5))
+    ):
         differences.append("camera intrinsics")
     if (vds.family, vds.tag_id, vds.size_m) != (ds.family, ds.tag_id, ds.size_m):
         differences.append("target (family, id or size)")
     if differences:
         raise ArmtoolError(
-            "the validation dataset differs from the dataset in: " + ", ".join(differences), str(where),
+            "the validation dataset differs from the dataset in: " + ", ".join(differences),
+            str(where),
             "validate with poses of the same robot, camera and tag (a second session of the same setup)",
         )
 
@@ -382,7 +484,7 @@ def _truth_scores(dataset: Path, result: CalibrationResult) -> dict[str, Any] | 
     }
 
 
-def _print_report(result: CalibrationResult, truth: dict[str, Any] | None, out: Path, plot: Optional[Path]) -> None:
+def _print_report(result: CalibrationResult, truth: dict[str, Any] | None, out: Path, plot: Path | None) -> None:
     from rich.markup import escape
     from rich.table import Table
 
@@ -398,10 +500,18 @@ def _print_report(result: CalibrationResult, truth: dict[str, Any] | None, out: 
     if not math.isnan(result.holdout_rms_px[0]):
         table.add_row("held-out samples", f"{result.holdout_rms_px[0]:.3f}", f"{result.holdout_rms_px[1]:.3f}")
         if result.holdout_inlier_rms_px != result.holdout_rms_px and not math.isnan(result.holdout_inlier_rms_px[0]):
-            table.add_row("held-out, outliers left out", f"{result.holdout_inlier_rms_px[0]:.3f}", f"{result.holdout_inlier_rms_px[1]:.3f}")
+            table.add_row(
+                "held-out, outliers left out",
+                f"{result.holdout_inlier_rms_px[0]:.3f}",
+                f"{result.holdout_inlier_rms_px[1]:.3f}",
+            )
     if truth:
         b, a = truth["hand_eye_only"], truth["calibrated"]
-        table.add_row("vs truth: position RMS / max (mm)", f"{b['position_rms_mm']:.3f} / {b['position_max_mm']:.3f}", f"{a['position_rms_mm']:.3f} / {a['position_max_mm']:.3f}")
+        table.add_row(
+            "vs truth: position RMS / max (mm)",
+            f"{b['position_rms_mm']:.3f} / {b['position_max_mm']:.3f}",
+            f"{a['position_rms_mm']:.3f} / {a['position_max_mm']:.3f}",
+        )
         table.add_row("vs truth: rotation RMS (°)", f"{b['rotation_rms_deg']:.4f}", f"{a['rotation_rms_deg']:.4f}")
     con.print(table)
     con.print(
@@ -424,12 +534,19 @@ def _print_report(result: CalibrationResult, truth: dict[str, Any] | None, out: 
                 zt.add_row(escape(z.joint), "-", "-", "[dim]not identified (trades with a camera/tag frame)[/dim]")
                 continue
             plus = f"{math.degrees(z.uncertainty_rad):.2f}" if z.uncertainty_rad < math.pi else "unbounded"
-            verdict = "yes" if z.physical else "[red]no[/red]: not separable from " + escape(", ".join(p.parameter for p in z.partners[:2]) or "other parameters")
+            verdict = (
+                "yes"
+                if z.physical
+                else "[red]no[/red]: not separable from "
+                + escape(", ".join(p.parameter for p in z.partners[:2]) or "other parameters")
+            )
             zt.add_row(escape(z.joint), f"{math.degrees(z.value_rad):+.3f}", plus, verdict)
         con.print(zt)
         if not all(z.physical for z in result.zero_offsets if z.identified):
-            con.print("  [dim]offsets marked 'no' only balance origin errors the poses cannot separate from them; "
-                      "calibrated.urdf is right as a whole, but do not re-zero encoders on them (calibration.yaml: zero_offsets)[/dim]")
+            con.print(
+                "  [dim]offsets marked 'no' only balance origin errors the poses cannot separate from them; "
+                "calibrated.urdf is right as a whole, but do not re-zero encoders on them (calibration.yaml: zero_offsets)[/dim]"
+            )
     for sid, why in result.outliers.items():
         con.print(f"[yellow]outlier[/yellow] sample {escape(sid)}: {escape(why)}")
     for sid, why in result.rejected.items():
@@ -443,29 +560,51 @@ def _print_report(result: CalibrationResult, truth: dict[str, Any] | None, out: 
 def simulate(
     urdf: Path = typer.Argument(..., help="Nominal URDF (or xacro) of the robot."),
     out: Path = typer.Option(..., "--out", "-o", help="New directory for the dataset (truth goes to OUT/truth/)."),
-    base: Optional[str] = typer.Option(None, "--base", help="Base link (default: the root)."),
-    flange: Optional[str] = typer.Option(None, "--flange", help="Link the tag (or camera) is mounted on (default: end of the longest chain)."),
-    samples: int = typer.Option(60, "--samples", callback=opt.int_range(3, MAX_SIMULATED), help=f"Images to render (3 to {MAX_SIMULATED})."),
-    validation: int = typer.Option(30, "--validation", callback=opt.int_range(1, MAX_SIMULATED), help=f"Extra poses kept in truth/ to score a calibration (1 to {MAX_SIMULATED})."),
-    setup: SetupOption = typer.Option(SetupOption.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."),
+    base: str | None = typer.Option(None, "--base", help="Base link (default: the root)."),
+    flange: str | None = typer.Option(
+        None, "--flange", help="Link the tag (or camera) is mounted on (default: end of the longest chain)."
+    ),
+    samples: int = typer.Option(
+        60, "--samples", callback=opt.int_range(3, MAX_SIMULATED), help=f"Images to render (3 to {MAX_SIMULATED})."
+    ),
+    validation: int = typer.Option(
+        30,
+        "--validation",
+        callback=opt.int_range(1, MAX_SIMULATED),
+        help=f"Extra poses kept in truth/ to score a calibration (1 to {MAX_SIMULATED}).",
+    ),
+    setup: SetupOption = typer.Option(
+        SetupOption.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."
+    ),
     quality: QualityOption = typer.Option(QualityOption.TYPICAL, "--quality", help="Image blur, noise and contrast."),
-    tag_size: float = typer.Option(0.08, "--tag-size", callback=opt.finite_float(TAG_SIZE_M[0], TAG_SIZE_M[1], unit="m"), help="Edge of the black square, m (0.001 to 2)."),
-    bad_samples: int = typer.Option(0, "--bad-samples", callback=opt.int_range(0, MAX_SIMULATED), help="Wrong rows to mix in (joint off by 5°, mislabeled image; at most a quarter of --samples)."),
+    tag_size: float = typer.Option(
+        0.08,
+        "--tag-size",
+        callback=opt.finite_float(TAG_SIZE_M[0], TAG_SIZE_M[1], unit="m"),
+        help="Edge of the black square, m (0.001 to 2).",
+    ),
+    bad_samples: int = typer.Option(
+        0,
+        "--bad-samples",
+        callback=opt.int_range(0, MAX_SIMULATED),
+        help="Wrong rows to mix in (joint off by 5°, mislabeled image; at most a quarter of --samples).",
+    ),
     distortion: bool = typer.Option(False, "--distortion", help="Give the camera lens distortion."),
     seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed (any integer)."),
-    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages for package:// and $(find) (repeatable)."),
+    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: list[Path] = typer.Option(
+        [], "--package-path", help="Directory holding ROS packages for package:// and $(find) (repeatable)."
+    ),
 ) -> None:
     """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.model import Setup
     from armtool.calib.simulate import SimulationSpec
     from armtool.calib.simulate import simulate as run
+    from armtool.cli.lint import _parse_xacro_args
     from armtool.console import progress_bar, stderr
     from armtool.ik.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
-
-    from armtool.cli.lint import _parse_xacro_args
 
     _check_out_dir(out)
     _check_chain_ends(base, flange, "--base", "--flange")
@@ -473,8 +612,18 @@ def simulate(
     if base is None or flange is None:
         chain = chain_from_xml(load_robot_xml(urdf, args, paths), base, flange, source=urdf.name)
         base, flange = chain.base, chain.tip
-    spec = SimulationSpec(samples=samples, validation=validation, setup=Setup(setup.value), seed=seed, quality=quality.value,
-                          tag_size_m=tag_size, bad_samples=bad_samples, distortion=distortion, xacro_args=args, package_paths=tuple(paths))
+    spec = SimulationSpec(
+        samples=samples,
+        validation=validation,
+        setup=Setup(setup.value),
+        seed=seed,
+        quality=quality.value,
+        tag_size_m=tag_size,
+        bad_samples=bad_samples,
+        distortion=distortion,
+        xacro_args=args,
+        package_paths=tuple(paths),
+    )
     with progress_bar() as bar:
         task = bar.add_task("rendering", total=samples)
         summary = run(urdf, out, base, flange, spec, progress=lambda done, total: bar.update(task, completed=done))
@@ -484,4 +633,5 @@ def simulate(
 
 
 from armtool.cli import calibrate_extra  # noqa: E402  (`calibrate camera` and `calibrate import-bag`)
+
 calibrate_extra.register(app)

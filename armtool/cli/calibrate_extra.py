@@ -9,7 +9,7 @@ import json
 import math
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, Optional
+from typing import TYPE_CHECKING
 
 import typer
 
@@ -54,28 +54,51 @@ class SetupOption(str, Enum):
 def camera(
     images: list[Path] = typer.Argument(..., help="Images of the board (files, or directories of images)."),
     board: str = typer.Option(..., "--board", help=BOARD_HELP),
-    out: Path = typer.Option(..., "--out", "-o", help="Intrinsics file to write (OpenCV FileStorage YAML, for dataset.yaml's camera.intrinsics)."),
-    distortion: DistortionOption = typer.Option(DistortionOption.PLUMB_BOB, "--distortion", help="Distortion coefficients to fit: none, k1k2 (k1 k2 p1 p2), plumb_bob (+k3), rational (k1..k6 p1 p2)."),
-    min_images: int = typer.Option(10, "--min-images", callback=opt.int_range(3, MAX_IMAGES), help=f"Fewest images in which the board must be found (3 to {MAX_IMAGES})."),
-    output_format: OutputFormat = typer.Option(OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
+    out: Path = typer.Option(
+        ...,
+        "--out",
+        "-o",
+        help="Intrinsics file to write (OpenCV FileStorage YAML, for dataset.yaml's camera.intrinsics).",
+    ),
+    distortion: DistortionOption = typer.Option(
+        DistortionOption.PLUMB_BOB,
+        "--distortion",
+        help="Distortion coefficients to fit: none, k1k2 (k1 k2 p1 p2), plumb_bob (+k3), rational (k1..k6 p1 p2).",
+    ),
+    min_images: int = typer.Option(
+        10,
+        "--min-images",
+        callback=opt.int_range(3, MAX_IMAGES),
+        help=f"Fewest images in which the board must be found (3 to {MAX_IMAGES}).",
+    ),
+    output_format: OutputFormat = typer.Option(
+        OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
+    ),
 ) -> None:
     """Fit camera intrinsics and lens distortion from images of a ChArUco board or an AprilTag grid."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.boards import parse_board
     from armtool.calib.intrinsics import DistortionModel, calibrate_images, image_paths, write_intrinsics
     from armtool.console import progress_bar, write_stdout
-
     from armtool.fileio import check_output_paths
 
     spec = parse_board(board)
     paths = image_paths(images)
     if len(paths) > MAX_IMAGES:
-        raise ArmtoolError(f"{len(paths)} images given, at most {MAX_IMAGES} are read", hint="pass a subset: 15-40 well-spread views are enough")
+        raise ArmtoolError(
+            f"{len(paths)} images given, at most {MAX_IMAGES} are read",
+            hint="pass a subset: 15-40 well-spread views are enough",
+        )
     check_output_paths({"--out": out}, paths)
     with progress_bar() as bar:
         task = bar.add_task("finding the board", total=len(paths))
-        result = calibrate_images(paths, spec, DistortionModel(distortion.value), min_images,
-                                  progress=lambda done, total: bar.update(task, completed=done))
+        result = calibrate_images(
+            paths,
+            spec,
+            DistortionModel(distortion.value),
+            min_images,
+            progress=lambda done, total: bar.update(task, completed=done),
+        )
     write_intrinsics(result, spec, out)
     if output_format is OutputFormat.JSON:
         write_stdout(json.dumps(_camera_summary(result, spec, out), indent=2))
@@ -94,14 +117,26 @@ def _camera_summary(result: IntrinsicsResult, spec: BoardSpec, out: Path) -> dic
         "board": spec.describe(),
         "image_width": result.camera.width,
         "image_height": result.camera.height,
-        "fx_px": float(K[0, 0]), "fy_px": float(K[1, 1]), "cx_px": float(K[0, 2]), "cy_px": float(K[1, 2]),
+        "fx_px": float(K[0, 0]),
+        "fy_px": float(K[1, 1]),
+        "cx_px": float(K[0, 2]),
+        "cy_px": float(K[1, 2]),
         "sigma_px": result.sigma,
         "distortion_model": result.model.value,
         "distortion_coefficients": [float(d) for d in result.camera.dist],
         "rms_px": result.rms_px,
         "coverage": result.coverage,
-        "images": [{"image": v.name, "points": v.points, "rms_px": _finite(v.rms_px), "tilt_deg": _finite(v.tilt_deg),
-                    "used": v.used, "reason": v.reason} for v in result.views],
+        "images": [
+            {
+                "image": v.name,
+                "points": v.points,
+                "rms_px": _finite(v.rms_px),
+                "tilt_deg": _finite(v.tilt_deg),
+                "used": v.used,
+                "reason": v.reason,
+            }
+            for v in result.views
+        ],
         "warnings": result.warnings,
     }
 
@@ -114,16 +149,29 @@ def _print_camera_report(result: IntrinsicsResult, spec: BoardSpec, out: Path) -
 
     con = stderr()
     table = Table(title=f"board: {escape(spec.describe())}", title_justify="left")
-    for col, justify in (("image", "left"), ("corners", "right"), ("RMS px", "right"), ("tilt °", "right"), ("", "left")):
+    for col, justify in (
+        ("image", "left"),
+        ("corners", "right"),
+        ("RMS px", "right"),
+        ("tilt °", "right"),
+        ("", "left"),
+    ):
         table.add_column(col, justify=justify)  # type: ignore[arg-type]
     for v in result.views:
         status = "" if v.used else f"[yellow]{escape(v.reason)}[/yellow]"
-        table.add_row(escape(Path(v.name).name), str(v.points), "" if math.isnan(v.rms_px) else f"{v.rms_px:.3f}",
-                      "" if math.isnan(v.tilt_deg) else f"{v.tilt_deg:.0f}", status)
+        table.add_row(
+            escape(Path(v.name).name),
+            str(v.points),
+            "" if math.isnan(v.rms_px) else f"{v.rms_px:.3f}",
+            "" if math.isnan(v.tilt_deg) else f"{v.tilt_deg:.0f}",
+            status,
+        )
     con.print(table)
     K, s = result.camera.K, result.sigma
-    con.print(f"fx {K[0, 0]:.2f} ± {s['fx']:.2f}  fy {K[1, 1]:.2f} ± {s['fy']:.2f}  cx {K[0, 2]:.2f} ± {s['cx']:.2f}  "
-              f"cy {K[1, 2]:.2f} ± {s['cy']:.2f} px (1σ)")
+    con.print(
+        f"fx {K[0, 0]:.2f} ± {s['fx']:.2f}  fy {K[1, 1]:.2f} ± {s['fy']:.2f}  cx {K[0, 2]:.2f} ± {s['cx']:.2f}  "
+        f"cy {K[1, 2]:.2f} ± {s['cy']:.2f} px (1σ)"
+    )
     con.print(f"distortion ({result.model.value}): " + " ".join(f"{d:.5g}" for d in result.camera.dist))
     con.print(f"reprojection RMS {result.rms_px:.3f} px over {len(result.used)} images; coverage {result.coverage:.0%}")
     for w in result.warnings:
@@ -132,40 +180,90 @@ def _print_camera_report(result: IntrinsicsResult, spec: BoardSpec, out: Path) -
 
 
 def import_bag(
-    bag: Path = typer.Argument(..., help="ROS 1 .bag file, or ROS 2 bag directory (.db3 or .mcap storage; its metadata.yaml is needed)."),
-    image_topic: str = typer.Option(..., "--image-topic", help="sensor_msgs/Image or sensor_msgs/CompressedImage topic."),
+    bag: Path = typer.Argument(
+        ..., help="ROS 1 .bag file, or ROS 2 bag directory (.db3 or .mcap storage; its metadata.yaml is needed)."
+    ),
+    image_topic: str = typer.Option(
+        ..., "--image-topic", help="sensor_msgs/Image or sensor_msgs/CompressedImage topic."
+    ),
     urdf: Path = typer.Option(..., "--urdf", help="The robot's URDF (or xacro), copied into the dataset."),
     out: Path = typer.Option(..., "--out", "-o", help="New dataset directory (armtool-calib-dataset/1)."),
-    tag_size: float = typer.Option(..., "--tag-size", callback=opt.finite_float(TAG_SIZE_M[0], TAG_SIZE_M[1], unit="m"), help="Edge of the tag's black square, metres (measure the print; 0.001 to 2)."),
+    tag_size: float = typer.Option(
+        ...,
+        "--tag-size",
+        callback=opt.finite_float(TAG_SIZE_M[0], TAG_SIZE_M[1], unit="m"),
+        help="Edge of the tag's black square, metres (measure the print; 0.001 to 2).",
+    ),
     joints_topic: str = typer.Option("/joint_states", "--joints-topic", help="sensor_msgs/JointState topic."),
-    base: Optional[str] = typer.Option(None, "--base", help="Base link (default: the URDF's root)."),
-    flange: Optional[str] = typer.Option(None, "--flange", help="Link the tag (or camera) is mounted on (default: end of the longest chain)."),
-    intrinsics: Optional[Path] = typer.Option(None, "--intrinsics", help="Camera intrinsics file to copy in (default: from a CameraInfo topic beside the image topic)."),
-    camera_info_topic: Optional[str] = typer.Option(None, "--camera-info-topic", help="sensor_msgs/CameraInfo topic (default: camera_info beside the image topic, if recorded)."),
-    setup: SetupOption = typer.Option(SetupOption.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."),
+    base: str | None = typer.Option(None, "--base", help="Base link (default: the URDF's root)."),
+    flange: str | None = typer.Option(
+        None, "--flange", help="Link the tag (or camera) is mounted on (default: end of the longest chain)."
+    ),
+    intrinsics: Path | None = typer.Option(
+        None,
+        "--intrinsics",
+        help="Camera intrinsics file to copy in (default: from a CameraInfo topic beside the image topic).",
+    ),
+    camera_info_topic: str | None = typer.Option(
+        None,
+        "--camera-info-topic",
+        help="sensor_msgs/CameraInfo topic (default: camera_info beside the image topic, if recorded).",
+    ),
+    setup: SetupOption = typer.Option(
+        SetupOption.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."
+    ),
     family: str = typer.Option("tag36h11", "--family", help="AprilTag family."),
     tag_id: int = typer.Option(0, "--tag-id", callback=opt.int_range(0, MAX_TAG_ID), help="AprilTag id."),
-    still_by: StillBy = typer.Option(StillBy.POSITION, "--still-by", help="Settled means: every joint within --tolerance (position) or below --max-velocity (velocity field of the messages)."),
-    tolerance: float = typer.Option(0.002, "--tolerance", callback=opt.positive_float(1.0, unit="rad"), help="Largest position change of any joint within a settled window, rad (or m)."),
-    max_velocity: float = typer.Option(0.01, "--max-velocity", callback=opt.positive_float(10.0, unit="rad/s"), help="With --still-by velocity: largest |velocity| of any joint, rad/s (or m/s)."),
-    min_still: float = typer.Option(0.5, "--min-still", callback=opt.seconds(3600.0), help="Shortest settled window, seconds."),
-    output_format: OutputFormat = typer.Option(OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."),
+    still_by: StillBy = typer.Option(
+        StillBy.POSITION,
+        "--still-by",
+        help="Settled means: every joint within --tolerance (position) or below --max-velocity (velocity field of the messages).",
+    ),
+    tolerance: float = typer.Option(
+        0.002,
+        "--tolerance",
+        callback=opt.positive_float(1.0, unit="rad"),
+        help="Largest position change of any joint within a settled window, rad (or m).",
+    ),
+    max_velocity: float = typer.Option(
+        0.01,
+        "--max-velocity",
+        callback=opt.positive_float(10.0, unit="rad/s"),
+        help="With --still-by velocity: largest |velocity| of any joint, rad/s (or m/s).",
+    ),
+    min_still: float = typer.Option(
+        0.5, "--min-still", callback=opt.seconds(3600.0), help="Shortest settled window, seconds."
+    ),
+    output_format: OutputFormat = typer.Option(
+        OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
+    ),
 ) -> None:
     """Turn a ROS bag (images + joint states) into a calibration dataset: one sample per settled pose."""
     require("calib")  # exit 2 with the install command when the extra is missing
-    from armtool.calib.bag_import import ImportOptions, import_bag as run
-    from armtool.console import stderr, write_stdout
-
+    from armtool.calib.bag_import import ImportOptions
+    from armtool.calib.bag_import import import_bag as run
     from armtool.cli.calibrate import _check_chain_ends, _check_out_dir
+    from armtool.console import stderr, write_stdout
 
     _check_out_dir(out)
     _check_chain_ends(base, flange, "--base", "--flange")
     if out.exists() and not out.is_dir():
         raise ArmtoolError("--out exists and is not a directory", str(out), "pass a new directory name")
     options = ImportOptions(
-        image_topic=image_topic, joints_topic=joints_topic, base=base, flange=flange, intrinsics=intrinsics,
-        camera_info_topic=camera_info_topic, setup=setup.value, family=family, tag_id=tag_id, tag_size_m=tag_size,
-        still_by=still_by.value, tolerance=tolerance, max_velocity=max_velocity, min_still_s=min_still,
+        image_topic=image_topic,
+        joints_topic=joints_topic,
+        base=base,
+        flange=flange,
+        intrinsics=intrinsics,
+        camera_info_topic=camera_info_topic,
+        setup=setup.value,
+        family=family,
+        tag_id=tag_id,
+        tag_size_m=tag_size,
+        still_by=still_by.value,
+        tolerance=tolerance,
+        max_velocity=max_velocity,
+        min_still_s=min_still,
     )
     with stderr().status("reading the bag"):
         result = run(bag, urdf, out, options)
@@ -178,8 +276,17 @@ def _bag_summary(result: ImportResult) -> dict[str, object]:
     return {
         "schema_version": 1,
         "dataset": str(result.out),
-        "samples": [{"id": s.id, "image": s.image, "window_start_s": s.start_s, "window_end_s": s.end_s,
-                     "image_offset_s": s.image_offset_s, "joints": s.q} for s in result.samples],
+        "samples": [
+            {
+                "id": s.id,
+                "image": s.image,
+                "window_start_s": s.start_s,
+                "window_end_s": s.end_s,
+                "image_offset_s": s.image_offset_s,
+                "joints": s.q,
+            }
+            for s in result.samples
+        ],
         "skipped_windows": [{"window_start_s": a, "window_end_s": b, "reason": r} for a, b, r in result.skipped],
         "intrinsics": result.intrinsics_source,
         "clock": result.clock,
@@ -197,7 +304,9 @@ def _print_bag_report(result: ImportResult) -> None:
         con.print(f"[yellow]skipped[/yellow] settled window {a:.2f}-{b:.2f} s: {escape(reason)}")
     for w in result.warnings:
         con.print(f"[yellow]warning:[/yellow] {escape(w)}")
-    con.print(f"{len(result.samples)} samples from settled windows ({result.clock}); intrinsics: {escape(result.intrinsics_source)}")
+    con.print(
+        f"{len(result.samples)} samples from settled windows ({result.clock}); intrinsics: {escape(result.intrinsics_source)}"
+    )
     con.print(f"wrote {escape(str(result.out))}; next: armtool calibrate check {escape(str(result.out))}")
 
 

@@ -7,7 +7,6 @@ Users see what `lint` saw: the same xacro arguments, package lookup (package.xml
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Optional
 
 import typer
 
@@ -18,11 +17,11 @@ HELP = "Print a xacro file expanded as armtool expands it for lint and ik-bench 
 
 def expand(
     path: Path = typer.Argument(..., help="A .xacro file (URDF or SRDF)."),
-    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: List[Path] = typer.Option(
+    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: list[Path] = typer.Option(
         [], "--package-path", help="Directory holding ROS packages, for package:// and $(find) (repeatable)."
     ),
-    config: Optional[Path] = typer.Option(None, "--config", help="armtool.toml or pyproject.toml (default: nearest one)."),
+    config: Path | None = typer.Option(None, "--config", help="armtool.toml or pyproject.toml (default: nearest one)."),
 ) -> None:
     from lxml import etree
 

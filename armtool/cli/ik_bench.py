@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import List, Optional
 
 import typer
 
@@ -28,23 +27,58 @@ class SeedModeOption(str, Enum):
 
 def ik_bench(
     urdf: Path = typer.Argument(..., help="URDF or xacro of the robot."),
-    base: Optional[str] = typer.Option(None, "--base", help="Base link of the chain (default: the root link)."),
-    tip: Optional[str] = typer.Option(None, "--tip", help="Tip link (default: the arm's end before any gripper joint, at a tool frame such as tool0 or *_tcp if there is one)."),
-    group: Optional[str] = typer.Option(None, "--group", help="MoveIt group whose chain to use, built as MoveIt builds it (needs --srdf)."),
-    srdf: Optional[Path] = typer.Option(None, "--srdf", help="SRDF (or .srdf.xacro, expanded with --xacro-arg/--package-path) that defines --group."),
-    kinematics_yaml: Optional[Path] = typer.Option(None, "--kinematics-yaml", help="MoveIt kinematics.yaml: the group's kinematics_solver_timeout and position_only_ik."),
-    solvers: Optional[str] = typer.Option(None, "--solvers", help="Comma-separated built-in solvers (default: all)."),
-    peers: Optional[str] = typer.Option(None, "--peers", help="Comma-separated peer solvers, or 'all' (needs armtool[peers])."),
-    batch: bool = typer.Option(True, "--batch/--no-batch", help="Also time one vectorized solve_batch call per solver that has one."),
-    samples: int = typer.Option(1000, "--samples", callback=opt.int_range(1, MAX_SAMPLES), help=f"Number of random targets (1..{MAX_SAMPLES:,})."),
-    seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed for targets (and restarts); any integer."),
-    seed_mode: SeedModeOption = typer.Option(SeedModeOption.MID, "--seed-mode", help="Start each solve from mid-range, random, or near the answer."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", callback=opt.seconds(MAX_TIMEOUT_S), help=f"Seconds per solve, > 0 and ≤ {MAX_TIMEOUT_S:g} [default: 0.005, or the group's in --kinematics-yaml]."),
-    tolerance: float = typer.Option(1e-5, "--tolerance", callback=opt.positive_float(1.0, unit="(m and rad)"), help="Pose tolerance (m and rad), > 0 and ≤ 1."),
+    base: str | None = typer.Option(None, "--base", help="Base link of the chain (default: the root link)."),
+    tip: str | None = typer.Option(
+        None,
+        "--tip",
+        help="Tip link (default: the arm's end before any gripper joint, at a tool frame such as tool0 or *_tcp if there is one).",
+    ),
+    group: str | None = typer.Option(
+        None, "--group", help="MoveIt group whose chain to use, built as MoveIt builds it (needs --srdf)."
+    ),
+    srdf: Path | None = typer.Option(
+        None, "--srdf", help="SRDF (or .srdf.xacro, expanded with --xacro-arg/--package-path) that defines --group."
+    ),
+    kinematics_yaml: Path | None = typer.Option(
+        None,
+        "--kinematics-yaml",
+        help="MoveIt kinematics.yaml: the group's kinematics_solver_timeout and position_only_ik.",
+    ),
+    solvers: str | None = typer.Option(None, "--solvers", help="Comma-separated built-in solvers (default: all)."),
+    peers: str | None = typer.Option(
+        None, "--peers", help="Comma-separated peer solvers, or 'all' (needs armtool[peers])."
+    ),
+    batch: bool = typer.Option(
+        True, "--batch/--no-batch", help="Also time one vectorized solve_batch call per solver that has one."
+    ),
+    samples: int = typer.Option(
+        1000,
+        "--samples",
+        callback=opt.int_range(1, MAX_SAMPLES),
+        help=f"Number of random targets (1..{MAX_SAMPLES:,}).",
+    ),
+    seed: int = typer.Option(
+        0, "--seed", callback=opt.seed(), help="Random seed for targets (and restarts); any integer."
+    ),
+    seed_mode: SeedModeOption = typer.Option(
+        SeedModeOption.MID, "--seed-mode", help="Start each solve from mid-range, random, or near the answer."
+    ),
+    timeout: float | None = typer.Option(
+        None,
+        "--timeout",
+        callback=opt.seconds(MAX_TIMEOUT_S),
+        help=f"Seconds per solve, > 0 and ≤ {MAX_TIMEOUT_S:g} [default: 0.005, or the group's in --kinematics-yaml].",
+    ),
+    tolerance: float = typer.Option(
+        1e-5,
+        "--tolerance",
+        callback=opt.positive_float(1.0, unit="(m and rad)"),
+        help="Pose tolerance (m and rad), > 0 and ≤ 1.",
+    ),
     output_format: BenchFormat = typer.Option(BenchFormat.TABLE, "--format", help="table, json or csv on stdout."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write a PNG: solve-time CDF and success per solver."),
-    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages (repeatable)."),
+    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG: solve-time CDF and success per solver."),
+    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: list[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages (repeatable)."),
 ) -> None:
     require("ik")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
@@ -101,7 +135,12 @@ def ik_bench(
             # An unknown name is a usage error (exit 2); a solver that cannot take this chain gets an n/a row.
             cls = solver_class(name)
             if position_only and not cls.position_only_capable:
-                rows_na.append(NotApplicable(name, "it solves full poses of the real chain only; this group is position-only (position_only_ik)"))
+                rows_na.append(
+                    NotApplicable(
+                        name,
+                        "it solves full poses of the real chain only; this group is position-only (position_only_ik)",
+                    )
+                )
                 continue
             try:
                 built.append(cls(solve_chain, timeout=timeout, tolerance=tolerance, seed=seed))
@@ -110,25 +149,40 @@ def ik_bench(
         peer_list = []
         for name in wanted:
             if position_only:
-                rows_na.append(NotApplicable(name, "peers solve full poses only; this group is position-only (position_only_ik)"))
+                rows_na.append(
+                    NotApplicable(name, "peers solve full poses only; this group is position-only (position_only_ik)")
+                )
                 continue
             peer = make_peer(name, chain, root, timeout=timeout, tolerance=tolerance)
             if isinstance(peer, str):
                 say(peer, label=f"peer {name} skipped:", style="yellow")
             else:
                 peer_list.append(peer)
-        config = BenchConfig(samples=samples, rng_seed=seed, seed_mode=SeedMode(seed_mode.value), timeout=timeout,
-                             tolerance=tolerance, position_only=position_only)
+        config = BenchConfig(
+            samples=samples,
+            rng_seed=seed,
+            seed_mode=SeedMode(seed_mode.value),
+            timeout=timeout,
+            tolerance=tolerance,
+            position_only=position_only,
+        )
         targets = make_targets(solve_chain, config)
         for row in rows_na:
             say(row.reason, label=f"{row.solver} not applicable:", style="yellow")
-        stderr().print(escape(
-            f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
-            + (f", {how}" if how else "") + f"; {samples} targets, seed {seed_mode.value}, "
-            f"timeout {timeout * 1e3:g} ms, tolerance {tolerance:g}"
-            + ("; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position, the solvers"
-               " get the chain with a free virtual wrist at the tip" if position_only else "")
-        ))
+        stderr().print(
+            escape(
+                f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
+                + (f", {how}" if how else "")
+                + f"; {samples} targets, seed {seed_mode.value}, "
+                f"timeout {timeout * 1e3:g} ms, tolerance {tolerance:g}"
+                + (
+                    "; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position, the solvers"
+                    " get the chain with a free virtual wrist at the tip"
+                    if position_only
+                    else ""
+                )
+            )
+        )
         from rich.progress import TaskID
 
         from armtool.console import progress_bar
@@ -160,7 +214,7 @@ def ik_bench(
         stderr().print(f"wrote {escape(str(plot))}")
 
 
-def _names(flag: str, text: Optional[str], known: list[str], everything: str = "", what: str = "solver") -> list[str]:
+def _names(flag: str, text: str | None, known: list[str], everything: str = "", what: str = "solver") -> list[str]:
     """A comma-separated list of names (None: every known one). An empty list (`--solvers ,`) is an
     error: it would run an empty benchmark and exit 0. Unknown names are reported where they are built."""
     if text is None:
@@ -169,8 +223,10 @@ def _names(flag: str, text: Optional[str], known: list[str], everything: str = "
         return list(known)
     names = [n.strip() for n in text.split(",") if n.strip()]
     if not names:
-        raise ArmtoolError(f"{flag} {text!r} names no {what}", hint=f"choose from: {', '.join(known)}"
-                           + (f", or {everything}" if everything else ""))
+        raise ArmtoolError(
+            f"{flag} {text!r} names no {what}",
+            hint=f"choose from: {', '.join(known)}" + (f", or {everything}" if everything else ""),
+        )
     repeated = sorted({n for n in names if names.count(n) > 1})
     if repeated:
         raise ArmtoolError(f"{flag} names {', '.join(repeated)} twice", hint=f"list each {what} once")

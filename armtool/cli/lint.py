@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
-from typing import List, Optional
 
 import typer
 
@@ -25,25 +24,32 @@ def _parse_xacro_args(items: list[str]) -> dict[str, str]:
 
 
 def lint(
-    paths: List[Path] = typer.Argument(
-        ..., help="URDF, xacro, SRDF or kinematics.yaml files, or directories to search; - reads a URDF or SRDF from stdin."
+    paths: list[Path] = typer.Argument(
+        ...,
+        help="URDF, xacro, SRDF or kinematics.yaml files, or directories to search; - reads a URDF or SRDF from stdin.",
     ),
-    output_format: Optional[OutputFormat] = typer.Option(
+    output_format: OutputFormat | None = typer.Option(
         None, "--format", help="Output format (default: text; github inside GitHub Actions)."
     ),
-    fail_on: Optional[Severity] = typer.Option(None, "--fail-on", help="Lowest severity that makes the exit code 1 \\[default: error]."),
+    fail_on: Severity | None = typer.Option(
+        None, "--fail-on", help="Lowest severity that makes the exit code 1 \\[default: error]."
+    ),
     exit_zero: bool = typer.Option(False, "--exit-zero", help="Exit 0 even when problems are found."),
     fix: bool = typer.Option(False, "--fix", help="Apply safe fixes in place (text edits; comments and layout kept)."),
     diff: bool = typer.Option(False, "--diff", help="Show the safe fixes as a unified diff; write nothing."),
-    select: Optional[str] = typer.Option(None, "--select", help="Comma-separated codes or prefixes to check (e.g. U3,S101)."),
-    ignore: Optional[str] = typer.Option(None, "--ignore", help="Comma-separated codes or prefixes to skip."),
-    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: List[Path] = typer.Option(
+    select: str | None = typer.Option(
+        None, "--select", help="Comma-separated codes or prefixes to check (e.g. U3,S101)."
+    ),
+    ignore: str | None = typer.Option(None, "--ignore", help="Comma-separated codes or prefixes to skip."),
+    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: list[Path] = typer.Option(
         [], "--package-path", help="Directory holding ROS packages, for package:// and $(find) (repeatable)."
     ),
-    urdf: Optional[Path] = typer.Option(None, "--urdf", help="URDF (or xacro) that SRDF files describe."),
-    srdf: Optional[Path] = typer.Option(None, "--srdf", help="SRDF that kinematics.yaml files refer to."),
-    config: Optional[Path] = typer.Option(None, "--config", help="pyproject.toml with [tool.armtool.lint] (default: nearest one)."),
+    urdf: Path | None = typer.Option(None, "--urdf", help="URDF (or xacro) that SRDF files describe."),
+    srdf: Path | None = typer.Option(None, "--srdf", help="SRDF that kinematics.yaml files refer to."),
+    config: Path | None = typer.Option(
+        None, "--config", help="pyproject.toml with [tool.armtool.lint] (default: nearest one)."
+    ),
 ) -> None:
     from armtool.console import stderr, write_stdout
     from armtool.lint.config import load_config, parse_selectors
@@ -65,7 +71,11 @@ def lint(
         cfg.fail_on = fail_on
     stdin = sys.stdin.buffer.read() if any(str(p) == "-" for p in paths) else None
     options = LintOptions(
-        xacro_args=_parse_xacro_args(xacro_arg), package_paths=list(package_path), urdf=urdf, srdf=srdf, config=cfg,
+        xacro_args=_parse_xacro_args(xacro_arg),
+        package_paths=list(package_path),
+        urdf=urdf,
+        srdf=srdf,
+        config=cfg,
         stdin=stdin,
     )
     result = lint_paths(paths, options)
@@ -106,8 +116,18 @@ def lint(
 # Anything else (an option, --help, no path) goes through Typer. These are the values Typer
 # passes for the defaults (tests/lint/test_cli_plain_paths.py compares both ways).
 _DEFAULTS: dict[str, object] = {
-    "output_format": None, "fail_on": None, "exit_zero": False, "fix": False, "diff": False, "select": None,
-    "ignore": None, "xacro_arg": (), "package_path": (), "urdf": None, "srdf": None, "config": None,
+    "output_format": None,
+    "fail_on": None,
+    "exit_zero": False,
+    "fix": False,
+    "diff": False,
+    "select": None,
+    "ignore": None,
+    "xacro_arg": (),
+    "package_path": (),
+    "urdf": None,
+    "srdf": None,
+    "config": None,
 }
 
 
@@ -135,4 +155,3 @@ def run_plain(args: list[str]) -> int | None:
         os.dup2(devnull, sys.stdout.fileno())
         return 1
     return 0
-

@@ -32,7 +32,8 @@ This module imports nothing heavy (no numpy): `armtool lint --help` stays fast.
 from __future__ import annotations
 
 import math
-from typing import Callable, Optional, TypeVar
+from collections.abc import Callable
+from typing import TypeVar
 
 import typer
 
@@ -62,8 +63,16 @@ def _range_text(lo: float | None, hi: float | None, lo_open: bool, hi_open: bool
     return " and ".join(parts)
 
 
-def check_float(value: float | str, flag: str, lo: float | None = None, hi: float | None = None, *,
-                lo_open: bool = False, hi_open: bool = False, unit: str = "") -> float:
+def check_float(
+    value: float | str,
+    flag: str,
+    lo: float | None = None,
+    hi: float | None = None,
+    *,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    unit: str = "",
+) -> float:
     """`value` (a number, or text such as "1.5") as a float if it is finite and inside the range,
     else an ArmtoolError naming `flag`: "--margin must be ≥ 0 and ≤ 90 degrees, got -1"."""
     bounds = _range_text(lo, hi, lo_open, hi_open)
@@ -135,57 +144,65 @@ def parse_id_list(text: str, flag: str = "--ids", lo: int = 0, hi: int = 252) ->
 # typer callbacks
 
 
-def _optional(check: Callable[[T, str], T]) -> Callable[[typer.CallbackParam, Optional[T]], Optional[T]]:
-    def callback(param: typer.CallbackParam, value: Optional[T]) -> Optional[T]:
+def _optional(check: Callable[[T, str], T]) -> Callable[[typer.CallbackParam, T | None], T | None]:
+    def callback(param: typer.CallbackParam, value: T | None) -> T | None:
         return None if value is None else check(value, _flag(param))
 
     return callback
 
 
-def finite_float(lo: float | None = None, hi: float | None = None, *, lo_open: bool = False, hi_open: bool = False,
-                 unit: str = "") -> Callable[[typer.CallbackParam, Optional[float]], Optional[float]]:
+def finite_float(
+    lo: float | None = None, hi: float | None = None, *, lo_open: bool = False, hi_open: bool = False, unit: str = ""
+) -> Callable[[typer.CallbackParam, float | None], float | None]:
     """A finite float inside the range (closed ends unless `lo_open`/`hi_open`)."""
     return _optional(lambda v, flag: check_float(v, flag, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit))
 
 
-def positive_float(hi: float | None = None, unit: str = "") -> Callable[[typer.CallbackParam, Optional[float]], Optional[float]]:
+def positive_float(
+    hi: float | None = None, unit: str = ""
+) -> Callable[[typer.CallbackParam, float | None], float | None]:
     """A finite float > 0 (and <= hi)."""
     return finite_float(0.0, hi, lo_open=True, unit=unit)
 
 
-def percent(lo_open: bool = True) -> Callable[[typer.CallbackParam, Optional[float]], Optional[float]]:
+def percent(lo_open: bool = True) -> Callable[[typer.CallbackParam, float | None], float | None]:
     """A percentage in (0, 100] (or [0, 100] with lo_open=False)."""
     return finite_float(0.0, 100.0, lo_open=lo_open, unit="percent")
 
 
-def seconds(hi: float = MAX_SECONDS, allow_zero: bool = False) -> Callable[[typer.CallbackParam, Optional[float]], Optional[float]]:
+def seconds(
+    hi: float = MAX_SECONDS, allow_zero: bool = False
+) -> Callable[[typer.CallbackParam, float | None], float | None]:
     """A duration in seconds: finite, > 0 (>= 0 with allow_zero), at most `hi` (a week by default)."""
     return finite_float(0.0, hi, lo_open=not allow_zero, unit="seconds")
 
 
-def int_range(lo: int | None = None, hi: int | None = None, unit: str = "") -> Callable[[typer.CallbackParam, Optional[int]], Optional[int]]:
+def int_range(
+    lo: int | None = None, hi: int | None = None, unit: str = ""
+) -> Callable[[typer.CallbackParam, int | None], int | None]:
     """A whole number in lo..hi."""
     return _optional(lambda v, flag: check_int(v, flag, lo, hi, unit))
 
 
-def ticks(lo: int = 0, hi: int = 4095) -> Callable[[typer.CallbackParam, Optional[int]], Optional[int]]:
+def ticks(lo: int = 0, hi: int = 4095) -> Callable[[typer.CallbackParam, int | None], int | None]:
     """A servo position in register ticks (0..4095 covers every supported model; the command
     checks the servo's own range once it knows the model)."""
     return int_range(lo, hi, "ticks")
 
 
-def baud() -> Callable[[typer.CallbackParam, Optional[int]], Optional[int]]:
+def baud() -> Callable[[typer.CallbackParam, int | None], int | None]:
     """A baud rate: a whole number > 0 (0 is refused, never read as "the default")."""
     return int_range(1, MAX_BAUD, "baud")
 
 
-def seed() -> Callable[[typer.CallbackParam, Optional[int]], Optional[int]]:
+def seed() -> Callable[[typer.CallbackParam, int | None], int | None]:
     """Any integer; a negative one is mapped by `seed_value`."""
     return _optional(lambda v, flag: seed_value(check_int(v, flag)))
 
 
-def id_list(lo: int = 0, hi: int = 252) -> Callable[[typer.CallbackParam, Optional[str]], Optional[str]]:
+def id_list(lo: int = 0, hi: int = 252) -> Callable[[typer.CallbackParam, str | None], str | None]:
     """An ID list (`1,2,3`, `1-6`), checked by `parse_id_list`; the text is returned unchanged."""
+
     def check(text: str, flag: str) -> str:
         parse_id_list(text, flag, lo, hi)
         return text

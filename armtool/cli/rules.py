@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from typing import Optional
-
 import typer
 
 from armtool.console import write_stdout
@@ -11,13 +9,16 @@ from armtool.errors import ArmtoolError
 
 
 def rules(
-    code: Optional[str] = typer.Argument(None, help="A rule code (U301) or name (rpy-out-of-range)."),
+    code: str | None = typer.Argument(None, help="A rule code (U301) or name (rpy-out-of-range)."),
 ) -> None:
     from armtool.lint.registry import RULES, find_rule
     from armtool.lint.suggest import did_you_mean
 
     if code is None:
-        lines = [f"{r.code}  {r.name:<32} {r.severity.value:<7} {'fix ' if r.fix_safety.value == 'safe' else '    '}{r.summary()}" for r in RULES]
+        lines = [
+            f"{r.code}  {r.name:<32} {r.severity.value:<7} {'fix ' if r.fix_safety.value == 'safe' else '    '}{r.summary()}"
+            for r in RULES
+        ]
         write_stdout("\n".join(lines))
         return
     rule = find_rule(code)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
 
 import typer
 
@@ -12,12 +11,21 @@ from armtool.errors import ArmtoolError
 
 
 def servo_sim(
-    config: Path = typer.Argument(..., help="Simulator YAML (protocol, joints with stops, faults); see fixtures/servo/."),
-    duration: Optional[float] = typer.Option(None, "--duration", callback=opt.seconds(),
-                                             help="Stop after this many seconds (default: until Ctrl-C)."),
-    port_file: Optional[Path] = typer.Option(None, "--port-file", help="Also write the bus port path to this new file (for scripts); "
-                                             "removed at exit. An existing file is refused unless it is a stale port file."),
-    person: bool = typer.Option(False, "--person", help="Start the scripted person: torque-off joints are moved to both stops."),
+    config: Path = typer.Argument(
+        ..., help="Simulator YAML (protocol, joints with stops, faults); see fixtures/servo/."
+    ),
+    duration: float | None = typer.Option(
+        None, "--duration", callback=opt.seconds(), help="Stop after this many seconds (default: until Ctrl-C)."
+    ),
+    port_file: Path | None = typer.Option(
+        None,
+        "--port-file",
+        help="Also write the bus port path to this new file (for scripts); "
+        "removed at exit. An existing file is refused unless it is a stale port file.",
+    ),
+    person: bool = typer.Option(
+        False, "--person", help="Start the scripted person: torque-off joints are moved to both stops."
+    ),
 ) -> None:
     """Prints the bus port path (line 1) and the encoder port path (line 2) on stdout."""
     import signal
@@ -45,9 +53,11 @@ def servo_sim(
         write_stdout(sim.port_path)
         write_stdout(sim.encoder_port_path)
         ids = ", ".join(f"{s.id} {s.model.name}" for s in cfg.servos)
-        stderr().print(f"servo-sim: {cfg.protocol} at {cfg.baud} baud on {sim.port_path} (IDs {ids}); "
-                       f"encoder on {sim.encoder_port_path}; "
-                       + (f"stopping after {duration:g} s" if duration else "Ctrl-C to stop"))
+        stderr().print(
+            f"servo-sim: {cfg.protocol} at {cfg.baud} baud on {sim.port_path} (IDs {ids}); "
+            f"encoder on {sim.encoder_port_path}; "
+            + (f"stopping after {duration:g} s" if duration else "Ctrl-C to stop")
+        )
         sim.wait(duration)
     except KeyboardInterrupt:
         pass

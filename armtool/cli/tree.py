@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import List, Optional
 
 import typer
 
@@ -19,10 +18,12 @@ class TreeFormat(str, Enum):
 
 def tree(
     urdf: Path = typer.Argument(..., help="URDF or xacro of the robot."),
-    output_format: TreeFormat = typer.Option(TreeFormat.TEXT, "--format", help="text (like check_urdf), dot (Graphviz, like urdf_to_graphviz) or mermaid."),
-    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write to this file instead of stdout."),
-    xacro_arg: List[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: List[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages (repeatable)."),
+    output_format: TreeFormat = typer.Option(
+        TreeFormat.TEXT, "--format", help="text (like check_urdf), dot (Graphviz, like urdf_to_graphviz) or mermaid."
+    ),
+    output: Path | None = typer.Option(None, "--output", "-o", help="Write to this file instead of stdout."),
+    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    package_path: list[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages (repeatable)."),
 ) -> None:
     from armtool.cli.lint import _parse_xacro_args
     from armtool.console import write_stdout
@@ -32,7 +33,9 @@ def tree(
 
     check_output_paths({"--output": output}, inputs=[urdf])  # `-o arm.urdf` must not overwrite the robot
     model = read_tree(load_robot_xml(urdf, _parse_xacro_args(xacro_arg), package_path))
-    render = {TreeFormat.TEXT: render_text, TreeFormat.DOT: render_dot, TreeFormat.MERMAID: render_mermaid}[output_format]
+    render = {TreeFormat.TEXT: render_text, TreeFormat.DOT: render_dot, TreeFormat.MERMAID: render_mermaid}[
+        output_format
+    ]
     text = render(model) + "\n"
     if output is None:
         write_stdout(text)
@@ -43,4 +46,7 @@ def tree(
     from armtool.fileio import write_atomic
 
     write_atomic(output, text)
-    stderr().print(f"wrote {escape(str(output))}" + (f" (render: dot -Tpng {escape(str(output))} -o tree.png)" if output_format is TreeFormat.DOT else ""))
+    stderr().print(
+        f"wrote {escape(str(output))}"
+        + (f" (render: dot -Tpng {escape(str(output))} -o tree.png)" if output_format is TreeFormat.DOT else "")
+    )

@@ -1,9 +1,9 @@
 """Inverse kinematics: chains from URDF, solvers, and the benchmark behind `armtool ik-bench`.
 
-    from armtool.ik import load_chain, make_solver
-    chain = load_chain("panda.urdf", base="panda_link0", tip="panda_hand")
-    solver = make_solver("lm", chain, timeout=0.005, tolerance=1e-5)
-    result = solver.solve(target_4x4, seed)
+from armtool.ik import load_chain, make_solver
+chain = load_chain("panda.urdf", base="panda_link0", tip="panda_hand")
+solver = make_solver("lm", chain, timeout=0.005, tolerance=1e-5)
+result = solver.solve(target_4x4, seed)
 """
 
 from __future__ import annotations

@@ -82,7 +82,9 @@ class SolverReport:
     failed_condition_numbers: dict[str, float]
     failures: int
     claimed_but_wrong: int  # the solver said success, our FK disagreed
-    stalled_failures: int | None = None  # failures past the timeout with < timeout/2 of CPU: the machine was busy (None: batch)
+    stalled_failures: int | None = (
+        None  # failures past the timeout with < timeout/2 of CPU: the machine was busy (None: batch)
+    )
     wall_times_us: list[float] = field(default_factory=list, repr=False)  # every solve, in target order
     solved: list[bool] = field(default_factory=list, repr=False)  # our FK verdict per target
 

@@ -42,17 +42,28 @@ def _floats(text: str | None, n: int, default: Sequence[float], what: str = "", 
         values = []
     label = f"{what}: " if what else ""
     if len(values) != n or not all(math.isfinite(v) for v in values):
-        raise ArmtoolError(f"{label}bad numbers '{text[:80]}' (expected {n} finite number{'s' if n > 1 else ''})",
-                           hint="run `armtool lint` on the URDF")
+        raise ArmtoolError(
+            f"{label}bad numbers '{text[:80]}' (expected {n} finite number{'s' if n > 1 else ''})",
+            hint="run `armtool lint` on the URDF",
+        )
     if any(abs(v) > bound for v in values):
-        raise ArmtoolError(f"{label}'{text[:80]}' is beyond ±{bound:g} (m or rad), larger than any robot",
-                           hint="check the units, or run `armtool lint` on the URDF")
+        raise ArmtoolError(
+            f"{label}'{text[:80]}' is beyond ±{bound:g} (m or rad), larger than any robot",
+            hint="check the units, or run `armtool lint` on the URDF",
+        )
     return values
 
 
 def rpy_matrix(roll: float, pitch: float, yaw: float) -> Array:
     """URDF rpy: fixed-axis X, then Y, then Z: R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    cr, sr, cp, sp, cy, sy = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch), math.cos(yaw), math.sin(yaw)
+    cr, sr, cp, sp, cy, sy = (
+        math.cos(roll),
+        math.sin(roll),
+        math.cos(pitch),
+        math.sin(pitch),
+        math.cos(yaw),
+        math.sin(yaw),
+    )
     return np.array(
         [
             [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
@@ -152,8 +163,10 @@ def _default_chain(links: list[str], by_child: Mapping[str, _UrdfJoint], source:
     several roots (a URDF error lint reports), the root whose tree has that arm."""
     roots = [name for name in links if name not in by_child]
     if not roots:
-        raise ArmtoolError(f"{source} has no root link: every link is the child of a joint (a kinematic loop)",
-                           hint="run `armtool lint` on it")
+        raise ArmtoolError(
+            f"{source} has no root link: every link is the child of a joint (a kinematic loop)",
+            hint="run `armtool lint` on it",
+        )
     mimicked = _gripper_drives(by_child)
     paths: list[tuple[str, str, int, int, bool]] = []  # root, link, moving joints, depth, passes a gripper joint
     looped: list[str] = []  # links whose walk up never reaches a root
@@ -172,10 +185,16 @@ def _default_chain(links: list[str], by_child: Mapping[str, _UrdfJoint], source:
     arm = [p for p in paths if not p[4]] or paths  # a gripper-only model: its own joints are the chain
     most = max(p[2] for p in arm)
     if most == 0:
-        why = (f"; links {', '.join(looped[:10])} form a kinematic loop and reach no root" if looped
-               else "; it has no revolute, prismatic or continuous joint")
-        raise ArmtoolError(f"{source} has no moving joint below its root link{'s' if len(roots) > 1 else ''} "
-                           f"{', '.join(repr(r) for r in roots[:10])}{why}", hint="run `armtool lint` on it")
+        why = (
+            f"; links {', '.join(looped[:10])} form a kinematic loop and reach no root"
+            if looped
+            else "; it has no revolute, prismatic or continuous joint"
+        )
+        raise ArmtoolError(
+            f"{source} has no moving joint below its root link{'s' if len(roots) > 1 else ''} "
+            f"{', '.join(repr(r) for r in roots[:10])}{why}",
+            hint="run `armtool lint` on it",
+        )
     ends = [p for p in arm if p[2] == most]
     order = {name: i for i, name in enumerate(links)}
     root_order = {name: i for i, name in enumerate(roots)}
@@ -205,8 +224,10 @@ class Chain:
 
     def __init__(self, name: str, base: str, tip: str, joints: list[ChainJoint], tip_offset: Array) -> None:
         if not joints:
-            raise ArmtoolError(f"no moving joint between '{base}' and '{tip}': only fixed joints join them",
-                               hint="pick a tip further from the base (`armtool tree` shows the joints)")
+            raise ArmtoolError(
+                f"no moving joint between '{base}' and '{tip}': only fixed joints join them",
+                hint="pick a tip further from the base (`armtool tree` shows the joints)",
+            )
         self.name = name
         self.base = base
         self.tip = tip
@@ -423,7 +444,9 @@ def _joint_model(pin: Any, j: ChainJoint) -> Any:
     return pin.JointModelRevoluteUnaligned(j.axis.copy())
 
 
-def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | None = None, source: str = "URDF") -> Chain:
+def chain_from_xml(
+    root: etree._Element, base: str | None = None, tip: str | None = None, source: str = "URDF"
+) -> Chain:
     links = [el.get("name", "") for el in root.findall("link")]
     by_child = _urdf_joints(root)
     if base is None or tip is None:
@@ -437,14 +460,18 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
                 hint="links: " + ", ".join(links[:30]) + (" …" if len(links) > 30 else ""),
             )
     if base == tip:
-        raise ArmtoolError(f"base and tip are the same link '{base}' in {source}: a chain needs at least one moving joint between them",
-                           hint="pick a tip link below the base (`armtool tree` shows the links)")
+        raise ArmtoolError(
+            f"base and tip are the same link '{base}' in {source}: a chain needs at least one moving joint between them",
+            hint="pick a tip link below the base (`armtool tree` shows the links)",
+        )
     path: list[_UrdfJoint] = []
     cur = tip
     while cur != base:
         joint = by_child.get(cur)
         if joint is None:
-            raise ArmtoolError(f"tip '{tip}' is not below base '{base}' in {source}", hint="swap them, or pick links on one branch")
+            raise ArmtoolError(
+                f"tip '{tip}' is not below base '{base}' in {source}", hint="swap them, or pick links on one branch"
+            )
         path.append(joint)
         cur = joint.parent
         if len(path) > len(links):
@@ -458,11 +485,19 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
             pending = origin
             continue
         if uj.type not in ("revolute", "prismatic", "continuous"):
-            raise ArmtoolError(f"joint '{uj.name}' has type '{uj.type}', which a serial IK chain cannot use", hint="choose a chain of revolute/prismatic/continuous joints")
+            raise ArmtoolError(
+                f"joint '{uj.name}' has type '{uj.type}', which a serial IK chain cannot use",
+                hint="choose a chain of revolute/prismatic/continuous joints",
+            )
         if uj.el.find("mimic") is not None:
-            raise ArmtoolError(f"joint '{uj.name}' is a mimic joint", hint="IK chains cannot contain mimic joints; choose another --tip")
+            raise ArmtoolError(
+                f"joint '{uj.name}' is a mimic joint",
+                hint="IK chains cannot contain mimic joints; choose another --tip",
+            )
         axis_el = uj.el.find("axis")
-        axis = np.array(_floats(axis_el.get("xyz") if axis_el is not None else None, 3, (1, 0, 0), f"joint '{uj.name}' <axis xyz>"))
+        axis = np.array(
+            _floats(axis_el.get("xyz") if axis_el is not None else None, 3, (1, 0, 0), f"joint '{uj.name}' <axis xyz>")
+        )
         norm = math.hypot(*axis)  # no overflow for `1e200 1e200 0`, no underflow for tiny ones
         if norm < 1e-12:
             raise ArmtoolError(f"joint '{uj.name}' has a zero axis", hint="run `armtool lint` on the URDF")
@@ -470,10 +505,24 @@ def chain_from_xml(root: etree._Element, base: str | None = None, tip: str | Non
             lower, upper = -math.pi, math.pi
         else:
             limit = uj.el.find("limit")
-            lower = _floats(limit.get("lower") if limit is not None else None, 1, (0.0,), f"joint '{uj.name}' <limit lower>", MAX_ABS)[0]
-            upper = _floats(limit.get("upper") if limit is not None else None, 1, (0.0,), f"joint '{uj.name}' <limit upper>", MAX_ABS)[0]
+            lower = _floats(
+                limit.get("lower") if limit is not None else None,
+                1,
+                (0.0,),
+                f"joint '{uj.name}' <limit lower>",
+                MAX_ABS,
+            )[0]
+            upper = _floats(
+                limit.get("upper") if limit is not None else None,
+                1,
+                (0.0,),
+                f"joint '{uj.name}' <limit upper>",
+                MAX_ABS,
+            )[0]
             if not lower < upper:
-                raise ArmtoolError(f"joint '{uj.name}' has limits [{lower}, {upper}], no room to move", hint="fix <limit lower upper>")
+                raise ArmtoolError(
+                    f"joint '{uj.name}' has limits [{lower}, {upper}], no room to move", hint="fix <limit lower upper>"
+                )
         joints.append(ChainJoint(uj.name, uj.type, origin, axis / norm, lower, upper))  # type: ignore[arg-type]
         pending = np.eye(4)
     return Chain(root.get("name", "robot"), base, tip, joints, pending)

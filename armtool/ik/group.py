@@ -87,7 +87,9 @@ def group_chain(srdf: etree._Element, group: str, urdf: etree._Element, source: 
     _collect(groups, group, joints, links, by_child, virtual, members, (), source)
     members -= set(virtual)  # a fixed virtual joint: its parent frame coincides with the root link
     if not members:
-        raise ArmtoolError(f"group '{group}' has no joint of the URDF", source, "pass --base and --tip, or fix the group")
+        raise ArmtoolError(
+            f"group '{group}' has no joint of the URDF", source, "pass --base and --tip, or fix the group"
+        )
     index = {name: i for i, name in enumerate(order)}
     ordered = sorted(members, key=lambda name: index.get(name, len(index)))
     first, last = joints[ordered[0]], joints[ordered[-1]]
@@ -100,8 +102,11 @@ def group_chain(srdf: etree._Element, group: str, urdf: etree._Element, source: 
     off_path = [name for name in ordered if name not in path]
     skipped = [name for name in path if name not in members and joints[name].type != "fixed"]
     if cur != first.parent or off_path or skipped:
-        why = (f"joint(s) {', '.join(off_path)} are on another branch" if off_path
-               else f"moving joint(s) {', '.join(skipped)} between its joints are not in the group")
+        why = (
+            f"joint(s) {', '.join(off_path)} are on another branch"
+            if off_path
+            else f"moving joint(s) {', '.join(skipped)} between its joints are not in the group"
+        )
         raise ArmtoolError(
             f"group '{group}' is not a serial chain ({why}); MoveIt's chain IK plugins (KDL, TRAC-IK) refuse it too",
             source, "pass --base and --tip for the chain to benchmark",
@@ -118,19 +123,29 @@ def _collect(
         raise ArmtoolError(f"groups {' → '.join([*stack, name])} include each other", source, "remove the cycle")
     el = groups.get(name)
     if el is None:
-        raise ArmtoolError(f"group '{stack[-1]}' names subgroup '{name}', which is not defined{did_you_mean(name, list(groups))}", source)
+        raise ArmtoolError(
+            f"group '{stack[-1]}' names subgroup '{name}', which is not defined{did_you_mean(name, list(groups))}",
+            source,
+        )
     for chain in el.findall("chain"):
         base, tip = chain.get("base_link", ""), chain.get("tip_link", "")
         for role, link in (("base_link", base), ("tip_link", tip)):
             if link not in links:
-                raise ArmtoolError(f"group '{name}': chain {role} '{link}' is not in the URDF{did_you_mean(link, sorted(links))}", source)
+                raise ArmtoolError(
+                    f"group '{name}': chain {role} '{link}' is not in the URDF{did_you_mean(link, sorted(links))}",
+                    source,
+                )
         up: list[str] = []
         cur = tip
         while cur != base and cur in by_child:
             up.append(by_child[cur].name)
             cur = by_child[cur].parent
         if cur != base:
-            raise ArmtoolError(f"group '{name}': chain tip '{tip}' is not below base '{base}' in the URDF", source, "swap them, or fix the chain")
+            raise ArmtoolError(
+                f"group '{name}': chain tip '{tip}' is not below base '{base}' in the URDF",
+                source,
+                "swap them, or fix the chain",
+            )
         out.update(up)
     for j in el.findall("joint"):
         jname = j.get("name", "")
@@ -142,11 +157,15 @@ def _collect(
                 )  # fmt: skip
             out.add(jname)
         else:
-            raise ArmtoolError(f"group '{name}': joint '{jname}' is not in the URDF{did_you_mean(jname, sorted(joints))}", source)
+            raise ArmtoolError(
+                f"group '{name}': joint '{jname}' is not in the URDF{did_you_mean(jname, sorted(joints))}", source
+            )
     for link in el.findall("link"):
         lname = link.get("name", "")
         if lname not in links:
-            raise ArmtoolError(f"group '{name}': link '{lname}' is not in the URDF{did_you_mean(lname, sorted(links))}", source)
+            raise ArmtoolError(
+                f"group '{name}': link '{lname}' is not in the URDF{did_you_mean(lname, sorted(links))}", source
+            )
         if lname in by_child:
             out.add(by_child[lname].name)
     for sub in el.findall("group"):
@@ -176,34 +195,55 @@ def group_settings(kinematics_yaml: Path, group: str) -> GroupSettings:
         if isinstance(data, dict) and wrapper in data:
             data = data[wrapper]
     if not isinstance(data, dict):
-        raise ArmtoolError(f"kinematics.yaml is a {type(data).__name__}, not a mapping of group names to settings",
-                           str(kinematics_yaml), "write `GROUP:` followed by its settings (kinematics_solver, ...)")
+        raise ArmtoolError(
+            f"kinematics.yaml is a {type(data).__name__}, not a mapping of group names to settings",
+            str(kinematics_yaml),
+            "write `GROUP:` followed by its settings (kinematics_solver, ...)",
+        )
     if group not in data:
         names = sorted(str(k) for k in data)
-        raise ArmtoolError(f"group '{group}' is not in kinematics.yaml{did_you_mean(group, names)}", str(kinematics_yaml),
-                           "groups: " + (", ".join(names) if names else "none") + "; or leave out --kinematics-yaml")
+        raise ArmtoolError(
+            f"group '{group}' is not in kinematics.yaml{did_you_mean(group, names)}",
+            str(kinematics_yaml),
+            "groups: " + (", ".join(names) if names else "none") + "; or leave out --kinematics-yaml",
+        )
     groups = {g.name: g for g in read_groups(kinematics_yaml.read_text(encoding="utf-8-sig"))}
     g = groups[group]
     if data[group] is not None and not isinstance(data[group], dict):
-        shown = repr(data[group])[:40] if isinstance(data[group], (str, int, float)) else f"a {type(data[group]).__name__}"
-        raise ArmtoolError(f"group '{group}' in kinematics.yaml is {shown}, not a mapping of settings",
-                           f"{kinematics_yaml}:{g.line}", "e.g. `kinematics_solver_timeout: 0.005` on the next line, indented")
+        shown = (
+            repr(data[group])[:40] if isinstance(data[group], (str, int, float)) else f"a {type(data[group]).__name__}"
+        )
+        raise ArmtoolError(
+            f"group '{group}' in kinematics.yaml is {shown}, not a mapping of settings",
+            f"{kinematics_yaml}:{g.line}",
+            "e.g. `kinematics_solver_timeout: 0.005` on the next line, indented",
+        )
     timeout = None
     if "kinematics_solver_timeout" in g.settings:
         setting = g.settings["kinematics_solver_timeout"]
         value = setting.value
         where = f"{kinematics_yaml}:{setting.line}"
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ArmtoolError(f"kinematics_solver_timeout of '{group}' is {value!r}, not a number", where,
-                               "a number of seconds such as 0.005")
+            raise ArmtoolError(
+                f"kinematics_solver_timeout of '{group}' is {value!r}, not a number",
+                where,
+                "a number of seconds such as 0.005",
+            )
         if not (math.isfinite(value) and 0 < value <= MAX_TIMEOUT_S):
-            raise ArmtoolError(f"kinematics_solver_timeout of '{group}' is {value!r}", where,
-                               f"a finite number of seconds > 0 and ≤ {MAX_TIMEOUT_S:g}, such as 0.005")
+            raise ArmtoolError(
+                f"kinematics_solver_timeout of '{group}' is {value!r}",
+                where,
+                f"a finite number of seconds > 0 and ≤ {MAX_TIMEOUT_S:g}, such as 0.005",
+            )
         timeout = float(value)
     position_only = False
     if "position_only_ik" in g.settings:
         flag = g.settings["position_only_ik"].value
         if not isinstance(flag, bool):
-            raise ArmtoolError(f"position_only_ik of '{group}' is {flag!r}", f"{kinematics_yaml}:{g.settings['position_only_ik'].line}", "true or false")
+            raise ArmtoolError(
+                f"position_only_ik of '{group}' is {flag!r}",
+                f"{kinematics_yaml}:{g.settings['position_only_ik'].line}",
+                "true or false",
+            )
         position_only = flag
     return GroupSettings(timeout, position_only)

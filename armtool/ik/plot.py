@@ -13,7 +13,16 @@ import numpy as np
 from armtool.errors import ArmtoolError
 from armtool.ik.bench import SolverReport
 
-_COLORS = [(180, 119, 31), (14, 127, 255), (44, 160, 44), (40, 39, 214), (189, 103, 148), (75, 86, 140), (194, 119, 227), (127, 127, 127)]
+_COLORS = [
+    (180, 119, 31),
+    (14, 127, 255),
+    (44, 160, 44),
+    (40, 39, 214),
+    (189, 103, 148),
+    (75, 86, 140),
+    (194, 119, 227),
+    (127, 127, 127),
+]
 
 
 def write_plot(path: Path, reports: list[SolverReport]) -> None:
@@ -41,7 +50,16 @@ def write_plot(path: Path, reports: list[SolverReport]) -> None:
     for frac in (0.0, 0.25, 0.5, 0.75, 1.0):
         y = int(y1 - frac * (y1 - y0))
         cv2.putText(img, f"{frac:.2f}", (x0 - 40, y + 4), font, 0.4, (0, 0, 0), 1, cv2.LINE_AA)
-    cv2.putText(img, "solve time (us, log) - fraction of targets solved within", (x0, y1 + 40), font, 0.45, (0, 0, 0), 1, cv2.LINE_AA)
+    cv2.putText(
+        img,
+        "solve time (us, log) - fraction of targets solved within",
+        (x0, y1 + 40),
+        font,
+        0.45,
+        (0, 0, 0),
+        1,
+        cv2.LINE_AA,
+    )
     for k, r in enumerate(singles):
         color = _COLORS[k % len(_COLORS)]
         times = np.sort(np.asarray(r.wall_times_us)[np.asarray(r.solved, dtype=bool)])

@@ -30,7 +30,9 @@ def solver_class(name: str) -> type[Solver]:
     if name not in SOLVERS:
         from armtool.lint.suggest import did_you_mean
 
-        raise ArmtoolError(f"unknown solver '{name}'{did_you_mean(name, SOLVERS)}", hint="solvers: " + ", ".join(SOLVERS))
+        raise ArmtoolError(
+            f"unknown solver '{name}'{did_you_mean(name, SOLVERS)}", hint="solvers: " + ", ".join(SOLVERS)
+        )
     module, _, cls = SOLVERS[name].partition(":")
     return getattr(importlib.import_module(module), cls)  # type: ignore[no-any-return]
 

@@ -27,8 +27,10 @@ def _sci(value: float) -> str:
 
 def _title(chain: Chain, config: BenchConfig) -> str:
     goal = ", position only (position_only_ik)" if config.position_only else ""
-    return (f"{chain.name} {chain.base} → {chain.tip} ({chain.n} joints), {config.samples} targets{goal}, "
-            f"seed {config.seed_mode.value}, timeout {config.timeout * 1e3:g} ms")
+    return (
+        f"{chain.name} {chain.base} → {chain.tip} ({chain.n} joints), {config.samples} targets{goal}, "
+        f"seed {config.seed_mode.value}, timeout {config.timeout * 1e3:g} ms"
+    )
 
 
 def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
@@ -37,8 +39,21 @@ def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
     from rich.table import Table
 
     table = Table(title=escape(_title(chain, config)))
-    for col in ("solver", "success %", "failures (stalled)", "median µs", "p95 µs", "max µs", "solves/s", "max pos err m",
-                "max rot err rad", "median seed dist", "repeatable %", "solutions", "cond@fail"):
+    for col in (
+        "solver",
+        "success %",
+        "failures (stalled)",
+        "median µs",
+        "p95 µs",
+        "max µs",
+        "solves/s",
+        "max pos err m",
+        "max rot err rad",
+        "median seed dist",
+        "repeatable %",
+        "solutions",
+        "cond@fail",
+    ):
         table.add_column(col, justify="left" if col == "solver" else "right")
     for r in reports:
         if isinstance(r, NotApplicable):
@@ -65,9 +80,13 @@ def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
     err = Console(stderr=True, highlight=False)
     for r in reports:
         if isinstance(r, SolverReport) and r.claimed_but_wrong:
-            err.print(f"[yellow]{escape(r.solver)}: {r.claimed_but_wrong} answers claimed success but failed our FK check[/yellow]")
+            err.print(
+                f"[yellow]{escape(r.solver)}: {r.claimed_but_wrong} answers claimed success but failed our FK check[/yellow]"
+            )
     if any(isinstance(r, SolverReport) and r.stalled_failures for r in reports):
-        err.print("failures (stalled): failed solves that ran past the timeout with less than half of it on the CPU (a busy machine)")
+        err.print(
+            "failures (stalled): failed solves that ran past the timeout with less than half of it on the CPU (a busy machine)"
+        )
 
 
 def _row_json(r: Row) -> dict[str, object]:
@@ -83,8 +102,14 @@ def render_json(chain: Chain, config: BenchConfig, reports: list[Row]) -> str:
         "base": chain.base,
         "tip": chain.tip,
         "joints": chain.joint_names,
-        "config": {"samples": config.samples, "rng_seed": config.rng_seed, "seed_mode": config.seed_mode.value,
-                   "timeout_s": config.timeout, "tolerance": config.tolerance, "position_only": config.position_only},
+        "config": {
+            "samples": config.samples,
+            "rng_seed": config.rng_seed,
+            "seed_mode": config.seed_mode.value,
+            "timeout_s": config.timeout,
+            "tolerance": config.tolerance,
+            "position_only": config.position_only,
+        },
         "solvers": [_row_json(r) for r in reports],
     }
     return json.dumps(_clean(doc), indent=2, allow_nan=False)
@@ -104,18 +129,52 @@ def _clean(value: object) -> object:
 def render_csv(reports: list[Row]) -> str:
     buf = io.StringIO()
     writer = csv.writer(buf)
-    writer.writerow(["solver", "mode", "samples", "success_rate", "median_us", "p95_us", "max_us", "cpu_median_us",
-                     "solves_per_s", "max_position_error_m", "max_orientation_error_rad", "median_seed_distance",
-                     "repeatability", "mean_solutions", "failures", "claimed_but_wrong", "stalled_failures",
-                     "not_applicable"])
+    writer.writerow(
+        [
+            "solver",
+            "mode",
+            "samples",
+            "success_rate",
+            "median_us",
+            "p95_us",
+            "max_us",
+            "cpu_median_us",
+            "solves_per_s",
+            "max_position_error_m",
+            "max_orientation_error_rad",
+            "median_seed_distance",
+            "repeatability",
+            "mean_solutions",
+            "failures",
+            "claimed_but_wrong",
+            "stalled_failures",
+            "not_applicable",
+        ]
+    )
     for r in reports:
         if isinstance(r, NotApplicable):
             writer.writerow([r.solver, r.mode] + [""] * 15 + [r.reason])
             continue
-        writer.writerow([r.solver, r.mode, r.samples, f"{r.success_rate:.4f}", f"{r.wall_us['median']:.1f}",
-                         f"{r.wall_us['p95']:.1f}", f"{r.wall_us['max']:.1f}", f"{r.cpu_us['median']:.1f}",
-                         f"{r.solves_per_s:.0f}", r.position_error_m["max"], r.orientation_error_rad["max"],
-                         r.seed_distance["median"], "" if r.repeatability is None else r.repeatability,
-                         "" if r.mean_solutions is None else r.mean_solutions, r.failures, r.claimed_but_wrong,
-                         "" if r.stalled_failures is None else r.stalled_failures, ""])
+        writer.writerow(
+            [
+                r.solver,
+                r.mode,
+                r.samples,
+                f"{r.success_rate:.4f}",
+                f"{r.wall_us['median']:.1f}",
+                f"{r.wall_us['p95']:.1f}",
+                f"{r.wall_us['max']:.1f}",
+                f"{r.cpu_us['median']:.1f}",
+                f"{r.solves_per_s:.0f}",
+                r.position_error_m["max"],
+                r.orientation_error_rad["max"],
+                r.seed_distance["median"],
+                "" if r.repeatability is None else r.repeatability,
+                "" if r.mean_solutions is None else r.mean_solutions,
+                r.failures,
+                r.claimed_but_wrong,
+                "" if r.stalled_failures is None else r.stalled_failures,
+                "",
+            ]
+        )
     return buf.getvalue()

@@ -68,7 +68,9 @@ def rotation_error_batch(R: Array, R_target: Array) -> Array:
 
 def pose_error_batch(T: Array, targets: Array) -> Array:
     """(N,6) pose errors [dp; dw] for (N,4,4) poses and targets."""
-    return np.concatenate([targets[:, :3, 3] - T[:, :3, 3], rotation_error_batch(T[:, :3, :3], targets[:, :3, :3])], axis=1)
+    return np.concatenate(
+        [targets[:, :3, 3] - T[:, :3, 3], rotation_error_batch(T[:, :3, :3], targets[:, :3, :3])], axis=1
+    )
 
 
 def pose_error(T: Array, target: Array) -> Array:
@@ -119,7 +121,9 @@ class Solver:
     # position-only chain (Chain.with_free_orientation) and are reported as not applicable.
     position_only_capable: ClassVar[bool] = True
 
-    def __init__(self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
+    def __init__(
+        self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
+    ) -> None:
         if not (math.isfinite(timeout) and timeout > 0):  # inf would never end a solve
             raise ArmtoolError(f"timeout must be > 0 seconds and finite, got {timeout}", hint="e.g. 0.005 (5 ms)")
         if not (math.isfinite(tolerance) and tolerance > 0):
@@ -127,7 +131,9 @@ class Solver:
         unknown = set(options) - set(self.options)
         if unknown:
             known = ", ".join(f"{k} (default {v!r})" for k, v in self.options.items()) or "none"
-            raise ArmtoolError(f"solver '{self.name}' has no option(s) {', '.join(sorted(unknown))}", hint=f"options: {known}")
+            raise ArmtoolError(
+                f"solver '{self.name}' has no option(s) {', '.join(sorted(unknown))}", hint=f"options: {known}"
+            )
         self.chain = chain
         self.timeout = float(timeout)
         self.tolerance = float(tolerance)
@@ -144,7 +150,9 @@ class Solver:
         targets = np.asarray(targets, dtype=float)
         seeds = np.asarray(seeds, dtype=float)
         if targets.ndim != 3 or targets.shape[1:] != (4, 4) or seeds.shape != (targets.shape[0], self.chain.n):
-            raise ArmtoolError(f"expected (N,4,4) targets and (N,{self.chain.n}) seeds, got {targets.shape} and {seeds.shape}")
+            raise ArmtoolError(
+                f"expected (N,4,4) targets and (N,{self.chain.n}) seeds, got {targets.shape} and {seeds.shape}"
+            )
         return [self.solve(t, s) for t, s in zip(targets, seeds)]
 
     def _result(self, q: Array, target: Array, iterations: int, reason: str = "") -> IKResult:

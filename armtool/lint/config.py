@@ -107,7 +107,11 @@ def find_pyproject(start: Path) -> Path | None:
 
 def _paths_table(value: Any, key: str, where: str, root: Path) -> dict[str, Path]:
     if not isinstance(value, dict) or not all(isinstance(v, str) for v in value.values()):
-        raise ArmtoolError(f"'{key}' must be a table of glob = \"path\"", where, f'e.g. {key} = {{ "config/*.srdf" = "urdf/arm.urdf.xacro" }}')
+        raise ArmtoolError(
+            f"'{key}' must be a table of glob = \"path\"",
+            where,
+            f'e.g. {key} = {{ "config/*.srdf" = "urdf/arm.urdf.xacro" }}',
+        )
     return {str(k): root / v for k, v in value.items()}
 
 
@@ -133,8 +137,11 @@ def check_selector(sel: str, key: str, where: str | None = None) -> str:
     from armtool.lint.suggest import did_you_mean
 
     hint = did_you_mean(sel.upper(), list(CODES)) or did_you_mean(sel.lower(), list(NAMES))
-    raise ArmtoolError(f"unknown rule '{sel}' in {key}{hint}", where,
-                       "use a code (U301), a prefix (U3, S) or a name (rpy-out-of-range); `armtool rules` lists them")
+    raise ArmtoolError(
+        f"unknown rule '{sel}' in {key}{hint}",
+        where,
+        "use a code (U301), a prefix (U3, S) or a name (rpy-out-of-range); `armtool rules` lists them",
+    )
 
 
 def parse_selectors(text: str, flag: str) -> list[str]:
@@ -151,7 +158,11 @@ def _selectors(value: Any, key: str, where: str, allow_empty: bool = True) -> li
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
         raise ArmtoolError(f"'{key}' must be a list of rule codes", where, 'e.g. select = ["U", "S101"]')
     if not value and not allow_empty:
-        raise ArmtoolError(f"'{key}' is empty: no rule would run", where, 'list codes or prefixes (select = ["U", "S101"]), or remove the key for all rules')
+        raise ArmtoolError(
+            f"'{key}' is empty: no rule would run",
+            where,
+            'list codes or prefixes (select = ["U", "S101"]), or remove the key for all rules',
+        )
     return [check_selector(sel, f"'{key}'", where) for sel in value]
 
 
@@ -174,7 +185,9 @@ def load_config(path: Path | None = None) -> LintConfig:
         raise ArmtoolError(f"cannot read config: {exc.strerror}", str(path)) from None
     except UnicodeDecodeError as exc:
         line = exc.object[: exc.start].count(b"\n") + 1
-        raise ArmtoolError("config is not UTF-8 text (TOML files are UTF-8)", f"{path}:{line}", "save it as UTF-8") from None
+        raise ArmtoolError(
+            "config is not UTF-8 text (TOML files are UTF-8)", f"{path}:{line}", "save it as UTF-8"
+        ) from None
     own_file = path.name == "armtool.toml"
     if not own_file and "armtool" not in text:
         return LintConfig(root=path.parent, source=path)  # not ours: skip the TOML parser's start-up cost
@@ -188,7 +201,9 @@ def load_config(path: Path | None = None) -> LintConfig:
     except tomllib.TOMLDecodeError as exc:
         raise ArmtoolError(f"invalid TOML: {exc}", str(path)) from None
     except RecursionError:  # the parser recurses per nested array or inline table
-        raise ArmtoolError("TOML nested too deeply to read", str(path), "no armtool setting nests more than a few levels") from None
+        raise ArmtoolError(
+            "TOML nested too deeply to read", str(path), "no armtool setting nests more than a few levels"
+        ) from None
     where = f"{path} [lint]" if own_file else f"{path} [tool.armtool.lint]"
     if own_file:
         section = data.get("lint")
@@ -198,7 +213,9 @@ def load_config(path: Path | None = None) -> LintConfig:
         tool = data.get("tool")
         ours = tool.get("armtool") if isinstance(tool, dict) else None
         if ours is not None and not isinstance(ours, dict):
-            raise ArmtoolError("[tool.armtool] must be a table", f"{path}", "write [tool.armtool.lint] with its keys below it")
+            raise ArmtoolError(
+                "[tool.armtool] must be a table", f"{path}", "write [tool.armtool.lint] with its keys below it"
+            )
         section = ours.get("lint") if isinstance(ours, dict) else None
     if section is None:
         return LintConfig(root=path.parent, source=path)
@@ -206,7 +223,9 @@ def load_config(path: Path | None = None) -> LintConfig:
         raise ArmtoolError("[tool.armtool.lint] must be a table", where)
     unknown = set(section) - _KEYS
     if unknown:
-        raise ArmtoolError(f"unknown key(s): {', '.join(sorted(unknown))}", where, "known keys: " + ", ".join(sorted(_KEYS)))
+        raise ArmtoolError(
+            f"unknown key(s): {', '.join(sorted(unknown))}", where, "known keys: " + ", ".join(sorted(_KEYS))
+        )
     cfg = LintConfig(root=path.parent, source=path)
     if "select" in section:
         cfg.select = _selectors(section["select"], "select", where, allow_empty=False)

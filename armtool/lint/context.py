@@ -19,8 +19,6 @@ JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "plan
 _MOVING = frozenset(JOINT_TYPES) - {"fixed"}
 
 
-
-
 _XPATHS: dict[str, etree.XPath] = {}
 
 
@@ -45,7 +43,7 @@ class JointView(NamedTuple):
     axis_el: etree._Element | None = None
     mimic_el: etree._Element | None = None
     # The <limit>'s attributes (one lxml call; several rules read them): limit_el.get(k) is limits.get(k).
-    limits: dict[str, str] = {}
+    limits: dict[str, str] = {}  # noqa: RUF012 (read-only; every view with a <limit> gets its own)
 
     @property
     def moves(self) -> bool:
@@ -91,7 +89,6 @@ class FileContext:
             edit,
             tuple((shown(s.path), s.line) for s in place.related) if place.related else (),
         )
-
 
     def finding_at(
         self, rule: Rule | type[Rule], line: int, column: int, message: str, *, hint: str | None = None
@@ -179,7 +176,9 @@ class UrdfContext(FileContext):
         self.joint_names = {n for n in self._joint_by_name if n}
         self._numbers: list[tuple[etree._Element, str, str, int, list[float] | None]] | None = None
         self._meshes: list[tuple[etree._Element, str, str | None, str | None]] | None = None
-        self._inertias: list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]] | None = None
+        self._inertias: (
+            list[tuple[etree._Element, etree._Element, tuple[float, ...], tuple[float, float, float]]] | None
+        ) = None
         self._inertial_of: dict[etree._Element, etree._Element] | None = None
         self._texts: dict[int, set[str]] | None = None
         self._plain: bool | None = None

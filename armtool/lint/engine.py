@@ -6,11 +6,10 @@ import re
 from collections.abc import Iterable, Iterator, Sequence
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, NamedTuple
-
-from lxml import etree
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from armtool.errors import ArmtoolError
+from armtool.fileio import read_regular
 from armtool.lint.config import LintConfig
 from armtool.lint.context import FileContext, UrdfContext
 from armtool.lint.finding import Finding
@@ -18,7 +17,6 @@ from armtool.lint.locate import Locator, display_path, local_tag
 from armtool.lint.registry import rule_class
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
-from armtool.fileio import read_regular
 from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml
 
 if TYPE_CHECKING:  # imported on use (xacro costs start-up time; SRDF support is not always needed)
@@ -70,8 +68,11 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
         elif path.is_file():
             out.append(path)
         elif path.exists():
-            raise ArmtoolError("not a regular file (a FIFO, socket or device)", str(path),
-                               "pass a file; to lint a stream, pipe it to `armtool lint -`")
+            raise ArmtoolError(
+                "not a regular file (a FIFO, socket or device)",
+                str(path),
+                "pass a file; to lint a stream, pipe it to `armtool lint -`",
+            )
         else:
             raise ArmtoolError("no such file or directory", str(path), "check the path")
     unique: dict[Path, None] = {}
@@ -131,7 +132,10 @@ def rules_for(target: Target) -> list[Rule]:
 
 
 _LOADER_CODE: dict[FileKind | None, str] = {
-    FileKind.URDF: "U001", FileKind.XACRO: "X001", FileKind.SRDF: "S001", FileKind.KINEMATICS: "K001",
+    FileKind.URDF: "U001",
+    FileKind.XACRO: "X001",
+    FileKind.SRDF: "S001",
+    FileKind.KINEMATICS: "K001",
 }
 
 
@@ -193,8 +197,11 @@ class Linter:
         if path == STDIN:
             data = self.options.stdin or b""
             if b"<xacro:" in data:
-                raise ArmtoolError("standard input holds a xacro document; xacro needs its file for includes",
-                                   "-", "pass the .xacro file itself, or pipe xacro's output: xacro FILE | armtool lint -")
+                raise ArmtoolError(
+                    "standard input holds a xacro document; xacro needs its file for includes",
+                    "-",
+                    "pass the .xacro file itself, or pipe xacro's output: xacro FILE | armtool lint -",
+                )
         else:
             data = _read(path)
         self.suppressions.prime(display_path(path), data)
@@ -210,7 +217,9 @@ class Linter:
         return args
 
     # ---- URDF and xacro -------------------------------------------------
-    def load_urdf(self, path: Path, extra_args: dict[str, str] | None = None) -> tuple[UrdfContext | None, list[Finding]]:
+    def load_urdf(
+        self, path: Path, extra_args: dict[str, str] | None = None
+    ) -> tuple[UrdfContext | None, list[Finding]]:
         """Parse a URDF or expand a xacro. Returns the context (None if unusable) and loader findings."""
         if path.name.lower().endswith(".xacro"):
             return self._load_xacro(path, extra_args)
@@ -222,13 +231,25 @@ class Linter:
         findings = []
         if declares_entities(root):
             findings.append(
-                _file_finding("U003", path, 1, 1, "DOCTYPE declares entities; armtool does not expand them",
-                              "remove the DOCTYPE; use xacro properties instead")
+                _file_finding(
+                    "U003",
+                    path,
+                    1,
+                    1,
+                    "DOCTYPE declares entities; armtool does not expand them",
+                    "remove the DOCTYPE; use xacro properties instead",
+                )
             )
         if local_tag(root) != "robot":
             findings.append(
-                _file_finding("U002", path, root.sourceline or 1, 1, f"root element is <{local_tag(root)}>, not <robot>",
-                              "a URDF file holds one <robot name=\"...\"> element")
+                _file_finding(
+                    "U002",
+                    path,
+                    root.sourceline or 1,
+                    1,
+                    f"root element is <{local_tag(root)}>, not <robot>",
+                    'a URDF file holds one <robot name="..."> element',
+                )
             )
             return None, findings
         return UrdfContext(path, root, Locator(path, data=data), self.resolver, raw=data), findings
@@ -243,7 +264,9 @@ class Linter:
         except XacroFailure as exc:
             return xacro_finding(exc)
 
-    def _load_xacro(self, path: Path, extra_args: dict[str, str] | None = None) -> tuple[UrdfContext | None, list[Finding]]:
+    def _load_xacro(
+        self, path: Path, extra_args: dict[str, str] | None = None
+    ) -> tuple[UrdfContext | None, list[Finding]]:
         expansion = self._expand(path, extra_args)
         if isinstance(expansion, Finding):
             return None, [expansion]
@@ -251,8 +274,12 @@ class Linter:
         if local_tag(root) != "robot":
             if not any(isinstance(el.tag, str) for el in root):
                 return None, []  # macros or arguments only, under another root (<gripper>): an include file
-            return None, [_file_finding("U002", path, 1, 1, f"expanded root element is <{local_tag(root)}>, not <robot>")]
-        ctx = UrdfContext(path.resolve(), root, Locator(path.resolve(), expansion.origins), self.resolver, from_xacro=True)
+            return None, [
+                _file_finding("U002", path, 1, 1, f"expanded root element is <{local_tag(root)}>, not <robot>")
+            ]
+        ctx = UrdfContext(
+            path.resolve(), root, Locator(path.resolve(), expansion.origins), self.resolver, from_xacro=True
+        )
         return ctx, []
 
     def lint_urdf(self, path: Path) -> list[Finding]:
@@ -264,7 +291,9 @@ class Linter:
         return findings + list(self._run(ctx, Target.URDF))
 
     # ---- SRDF --------------------------------------------------------------
-    def _urdf_model(self, path: Path, extra_args: dict[str, str] | None = None) -> tuple[UrdfContext | None, list[Finding]]:
+    def _urdf_model(
+        self, path: Path, extra_args: dict[str, str] | None = None
+    ) -> tuple[UrdfContext | None, list[Finding]]:
         key = (path.resolve(), tuple(sorted((extra_args or {}).items())))
         if key not in self._urdf_cache:
             self._urdf_cache[key] = self.load_urdf(path, extra_args)
@@ -312,16 +341,27 @@ class Linter:
                 return None, [_file_finding("S001", path, exc.line, exc.column, f"not well-formed XML: {exc.message}")]
             locator = Locator(path, data=data)
         if local_tag(root) != "robot":
-            return None, [_file_finding("S001", path, root.sourceline or 1, 1, f"root element is <{local_tag(root)}>, not <robot>")]
+            return None, [
+                _file_finding(
+                    "S001", path, root.sourceline or 1, 1, f"root element is <{local_tag(root)}>, not <robot>"
+                )
+            ]
         findings: list[Finding] = []
         urdf: UrdfContext | None = None
         if pair:
             urdf, why = self._urdf_for_srdf(path, root.get("name"))
             if urdf is None:
-                findings.append(_file_finding("S002", path, root.sourceline or 1, 1,
-                                              f"cannot check names and limits against the robot: {why}",
-                                              "pass --urdf PATH (a .urdf or .urdf.xacro), or set it for this file in "
-                                              "[tool.armtool.lint.urdf]"))
+                findings.append(
+                    _file_finding(
+                        "S002",
+                        path,
+                        root.sourceline or 1,
+                        1,
+                        f"cannot check names and limits against the robot: {why}",
+                        "pass --urdf PATH (a .urdf or .urdf.xacro), or set it for this file in "
+                        "[tool.armtool.lint.urdf]",
+                    )
+                )
         return SrdfContext(path, root, locator, urdf), findings
 
     def lint_srdf(self, path: Path) -> list[Finding]:
@@ -363,7 +403,12 @@ class Linter:
         import yaml
 
         from armtool.lint.kinematics_context import (
-            KinematicsContext, NotAMapping, is_moveit_kinematics, may_be_unusable_moveit, read_groups)
+            KinematicsContext,
+            NotAMapping,
+            is_moveit_kinematics,
+            may_be_unusable_moveit,
+            read_groups,
+        )
 
         text = self._read(path).decode("utf-8", "replace")
         try:
@@ -376,9 +421,16 @@ class Linter:
         except NotAMapping as exc:
             if self._srdf_for_kinematics(path, [])[0] is None:
                 return []  # a list of something else (DH rows?) with no MoveIt config around it: not MoveIt's
-            return [_file_finding("K001", path, exc.line, exc.column,
-                                  f"the file is {exc.what}, not a mapping of group names to solver settings",
-                                  "write `GROUP:` then its settings (kinematics_solver: ...), one group per SRDF group")]
+            return [
+                _file_finding(
+                    "K001",
+                    path,
+                    exc.line,
+                    exc.column,
+                    f"the file is {exc.what}, not a mapping of group names to solver settings",
+                    "write `GROUP:` then its settings (kinematics_solver: ...), one group per SRDF group",
+                )
+            ]
         except RecursionError:
             return [_file_finding("K001", path, 1, 1, "YAML nested too deeply to read", "flatten it")]
         names = [g.name for g in groups]
@@ -392,8 +444,16 @@ class Linter:
         findings: list[Finding] = []
         srdf_ctx, why = self._srdf_for_kinematics(path, names)
         if srdf_ctx is None:
-            findings.append(_file_finding("K002", path, 1, 1, f"cannot check group names: {why}",
-                                          "pass --srdf PATH, or set it for this file in [tool.armtool.lint.srdf]"))
+            findings.append(
+                _file_finding(
+                    "K002",
+                    path,
+                    1,
+                    1,
+                    f"cannot check group names: {why}",
+                    "pass --srdf PATH, or set it for this file in [tool.armtool.lint.srdf]",
+                )
+            )
         ctx = KinematicsContext(path, groups, srdf_ctx)
         return findings + list(self._run(ctx, Target.KINEMATICS))
 
@@ -417,7 +477,6 @@ class Linter:
             return self.lint_kinematics(path)
         return self.lint_urdf(path)
 
-
     def lint(self, path: Path) -> list[Finding]:
         """lint_file() without the findings that inline ignore comments silence.
 
@@ -431,8 +490,16 @@ class Linter:
         except (RecursionError, MemoryError) as exc:
             what = "nested too deeply" if isinstance(exc, RecursionError) else "too large"
             code = _LOADER_CODE.get(file_kind(path) if path != STDIN else None, "U001")
-            found = [_file_finding(code, path, 1, 1, f"file is {what} for armtool to check",
-                                   "simplify the file (fewer nesting levels, fewer elements)")]
+            found = [
+                _file_finding(
+                    code,
+                    path,
+                    1,
+                    1,
+                    f"file is {what} for armtool to check",
+                    "simplify the file (fewer nesting levels, fewer elements)",
+                )
+            ]
         except Exception as exc:
             raise RuntimeError(f"while linting {display_path(path)}: {type(exc).__name__}: {exc}") from exc
         silenced = self.suppressions.silenced
@@ -510,7 +577,7 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
                 code = 0
                 try:
                     _worker(linter, files, tasks_r, results_w)
-                except BaseException:  # noqa: BLE001 - reported to the parent through the pipe
+                except BaseException:
                     code = 1
                 finally:
                     os._exit(code)
@@ -520,7 +587,7 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
         for index in left:
             try:
                 mine.append((index, linter.lint(files[index])))
-            except Exception as exc:  # noqa: BLE001 - raised below, in file order
+            except Exception as exc:
                 mine.append((index, exc))
         results: dict[int, list[Finding]] = {}
         errors: dict[int, BaseException] = {}
@@ -574,7 +641,7 @@ def _take_tasks(linter: Linter, files: list[Path], tasks_r: int) -> list[tuple[i
         index = int.from_bytes(raw, "little")
         try:
             out.append((index, linter.lint(files[index])))
-        except Exception as exc:  # noqa: BLE001 - raised again in the parent, in file order
+        except Exception as exc:
             out.append((index, exc))
 
 
@@ -590,7 +657,7 @@ def _worker(linter: Linter, files: list[Path], tasks_r: int, results_w: int) -> 
 
             try:
                 failures.append((index, pickle.dumps(outcome)))
-            except Exception:  # noqa: BLE001 - an exception that cannot be pickled
+            except Exception:
                 failures.append((index, pickle.dumps(RuntimeError(f"{type(outcome).__name__}: {outcome}"))))
         else:
             sent.append((index, [_finding_to_row(f) for f in outcome]))
@@ -621,11 +688,19 @@ def _finding_to_row(f: Finding) -> tuple[object, ...]:
 def _finding_from_row(row: tuple[object, ...]) -> Finding:
     from armtool.lint.finding import Edit, Severity
 
-    path, line, column, code, name, severity, message, hint, edit, related = row
+    fields: tuple[Any, ...] = row  # the rows _finding_to_row wrote: the types are Finding's
+    path, line, column, code, name, severity, message, hint, edit, related = fields
     return Finding(
-        path, line, column, code, name, Severity(severity), message, hint,  # type: ignore[arg-type]
-        None if edit is None else Edit(Path(edit[0]), *edit[1:]),  # type: ignore[index]
-        related,  # type: ignore[arg-type]
+        path,
+        line,
+        column,
+        code,
+        name,
+        Severity(severity),
+        message,
+        hint,
+        None if edit is None else Edit(Path(edit[0]), *edit[1:]),
+        related,
     )
 
 

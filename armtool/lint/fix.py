@@ -68,4 +68,4 @@ def write_atomic(path: Path, text: str) -> None:
     write(path, text)
 
 
-__all__ = ["safe_edits", "fixed_texts", "unified_diff", "write_atomic", "FixSafety"]
+__all__ = ["FixSafety", "fixed_texts", "safe_edits", "unified_diff", "write_atomic"]

@@ -5,11 +5,12 @@ from __future__ import annotations
 import math
 from typing import Any
 
-
 _KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
 
 
-def principal_moments(ixx: float, iyy: float, izz: float, ixy: float, ixz: float, iyz: float) -> tuple[float, float, float]:
+def principal_moments(
+    ixx: float, iyy: float, izz: float, ixy: float, ixz: float, iyz: float
+) -> tuple[float, float, float]:
     """Eigenvalues of the symmetric tensor, ascending (closed form, trigonometric method)."""
     p1 = ixy * ixy + ixz * ixz + iyz * iyz
     if p1 == 0.0:

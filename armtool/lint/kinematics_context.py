@@ -101,7 +101,9 @@ def read_groups(text: str) -> list[GroupSettings]:
             group.not_a_mapping = _shape(value)
         else:
             for skey, sval in value.value:
-                group.settings[str(skey.value)] = YamlValue(_plain(sval), sval.start_mark.line + 1, sval.start_mark.column + 1)
+                group.settings[str(skey.value)] = YamlValue(
+                    _plain(sval), sval.start_mark.line + 1, sval.start_mark.column + 1
+                )
         groups.append(group)
     return groups
 

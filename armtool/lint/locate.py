@@ -45,7 +45,9 @@ def local_tag(el: etree._Element) -> str:
 
 
 class Locator:
-    def __init__(self, path: Path, origins: dict[etree._Element, Origin] | None = None, data: bytes | None = None) -> None:
+    def __init__(
+        self, path: Path, origins: dict[etree._Element, Origin] | None = None, data: bytes | None = None
+    ) -> None:
         """`data`: the bytes of `path` when the caller has read them (saves reading the file again)."""
         self.path = path
         self.origins = origins

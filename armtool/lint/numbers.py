@@ -3,12 +3,9 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 from itertools import chain
 
 from lxml import etree
-
-from armtool.lint.locate import local_tag
 
 # element tag -> {attribute: number of values}; only for elements below <link> or <joint>.
 NUMERIC_ATTRS: dict[str, dict[str, int]] = {
@@ -64,9 +61,7 @@ def numeric_values(root: etree._Element) -> list[tuple[etree._Element, str, str,
 # numeric attributes of the two tags that also carry a name (<mesh filename>, <mimic joint>).
 _NAMED = {"mesh": ("filename",), "mimic": ("joint",)}
 _PLAIN = {
-    count: tuple(
-        tag for tag, attrs in NUMERIC_ATTRS.items() if tag not in _NAMED and set(attrs.values()) == {count}
-    )
+    count: tuple(tag for tag, attrs in NUMERIC_ATTRS.items() if tag not in _NAMED and set(attrs.values()) == {count})
     for count in (1, 3)
 }
 _IN_NAMED = tuple((attr, count) for tag in _NAMED for attr, count in NUMERIC_ATTRS[tag].items())

@@ -13,8 +13,8 @@ import re
 from pathlib import Path
 from typing import NamedTuple
 
-from armtool.model.packages import PackageResolver
 from armtool.fileio import read_regular
+from armtool.model.packages import PackageResolver
 
 URDF_SUFFIXES = (".urdf.xacro", ".urdf", ".xacro")
 SRDF_SUFFIXES = (".srdf", ".srdf.xacro")

@@ -96,7 +96,9 @@ LOADER_CODES = frozenset({"U001", "U002", "U003", "X001", "S001", "S002", "K001"
 def checks_for(target: Target) -> list[type[Rule]]:
     """The rules whose check() looks at a loaded file of this kind, in code order."""
     return [
-        rule_class(code) for code, _, _ in RULE_TABLE if _TARGET_OF_LETTER[code[0]] is target and code not in LOADER_CODES
+        rule_class(code)
+        for code, _, _ in RULE_TABLE
+        if _TARGET_OF_LETTER[code[0]] is target and code not in LOADER_CODES
     ]
 
 

@@ -12,7 +12,6 @@ from armtool.lint.finding import Finding
 from armtool.lint.locate import Locator, display_path, local_tag
 from armtool.lint.rule import Rule, Target
 
-
 _SRDF_ONLY = frozenset({"S103"})  # rules that compare the SRDF with itself, not with the URDF
 
 

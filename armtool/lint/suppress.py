@@ -4,13 +4,12 @@ in YAML, `# armtool: ignore[K104]` silences its own line, or the block that foll
 from __future__ import annotations
 
 import re
-from pathlib import Path
 from typing import NamedTuple
 
 from lxml import etree
 
-from armtool.lint.finding import Finding
 from armtool.fileio import read_regular
+from armtool.lint.finding import Finding
 from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml
 
 _DIRECTIVE = re.compile(r"armtool:\s*ignore(?:\[([A-Za-z0-9_,\s-]*)\])?")

@@ -12,7 +12,9 @@ from armtool.model.packages import PackageResolver
 from armtool.model.xmlsource import XmlSyntaxProblem, parse_xml
 
 
-def _load_xml(path: Path, xacro_args: Mapping[str, str] | None, package_paths: Sequence[Path], what: str) -> etree._Element:
+def _load_xml(
+    path: Path, xacro_args: Mapping[str, str] | None, package_paths: Sequence[Path], what: str
+) -> etree._Element:
     if not path.is_file():
         problem = "not a regular file (a FIFO, socket or device)" if path.exists() else "no such file"
         raise ArmtoolError(problem, str(path), f"check the path to the {what} or its xacro")

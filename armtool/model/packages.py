@@ -64,7 +64,9 @@ def _scan(directory: Path, depth: int, index: dict[str, Path], budget: list[int]
         return
     try:
         with os.scandir(directory) as entries:
-            children = sorted(e.name for e in entries if e.is_dir() and e.name not in _SKIP and not e.name.startswith("."))
+            children = sorted(
+                e.name for e in entries if e.is_dir() and e.name not in _SKIP and not e.name.startswith(".")
+            )
     except OSError:
         return
     names = set(children)

@@ -86,7 +86,9 @@ def render_text(tree: Tree) -> str:
     lines = [f"robot name is: {tree.robot}",
              f"{len(tree.links)} links, {len(tree.joints)} joints" + (f" ({summary})" if summary else "")]  # fmt: skip
     if len(tree.roots) != 1:
-        lines.append(f"warning: {len(tree.roots)} root links ({', '.join(tree.roots) or 'none'}); a URDF has exactly one")
+        lines.append(
+            f"warning: {len(tree.roots)} root links ({', '.join(tree.roots) or 'none'}); a URDF has exactly one"
+        )
     seen: set[str] = set()
 
     def walk(link: str, prefix: str) -> None:
@@ -106,7 +108,9 @@ def render_text(tree: Tree) -> str:
         walk(root, "")
     orphans = [j for j in tree.joints if j.parent not in tree.links or j.child not in tree.links]
     for j in orphans:
-        lines.append(f"warning: joint {j.name} connects {j.parent or '?'} → {j.child or '?'}, which is not a link of the robot")
+        lines.append(
+            f"warning: joint {j.name} connects {j.parent or '?'} → {j.child or '?'}, which is not a link of the robot"
+        )
     return "\n".join(lines)
 
 
@@ -116,7 +120,7 @@ def _quote(text: str) -> str:
 
 def render_dot(tree: Tree) -> str:
     """urdf_to_graphviz's graph: links as boxes, joints as ellipses, origins on the edges."""
-    out = [f"digraph {_quote(tree.robot or 'robot')} {{", '  node [shape=box];']
+    out = [f"digraph {_quote(tree.robot or 'robot')} {{", "  node [shape=box];"]
     for link in tree.links:
         out.append(f"  {_quote(link)};")
     out.append("  node [shape=ellipse, color=blue, fontcolor=blue];")
@@ -124,7 +128,7 @@ def render_dot(tree: Tree) -> str:
         out.append(f"  {_quote('joint:' + j.name)} [label={_quote(j.name + chr(10) + _describe(j))}];")
     for j in tree.joints:
         label = f"xyz: {j.xyz}\\nrpy: {j.rpy}"
-        out.append(f"  {_quote(j.parent)} -> {_quote('joint:' + j.name)} [label=\"{label}\"];")
+        out.append(f'  {_quote(j.parent)} -> {_quote("joint:" + j.name)} [label="{label}"];')
         out.append(f"  {_quote('joint:' + j.name)} -> {_quote(j.child)};")
     out.append("}")
     return "\n".join(out)

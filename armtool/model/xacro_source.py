@@ -28,15 +28,23 @@ from typing import Any
 from lxml import etree
 
 from armtool.fileio import NotRegularFile, read_regular
-from armtool.model.xmlsource import MAX_FILE_BYTES, XmlSyntaxProblem, declares_entities, parse_xml
 from armtool.model.origin import Origin, SourceLine
 from armtool.model.packages import PackageResolver
+from armtool.model.xmlsource import MAX_FILE_BYTES, XmlSyntaxProblem, declares_entities, parse_xml
 
 SRC_ATTR = "armtool-src"
 CALL_ATTR = "armtool-call"
 _DIRECTIVES = {
-    "xacro:property", "xacro:macro", "xacro:include", "xacro:if", "xacro:unless", "xacro:arg",
-    "xacro:element", "xacro:attribute", "xacro:insert_block", "xacro:call",
+    "xacro:property",
+    "xacro:macro",
+    "xacro:include",
+    "xacro:if",
+    "xacro:unless",
+    "xacro:arg",
+    "xacro:element",
+    "xacro:attribute",
+    "xacro:insert_block",
+    "xacro:call",
 }
 _LOCK = threading.Lock()
 
@@ -72,8 +80,10 @@ class XacroFailure(Exception):
     def hint(self) -> str:
         """What the user can pass or change, naming the option that supplies it."""
         if self.missing_package:
-            return (f"pass --package-path DIR (a directory holding package '{self.missing_package}', "
-                    "found by the <name> in its package.xml) or set ROS_PACKAGE_PATH")
+            return (
+                f"pass --package-path DIR (a directory holding package '{self.missing_package}', "
+                "found by the <name> in its package.xml) or set ROS_PACKAGE_PATH"
+            )
         if self.missing_arg:
             return f"pass --xacro-arg {self.missing_arg}:=VALUE (or give the <xacro:arg> a default)"
         return "fix the xacro, or pass --xacro-arg NAME:=VALUE / --package-path DIR"
@@ -142,7 +152,7 @@ def _src_of(node: Any, directives: dict[Any, str]) -> str | None:
     return src or directives.get(node)
 
 
-def _tracked(frames: list[str], src: str | None, fn: Any, *args: Any) -> Any:  # noqa: ANN401
+def _tracked(frames: list[str], src: str | None, fn: Any, *args: Any) -> Any:
     """Run one of xacro's steps with `src` on the stack of places; an exception leaving it carries
     the stack as it was where it was raised (xacro's own stacks have files, not lines)."""
     if src:
@@ -171,17 +181,17 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     directives: dict[Any, str] = {}
     frames: list[str] = []
 
-    def parse(inp: Any, filename: str | None = None) -> Any:  # noqa: ANN401
+    def parse(inp: Any, filename: str | None = None) -> Any:
         source = _checked_source(Path(filename).resolve()) if inp is None and filename else None
         doc = orig_parse(inp, filename)
         if source is not None:
             _annotate(doc, source, files, directives)
         return doc
 
-    def eval_all(node: Any, macros: Any, symbols: Any) -> Any:  # noqa: ANN401
+    def eval_all(node: Any, macros: Any, symbols: Any) -> Any:
         return _tracked(frames, _src_of(node, directives), orig_eval_all, node, macros, symbols)
 
-    def process_include(elt: Any, macros: Any, symbols: Any, func: Any) -> Any:  # noqa: ANN401
+    def process_include(elt: Any, macros: Any, symbols: Any, func: Any) -> Any:
         return _tracked(frames, _src_of(elt, directives), orig_include, elt, macros, symbols, func)
 
     def handle_macro_call(node: Any, macros: Any, symbols: Any) -> Any:
@@ -294,7 +304,10 @@ def _failure(exc: BaseException, top: Path, files: list[Path]) -> XacroFailure:
     package = _cause(exc, _MissingPackage)
     arg = _cause(exc, ArgException)
     return XacroFailure(
-        message, top, line, trail,
+        message,
+        top,
+        line,
+        trail,
         missing_package=package.name if isinstance(package, _MissingPackage) else None,
         missing_arg=str(arg) if arg is not None else None,
     )
@@ -326,8 +339,11 @@ def _expand_text(path: Path, args: Mapping[str, str], resolver: PackageResolver)
             with contextlib.suppress(Exception):
                 xacro.init_stacks(None)
     if len(text) > MAX_EXPANDED_CHARS:
-        raise XacroFailure(f"expanded document is over armtool's limit of {MAX_EXPANDED_CHARS // (1024 * 1024)} MB "
-                           f"({len(text) // (1024 * 1024)} MB)", path)
+        raise XacroFailure(
+            f"expanded document is over armtool's limit of {MAX_EXPANDED_CHARS // (1024 * 1024)} MB "
+            f"({len(text) // (1024 * 1024)} MB)",
+            path,
+        )
     return text, files
 
 
@@ -356,8 +372,14 @@ def _limit_memory() -> None:
 
 
 def _failure_row(exc: XacroFailure) -> tuple[object, ...]:
-    return (exc.message, str(exc.path), exc.line, tuple((str(loc.path), loc.line) for loc in exc.trail),
-            exc.missing_package, exc.missing_arg)
+    return (
+        exc.message,
+        str(exc.path),
+        exc.line,
+        tuple((str(loc.path), loc.line) for loc in exc.trail),
+        exc.missing_package,
+        exc.missing_arg,
+    )
 
 
 def _failure_from_row(row: tuple[Any, ...]) -> XacroFailure:
@@ -367,6 +389,7 @@ def _failure_from_row(row: tuple[Any, ...]) -> XacroFailure:
 
 def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> tuple[str, list[Path]]:
     """_expand_text in a forked child, killed after TIMEOUT_S; its answer comes back through a pipe."""
+    import gc
     import marshal
     import os
     import select
@@ -374,10 +397,8 @@ def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolve
     import time
     import warnings
 
-    import xacro  # noqa: F401 - imported once in the parent, not again in every child
+    import xacro
     import xacro.substitution_args  # noqa: F401
-
-    import gc
 
     read_fd, write_fd = os.pipe()
     pid = -1
@@ -406,8 +427,8 @@ def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolve
             blob = marshal.dumps(answer)
             view = memoryview(blob)
             while view:
-                view = view[os.write(write_fd, view):]
-        except BaseException:  # noqa: BLE001 - the parent reports a child that sent nothing
+                view = view[os.write(write_fd, view) :]
+        except BaseException:
             code = 1
         finally:
             os._exit(code)
@@ -437,8 +458,11 @@ def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolve
         with contextlib.suppress(ChildProcessError):
             status = os.waitpid(pid, 0)[1]
     if timed_out:
-        raise XacroFailure(f"xacro expansion did not finish within {TIMEOUT_S:g} s (an endless loop or a huge "
-                           "expression such as 9**9**9?)", path)
+        raise XacroFailure(
+            f"xacro expansion did not finish within {TIMEOUT_S:g} s (an endless loop or a huge "
+            "expression such as 9**9**9?)",
+            path,
+        )
     reply: list[Any]
     try:
         reply = list(marshal.loads(b"".join(chunks))) if chunks else ["died"]
@@ -447,15 +471,21 @@ def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolve
     if reply[0] == "died":
         # A child over its memory limit usually raises MemoryError (answered as "memory"); one that
         # ended without an answer is said as it ended, never guessed to be out of memory.
-        how = (f"was killed by signal {os.WTERMSIG(status)}" if os.WIFSIGNALED(status)
-               else f"exited with status {os.WEXITSTATUS(status)}")
+        how = (
+            f"was killed by signal {os.WTERMSIG(status)}"
+            if os.WIFSIGNALED(status)
+            else f"exited with status {os.WEXITSTATUS(status)}"
+        )
         raise XacroFailure(f"xacro expansion stopped without an answer (its process {how})", path)
     if reply[0] == "ok":
         return str(reply[1]), [Path(f) for f in reply[2]]
     if reply[0] == "fail":
         raise _failure_from_row(reply[1])
-    raise XacroFailure(f"xacro expansion ran out of memory (more than {MEMORY_HEADROOM_BYTES // 1024**3} GB: a huge "
-                       "expression or repetition?)", path)
+    raise XacroFailure(
+        f"xacro expansion ran out of memory (more than {MEMORY_HEADROOM_BYTES // 1024**3} GB: a huge "
+        "expression or repetition?)",
+        path,
+    )
 
 
 def expand(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> Expansion:

@@ -4,8 +4,8 @@ The lint rules are the default; `traj check` passes its own codes and driver nam
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Optional, Sequence
 
 from armtool import __version__
 from armtool.lint.finding import Severity
@@ -38,12 +38,24 @@ class SarifTool:
 
 def lint_tool() -> SarifTool:
     """`armtool lint`'s driver: every registered rule, documented by its docstring."""
-    return SarifTool("armtool", [SarifRule(rule.code, rule.name, rule.summary(), rule.documentation(), rule.severity,
-                                           HELP_URI.format(code=rule.code.lower())) for rule in RULES])
+    return SarifTool(
+        "armtool",
+        [
+            SarifRule(
+                rule.code,
+                rule.name,
+                rule.summary(),
+                rule.documentation(),
+                rule.severity,
+                HELP_URI.format(code=rule.code.lower()),
+            )
+            for rule in RULES
+        ],
+    )
 
 
 class SarifFormatter:
-    def __init__(self, tool: Optional[SarifTool] = None) -> None:
+    def __init__(self, tool: SarifTool | None = None) -> None:
         self._tool = tool
 
     def render(self, report: LintReport, *, color: bool) -> str:

@@ -40,7 +40,9 @@ class TextFormatter:
             out.append(f"{paint('All checks passed', '32')} ({files} checked).")
         else:
             counts = ", ".join(
-                _plural(report.count(s), s.value) for s in (Severity.ERROR, Severity.WARNING, Severity.INFO) if report.count(s)
+                _plural(report.count(s), s.value)
+                for s in (Severity.ERROR, Severity.WARNING, Severity.INFO)
+                if report.count(s)
             )
             line = f"Found {_plural(len(report.findings), 'problem')} ({counts}) in {files}."
             if report.fixable:

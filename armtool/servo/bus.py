@@ -13,9 +13,10 @@ from __future__ import annotations
 import logging
 import os
 import time
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Literal, Mapping, Protocol, cast
+from typing import Literal, Protocol, cast
 
 from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel, by_number, decode, encode, models_for
@@ -32,7 +33,9 @@ CommErrorKind = Literal["timeout", "corrupt"]
 class CommError(ArmtoolError):
     """No valid reply: `kind` is "timeout" (nothing came back) or "corrupt" (bad checksum/frame)."""
 
-    def __init__(self, what: str, kind: CommErrorKind, sid: int, where: str | None = None, hint: str | None = None) -> None:
+    def __init__(
+        self, what: str, kind: CommErrorKind, sid: int, where: str | None = None, hint: str | None = None
+    ) -> None:
         super().__init__(what, where, hint)
         self.kind = kind
         self.sid = sid
@@ -44,6 +47,7 @@ class PortLost(ArmtoolError):
 
 try:  # tcflush/tcgetattr on a vanished pty or USB adapter raise termios.error, not OSError
     from termios import error as _TermiosError
+
     _PORT_ERRORS: tuple[type[BaseException], ...] = (OSError, _TermiosError)
 except ImportError:  # pragma: no cover - Windows
     _PORT_ERRORS = (OSError,)
@@ -65,13 +69,13 @@ class Port(Protocol):
     tx_time_per_byte: float
     timeout_ms: float
 
-    def clearPort(self) -> None: ...  # noqa: N802 - dynamixel-sdk's names
+    def clearPort(self) -> None: ...
 
-    def writePort(self, packet: bytes) -> int | None: ...  # noqa: N802
+    def writePort(self, packet: bytes) -> int | None: ...
 
-    def readPort(self, length: int) -> bytes: ...  # noqa: N802
+    def readPort(self, length: int) -> bytes: ...
 
-    def closePort(self) -> None: ...  # noqa: N802
+    def closePort(self) -> None: ...
 
 
 class Transport:
@@ -140,12 +144,19 @@ def ftdi_latency_ms(port_path: str) -> int | None:
 def _open_serial_error(path: str, exc: Exception) -> ArmtoolError:
     text = str(exc)
     if not os.path.exists(path):
-        return ArmtoolError(f"serial port {path} does not exist", hint="plug the adapter in, or pass --port (e.g. /dev/ttyUSB0, /dev/ttyACM0)")
+        return ArmtoolError(
+            f"serial port {path} does not exist",
+            hint="plug the adapter in, or pass --port (e.g. /dev/ttyUSB0, /dev/ttyACM0)",
+        )
     if "lock" in text.lower() or "busy" in text.lower() or "Errno 16" in text or "Errno 11" in text:
-        return ArmtoolError(f"serial port {path} is busy (another program has it open)",
-                            hint="close the other program (another armtool, lerobot, Dynamixel Wizard) and retry")
+        return ArmtoolError(
+            f"serial port {path} is busy (another program has it open)",
+            hint="close the other program (another armtool, lerobot, Dynamixel Wizard) and retry",
+        )
     if "Errno 13" in text or "ermission" in text:
-        return ArmtoolError(f"no permission to open {path}", hint="add yourself to the 'dialout' group, then log in again")
+        return ArmtoolError(
+            f"no permission to open {path}", hint="add yourself to the 'dialout' group, then log in again"
+        )
     return ArmtoolError(f"cannot open serial port {path}: {text}")
 
 
@@ -162,8 +173,9 @@ def _make_port_class() -> type:
         def setupPort(self, cflag_baud: int) -> bool:
             if self.is_open:
                 self.closePort()
-            self.ser = serial.Serial(port=self.port_name, baudrate=self.baudrate, bytesize=serial.EIGHTBITS,
-                                     timeout=0, exclusive=True)
+            self.ser = serial.Serial(
+                port=self.port_name, baudrate=self.baudrate, bytesize=serial.EIGHTBITS, timeout=0, exclusive=True
+            )
             self.is_open = True
             self.ser.reset_input_buffer()
             self.tx_time_per_byte = (1000.0 / self.baudrate) * 10.0
@@ -190,8 +202,10 @@ class SerialPort:
         port = _PORT_CLASS(path)
         port.timeout_ms = timeout_ms
         if port.getCFlagBaud(baud) <= 0:
-            raise ArmtoolError(f"baud rate {baud} is not supported",
-                               hint="use one of 9600, 57600, 115200, 1000000, 2000000, 3000000, 4000000")
+            raise ArmtoolError(
+                f"baud rate {baud} is not supported",
+                hint="use one of 9600, 57600, 115200, 1000000, 2000000, 3000000, 4000000",
+            )
         try:
             port.setBaudRate(baud)
         except Exception as exc:  # serial.SerialException, OSError
@@ -234,14 +248,16 @@ class ServoBus:
         return self.transport.name
 
     def _lost(self, exc: BaseException) -> PortLost:
-        return PortLost(f"lost the serial port {self.path}: {exc}",
-                        hint="the adapter was unplugged or lost power; switch the servo power off before touching "
-                             "the arm (torque may still be on), then reconnect and retry")
+        return PortLost(
+            f"lost the serial port {self.path}: {exc}",
+            hint="the adapter was unplugged or lost power; switch the servo power off before touching "
+            "the arm (torque may still be on), then reconnect and retry",
+        )
 
     def close(self) -> None:
         try:
             self.transport.port.closePort()
-        except Exception:  # noqa: BLE001 - closing a dead port must not mask the real error
+        except Exception:
             pass
 
     def __enter__(self) -> ServoBus:
@@ -257,7 +273,8 @@ class ServoBus:
             name = Path(os.path.realpath(self.path)).name
             self.warnings.append(
                 f"{name}: FTDI USB latency timer is {ms} ms (every reply waits up to that long); "
-                f"set it to 1: echo 1 | sudo tee {SYSFS_USB_SERIAL / name / 'latency_timer'}")
+                f"set it to 1: echo 1 | sudo tee {SYSFS_USB_SERIAL / name / 'latency_timer'}"
+            )
 
     def check_echo(self, sid: int, wait_s: float = 0.03) -> None:
         """Send a PING and look at what comes back: an adapter that echoes its own TX
@@ -282,7 +299,8 @@ class ServoBus:
             raise ArmtoolError(
                 f"the adapter on {self.path} echoes what it sends (half-duplex echo): every reply would be misread",
                 hint="use a Dynamixel/Feetech adapter with direction control (U2D2, URT-1, Waveshare bus servo board), "
-                     "or check the TX/RX wiring of a DIY half-duplex circuit")
+                "or check the TX/RX wiring of a DIY half-duplex circuit",
+            )
 
     # -- identification
     def ping(self, sid: int, tries: int = 2) -> int:
@@ -313,27 +331,35 @@ class ServoBus:
         if corrupt:
             raise ArmtoolError(
                 f"ID {', '.join(map(str, corrupt))} answered with corrupt packets (bad checksum) on {self.path}",
-                hint="two servos with the same ID, a wrong --protocol, noise on the bus, or a baud rate mismatch")
+                hint="two servos with the same ID, a wrong --protocol, noise on the bus, or a baud rate mismatch",
+            )
         if not found:
             raise ArmtoolError(
                 f"no servo answered on {self.path} at {self.baud} baud with protocol {self.protocol} "
                 f"(tried ID {_ranges(ids)})",
                 hint=f"check power and cable; try another --baud (AX: 1000000, X series: 57600, STS: 1000000) "
-                     f"or --protocol ({', '.join(p for p in ('dxl1', 'dxl2', 'feetech') if p != self.protocol)})")
+                f"or --protocol ({', '.join(p for p in ('dxl1', 'dxl2', 'feetech') if p != self.protocol)})",
+            )
         if missing:
             raise ArmtoolError(
                 f"ID {', '.join(map(str, missing))} did not answer on {self.path} ({self.baud} baud, {self.protocol})",
-                hint=f"answering: ID {_ranges(sorted(found))}; check the cable to the missing servo, its ID and its baud rate")
+                hint=f"answering: ID {_ranges(sorted(found))}; check the cable to the missing servo, its ID and its baud rate",
+            )
         for sid, number in found.items():
             model = by_number(self.protocol, number)
             if model is None:
                 known = ", ".join(f"{m.name} ({m.model_number})" for m in models_for(self.protocol))
-                raise ArmtoolError(f"ID {sid} answered with model number {number}, which armtool does not know "
-                                   f"for protocol {self.protocol}", hint=f"known models: {known}")
+                raise ArmtoolError(
+                    f"ID {sid} answered with model number {number}, which armtool does not know "
+                    f"for protocol {self.protocol}",
+                    hint=f"known models: {known}",
+                )
             want = (expected or {}).get(sid)
             if want is not None and want.model_number != number:
-                raise ArmtoolError(f"ID {sid} is a {model.name} (model number {number}), not the {want.name} expected",
-                                   hint="fix the model in the arm file or --model, or check which servo has this ID")
+                raise ArmtoolError(
+                    f"ID {sid} is a {model.name} (model number {number}), not the {want.name} expected",
+                    hint="fix the model in the arm file or --model, or check which servo has this ID",
+                )
             self.servos[sid] = Servo(sid, model)
         return {sid: self.servos[sid] for sid in ids}
 
@@ -365,8 +391,12 @@ class ServoBus:
                     self.stats.retries += 1
         self.stats.failures += 1
         assert last is not None
-        raise CommError(f"ID {sid}: {what} failed {self.retries} times ({'no reply' if last.kind == 'timeout' else 'corrupt reply'})",
-                        last.kind, sid, hint="check the cable and power; a corrupt reply can mean two servos share this ID")
+        raise CommError(
+            f"ID {sid}: {what} failed {self.retries} times ({'no reply' if last.kind == 'timeout' else 'corrupt reply'})",
+            last.kind,
+            sid,
+            hint="check the cable and power; a corrupt reply can mean two servos share this ID",
+        )
 
     def read(self, sid: int, name: str) -> int:
         model = self.model(sid)
@@ -380,7 +410,7 @@ class ServoBus:
         lo = min(r.addr for r in regs.values())
         hi = max(r.addr + r.size for r in regs.values())
         data = self.read_raw(sid, lo, hi - lo, "read " + ",".join(regs))
-        return {n: decode(r, data[r.addr - lo:], model.big_endian) for n, r in regs.items()}
+        return {n: decode(r, data[r.addr - lo :], model.big_endian) for n, r in regs.items()}
 
     def write(self, sid: int, name: str, value: int, *, retry: bool = False) -> None:
         """Write a register. `retry=True` only for idempotent writes (goal, torque off): a timed-out
@@ -413,9 +443,12 @@ class ServoBus:
             return
         self.stats.failures += 1
         assert last is not None
-        raise CommError(f"ID {sid}: write {name} = {value} got {'no reply' if last.kind == 'timeout' else 'a corrupt reply'}"
-                        + (f" ({tries} tries)" if tries > 1 else " (not retried: the write may or may not have happened)"),
-                        last.kind, sid)
+        raise CommError(
+            f"ID {sid}: write {name} = {value} got {'no reply' if last.kind == 'timeout' else 'a corrupt reply'}"
+            + (f" ({tries} tries)" if tries > 1 else " (not retried: the write may or may not have happened)"),
+            last.kind,
+            sid,
+        )
 
     def sync_write(self, name: str, values: Mapping[int, int]) -> None:
         """One SYNC_WRITE to several servos of the same register layout (no replies)."""
@@ -425,10 +458,13 @@ class ServoBus:
         first = self.model(next(iter(values)))
         reg = first.reg(name)
         if len({(self.model(s).reg(name).addr, self.model(s).reg(name).size) for s in values}) != 1:
-            raise ArmtoolError(f"sync write of {name} across models with different layouts: {', '.join(sorted(models))}")
+            raise ArmtoolError(
+                f"sync write of {name} across models with different layouts: {', '.join(sorted(models))}"
+            )
         try:
-            self.transport.sync_write(reg.addr, reg.size,
-                                      {sid: encode(reg, v, self.model(sid).big_endian) for sid, v in values.items()})
+            self.transport.sync_write(
+                reg.addr, reg.size, {sid: encode(reg, v, self.model(sid).big_endian) for sid, v in values.items()}
+            )
         except _PORT_ERRORS as exc:
             raise self._lost(exc) from None
         self.stats.writes += 1
@@ -439,7 +475,9 @@ class ServoBus:
         if model.has("hardware_error"):
             return bool(self.read(sid, "hardware_error") & model.overload_bit)
         if model.has("status"):
-            return bool(self.read(sid, "status") & model.overload_bit) or self.transport.overload(self.last_error.get(sid, 0))
+            return bool(self.read(sid, "status") & model.overload_bit) or self.transport.overload(
+                self.last_error.get(sid, 0)
+            )
         return self.transport.overload(self.last_error.get(sid, 0))
 
 
@@ -456,8 +494,15 @@ def _ranges(ids: Iterable[int]) -> str:
     return ",".join(out)
 
 
-def open_bus(path: str, protocol: str, baud: int, *, echo_check_id: int | None = None,
-             timeout_ms: float = DEFAULT_TIMEOUT_MS, retries: int = 3) -> ServoBus:
+def open_bus(
+    path: str,
+    protocol: str,
+    baud: int,
+    *,
+    echo_check_id: int | None = None,
+    timeout_ms: float = DEFAULT_TIMEOUT_MS,
+    retries: int = 3,
+) -> ServoBus:
     """Open `path`, build the protocol's transport, warn on FTDI latency, detect TX echo."""
     from armtool.servo.registry import transport_class
 

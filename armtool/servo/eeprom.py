@@ -52,8 +52,10 @@ def apply_writes(bus: ServoBus, plan: list[EepromWrite]) -> None:
                 bus.write(sid, w.register, w.new)
                 back = bus.read(sid, w.register)
                 if back != w.new:
-                    raise ArmtoolError(f"ID {sid}: {w.register} reads back {back} after writing {w.new}",
-                                       hint="the EEPROM may be locked (AX Lock register needs a power cycle)")
+                    raise ArmtoolError(
+                        f"ID {sid}: {w.register} reads back {back} after writing {w.new}",
+                        hint="the EEPROM may be locked (AX Lock register needs a power cycle)",
+                    )
         finally:
             if unlock:
                 bus.write(sid, "lock", 1, retry=True)

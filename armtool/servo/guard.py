@@ -113,9 +113,11 @@ class TorqueGuard:
         model = self.bus.model(sid)
         reg = model.reg("goal_position")
         if (reg.lo, reg.hi) != (0, 0) and not reg.lo <= present <= reg.hi:
-            raise ArmtoolError(f"ID {sid} reads position {present}, outside the goal range {reg.lo}..{reg.hi} of a "
-                               f"{model.name}: holding it there is impossible, torque on would make the joint jump",
-                               hint="clear the homing offset (or move the joint into the range by hand) and retry")
+            raise ArmtoolError(
+                f"ID {sid} reads position {present}, outside the goal range {reg.lo}..{reg.hi} of a "
+                f"{model.name}: holding it there is impossible, torque on would make the joint jump",
+                hint="clear the homing offset (or move the joint into the range by hand) and retry",
+            )
         self.touched.add(sid)
         self.bus.write(sid, "goal_position", present, retry=True)
         return present
@@ -132,7 +134,7 @@ class TorqueGuard:
                 self.bus.write(sid, "torque_enable", 0, retry=True)
                 if self.bus.read(sid, "torque_enable") == 0:
                     return True
-            except Exception as exc:  # noqa: BLE001 - overload refusals, a lost port: keep going, report after
+            except Exception as exc:
                 log.debug("torque off ID %d: %s", sid, exc)
             time.sleep(0.005)
         return False
@@ -142,7 +144,7 @@ class TorqueGuard:
         try:
             if self.bus.read(sid, "torque_enable") != 0:
                 self.hold_here(sid)
-        except Exception as exc:  # noqa: BLE001 - torque off must still be tried
+        except Exception as exc:
             log.debug("goal := present on ID %d before torque off: %s", sid, exc)
 
     def release(self) -> None:
@@ -156,11 +158,13 @@ class TorqueGuard:
         for (sid, name), value in self.saved.items():
             try:
                 self.bus.write(sid, name, value, retry=True)
-            except Exception as exc:  # noqa: BLE001 - best effort, every setting tried
+            except Exception as exc:
                 log.warning("could not restore ID %d %s = %d: %s", sid, name, value, exc)
         self.saved.clear()
 
-    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None) -> None:
+    def __exit__(
+        self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
+    ) -> None:
         while True:
             try:  # first statement: from here on a Ctrl-C/SIGTERM waits until the servos are safe
                 _block_signals()

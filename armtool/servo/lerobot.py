@@ -48,8 +48,13 @@ class MotorCalibration:
     range_max: int
 
     def as_dict(self) -> dict[str, int]:
-        return {"id": self.id, "drive_mode": self.drive_mode, "homing_offset": self.homing_offset,
-                "range_min": self.range_min, "range_max": self.range_max}
+        return {
+            "id": self.id,
+            "drive_mode": self.drive_mode,
+            "homing_offset": self.homing_offset,
+            "range_min": self.range_min,
+            "range_max": self.range_max,
+        }
 
 
 @dataclass(frozen=True)
@@ -67,8 +72,10 @@ def offset_rule(model: ServoModel, operating_mode: int | None = None) -> OffsetR
     `operating_mode` is the X servo's Operating Mode: in Position Control Mode (3) the servo
     ignores offsets outside ±1024; unknown (None) or extended modes accept the whole register."""
     if not model.has("homing_offset") or not model.wraps:
-        raise ArmtoolError(f"a {model.name} has no homing offset register: LeRobot calibration files are for "
-                           "Feetech STS3215 (SO-100/SO-101) and Dynamixel X (Koch) servos")
+        raise ArmtoolError(
+            f"a {model.name} has no homing offset register: LeRobot calibration files are for "
+            "Feetech STS3215 (SO-100/SO-101) and Dynamixel X (Koch) servos"
+        )
     reg = model.reg("homing_offset")
     if transport_class(model.protocol).homing_sign < 0:
         return OffsetRule(-1, reg.lo, reg.hi, model.ticks)
@@ -84,8 +91,9 @@ def _fit(offset: int, rule: OffsetRule) -> int | None:
     return min(fits, key=abs) if fits else None
 
 
-def choose_offset(lo: int, hi: int, recorded_offset: int, rule: OffsetRule, name: str,
-                  full_turn: bool = False) -> tuple[int, int]:
+def choose_offset(
+    lo: int, hi: int, recorded_offset: int, rule: OffsetRule, name: str, full_turn: bool = False
+) -> tuple[int, int]:
     """(homing offset, shift) for a range lo..hi recorded while the servo held `recorded_offset`.
 
     lo..hi is the unwrapped recording (hi may pass 4095 when the travel crossed the seam). With the
@@ -99,22 +107,34 @@ def choose_offset(lo: int, hi: int, recorded_offset: int, rule: OffsetRule, name
         shifts = sorted(range(ideal - ticks // 2, ideal + ticks // 2), key=lambda s: (abs(s - ideal), s))
     else:
         if span > ticks - 1:
-            raise ArmtoolError(f"joint '{name}': the recorded range {lo}..{hi} spans {span} ticks, a full turn or more; "
-                               "no homing offset keeps it off the 0/4095 seam",
-                               hint="give it LeRobot's full-turn range 0..4095 with --lerobot-full-turn")
+            raise ArmtoolError(
+                f"joint '{name}': the recorded range {lo}..{hi} spans {span} ticks, a full turn or more; "
+                "no homing offset keeps it off the 0/4095 seam",
+                hint="give it LeRobot's full-turn range 0..4095 with --lerobot-full-turn",
+            )
         shifts = sorted(range(-lo, ticks - 1 - hi + 1), key=lambda s: (abs(s - ideal), s))
     for shift in shifts:
         offset = _fit(recorded_offset + rule.sign * shift, rule)
         if offset is not None:
             return offset, shift
-    raise ArmtoolError(f"joint '{name}': no homing offset the register accepts ({rule.lo}..{rule.hi}) keeps the "
-                       f"recorded range {lo}..{hi} (offset {recorded_offset} while recording) off the 0/4095 seam",
-                       hint="on a Dynamixel X, extended position mode (Operating Mode 4) accepts any offset; "
-                            "or turn the horn on the servo spline so the range lies away from the seam")
+    raise ArmtoolError(
+        f"joint '{name}': no homing offset the register accepts ({rule.lo}..{rule.hi}) keeps the "
+        f"recorded range {lo}..{hi} (offset {recorded_offset} while recording) off the 0/4095 seam",
+        hint="on a Dynamixel X, extended position mode (Operating Mode 4) accepts any offset; "
+        "or turn the horn on the servo spline so the range lies away from the seam",
+    )
 
 
-def calibrate_joint(name: str, sid: int, lo: int, hi: int, recorded_offset: int, rule: OffsetRule,
-                    drive_mode: int = 0, full_turn: bool = False) -> MotorCalibration:
+def calibrate_joint(
+    name: str,
+    sid: int,
+    lo: int,
+    hi: int,
+    recorded_offset: int,
+    rule: OffsetRule,
+    drive_mode: int = 0,
+    full_turn: bool = False,
+) -> MotorCalibration:
     """One motor's LeRobot entry from its range lo..hi (the ends the servo may reach)."""
     offset, shift = choose_offset(lo, hi, recorded_offset, rule, name, full_turn)
     if full_turn:
@@ -153,8 +173,11 @@ def read_calibration(path: Path) -> dict[str, MotorCalibration]:
     except RecursionError:
         raise ArmtoolError("LeRobot calibration file is nested too deeply", str(path)) from None
     if not isinstance(data, dict) or not data:
-        raise ArmtoolError("a LeRobot calibration file is a JSON object: motor name -> {id, drive_mode, "
-                           "homing_offset, range_min, range_max}", str(path))
+        raise ArmtoolError(
+            "a LeRobot calibration file is a JSON object: motor name -> {id, drive_mode, "
+            "homing_offset, range_min, range_max}",
+            str(path),
+        )
     out: dict[str, MotorCalibration] = {}
     for motor, entry in data.items():
         where = f"{path}:{_line_of(text, motor) or 1}"
@@ -162,12 +185,16 @@ def read_calibration(path: Path) -> dict[str, MotorCalibration]:
             raise ArmtoolError(f"motor '{motor}' must be an object with {', '.join(KEYS)}", where)
         missing = [k for k in KEYS if k not in entry]
         if missing:
-            raise ArmtoolError(f"motor '{motor}' has no {', '.join(missing)}", where,
-                               hint="every motor needs " + ", ".join(KEYS))
+            raise ArmtoolError(
+                f"motor '{motor}' has no {', '.join(missing)}", where, hint="every motor needs " + ", ".join(KEYS)
+            )
         unknown = [str(k) for k in entry if k not in KEYS]
         if unknown:
-            raise ArmtoolError(f"motor '{motor}': unknown key(s) {', '.join(unknown)}", where,
-                               hint="LeRobot refuses keys other than " + ", ".join(KEYS))
+            raise ArmtoolError(
+                f"motor '{motor}': unknown key(s) {', '.join(unknown)}",
+                where,
+                hint="LeRobot refuses keys other than " + ", ".join(KEYS),
+            )
         values: dict[str, int] = {}
         for key in KEYS:
             value = entry[key]
@@ -175,16 +202,24 @@ def read_calibration(path: Path) -> dict[str, MotorCalibration]:
             if isinstance(value, bool) or not isinstance(value, int):
                 raise ArmtoolError(f"{motor}.{key} must be a whole number of ticks, got {json.dumps(value)}", kwhere)
             values[key] = value
-        bounds = {"id": (0, 252), "drive_mode": (0, 255), "range_min": (0, 4095), "range_max": (0, 4095),
-                  "homing_offset": (-1044479, 1044479)}
+        bounds = {
+            "id": (0, 252),
+            "drive_mode": (0, 255),
+            "range_min": (0, 4095),
+            "range_max": (0, 4095),
+            "homing_offset": (-1044479, 1044479),
+        }
         for key, (lo, hi) in bounds.items():
             if not lo <= values[key] <= hi:
-                raise ArmtoolError(f"{motor}.{key} = {values[key]} is outside {lo}..{hi}",
-                                   f"{path}:{_line_of(text, motor, key) or 1}")
+                raise ArmtoolError(
+                    f"{motor}.{key} = {values[key]} is outside {lo}..{hi}", f"{path}:{_line_of(text, motor, key) or 1}"
+                )
         if values["range_min"] >= values["range_max"]:
-            raise ArmtoolError(f"motor '{motor}': range_min {values['range_min']} is not below range_max "
-                               f"{values['range_max']}", f"{path}:{_line_of(text, motor, 'range_min') or 1}",
-                               hint="record the range again (the joint did not move, or the file was edited)")
+            raise ArmtoolError(
+                f"motor '{motor}': range_min {values['range_min']} is not below range_max {values['range_max']}",
+                f"{path}:{_line_of(text, motor, 'range_min') or 1}",
+                hint="record the range again (the joint did not move, or the file was edited)",
+            )
         out[str(motor)] = MotorCalibration(**values)
     ids = [c.id for c in out.values()]
     dup = sorted({i for i in ids if ids.count(i) > 1})
@@ -193,8 +228,9 @@ def read_calibration(path: Path) -> dict[str, MotorCalibration]:
     return out
 
 
-def check_against_arm(calibration: dict[str, MotorCalibration], joints: list[Any], path: Path,
-                      rules: dict[str, OffsetRule]) -> None:
+def check_against_arm(
+    calibration: dict[str, MotorCalibration], joints: list[Any], path: Path, rules: dict[str, OffsetRule]
+) -> None:
     """The file names exactly the arm's joints, with the arm's IDs, and offsets its registers accept.
     `joints` are armtool.servo.limits.Joint; `rules` maps joint name -> OffsetRule."""
     from armtool.fileio import read_text
@@ -203,24 +239,32 @@ def check_against_arm(calibration: dict[str, MotorCalibration], joints: list[Any
     names = [j.name for j in joints]
     missing = [n for n in names if n not in calibration]
     if missing:
-        raise ArmtoolError(f"motor(s) {', '.join(missing)} of the arm file are missing", str(path),
-                           hint="the file has " + ", ".join(calibration) + "; motor names must be the arm file's joint names")
+        raise ArmtoolError(
+            f"motor(s) {', '.join(missing)} of the arm file are missing",
+            str(path),
+            hint="the file has " + ", ".join(calibration) + "; motor names must be the arm file's joint names",
+        )
     extra = [n for n in calibration if n not in names]
     if extra:
-        raise ArmtoolError(f"motor(s) {', '.join(extra)} are not joints of the arm file", str(path),
-                           hint="joints: " + ", ".join(names))
+        raise ArmtoolError(
+            f"motor(s) {', '.join(extra)} are not joints of the arm file", str(path), hint="joints: " + ", ".join(names)
+        )
     for j in joints:
         cal = calibration[j.name]
         if cal.id != j.id:
-            raise ArmtoolError(f"{j.name}.id is {cal.id}, the arm file gives ID {j.id}",
-                               f"{path}:{_line_of(text, j.name, 'id') or 1}")
+            raise ArmtoolError(
+                f"{j.name}.id is {cal.id}, the arm file gives ID {j.id}", f"{path}:{_line_of(text, j.name, 'id') or 1}"
+            )
         rule = rules.get(j.name)
         if rule is not None and not rule.lo <= cal.homing_offset <= rule.hi:
             same = _fit(cal.homing_offset, rule)
-            raise ArmtoolError(f"{j.name}.homing_offset {cal.homing_offset} does not fit the register "
-                               f"({rule.lo}..{rule.hi})", f"{path}:{_line_of(text, j.name, 'homing_offset') or 1}",
-                               hint=f"an offset only matters modulo 4096: {same} reads the same" if same is not None
-                               else "record the arm again with `armtool limits --lerobot-calibration`")
+            raise ArmtoolError(
+                f"{j.name}.homing_offset {cal.homing_offset} does not fit the register ({rule.lo}..{rule.hi})",
+                f"{path}:{_line_of(text, j.name, 'homing_offset') or 1}",
+                hint=f"an offset only matters modulo 4096: {same} reads the same"
+                if same is not None
+                else "record the arm again with `armtool limits --lerobot-calibration`",
+            )
 
 
 def frame_shift(file_offset: int, servo_offset: int, rule: OffsetRule) -> int:

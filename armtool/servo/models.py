@@ -93,14 +93,25 @@ class ServoModel:
         try:
             return self.table[name]
         except KeyError:
-            raise ArmtoolError(f"{self.name} has no register '{name}'", hint="registers: " + ", ".join(self.table)) from None
+            raise ArmtoolError(
+                f"{self.name} has no register '{name}'", hint="registers: " + ", ".join(self.table)
+            ) from None
 
     def has(self, name: str) -> bool:
         return name in self.table
 
 
-def R(addr: int, size: int, default: int = 0, lo: int = 0, hi: int = 0, *, eeprom: bool = False, ro: bool = False,
-      enc: Encoding = "u") -> Register:
+def R(
+    addr: int,
+    size: int,
+    default: int = 0,
+    lo: int = 0,
+    hi: int = 0,
+    *,
+    eeprom: bool = False,
+    ro: bool = False,
+    enc: Encoding = "u",
+) -> Register:
     return Register(addr, size, eeprom, not ro, default, lo, hi, enc)
 
 
@@ -145,14 +156,18 @@ def _mx1_table(model_number: int) -> dict[str, Register]:
     t = _ax_table(model_number)
     for name in ("cw_compliance_margin", "ccw_compliance_margin", "cw_compliance_slope", "ccw_compliance_slope"):
         del t[name]
-    t.update({
-        "min_limit": R(6, 2, 0, 0, 4095, eeprom=True),
-        "max_limit": R(8, 2, 4095, 0, 4095, eeprom=True),
-        "d_gain": R(26, 1, 0, 0, 254), "i_gain": R(27, 1, 0, 0, 254), "p_gain": R(28, 1, 32, 0, 254),
-        "goal_position": R(30, 2, 2048, 0, 4095),
-        "present_position": R(36, 2, 2048, ro=True),
-        "goal_acceleration": R(73, 1, 0, 0, 254),
-    })
+    t.update(
+        {
+            "min_limit": R(6, 2, 0, 0, 4095, eeprom=True),
+            "max_limit": R(8, 2, 4095, 0, 4095, eeprom=True),
+            "d_gain": R(26, 1, 0, 0, 254),
+            "i_gain": R(27, 1, 0, 0, 254),
+            "p_gain": R(28, 1, 32, 0, 254),
+            "goal_position": R(30, 2, 2048, 0, 4095),
+            "present_position": R(36, 2, 2048, ro=True),
+            "goal_acceleration": R(73, 1, 0, 0, 254),
+        }
+    )
     return t
 
 
@@ -248,13 +263,15 @@ def _scs_table(model_number: int) -> dict[str, Register]:
     t = _sts_table(model_number)
     for name in ("homing_offset", "operating_mode", "overload_torque", "torque_limit", "present_current", "lock"):
         t.pop(name, None)
-    t.update({
-        "min_limit": R(9, 2, 0, 0, 1023, eeprom=True),
-        "max_limit": R(11, 2, 1023, 0, 1023, eeprom=True),
-        "goal_position": R(42, 2, 512, 0, 1023),
-        "lock": R(48, 1, 1, 0, 1),
-        "present_position": R(56, 2, 512, ro=True),
-    })
+    t.update(
+        {
+            "min_limit": R(9, 2, 0, 0, 1023, eeprom=True),
+            "max_limit": R(11, 2, 1023, 0, 1023, eeprom=True),
+            "goal_position": R(42, 2, 512, 0, 1023),
+            "lock": R(48, 1, 1, 0, 1),
+            "present_position": R(56, 2, 512, ro=True),
+        }
+    )
     return t
 
 
@@ -271,16 +288,48 @@ def _model(name: str, protocol: str, number: int, ticks: int, table: dict[str, R
 # Load full scale: AX/MX 1023 (0.1 %), STS and XL430 1000 (0.1 %), XM430 Present Current at its
 # Current Limit (1193, 2.69 mA units).
 MODELS: tuple[ServoModel, ...] = (
-    _model("AX-12A", "dxl1", 12, 1024, _ax_table(12), aliases=("ax12a", "ax12", "ax-12", "ax-12a"),
-           speed_rpm=0.111, load_full_scale=1023),
-    _model("AX-18A", "dxl1", 18, 1024, _ax_table(18), aliases=("ax18a", "ax18", "ax-18", "ax-18a"),
-           speed_rpm=0.111, load_full_scale=1023),
-    _model("MX-28", "dxl1", 29, 4096, _mx1_table(29), aliases=("mx28", "mx-28", "mx-28t", "mx-28ar"),
-           speed_rpm=0.114, load_full_scale=1023),
-    _model("XL430-W250", "dxl2", 1060, 4096, _x_table(1060, current=False), aliases=("xl430", "xl430-w250"),
-           speed_rpm=0.229),
-    _model("XM430-W350", "dxl2", 1020, 4096, _x_table(1020, current=True), aliases=("xm430", "xm430-w350"),
-           speed_rpm=0.229),
+    _model(
+        "AX-12A",
+        "dxl1",
+        12,
+        1024,
+        _ax_table(12),
+        aliases=("ax12a", "ax12", "ax-12", "ax-12a"),
+        speed_rpm=0.111,
+        load_full_scale=1023,
+    ),
+    _model(
+        "AX-18A",
+        "dxl1",
+        18,
+        1024,
+        _ax_table(18),
+        aliases=("ax18a", "ax18", "ax-18", "ax-18a"),
+        speed_rpm=0.111,
+        load_full_scale=1023,
+    ),
+    _model(
+        "MX-28",
+        "dxl1",
+        29,
+        4096,
+        _mx1_table(29),
+        aliases=("mx28", "mx-28", "mx-28t", "mx-28ar"),
+        speed_rpm=0.114,
+        load_full_scale=1023,
+    ),
+    _model(
+        "XL430-W250",
+        "dxl2",
+        1060,
+        4096,
+        _x_table(1060, current=False),
+        aliases=("xl430", "xl430-w250"),
+        speed_rpm=0.229,
+    ),
+    _model(
+        "XM430-W350", "dxl2", 1020, 4096, _x_table(1020, current=True), aliases=("xm430", "xm430-w350"), speed_rpm=0.229
+    ),
     _model("STS3215", "feetech", 777, 4096, _sts_table(777), aliases=("sts3215",)),
     _model("SCS0009", "feetech", 1284, 1024, _scs_table(1284), big_endian=True, aliases=("scs0009",)),
 )

@@ -73,7 +73,13 @@ def unstuff(data: bytes) -> bytes:
     i = 0
     while i < len(data):
         out.append(data[i])
-        if data[i] == 0xFD and out[-3:-1] == b"\xff\xff" and len(out) >= 3 and i + 1 < len(data) and data[i + 1] == 0xFD:
+        if (
+            data[i] == 0xFD
+            and out[-3:-1] == b"\xff\xff"
+            and len(out) >= 3
+            and i + 1 < len(data)
+            and data[i + 1] == 0xFD
+        ):
             i += 1  # skip the stuffed FD
         i += 1
     return bytes(out)
@@ -143,7 +149,11 @@ def parse2(buf: bytearray, status: bool = False) -> Packet | None:
     while True:
         start = buf.find(b"\xff\xff\xfd\x00")
         if start < 0:
-            keep = 3 if buf[-3:] == b"\xff\xff\xfd" else (2 if buf[-2:] == b"\xff\xff" else (1 if buf[-1:] == b"\xff" else 0))
+            keep = (
+                3
+                if buf[-3:] == b"\xff\xff\xfd"
+                else (2 if buf[-2:] == b"\xff\xff" else (1 if buf[-1:] == b"\xff" else 0))
+            )
             del buf[: len(buf) - keep]
             return None
         del buf[:start]

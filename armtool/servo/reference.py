@@ -19,9 +19,10 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Protocol
+from typing import Any, Protocol
 
 from armtool.errors import ArmtoolError
 
@@ -42,14 +43,19 @@ def parse_angle_line(line: str, where: str) -> float:
     """One answer line of the encoder protocol: `<degrees>` or `E <message>`."""
     text = line.strip()
     if not text:
-        raise ArmtoolError("the encoder sent an empty line", where, hint="check its baud rate and that it answers 'A <id>'")
+        raise ArmtoolError(
+            "the encoder sent an empty line", where, hint="check its baud rate and that it answers 'A <id>'"
+        )
     if text[0] in "Ee" and not text[1:2].isdigit():
         raise ArmtoolError(f"the encoder reported an error: {text[1:].strip() or text}", where)
     try:
         value = float(text)
     except ValueError:
-        raise ArmtoolError(f"the encoder sent {text!r}, not a number of degrees", where,
-                           hint="the device must answer 'A <id>\\n' with '<degrees>\\n'") from None
+        raise ArmtoolError(
+            f"the encoder sent {text!r}, not a number of degrees",
+            where,
+            hint="the device must answer 'A <id>\\n' with '<degrees>\\n'",
+        ) from None
     if not math.isfinite(value):
         raise ArmtoolError(f"the encoder sent {text!r}", where)
     return value
@@ -67,26 +73,31 @@ class EncoderReference:
         try:
             self.ser = serial.Serial(port, baud, timeout=timeout_s)
         except (serial.SerialException, OSError, ValueError) as exc:
-            raise ArmtoolError(f"cannot open the encoder port {port}: {exc}",
-                               hint="check --reference encoder:PORT (e.g. encoder:/dev/ttyACM1)") from None
+            raise ArmtoolError(
+                f"cannot open the encoder port {port}: {exc}",
+                hint="check --reference encoder:PORT (e.g. encoder:/dev/ttyACM1)",
+            ) from None
         self.ser.reset_input_buffer()
 
     def read_deg(self, sid: int, command_ticks: int) -> float:
         where = f"encoder {self.port}"
-        for attempt in range(self.tries):
+        for _attempt in range(self.tries):
             self.ser.reset_input_buffer()
             self.ser.write(f"A {sid}\n".encode("ascii"))
             self.ser.flush()
             line = self.ser.readline().decode("ascii", "replace")
             if line.endswith("\n"):
                 return parse_angle_line(line, where)
-        raise ArmtoolError(f"the encoder did not answer 'A {sid}' ({self.tries} tries)", where,
-                           hint="check the port, its baud rate (115200) and that the sketch answers '<degrees>\\n'")
+        raise ArmtoolError(
+            f"the encoder did not answer 'A {sid}' ({self.tries} tries)",
+            where,
+            hint="check the port, its baud rate (115200) and that the sketch answers '<degrees>\\n'",
+        )
 
     def close(self) -> None:
         try:
             self.ser.close()
-        except Exception:  # noqa: BLE001 - closing must not hide the real error
+        except Exception:
             pass
 
 
@@ -129,8 +140,11 @@ class CsvReference:
         lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
         reader = csv.DictReader(io.StringIO("\n".join(lines)))
         if not {"command_ticks", "reference_deg"} <= {f.strip() for f in reader.fieldnames or []}:
-            raise ArmtoolError("the reference CSV needs columns command_ticks and reference_deg", str(path),
-                               hint=f"found: {', '.join(reader.fieldnames or []) or 'nothing'}")
+            raise ArmtoolError(
+                "the reference CSV needs columns command_ticks and reference_deg",
+                str(path),
+                hint=f"found: {', '.join(reader.fieldnames or []) or 'nothing'}",
+            )
         readings: dict[int, list[float]] = {}
         for k, row in enumerate(reader, start=2):
             row = {key.strip(): value for key, value in row.items() if key is not None}
@@ -169,8 +183,16 @@ class CameraReference:
     and `check` do this first, at the middle of the range).
     """
 
-    def __init__(self, device: str, capture: Any = None, family: str = "tag36h11", tag_id: int = 0,
-                 camera: Any = None, size_m: float = 0.03, settle_frames: int = 3) -> None:
+    def __init__(
+        self,
+        device: str,
+        capture: Any = None,
+        family: str = "tag36h11",
+        tag_id: int = 0,
+        camera: Any = None,
+        size_m: float = 0.03,
+        settle_frames: int = 3,
+    ) -> None:
         from armtool.calib.apriltag import detect_tag
 
         self.spec = f"camera:{device}"
@@ -182,7 +204,9 @@ class CameraReference:
 
             capture = cv2.VideoCapture(int(device) if device.isdigit() else device)
             if not capture.isOpened():
-                raise ArmtoolError(f"cannot open camera {device}", hint="pass camera:0 or a device path such as /dev/video0")
+                raise ArmtoolError(
+                    f"cannot open camera {device}", hint="pass camera:0 or a device path such as /dev/video0"
+                )
         self.cap = capture
         self.sign = 1.0
         self.offset_deg = 0.0
@@ -263,8 +287,10 @@ def _camera_reference(arg: str) -> CameraReference:
             else:
                 raise ValueError
         except ValueError:
-            raise ArmtoolError(f"camera option {option!r} not understood",
-                               hint="camera:DEVICE[,tag=ID][,family=tag36h11][,intrinsics=cam.yaml][,size=0.03]") from None
+            raise ArmtoolError(
+                f"camera option {option!r} not understood",
+                hint="camera:DEVICE[,tag=ID][,family=tag36h11][,intrinsics=cam.yaml][,size=0.03]",
+            ) from None
     return CameraReference(device or "0", **kw)
 
 
@@ -279,7 +305,9 @@ def open_reference(spec: str, ask: Callable[[str], str] | None = None) -> Refere
         try:
             rate = int(baud) if baud else ENCODER_BAUD
         except ValueError:
-            raise ArmtoolError(f"encoder baud rate {baud!r} is not a number", hint="encoder:/dev/ttyACM1@115200") from None
+            raise ArmtoolError(
+                f"encoder baud rate {baud!r} is not a number", hint="encoder:/dev/ttyACM1@115200"
+            ) from None
         return EncoderReference(port, rate)
     if kind == "manual":
         if ask is None:
@@ -291,7 +319,9 @@ def open_reference(spec: str, ask: Callable[[str], str] | None = None) -> Refere
         return CsvReference.load(Path(arg))
     if kind == "camera":
         if _apriltag_detector() is None:
-            raise ArmtoolError("the camera reference is not available yet: armtool.calib.apriltag has no tag detector",
-                               hint="use --reference encoder:PORT, manual or csv:FILE for now")
+            raise ArmtoolError(
+                "the camera reference is not available yet: armtool.calib.apriltag has no tag detector",
+                hint="use --reference encoder:PORT, manual or csv:FILE for now",
+            )
         return _camera_reference(arg)
     raise ArmtoolError(f"unknown reference '{spec}'", hint="encoder:PORT, manual, csv:FILE or camera:DEVICE")

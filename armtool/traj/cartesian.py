@@ -17,8 +17,9 @@ joint path by IK, each point seeded from the previous one (MoveIt's computeCarte
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable, Literal
+from typing import Literal
 
 import numpy as np
 
@@ -65,7 +66,9 @@ class CartesianResult:
     max_deviation_rad: float
     relative_jumps: list[int] = field(default_factory=list)  # step k: from point k to k+1
     absolute_jumps: list[int] = field(default_factory=list)
-    midpoint_deviation_m: Array = field(default_factory=lambda: np.zeros(0))  # per step: tool at the joint midpoint vs the path
+    midpoint_deviation_m: Array = field(
+        default_factory=lambda: np.zeros(0)
+    )  # per step: tool at the joint midpoint vs the path
     midpoint_deviation_rad: Array = field(default_factory=lambda: np.zeros(0))
 
 
@@ -97,16 +100,22 @@ def circle_segment(start: Array, center: Array, normal: Array, angle_rad: float)
     (right-handed), keeping the start orientation."""
     n = np.asarray(normal, dtype=np.float64)
     if not np.all(np.isfinite(n)) or np.linalg.norm(n) < 1e-12:
-        raise ArmtoolError("the circle's plane normal is zero", hint="e.g. --normal 1,0,0 for a circle in the y-z plane")
+        raise ArmtoolError(
+            "the circle's plane normal is zero", hint="e.g. --normal 1,0,0 for a circle in the y-z plane"
+        )
     n = n / np.linalg.norm(n)
     r_vec = start[:3, 3] - center
     radius = float(np.linalg.norm(r_vec))
     if radius < 1e-6:
-        raise ArmtoolError(f"the circle's radius is {radius:.3g} m: its centre is the tool's start position",
-                           hint="--center-offset must move the centre away from the start, e.g. --center-offset 0,-0.1,0")
+        raise ArmtoolError(
+            f"the circle's radius is {radius:.3g} m: its centre is the tool's start position",
+            hint="--center-offset must move the centre away from the start, e.g. --center-offset 0,-0.1,0",
+        )
     if abs(float(r_vec @ n)) > 1e-6 * max(1.0, radius):
-        raise ArmtoolError("the start position is not in the circle's plane: (start − centre) is not perpendicular to the normal",
-                           hint="choose a centre offset perpendicular to --normal")
+        raise ArmtoolError(
+            "the start position is not in the circle's plane: (start − centre) is not perpendicular to the normal",
+            hint="choose a centre offset perpendicular to --normal",
+        )
     if not (math.isfinite(angle_rad) and angle_rad != 0):
         raise ArmtoolError(f"the arc angle must be non-zero, got {angle_rad}")
     K = np.array([[0, -n[2], n[1]], [n[2], 0, -n[0]], [-n[1], n[0], 0]])
@@ -129,7 +138,9 @@ def circle_about(start: Array, center: Array, radius: float, normal: Array, angl
         raise ArmtoolError(f"the circle's radius must be > 0 m, got {radius}", hint="e.g. --radius 0.1")
     n = np.asarray(normal, dtype=np.float64)
     if not np.all(np.isfinite(n)) or np.linalg.norm(n) < 1e-12:
-        raise ArmtoolError("the circle's plane normal is zero", hint="e.g. --normal 1,0,0 for a circle in the y-z plane")
+        raise ArmtoolError(
+            "the circle's plane normal is zero", hint="e.g. --normal 1,0,0 for a circle in the y-z plane"
+        )
     n = n / np.linalg.norm(n)
     helper = next(e for e in np.eye(3) if abs(float(e @ n)) < 0.9)
     e1 = helper - (helper @ n) * n
@@ -148,8 +159,10 @@ def arc_through(start: Array, via: Array, end: Array) -> Segment:
     ab, ac = b - a, c - a
     n = np.cross(ab, ac)
     if np.linalg.norm(n) < 1e-9:
-        raise ArmtoolError("the three arc points lie on one line: no circle passes through them",
-                           hint="move --arc-via off the line from the start to --arc-to")
+        raise ArmtoolError(
+            "the three arc points lie on one line: no circle passes through them",
+            hint="move --arc-via off the line from the start to --arc-to",
+        )
     # circumcentre
     center = a + (np.cross(n, ab) * (ac @ ac) + np.cross(ac, n) * (ab @ ab)) / (2 * (n @ n))
     n = n / np.linalg.norm(n)
@@ -172,7 +185,9 @@ class _Stepper:
 
     def deviation(self, q: Array, target: Array) -> tuple[float, float]:
         T = self.chain.fk(q)
-        return float(np.linalg.norm(T[:3, 3] - target[:3, 3])), float(np.linalg.norm(rotation_error(T[:3, :3], target[:3, :3])))
+        return float(np.linalg.norm(T[:3, 3] - target[:3, 3])), float(
+            np.linalg.norm(rotation_error(T[:3, :3], target[:3, :3]))
+        )
 
     def solve(self, target: Array, seed: Array) -> tuple[Array | None, str]:
         r = self.solver.solve(target, seed)
@@ -180,7 +195,9 @@ class _Stepper:
             return r.q, ""
         return None, r.reason
 
-    def refine(self, seg: Segment, la: float, qa: Array, lb: float, qb: Array, depth: int) -> list[tuple[float, Array]] | None:
+    def refine(
+        self, seg: Segment, la: float, qa: Array, lb: float, qb: Array, depth: int
+    ) -> list[tuple[float, Array]] | None:
         """Points strictly after la up to lb (inclusive), with midpoints inserted until precise."""
         mid_pose = seg.pose_at((la + lb) / 2)
         dm, dr = self.deviation((qa + qb) / 2, mid_pose)
@@ -198,7 +215,7 @@ class _Stepper:
             return None
         right = self.refine(seg, (la + lb) / 2, qm, lb, qb, depth + 1)
         if right is None:  # forget the left half's deviations too: its points are not kept
-            del self.steps_m[len(self.steps_m) - len(left):], self.steps_rad[len(self.steps_rad) - len(left):]
+            del self.steps_m[len(self.steps_m) - len(left) :], self.steps_rad[len(self.steps_rad) - len(left) :]
             return None
         return left + right
 
@@ -213,11 +230,16 @@ def _why(chain: Chain, q: Array, target: Array, reason: str) -> tuple[StopReason
     lo, hi = chain.lower, chain.upper
     near = np.flatnonzero((((q - lo) < 1e-3) | ((hi - q) < 1e-3)) & ~chain.continuous)
     if near.size:
-        return "joint limit", f"joint '{chain.joint_names[int(near[0])]}' is at its limit ({q[int(near[0])]:.4f}); {reason}"
+        return (
+            "joint limit",
+            f"joint '{chain.joint_names[int(near[0])]}' is at its limit ({q[int(near[0])]:.4f}); {reason}",
+        )
     return "unreachable", reason or "IK found no solution"
 
 
-def compute_cartesian(chain: Chain, solver: Solver, start_q: Array, segments: list[Segment], options: CartesianOptions) -> CartesianResult:
+def compute_cartesian(
+    chain: Chain, solver: Solver, start_q: Array, segments: list[Segment], options: CartesianOptions
+) -> CartesianResult:
     """Follow `segments` from the configuration `start_q` (their first pose must be FK(start_q))."""
     o = options
     if not (o.eef_step_m > 0 and o.eef_step_rad > 0):
@@ -255,8 +277,11 @@ def compute_cartesian(chain: Chain, solver: Solver, start_q: Array, segments: li
     q = np.asarray(qs)
     relative, absolute = jump_steps(q, o.jump_factor, None)
     if o.max_step_rad is not None or o.max_step_m is not None:
-        lim = np.where(chain.revolute, o.max_step_rad if o.max_step_rad is not None else np.inf,
-                       o.max_step_m if o.max_step_m is not None else np.inf)
+        lim = np.where(
+            chain.revolute,
+            o.max_step_rad if o.max_step_rad is not None else np.inf,
+            o.max_step_m if o.max_step_m is not None else np.inf,
+        )
         absolute = np.flatnonzero((np.abs(np.diff(q, axis=0)) > lim).any(axis=1)).tolist()
     jumps = sorted(set(relative) | set(absolute))
     cut = len(q)
@@ -266,9 +291,26 @@ def compute_cartesian(chain: Chain, solver: Solver, start_q: Array, segments: li
         d = np.abs(q[k + 1] - q[k])
         j = int(np.argmax(d))
         rules = [name for name, hits in (("relative", relative), ("absolute", absolute)) if k in hits]
-        reason, detail = "jump", (f"joint '{chain.joint_names[j]}' jumps {d[j]:.4f} from point {k} to {k + 1} "
-                                  f"({' and '.join(rules)} rule{'s' if len(rules) > 1 else ''})")
+        reason, detail = (
+            "jump",
+            (
+                f"joint '{chain.joint_names[j]}' jumps {d[j]:.4f} from point {k} to {k + 1} "
+                f"({' and '.join(rules)} rule{'s' if len(rules) > 1 else ''})"
+            ),
+        )
     fraction = 1.0 if not reason else float(params[cut - 1])
-    return CartesianResult(q[:cut], np.asarray(poses[:cut]), np.asarray(params[:cut]), fraction, reason, detail,
-                           stepper.inserted, stepper.dev_m, stepper.dev_rad, relative, absolute,
-                           np.asarray(stepper.steps_m[: cut - 1]), np.asarray(stepper.steps_rad[: cut - 1]))
+    return CartesianResult(
+        q[:cut],
+        np.asarray(poses[:cut]),
+        np.asarray(params[:cut]),
+        fraction,
+        reason,
+        detail,
+        stepper.inserted,
+        stepper.dev_m,
+        stepper.dev_rad,
+        relative,
+        absolute,
+        np.asarray(stepper.steps_m[: cut - 1]),
+        np.asarray(stepper.steps_rad[: cut - 1]),
+    )

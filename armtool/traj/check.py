@@ -12,8 +12,9 @@ own velocity and acceleration fields are checked at the samples as well.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Iterator, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
@@ -36,19 +37,56 @@ class Code(NamedTuple):
     summary: str
 
 
-CODES: dict[str, Code] = {c.code: c for c in (
-    Code("T101", "time-not-increasing", Severity.ERROR, "time_from_start must increase strictly from point to point."),
-    Code("T201", "position-out-of-limits", Severity.ERROR, "A position lies outside the joint's limits."),
-    Code("T301", "velocity-over-limit", Severity.ERROR, "A joint moves faster than its velocity limit (file field, or between samples)."),
-    Code("T302", "acceleration-over-limit", Severity.ERROR, "A joint accelerates harder than its acceleration limit."),
-    Code("T303", "jerk-over-limit", Severity.ERROR, "A joint's jerk exceeds its jerk limit."),
-    Code("T401", "velocity-inconsistent", Severity.ERROR, "The file's velocities do not match how its positions change over time."),
-    Code("T501", "joint-jump", Severity.ERROR, "One step in joint space is far larger than the others (an IK branch switch)."),
-    Code("T601", "unknown-joint", Severity.ERROR, "The trajectory names a joint that the URDF lacks (or that cannot move)."),
-    Code("T602", "duplicate-joint", Severity.ERROR, "The trajectory names a joint twice."),
-    Code("T701", "start-not-at-rest", Severity.WARNING, "The first point has a non-zero velocity: the controller starts with a jolt."),
-    Code("T702", "end-not-at-rest", Severity.WARNING, "The last point has a non-zero velocity: the arm must stop abruptly."),
-)}
+CODES: dict[str, Code] = {
+    c.code: c
+    for c in (
+        Code(
+            "T101", "time-not-increasing", Severity.ERROR, "time_from_start must increase strictly from point to point."
+        ),
+        Code("T201", "position-out-of-limits", Severity.ERROR, "A position lies outside the joint's limits."),
+        Code(
+            "T301",
+            "velocity-over-limit",
+            Severity.ERROR,
+            "A joint moves faster than its velocity limit (file field, or between samples).",
+        ),
+        Code(
+            "T302", "acceleration-over-limit", Severity.ERROR, "A joint accelerates harder than its acceleration limit."
+        ),
+        Code("T303", "jerk-over-limit", Severity.ERROR, "A joint's jerk exceeds its jerk limit."),
+        Code(
+            "T401",
+            "velocity-inconsistent",
+            Severity.ERROR,
+            "The file's velocities do not match how its positions change over time.",
+        ),
+        Code(
+            "T501",
+            "joint-jump",
+            Severity.ERROR,
+            "One step in joint space is far larger than the others (an IK branch switch).",
+        ),
+        Code(
+            "T601",
+            "unknown-joint",
+            Severity.ERROR,
+            "The trajectory names a joint that the URDF lacks (or that cannot move).",
+        ),
+        Code("T602", "duplicate-joint", Severity.ERROR, "The trajectory names a joint twice."),
+        Code(
+            "T701",
+            "start-not-at-rest",
+            Severity.WARNING,
+            "The first point has a non-zero velocity: the controller starts with a jolt.",
+        ),
+        Code(
+            "T702",
+            "end-not-at-rest",
+            Severity.WARNING,
+            "The last point has a non-zero velocity: the arm must stop abruptly.",
+        ),
+    )
+}
 
 HELP_URI = "https://github.com/armtool/armtool/blob/main/README.md#armtool-traj-cartesian-paths-time-optimal-timing-and-a-trajectory-checker"
 
@@ -57,8 +95,10 @@ def sarif_tool() -> SarifTool:
     """`traj check`'s SARIF driver: the T codes, documented in the README's traj section."""
     from armtool.output.sarif import SarifRule, SarifTool
 
-    return SarifTool("armtool traj check", [SarifRule(c.code, c.name, c.summary, c.summary, c.severity, HELP_URI)
-                                            for c in CODES.values()])
+    return SarifTool(
+        "armtool traj check",
+        [SarifRule(c.code, c.name, c.summary, c.summary, c.severity, HELP_URI) for c in CODES.values()],
+    )
 
 
 @dataclass(frozen=True)
@@ -89,8 +129,18 @@ def _runs(mask: np.ndarray) -> Iterator[tuple[int, int]]:
     yield from zip(starts.tolist(), stops.tolist())
 
 
-def _over(traj: Trajectory, code: str, values: Array, points: np.ndarray, limit: Array, tol: float, names: tuple[str, ...],
-          what: str, unit: tuple[str, ...], source: str) -> Iterator[Finding]:
+def _over(
+    traj: Trajectory,
+    code: str,
+    values: Array,
+    points: np.ndarray,
+    limit: Array,
+    tol: float,
+    names: tuple[str, ...],
+    what: str,
+    unit: tuple[str, ...],
+    source: str,
+) -> Iterator[Finding]:
     """One finding per joint and run of consecutive offending samples: the worst of the run."""
     for j in range(values.shape[1]):
         if not math.isfinite(limit[j]):
@@ -100,9 +150,14 @@ def _over(traj: Trajectory, code: str, values: Array, points: np.ndarray, limit:
             k = a + int(np.argmax(ratio[a:b]))
             i = int(points[k])
             span = f" ({b - a} samples from {_at(traj, int(points[a]))})" if b - a > 1 else ""
-            yield _finding(traj, code, i, f"{_at(traj, i)}, joint '{names[j]}': {what} {abs(values[k, j]):.6g} {unit[j]} "
-                           f"> limit {limit[j]:.6g} {unit[j]} ({ratio[k]:.4f}×, {source}){span}",
-                           "re-time it: armtool traj time PATH --urdf URDF (or retime --scale S < 1)")
+            yield _finding(
+                traj,
+                code,
+                i,
+                f"{_at(traj, i)}, joint '{names[j]}': {what} {abs(values[k, j]):.6g} {unit[j]} "
+                f"> limit {limit[j]:.6g} {unit[j]} ({ratio[k]:.4f}×, {source}){span}",
+                "re-time it: armtool traj time PATH --urdf URDF (or retime --scale S < 1)",
+            )
 
 
 def hermite_extremes(t: Array, q: Array, v: Array) -> tuple[Array, Array, Array]:
@@ -142,8 +197,15 @@ def check(traj: Trajectory, limits: JointLimits, options: CheckOptions = CheckOp
         if name not in limits.names:
             from armtool.lint.suggest import did_you_mean
 
-            findings.append(_finding(traj, "T601", 0, f"joint '{name}' is not a moving joint of the URDF{did_you_mean(name, list(limits.names))}",
-                                     "rename it to the URDF's joint name, or pass the URDF this trajectory is for"))
+            findings.append(
+                _finding(
+                    traj,
+                    "T601",
+                    0,
+                    f"joint '{name}' is not a moving joint of the URDF{did_you_mean(name, list(limits.names))}",
+                    "rename it to the URDF's joint name, or pass the URDF this trajectory is for",
+                )
+            )
         else:
             known.append(name)
     if not known:
@@ -160,8 +222,15 @@ def check(traj: Trajectory, limits: JointLimits, options: CheckOptions = CheckOp
         for a, b in _runs(~(lower_ok[:, j] & upper_ok[:, j])):
             k = a + int(np.argmax(np.maximum(lim.lower[j] - q[a:b, j], q[a:b, j] - lim.upper[j])))
             span = f" ({b - a} points from point {a})" if b - a > 1 else ""
-            findings.append(_finding(sub, "T201", k, f"{_at(sub, k)}, joint '{names[j]}': position {q[k, j]:.6g} {units[j]} "
-                                     f"outside [{lim.lower[j]:.6g}, {lim.upper[j]:.6g}]{span}"))
+            findings.append(
+                _finding(
+                    sub,
+                    "T201",
+                    k,
+                    f"{_at(sub, k)}, joint '{names[j]}': position {q[k, j]:.6g} {units[j]} "
+                    f"outside [{lim.lower[j]:.6g}, {lim.upper[j]:.6g}]{span}",
+                )
+            )
     findings += list(_jumps(sub, names, units, options))
     if sub.times is not None and sub.n_points > 1:
         findings += list(_timed(sub, lim, names, units, options))
@@ -172,8 +241,14 @@ def _first_of_each(traj: Trajectory, known: list[str]) -> Trajectory:
     from dataclasses import replace
 
     idx = [traj.joint_names.index(n) for n in known]
-    return replace(traj, joint_names=tuple(known), positions=traj.positions[:, idx], velocities=None if traj.velocities is None else traj.velocities[:, idx],
-                   accelerations=None if traj.accelerations is None else traj.accelerations[:, idx], prismatic=tuple(traj.is_prismatic(i) for i in idx))
+    return replace(
+        traj,
+        joint_names=tuple(known),
+        positions=traj.positions[:, idx],
+        velocities=None if traj.velocities is None else traj.velocities[:, idx],
+        accelerations=None if traj.accelerations is None else traj.accelerations[:, idx],
+        prismatic=tuple(traj.is_prismatic(i) for i in idx),
+    )
 
 
 def jump_steps(q: Array, factor: float | None, max_step: float | None) -> tuple[list[int], list[int]]:
@@ -189,7 +264,9 @@ def jump_steps(q: Array, factor: float | None, max_step: float | None) -> tuple[
     return relative, absolute
 
 
-def _jumps(traj: Trajectory, names: tuple[str, ...], units: tuple[str, ...], options: CheckOptions) -> Iterator[Finding]:
+def _jumps(
+    traj: Trajectory, names: tuple[str, ...], units: tuple[str, ...], options: CheckOptions
+) -> Iterator[Finding]:
     # A timed trajectory's jump is a velocity over its limit; the relative rule is for paths.
     factor = options.jump_factor if traj.times is None else None
     relative, absolute = jump_steps(traj.positions, factor, options.max_step)
@@ -202,18 +279,31 @@ def _jumps(traj: Trajectory, names: tuple[str, ...], units: tuple[str, ...], opt
             rules.append(f"{d[k].sum() / mean:.1f}× the mean step (relative rule, factor {options.jump_factor:g})")
         if k in absolute:
             rules.append(f"over --max-step {options.max_step:g} (absolute rule)")
-        yield _finding(traj, "T501", k + 1, f"{_at(traj, k + 1)}, joint '{names[j]}': jumps {d[k, j]:.4g} {units[j]} from point {k}: "
-                       + " and ".join(rules), "an IK branch switch: re-plan with a seed, or use an analytic solver's nearest solution")
+        yield _finding(
+            traj,
+            "T501",
+            k + 1,
+            f"{_at(traj, k + 1)}, joint '{names[j]}': jumps {d[k, j]:.4g} {units[j]} from point {k}: "
+            + " and ".join(rules),
+            "an IK branch switch: re-plan with a seed, or use an analytic solver's nearest solution",
+        )
 
 
-def _timed(traj: Trajectory, lim: JointLimits, names: tuple[str, ...], units: tuple[str, ...], options: CheckOptions) -> Iterator[Finding]:
+def _timed(
+    traj: Trajectory, lim: JointLimits, names: tuple[str, ...], units: tuple[str, ...], options: CheckOptions
+) -> Iterator[Finding]:
     assert traj.times is not None
     t = traj.times
     dt = np.diff(t)
     bad = np.flatnonzero(~(dt > 0))
     for k in bad:
-        yield _finding(traj, "T101", int(k) + 1, f"point {k + 1}: time {t[k + 1]:.6g} s is not after point {k}'s {t[k]:.6g} s",
-                       "times must increase strictly; re-time it with armtool traj time")
+        yield _finding(
+            traj,
+            "T101",
+            int(k) + 1,
+            f"point {k + 1}: time {t[k + 1]:.6g} s is not after point {k}'s {t[k]:.6g} s",
+            "times must increase strictly; re-time it with armtool traj time",
+        )
     if bad.size:
         return  # rates between points are meaningless without increasing time
     vu = tuple(f"{u}/s" for u in units)
@@ -222,31 +312,80 @@ def _timed(traj: Trajectory, lim: JointLimits, names: tuple[str, ...], units: tu
     seg_points = np.arange(traj.n_points - 1) + 1  # a segment's finding points at its end point
     q, v, a = traj.positions, traj.velocities, traj.accelerations
     if v is not None:
-        yield from _over(traj, "T301", v, np.arange(traj.n_points), lim.velocity, VEL_TOL, names, "velocity", vu, "file's velocity field")
+        yield from _over(
+            traj,
+            "T301",
+            v,
+            np.arange(traj.n_points),
+            lim.velocity,
+            VEL_TOL,
+            names,
+            "velocity",
+            vu,
+            "file's velocity field",
+        )
         vmax, amax, jmax = hermite_extremes(t, q, v)
-        yield from _over(traj, "T301", vmax, seg_points, lim.velocity, VEL_TOL, names, "velocity", vu, "between samples")
-        yield from _over(traj, "T302", amax, seg_points, lim.acceleration, ACC_TOL, names, "acceleration", au, "between samples")
+        yield from _over(
+            traj, "T301", vmax, seg_points, lim.velocity, VEL_TOL, names, "velocity", vu, "between samples"
+        )
+        yield from _over(
+            traj, "T302", amax, seg_points, lim.acceleration, ACC_TOL, names, "acceleration", au, "between samples"
+        )
         yield from _over(traj, "T303", jmax, seg_points, lim.jerk, JERK_TOL, names, "jerk", ju, "between samples")
         yield from _consistency(traj, lim, names, units)
         yield from _rest(traj, v, lim, names, vu, options)
     else:
         fd_v = np.diff(q, axis=0) / dt[:, None]
-        yield from _over(traj, "T301", fd_v, seg_points, lim.velocity, VEL_TOL, names, "velocity", vu, "finite difference")
+        yield from _over(
+            traj, "T301", fd_v, seg_points, lim.velocity, VEL_TOL, names, "velocity", vu, "finite difference"
+        )
         if traj.n_points > 2:
             mid = (t[2:] - t[:-2]) / 2
             fd_a = np.diff(fd_v, axis=0) / mid[:, None]
-            yield from _over(traj, "T302", fd_a, np.arange(1, traj.n_points - 1), lim.acceleration, ACC_TOL, names, "acceleration",
-                             au, "finite difference")
+            yield from _over(
+                traj,
+                "T302",
+                fd_a,
+                np.arange(1, traj.n_points - 1),
+                lim.acceleration,
+                ACC_TOL,
+                names,
+                "acceleration",
+                au,
+                "finite difference",
+            )
             if traj.n_points > 3:
                 fd_j = np.diff(fd_a, axis=0) / dt[1:-1, None]
-                yield from _over(traj, "T303", fd_j, np.arange(2, traj.n_points - 1), lim.jerk, JERK_TOL, names, "jerk", ju,
-                                 "finite difference")
+                yield from _over(
+                    traj,
+                    "T303",
+                    fd_j,
+                    np.arange(2, traj.n_points - 1),
+                    lim.jerk,
+                    JERK_TOL,
+                    names,
+                    "jerk",
+                    ju,
+                    "finite difference",
+                )
     if a is not None:
-        yield from _over(traj, "T302", a, np.arange(traj.n_points), lim.acceleration, ACC_TOL, names, "acceleration", au,
-                         "file's acceleration field")
+        yield from _over(
+            traj,
+            "T302",
+            a,
+            np.arange(traj.n_points),
+            lim.acceleration,
+            ACC_TOL,
+            names,
+            "acceleration",
+            au,
+            "file's acceleration field",
+        )
 
 
-def _consistency(traj: Trajectory, lim: JointLimits, names: tuple[str, ...], units: tuple[str, ...]) -> Iterator[Finding]:
+def _consistency(
+    traj: Trajectory, lim: JointLimits, names: tuple[str, ...], units: tuple[str, ...]
+) -> Iterator[Finding]:
     """Mean velocity Δq/Δt against the ends' (v0 + v1)/2: for any motion whose acceleration stays
     within ±A they differ by at most A·Δt/4 (a switch from +A to −A halfway reaches it)."""
     assert traj.times is not None and traj.velocities is not None
@@ -263,16 +402,28 @@ def _consistency(traj: Trajectory, lim: JointLimits, names: tuple[str, ...], uni
         for a, b in _runs(gap[:, j] > tol[:, j]):
             k = a + int(np.argmax(gap[a:b, j] - tol[a:b, j]))
             span = f" ({b - a} segments)" if b - a > 1 else ""
-            yield _finding(traj, "T401", k + 1, f"{_at(traj, k + 1)}, joint '{names[j]}': moves at {float(np.diff(traj.positions[k:k + 2, j])[0] / dt[k, 0]):.6g} "
-                           f"{units[j]}/s on average from point {k}, but its velocities say {v[k, j]:.6g} and {v[k + 1, j]:.6g}{span}",
-                           "the velocities do not belong to these positions and times; re-time it with armtool traj time")
+            yield _finding(
+                traj,
+                "T401",
+                k + 1,
+                f"{_at(traj, k + 1)}, joint '{names[j]}': moves at {float(np.diff(traj.positions[k : k + 2, j])[0] / dt[k, 0]):.6g} "
+                f"{units[j]}/s on average from point {k}, but its velocities say {v[k, j]:.6g} and {v[k + 1, j]:.6g}{span}",
+                "the velocities do not belong to these positions and times; re-time it with armtool traj time",
+            )
 
 
-def _rest(traj: Trajectory, v: Array, lim: JointLimits, names: tuple[str, ...], vu: tuple[str, ...], options: CheckOptions) -> Iterator[Finding]:
+def _rest(
+    traj: Trajectory, v: Array, lim: JointLimits, names: tuple[str, ...], vu: tuple[str, ...], options: CheckOptions
+) -> Iterator[Finding]:
     scale = np.where(np.isfinite(lim.velocity), lim.velocity, 1.0)
     for code, i, what in (("T701", 0, "starts"), ("T702", traj.n_points - 1, "ends")):
         moving = np.flatnonzero(np.abs(v[i]) > options.rest_tol * scale)
         if moving.size:
             j = int(moving[np.argmax(np.abs(v[i, moving]))])
-            yield _finding(traj, code, i, f"{_at(traj, i)}, joint '{names[j]}': the trajectory {what} at {v[i, j]:.6g} {vu[j]}, not at rest",
-                           "time it rest to rest: armtool traj time")
+            yield _finding(
+                traj,
+                code,
+                i,
+                f"{_at(traj, i)}, joint '{names[j]}': the trajectory {what} at {v[i, j]:.6g} {vu[j]}, not at rest",
+                "time it rest to rest: armtool traj time",
+            )

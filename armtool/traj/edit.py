@@ -19,12 +19,18 @@ from armtool.traj.trajectory import Trajectory
 
 def retime(traj: Trajectory, scale: float) -> Trajectory:
     if not (math.isfinite(scale) and scale > 0):
-        raise ArmtoolError(f"--scale must be a positive number, got {scale}", hint="e.g. --scale 0.25 for a quarter of the speed")
+        raise ArmtoolError(
+            f"--scale must be a positive number, got {scale}", hint="e.g. --scale 0.25 for a quarter of the speed"
+        )
     if traj.times is None:
         raise ArmtoolError("the trajectory has no times to scale", traj.source, hint="time it first: armtool traj time")
     t = traj.times[0] + (traj.times - traj.times[0]) / scale
-    return replace(traj, times=t, velocities=None if traj.velocities is None else traj.velocities * scale,
-                   accelerations=None if traj.accelerations is None else traj.accelerations * scale**2)
+    return replace(
+        traj,
+        times=t,
+        velocities=None if traj.velocities is None else traj.velocities * scale,
+        accelerations=None if traj.accelerations is None else traj.accelerations * scale**2,
+    )
 
 
 def thin(traj: Trajectory, every: int | None = None, tolerance: float | None = None) -> Trajectory:
@@ -35,10 +41,14 @@ def thin(traj: Trajectory, every: int | None = None, tolerance: float | None = N
     if n < 2:
         raise ArmtoolError("a path needs at least two points", traj.source)
     if (every is None) == (tolerance is None):
-        raise ArmtoolError("give exactly one of --every K or --tolerance TOL", hint="--every 4 drops every fourth point")
+        raise ArmtoolError(
+            "give exactly one of --every K or --tolerance TOL", hint="--every 4 drops every fourth point"
+        )
     if every is not None:
         if every < 2:
-            raise ArmtoolError(f"--every must be 2 or more, got {every}", hint="--every 4 drops points 4, 8, 12, ... (1-based)")
+            raise ArmtoolError(
+                f"--every must be 2 or more, got {every}", hint="--every 4 drops points 4, 8, 12, ... (1-based)"
+            )
         keep = np.array([(i + 1) % every != 0 for i in range(n)])
     else:
         assert tolerance is not None
@@ -47,8 +57,14 @@ def thin(traj: Trajectory, every: int | None = None, tolerance: float | None = N
         keep = _simplify(traj.positions, tolerance)
     keep[0] = keep[-1] = True
     idx = np.flatnonzero(keep)
-    return replace(traj, positions=traj.positions[idx], times=None, velocities=None, accelerations=None,
-                   lines=tuple(traj.lines[i] for i in idx) if traj.lines else ())
+    return replace(
+        traj,
+        positions=traj.positions[idx],
+        times=None,
+        velocities=None,
+        accelerations=None,
+        lines=tuple(traj.lines[i] for i in idx) if traj.lines else (),
+    )
 
 
 def _simplify(q: np.ndarray, tol: float) -> np.ndarray:
@@ -62,7 +78,7 @@ def _simplify(q: np.ndarray, tol: float) -> np.ndarray:
             continue
         seg = q[b] - q[a]
         denom = float(seg @ seg)
-        inner = q[a + 1:b]
+        inner = q[a + 1 : b]
         lam = np.clip(((inner - q[a]) @ seg) / denom, 0, 1) if denom > 0 else np.zeros(len(inner))
         dev = np.abs(inner - (q[a] + lam[:, None] * seg)).max(axis=1)
         k = int(np.argmax(dev))
@@ -82,8 +98,11 @@ def join(parts: list[Trajectory], tolerance: float) -> Trajectory:
     rows = [parts[0].positions]
     for prev, part in zip(parts, parts[1:]):
         if set(part.joint_names) != set(names):
-            raise ArmtoolError(f"{part.source} has joints {', '.join(part.joint_names)}, {parts[0].source} has {', '.join(names)}",
-                               part.source, hint="join trajectories of the same joints")
+            raise ArmtoolError(
+                f"{part.source} has joints {', '.join(part.joint_names)}, {parts[0].source} has {', '.join(names)}",
+                part.source,
+                hint="join trajectories of the same joints",
+            )
         part = part.reorder(names)
         prev_end = rows[-1][-1]
         gap = np.abs(part.positions[0] - prev_end)
@@ -92,7 +111,9 @@ def join(parts: list[Trajectory], tolerance: float) -> Trajectory:
             raise ArmtoolError(
                 f"{part.source} starts {gap[j]:.6g} {part.unit(j)} away from where {prev.source} ends (joint '{names[j]}': "
                 f"{part.positions[0, j]:.6g} vs {prev_end[j]:.6g}), more than the tolerance {tolerance:g}",
-                part.where(0), hint="plan the second trajectory from the first one's end state, or raise --tolerance")
+                part.where(0),
+                hint="plan the second trajectory from the first one's end state, or raise --tolerance",
+            )
         rows.append(part.positions[1:])
     q = np.concatenate(rows)
     return Trajectory(names, q, None, None, None, f"join({', '.join(p.source for p in parts)})", (), parts[0].prismatic)

@@ -34,8 +34,14 @@ class TrajFormat(str, Enum):
 
 
 SCHEMA_VERSION = 1
-_SUFFIXES = (("_rad_s2", "acc", False), ("_m_s2", "acc", True), ("_rad_s", "vel", False), ("_m_s", "vel", True),
-             ("_rad", "pos", False), ("_m", "pos", True))
+_SUFFIXES = (
+    ("_rad_s2", "acc", False),
+    ("_m_s2", "acc", True),
+    ("_rad_s", "vel", False),
+    ("_m_s", "vel", True),
+    ("_rad", "pos", False),
+    ("_m", "pos", True),
+)
 
 
 # ---- reading ---------------------------------------------------------------------------------
@@ -65,11 +71,13 @@ def read_trajectory(path: Path | str, text: str | None = None) -> LoadedTrajecto
 def detect_format(text: str, source: str = "<text>") -> TrajFormat:
     body = [ln.strip() for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not body:
-        raise ArmtoolError("trajectory file is empty", source, "write a CSV header (time_s,<joint>_rad,...) or a JointTrajectory")
+        raise ArmtoolError(
+            "trajectory file is empty", source, "write a CSV header (time_s,<joint>_rad,...) or a JointTrajectory"
+        )
     first = body[0]
     if first.startswith(("{", "[")):
         return TrajFormat.JSON
-    if first.startswith("---") or ":" in first and "," not in first.split(":")[0]:
+    if first.startswith("---") or (":" in first and "," not in first.split(":")[0]):
         head = "\n".join(body[:400])
         if "joint_trajectory" in head and "joint_names" not in first:
             return TrajFormat.MOVEIT
@@ -118,20 +126,28 @@ def _read_csv(text: str, source: str) -> Trajectory:
     joints = [j for j in columns if "pos" in columns[j]]
     orphans = [j for j in columns if "pos" not in columns[j]]
     if orphans:
-        raise ArmtoolError(f"joint '{orphans[0]}' has velocity/acceleration columns but no position column", hwhere,
-                           f"add a column {orphans[0]}_rad")
+        raise ArmtoolError(
+            f"joint '{orphans[0]}' has velocity/acceleration columns but no position column",
+            hwhere,
+            f"add a column {orphans[0]}_rad",
+        )
     if not joints:
-        raise ArmtoolError("no joint position column", hwhere, "name columns <joint>_rad (or <joint>_m), e.g. time_s,joint1_rad")
+        raise ArmtoolError(
+            "no joint position column", hwhere, "name columns <joint>_rad (or <joint>_m), e.g. time_s,joint1_rad"
+        )
     if len(set(joints)) != len(joints):
         raise ArmtoolError("duplicate joint", hwhere)
     for kind in ("vel", "acc"):
         have = [j for j in joints if kind in columns[j]]
         if have and len(have) != len(joints):
             lack = next(j for j in joints if kind not in columns[j])
-            raise ArmtoolError(f"joint '{lack}' lacks its {'velocity' if kind == 'vel' else 'acceleration'} column while others have one", hwhere)
+            raise ArmtoolError(
+                f"joint '{lack}' lacks its {'velocity' if kind == 'vel' else 'acceleration'} column while others have one",
+                hwhere,
+            )
     rows: list[list[float]] = []
     line_nos: list[int] = []
-    for offset, row in enumerate(csv.reader(io.StringIO("\n".join(lines[first + 1:]))), start=first + 2):
+    for offset, row in enumerate(csv.reader(io.StringIO("\n".join(lines[first + 1 :]))), start=first + 2):
         if not any(cell.strip() for cell in row) or row[0].lstrip().startswith("#"):
             continue
         where = f"{source}:{offset}"
@@ -142,12 +158,20 @@ def _read_csv(text: str, source: str) -> Trajectory:
     if not rows:
         raise ArmtoolError("no trajectory points", source, "add rows below the header")
     data = np.asarray(rows, dtype=np.float64)
+
     def pick(kind: str) -> Array | None:
         return data[:, [columns[j][kind] for j in joints]] if kind in columns[joints[0]] else None
 
-    return Trajectory(tuple(joints), data[:, [columns[j]["pos"] for j in joints]],
-                      None if time_col is None else data[:, time_col], pick("vel"), pick("acc"), source, tuple(line_nos),
-                      tuple(prismatic[j] for j in joints))
+    return Trajectory(
+        tuple(joints),
+        data[:, [columns[j]["pos"] for j in joints]],
+        None if time_col is None else data[:, time_col],
+        pick("vel"),
+        pick("acc"),
+        source,
+        tuple(line_nos),
+        tuple(prismatic[j] for j in joints),
+    )
 
 
 def _point_lines(text: str, moveit: bool) -> list[int]:
@@ -161,7 +185,7 @@ def _point_lines(text: str, moveit: bool) -> list[int]:
     if not docs or not isinstance(docs[0], yaml.MappingNode):
         return []
     node: Any = docs[0]
-    for key in (("joint_trajectory", "points") if moveit else ("points",)):
+    for key in ("joint_trajectory", "points") if moveit else ("points",):
         found = [v for k, v in node.value if isinstance(k, yaml.ScalarNode) and k.value == key]
         if not found:
             return []
@@ -184,7 +208,9 @@ def _load_structured(text: str, source: str, fmt: TrajFormat) -> Any:
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"{source}:{mark.line + 1}" if mark is not None else source
-        raise ArmtoolError(f"trajectory file is not valid YAML: {getattr(exc, 'problem', None) or exc}", where) from None
+        raise ArmtoolError(
+            f"trajectory file is not valid YAML: {getattr(exc, 'problem', None) or exc}", where
+        ) from None
     return docs[0] if docs else None
 
 
@@ -193,9 +219,15 @@ def _seconds(value: Any, where: str) -> float:
         return _float(str(value), "time_from_start", where)
     if isinstance(value, dict):
         if "sec" in value or "nanosec" in value:
-            return _float(str(value.get("sec", 0)), "sec", where) + _float(str(value.get("nanosec", 0)), "nanosec", where) * 1e-9
+            return (
+                _float(str(value.get("sec", 0)), "sec", where)
+                + _float(str(value.get("nanosec", 0)), "nanosec", where) * 1e-9
+            )
         if "secs" in value or "nsecs" in value:
-            return _float(str(value.get("secs", 0)), "secs", where) + _float(str(value.get("nsecs", 0)), "nsecs", where) * 1e-9
+            return (
+                _float(str(value.get("secs", 0)), "secs", where)
+                + _float(str(value.get("nsecs", 0)), "nsecs", where) * 1e-9
+            )
     raise ArmtoolError(f"time_from_start is not {{sec, nanosec}} or {{secs, nsecs}}: {value!r}", where)
 
 
@@ -205,8 +237,11 @@ def _read_structured(text: str, source: str, fmt: TrajFormat) -> Trajectory:
     lines = _point_lines(text, moveit)
     msg = doc["joint_trajectory"] if moveit else doc
     if not isinstance(msg, dict) or "joint_names" not in msg or "points" not in msg:
-        raise ArmtoolError("not a trajectory: expected joint_names and points (JointTrajectory), or joint_trajectory (MoveIt RobotTrajectory)",
-                           source, "write time_s,<joint>_rad CSV, or a JointTrajectory as `ros2 topic echo` prints it")
+        raise ArmtoolError(
+            "not a trajectory: expected joint_names and points (JointTrajectory), or joint_trajectory (MoveIt RobotTrajectory)",
+            source,
+            "write time_s,<joint>_rad CSV, or a JointTrajectory as `ros2 topic echo` prints it",
+        )
     names = msg["joint_names"]
     if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
         raise ArmtoolError("joint_names must be a non-empty list of names", source)
@@ -227,7 +262,10 @@ def _read_structured(text: str, source: str, fmt: TrajFormat) -> Trajectory:
                     raise ArmtoolError(f"point {i} has no {key}", where)
                 return None
             if not isinstance(raw, list) or len(raw) != n:
-                raise ArmtoolError(f"point {i}: {key} has {len(raw) if isinstance(raw, list) else 'no list of'} values for {n} joints", where)
+                raise ArmtoolError(
+                    f"point {i}: {key} has {len(raw) if isinstance(raw, list) else 'no list of'} values for {n} joints",
+                    where,
+                )
             return [_float(str(v), f"{key}[{k}] ({names[k]})", where) for k, v in enumerate(raw)]
 
         pos.append(vector("positions", True))
@@ -246,13 +284,23 @@ def _read_structured(text: str, source: str, fmt: TrajFormat) -> Trajectory:
             return None
         if not all(have):
             i = have.index(False)
-            raise ArmtoolError(f"point {i} has no {what} while other points have them", f"{source}:{lines[i]}" if i < len(lines) else source)
+            raise ArmtoolError(
+                f"point {i} has no {what} while other points have them",
+                f"{source}:{lines[i]}" if i < len(lines) else source,
+            )
         return np.asarray(rows, dtype=np.float64)
 
     t = np.asarray(times, dtype=np.float64)
     timed = len(points) == 1 or bool(np.any(t != 0.0))
-    return Trajectory(tuple(names), np.asarray(pos, dtype=np.float64), t if timed else None,
-                      stack(vel, "velocities"), stack(acc, "accelerations"), source, tuple(lines[: len(points)]))
+    return Trajectory(
+        tuple(names),
+        np.asarray(pos, dtype=np.float64),
+        t if timed else None,
+        stack(vel, "velocities"),
+        stack(acc, "accelerations"),
+        source,
+        tuple(lines[: len(points)]),
+    )
 
 
 # ---- writing ---------------------------------------------------------------------------------

@@ -10,9 +10,10 @@ timing only; `check` compares against the unscaled limits.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -38,9 +39,17 @@ class JointLimits:
 
     def subset(self, names: Sequence[str]) -> JointLimits:
         idx = [self.names.index(n) for n in names]
-        return replace(self, names=tuple(names), lower=self.lower[idx], upper=self.upper[idx], velocity=self.velocity[idx],
-                       acceleration=self.acceleration[idx], jerk=self.jerk[idx],
-                       prismatic=tuple(self.prismatic[i] for i in idx), sources=tuple(self.sources[i] for i in idx))
+        return replace(
+            self,
+            names=tuple(names),
+            lower=self.lower[idx],
+            upper=self.upper[idx],
+            velocity=self.velocity[idx],
+            acceleration=self.acceleration[idx],
+            jerk=self.jerk[idx],
+            prismatic=tuple(self.prismatic[i] for i in idx),
+            sources=tuple(self.sources[i] for i in idx),
+        )
 
     def unit(self, j: int) -> str:
         return "m" if self.prismatic[j] else "rad"
@@ -51,12 +60,15 @@ class JointLimits:
             raise ArmtoolError(
                 f"no acceleration limit for joint(s) {', '.join(missing)}",
                 hint="give one in MoveIt's joint_limits.yaml (has_acceleration_limits: true, max_acceleration: ...) with "
-                     f"--joint-limits, or with --acc-limit {missing[0]}=VALUE (or --acc-limit VALUE for every joint); "
-                     "the URDF's effort is a force/torque, not an acceleration")
+                f"--joint-limits, or with --acc-limit {missing[0]}=VALUE (or --acc-limit VALUE for every joint); "
+                "the URDF's effort is a force/torque, not an acceleration",
+            )
         missing = [n for n, v in zip(self.names, self.velocity) if not (math.isfinite(v) and v > 0)]
         if missing:
-            raise ArmtoolError(f"no velocity limit for joint(s) {', '.join(missing)}",
-                               hint=f"set <limit velocity> in the URDF, max_velocity in joint_limits.yaml, or --vel-limit {missing[0]}=VALUE")
+            raise ArmtoolError(
+                f"no velocity limit for joint(s) {', '.join(missing)}",
+                hint=f"set <limit velocity> in the URDF, max_velocity in joint_limits.yaml, or --vel-limit {missing[0]}=VALUE",
+            )
 
     def scaled(self) -> tuple[Array, Array]:
         """Velocity and acceleration limits times their scaling factors (for timing)."""
@@ -80,7 +92,9 @@ def _urdf_joints(urdf: Path) -> dict[str, tuple[str, float, float, float, int]]:
             try:
                 return float(raw) if raw is not None else default
             except ValueError:
-                raise ArmtoolError(f"joint '{el.get('name')}': <limit {key}=\"{raw}\"> is not a number", f"{urdf}:{el.sourceline}") from None
+                raise ArmtoolError(
+                    f"joint '{el.get('name')}': <limit {key}=\"{raw}\"> is not a number", f"{urdf}:{el.sourceline}"
+                ) from None
 
         lower, upper = (-math.inf, math.inf) if kind == "continuous" else (num("lower", 0.0), num("upper", 0.0))
         velocity = num("velocity", math.nan)
@@ -100,7 +114,9 @@ def _parse_overrides(values: Sequence[str], names: Sequence[str], option: str) -
             try:
                 number = float(raw)
             except ValueError:
-                raise ArmtoolError(f"{option} {part!r}: not a number", hint=f"{option} 5.0 or {option} joint1=5.0,joint2=3") from None
+                raise ArmtoolError(
+                    f"{option} {part!r}: not a number", hint=f"{option} 5.0 or {option} joint1=5.0,joint2=3"
+                ) from None
             if not (math.isfinite(number) and number > 0):
                 raise ArmtoolError(f"{option} {part!r}: the limit must be a positive number")
             if not eq:
@@ -108,7 +124,9 @@ def _parse_overrides(values: Sequence[str], names: Sequence[str], option: str) -
             elif name not in names:
                 from armtool.lint.suggest import did_you_mean
 
-                raise ArmtoolError(f"{option}: no joint '{name}'{did_you_mean(name, list(names))}", hint="joints: " + ", ".join(names))
+                raise ArmtoolError(
+                    f"{option}: no joint '{name}'{did_you_mean(name, list(names))}", hint="joints: " + ", ".join(names)
+                )
             else:
                 out[name] = number
     return out
@@ -139,8 +157,11 @@ def load_limits(
 
         doc = read_yaml(joint_limits, "joint_limits.yaml")
         if not isinstance(doc, dict) or not isinstance(doc.get("joint_limits"), dict):
-            raise ArmtoolError("not MoveIt's joint_limits.yaml: no `joint_limits:` mapping", str(joint_limits),
-                               "MoveIt's format: joint_limits: {joint1: {has_acceleration_limits: true, max_acceleration: 5.0}}")
+            raise ArmtoolError(
+                "not MoveIt's joint_limits.yaml: no `joint_limits:` mapping",
+                str(joint_limits),
+                "MoveIt's format: joint_limits: {joint1: {has_acceleration_limits: true, max_acceleration: 5.0}}",
+            )
         file_vs = _factor(doc.get("default_velocity_scaling_factor"), joint_limits)
         file_as = _factor(doc.get("default_acceleration_scaling_factor"), joint_limits)
         for name, entry in (doc.get("joint_limits") or {}).items():
@@ -149,16 +170,33 @@ def load_limits(
             i = names.index(name)
             _apply(entry, i, lower, upper, vel, acc, jerk, joint_limits)
             sources[i] += f", {joint_limits.name}"
-    for values, arr, option in ((vel_limits, vel, "--vel-limit"), (acc_limits, acc, "--acc-limit"), (jerk_limits, jerk, "--jerk-limit")):
+    for values, arr, option in (
+        (vel_limits, vel, "--vel-limit"),
+        (acc_limits, acc, "--acc-limit"),
+        (jerk_limits, jerk, "--jerk-limit"),
+    ):
         for name, number in _parse_overrides(values, names, option).items():
             arr[names.index(name)] = number
     vs = velocity_scaling if velocity_scaling is not None else (file_vs or 1.0)
     as_ = acceleration_scaling if acceleration_scaling is not None else (file_as or 1.0)
     for label, f in (("velocity", vs), ("acceleration", as_)):
         if not (0 < f <= 1):
-            raise ArmtoolError(f"{label} scaling factor {f} is outside (0, 1]", hint="MoveIt's scaling factors are fractions of the limits")
-    return JointLimits(tuple(names), lower, upper, vel, acc, jerk, tuple(joints[n][0] == "prismatic" for n in names),
-                       tuple(sources), vs, as_)
+            raise ArmtoolError(
+                f"{label} scaling factor {f} is outside (0, 1]",
+                hint="MoveIt's scaling factors are fractions of the limits",
+            )
+    return JointLimits(
+        tuple(names),
+        lower,
+        upper,
+        vel,
+        acc,
+        jerk,
+        tuple(joints[n][0] == "prismatic" for n in names),
+        tuple(sources),
+        vs,
+        as_,
+    )
 
 
 def _factor(value: Any, path: Path) -> float | None:
@@ -171,7 +209,9 @@ def _factor(value: Any, path: Path) -> float | None:
     return f if f > 0 else None
 
 
-def _apply(entry: Mapping[str, Any], i: int, lower: Array, upper: Array, vel: Array, acc: Array, jerk: Array, path: Path) -> None:
+def _apply(
+    entry: Mapping[str, Any], i: int, lower: Array, upper: Array, vel: Array, acc: Array, jerk: Array, path: Path
+) -> None:
     def num(key: str) -> float:
         try:
             value = float(entry[key])

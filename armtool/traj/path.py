@@ -85,8 +85,11 @@ def chord_parameters(waypoints: Array) -> Array:
 def joint_path(waypoints: Array, source: str = "path") -> JointPath:
     q = np.asarray(waypoints, dtype=np.float64)
     if q.ndim != 2 or q.shape[0] < 2:
-        raise ArmtoolError(f"a path needs at least two points, {source} has {q.shape[0] if q.ndim == 2 else 0}",
-                           source, "give the start and the goal at least")
+        raise ArmtoolError(
+            f"a path needs at least two points, {source} has {q.shape[0] if q.ndim == 2 else 0}",
+            source,
+            "give the start and the goal at least",
+        )
     keep = np.concatenate([[True], np.linalg.norm(np.diff(q, axis=0), axis=1) > 1e-12])
     q = q[keep]
     if q.shape[0] < 2:

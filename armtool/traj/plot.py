@@ -30,7 +30,9 @@ def _series(traj: Trajectory) -> tuple[Array, Array, Array | None, Array | None,
     return t, q, v, a, "time (s)"
 
 
-def _panel(img: np.ndarray, box: tuple[int, int, int, int], x: Array, y: Array, limits: tuple[float, float] | None, title: str) -> None:
+def _panel(
+    img: np.ndarray, box: tuple[int, int, int, int], x: Array, y: Array, limits: tuple[float, float] | None, title: str
+) -> None:
     import cv2
 
     x0, y0, x1, y1 = box
@@ -43,10 +45,14 @@ def _panel(img: np.ndarray, box: tuple[int, int, int, int], x: Array, y: Array, 
     xl, xh = float(x[0]), float(x[-1]) if x[-1] > x[0] else float(x[0]) + 1.0
 
     def px(xv: Array, yv: Array) -> np.ndarray:
-        return np.stack([x0 + (xv - xl) / (xh - xl) * (x1 - x0), y1 - (yv - lo) / (hi - lo) * (y1 - y0)], axis=1).astype(np.int32)
+        return np.stack(
+            [x0 + (xv - xl) / (xh - xl) * (x1 - x0), y1 - (yv - lo) / (hi - lo) * (y1 - y0)], axis=1
+        ).astype(np.int32)
 
     if lo < 0 < hi:
-        cv2.line(img, tuple(px(np.array([xl]), np.array([0.0]))[0]), tuple(px(np.array([xh]), np.array([0.0]))[0]), _GREY, 1)
+        cv2.line(
+            img, tuple(px(np.array([xl]), np.array([0.0]))[0]), tuple(px(np.array([xh]), np.array([0.0]))[0]), _GREY, 1
+        )
     if limits is not None:
         for v in limits:
             if math.isfinite(v):
@@ -83,21 +89,43 @@ def write_plot(path: Path, traj: Trajectory, limits: JointLimits, chain: Chain |
         if v is not None and a is not None:
             vl = float(limits.velocity[k]) if k is not None else math.nan
             al = float(limits.acceleration[k]) if k is not None else math.nan
-            _panel(img, (left + pw + 70, y0, left + 2 * pw + 70, y0 + ph), x, v[:, j], (-vl, vl), f"velocity ({unit}/s)")
-            _panel(img, (left + 2 * (pw + 70), y0, left + 3 * pw + 140, y0 + ph), x, a[:, j], (-al, al), f"acceleration ({unit}/s2)")
+            _panel(
+                img, (left + pw + 70, y0, left + 2 * pw + 70, y0 + ph), x, v[:, j], (-vl, vl), f"velocity ({unit}/s)"
+            )
+            _panel(
+                img,
+                (left + 2 * (pw + 70), y0, left + 3 * pw + 140, y0 + ph),
+                x,
+                a[:, j],
+                (-al, al),
+                f"acceleration ({unit}/s2)",
+            )
     if chain is not None:
         names = [nm for nm in chain.joint_names if nm not in traj.joint_names]
         if names:
-            raise ArmtoolError(f"the trajectory lacks joint(s) {', '.join(names)} of the chain {chain.base} -> {chain.tip}", traj.source)
+            raise ArmtoolError(
+                f"the trajectory lacks joint(s) {', '.join(names)} of the chain {chain.base} -> {chain.tip}",
+                traj.source,
+            )
         qc = traj.reorder(chain.joint_names).positions
         P = np.array([chain.fk(qi)[:3, 3] for qi in qc])
         y0 = top + n * (ph + 30)
-        for c, (i, k, label) in enumerate(((0, 1, "tool path x-y (m)"), (0, 2, "tool path x-z (m)"), (1, 2, "tool path y-z (m)"))):
+        for c, (i, k, label) in enumerate(
+            ((0, 1, "tool path x-y (m)"), (0, 2, "tool path x-z (m)"), (1, 2, "tool path y-z (m)"))
+        ):
             x0 = left + c * (pw + 70)
             side = min(pw, ph)
             _xy(img, (x0, y0, x0 + side, y0 + side), P[:, i], P[:, k], label)
-    cv2.putText(img, f"{traj.source}: {traj.n_points} points, x = {xlabel}; red = limits", (left, 18),
-                cv2.FONT_HERSHEY_SIMPLEX, 0.45, _BLACK, 1, cv2.LINE_AA)
+    cv2.putText(
+        img,
+        f"{traj.source}: {traj.n_points} points, x = {xlabel}; red = limits",
+        (left, 18),
+        cv2.FONT_HERSHEY_SIMPLEX,
+        0.45,
+        _BLACK,
+        1,
+        cv2.LINE_AA,
+    )
     ok, buf = cv2.imencode(".png", img)
     if not ok:
         raise ArmtoolError("could not encode the PNG", str(path))
@@ -112,13 +140,19 @@ def _xy(img: np.ndarray, box: tuple[int, int, int, int], a: Array, b: Array, tit
     cv2.rectangle(img, (x0, y0), (x1, y1), _BLACK, 1)
     ca, cb = (a.max() + a.min()) / 2, (b.max() + b.min()) / 2
     span = max(np.ptp(a), np.ptp(b), 1e-6) * 1.1
-    pts = np.stack([x0 + ((a - ca) / span + 0.5) * (x1 - x0), y1 - ((b - cb) / span + 0.5) * (y1 - y0)], axis=1).astype(np.int32)
+    pts = np.stack([x0 + ((a - ca) / span + 0.5) * (x1 - x0), y1 - ((b - cb) / span + 0.5) * (y1 - y0)], axis=1).astype(
+        np.int32
+    )
     cv2.polylines(img, [pts], False, _BLUE, 1, cv2.LINE_AA)
     cv2.putText(img, title, (x0 + 4, y0 + 14), cv2.FONT_HERSHEY_SIMPLEX, 0.4, _BLACK, 1, cv2.LINE_AA)
-    cv2.putText(img, f"span {span * 1000:.0f} mm", (x0 + 4, y1 - 6), cv2.FONT_HERSHEY_SIMPLEX, 0.35, _BLACK, 1, cv2.LINE_AA)
+    cv2.putText(
+        img, f"span {span * 1000:.0f} mm", (x0 + 4, y1 - 6), cv2.FONT_HERSHEY_SIMPLEX, 0.35, _BLACK, 1, cv2.LINE_AA
+    )
 
 
-def write_cartesian_plot(path: Path, chain: Chain, q: Array, dev_m: Array, dev_rad: Array, precision_m: float, precision_rad: float) -> None:
+def write_cartesian_plot(
+    path: Path, chain: Chain, q: Array, dev_m: Array, dev_rad: Array, precision_m: float, precision_rad: float
+) -> None:
     """The tool path of a Cartesian joint path (three projections) and, per step, how far the tool at
     the joint midpoint lies from the ideal path (the precision check's measure), with the bound."""
     import cv2
@@ -130,7 +164,9 @@ def write_cartesian_plot(path: Path, chain: Chain, q: Array, dev_m: Array, dev_r
     P = np.array([chain.fk(qi)[:3, 3] for qi in q])
     W, H = 1100, 560
     img = np.full((H, W, 3), 255, np.uint8)
-    for c, (i, k, label) in enumerate(((0, 1, "tool path x-y (m)"), (0, 2, "tool path x-z (m)"), (1, 2, "tool path y-z (m)"))):
+    for c, (i, k, label) in enumerate(
+        ((0, 1, "tool path x-y (m)"), (0, 2, "tool path x-z (m)"), (1, 2, "tool path y-z (m)"))
+    ):
         x0 = 70 + c * 340
         _xy(img, (x0, 30, x0 + 280, 310), P[:, i], P[:, k], label)
     steps = np.arange(len(dev_m), dtype=np.float64) if len(dev_m) > 1 else np.array([0.0, 1.0])
@@ -138,8 +174,16 @@ def write_cartesian_plot(path: Path, chain: Chain, q: Array, dev_m: Array, dev_r
     r = dev_rad if len(dev_rad) > 1 else np.zeros(2)
     _panel(img, (70, 350, 520, 520), steps, m, (0.0, precision_m * 1000), "midpoint deviation (mm) per step")
     _panel(img, (600, 350, 1050, 520), steps, r, (0.0, precision_rad), "midpoint deviation (rad) per step")
-    cv2.putText(img, f"{chain.base} -> {chain.tip}: {len(q)} points; red = --precision bounds", (70, 18),
-                cv2.FONT_HERSHEY_SIMPLEX, 0.45, _BLACK, 1, cv2.LINE_AA)
+    cv2.putText(
+        img,
+        f"{chain.base} -> {chain.tip}: {len(q)} points; red = --precision bounds",
+        (70, 18),
+        cv2.FONT_HERSHEY_SIMPLEX,
+        0.45,
+        _BLACK,
+        1,
+        cv2.LINE_AA,
+    )
     ok, buf = cv2.imencode(".png", img)
     if not ok:
         raise ArmtoolError("could not encode the PNG", str(path))

@@ -26,8 +26,11 @@ def time_optimal(traj: Trajectory, limits: JointLimits, min_stages: int = 400) -
 
     missing = [n for n in traj.joint_names if n not in limits.names]
     if missing:
-        raise ArmtoolError(f"joint(s) {', '.join(missing)} are not moving joints of the URDF", traj.source,
-                           hint="URDF joints: " + ", ".join(limits.names))
+        raise ArmtoolError(
+            f"joint(s) {', '.join(missing)} are not moving joints of the URDF",
+            traj.source,
+            hint="URDF joints: " + ", ".join(limits.names),
+        )
     lim = limits.subset(traj.joint_names)
     lim.require_acceleration()
     vel, acc = lim.scaled()
@@ -50,8 +53,11 @@ def time_optimal(traj: Trajectory, limits: JointLimits, min_stages: int = 400) -
             return Trajectory(traj.joint_names, q, profile.t, qd, qdd, traj.source, (), lim.prismatic)
         v_plan = np.where(v_ratio > 1, v_plan / np.maximum(v_ratio, 1.0) * (1 - _MARGIN), v_plan)
         a_plan = np.where(a_ratio > 1 + ACC_TOL / 2, a_plan / np.maximum(a_ratio, 1.0) * (1 - _MARGIN), a_plan)
-    raise ArmtoolError("could not time the path within the limits between its samples", traj.source,
-                       hint="the path may have a corner or a very tight curve; give it more waypoints")
+    raise ArmtoolError(
+        "could not time the path within the limits between its samples",
+        traj.source,
+        hint="the path may have a corner or a very tight curve; give it more waypoints",
+    )
 
 
 def _within_position_limits(path: JointPath, lim: JointLimits, traj: Trajectory) -> None:
@@ -65,4 +71,6 @@ def _within_position_limits(path: JointPath, lim: JointLimits, traj: Trajectory)
         raise ArmtoolError(
             f"the smooth path through the waypoints leaves joint '{lim.names[j]}' limits "
             f"[{lim.lower[j]:.6g}, {lim.upper[j]:.6g}] between waypoints {seg} and {seg + 1} (reaches {q[k, j]:.6g})",
-            traj.source, hint="add a waypoint there, or keep the waypoints further from the limit")
+            traj.source,
+            hint="add a waypoint there, or keep the waypoints further from the limit",
+        )

@@ -85,8 +85,12 @@ def parameterize(path: JointPath, velocity: Array, acceleration: Array, s_grid: 
     xcap = np.concatenate([np.minimum(xv[:-1], np.minimum(a_x, b_x)), xv[-1:]])
     # Pairs of acceleration rows (every lower bound on u below every upper one) do not depend on
     # the next stage: all stages at once.
-    s_lo, s_hi = _x_interval((lo_d[:, :, None] - up_d[:, None, :]).reshape(n_stages, -1),
-                             (up_c[:, None, :] - lo_c[:, :, None]).reshape(n_stages, -1), np.zeros(n_stages), xcap[:-1])
+    s_lo, s_hi = _x_interval(
+        (lo_d[:, :, None] - up_d[:, None, :]).reshape(n_stages, -1),
+        (up_c[:, None, :] - lo_c[:, :, None]).reshape(n_stages, -1),
+        np.zeros(n_stages),
+        xcap[:-1],
+    )
     lo = np.zeros(n_stages + 1)
     hi = np.zeros(n_stages + 1)  # K_N = {0}: at rest at the end
     for i in range(n_stages - 1, -1, -1):
@@ -97,8 +101,10 @@ def parameterize(path: JointPath, velocity: Array, acceleration: Array, s_grid: 
         lo_i, hi_i = _x_interval(coef, rhs, s_lo[i], s_hi[i])
         a, b = float(lo_i), float(hi_i)
         if a > b + 1e-12 * max(1.0, abs(b)):
-            raise ArmtoolError(f"the path cannot be followed within the limits near s = {s[i]:.4g} (stage {i})",
-                               hint="check the acceleration limits; a path with a corner needs a stop there")
+            raise ArmtoolError(
+                f"the path cannot be followed within the limits near s = {s[i]:.4g} (stage {i})",
+                hint="check the acceleration limits; a path with a corner needs a stop there",
+            )
         lo[i], hi[i] = a, max(a, b)
     x = np.zeros(n_stages + 1)
     u = np.zeros(n_stages)
@@ -112,7 +118,9 @@ def parameterize(path: JointPath, velocity: Array, acceleration: Array, s_grid: 
     v = np.sqrt(np.maximum(x, 0.0))
     speed_sum = v[:-1] + v[1:]
     if np.any(speed_sum <= 0):
-        raise ArmtoolError("the path cannot be traversed within the limits (zero speed inside the path)",
-                           hint="check the velocity and acceleration limits")
+        raise ArmtoolError(
+            "the path cannot be traversed within the limits (zero speed inside the path)",
+            hint="check the velocity and acceleration limits",
+        )
     t = np.concatenate([[0.0], np.cumsum(2 * delta / speed_sum)])
     return Profile(s, x, u, t)

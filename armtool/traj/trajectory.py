@@ -31,7 +31,11 @@ class Trajectory:
         n_points, n = self.positions.shape
         if n != len(self.joint_names):
             raise ArmtoolError(f"{n} position columns for {len(self.joint_names)} joints", self.source)
-        for name, arr in (("times", self.times), ("velocities", self.velocities), ("accelerations", self.accelerations)):
+        for name, arr in (
+            ("times", self.times),
+            ("velocities", self.velocities),
+            ("accelerations", self.accelerations),
+        ):
             if arr is not None and arr.shape[0] != n_points:
                 raise ArmtoolError(f"{arr.shape[0]} {name} for {n_points} points", self.source)
 
@@ -63,12 +67,20 @@ class Trajectory:
             return self
         missing = [n for n in names if n not in self.joint_names]
         if missing:
-            raise ArmtoolError(f"trajectory has no joint(s) {', '.join(missing)}", self.source,
-                               hint="trajectory joints: " + ", ".join(self.joint_names))
+            raise ArmtoolError(
+                f"trajectory has no joint(s) {', '.join(missing)}",
+                self.source,
+                hint="trajectory joints: " + ", ".join(self.joint_names),
+            )
         idx = [self.joint_names.index(n) for n in names]
-        return replace(self, joint_names=names, positions=self.positions[:, idx].copy(), velocities=_columns(self.velocities, idx),
-                       accelerations=_columns(self.accelerations, idx),
-                       prismatic=tuple(self.is_prismatic(i) for i in idx))
+        return replace(
+            self,
+            joint_names=names,
+            positions=self.positions[:, idx].copy(),
+            velocities=_columns(self.velocities, idx),
+            accelerations=_columns(self.accelerations, idx),
+            prismatic=tuple(self.is_prismatic(i) for i in idx),
+        )
 
     def untimed(self) -> Trajectory:
         return replace(self, times=None, velocities=None, accelerations=None)
@@ -76,4 +88,3 @@ class Trajectory:
 
 def _columns(a: Array | None, idx: list[int]) -> Array | None:
     return None if a is None else a[:, idx].copy()
-

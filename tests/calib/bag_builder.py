@@ -69,9 +69,18 @@ def frame_index(image: np.ndarray, n_frames: int) -> int:
     return next(k for k in range(n_frames) if 40 + (k * 7) % 200 == level)
 
 
-def write_bag(path: Path, kind: str, motion: Motion, *, image_topic: str = "/camera/image_raw", image_mode: str = "bgr8",
-              joint_names: list[str] | None = None, camera_info: bool = False, zero_stamps: bool = False,
-              image_rate_hz: float = 5.0) -> list[float]:
+def write_bag(
+    path: Path,
+    kind: str,
+    motion: Motion,
+    *,
+    image_topic: str = "/camera/image_raw",
+    image_mode: str = "bgr8",
+    joint_names: list[str] | None = None,
+    camera_info: bool = False,
+    zero_stamps: bool = False,
+    image_rate_hz: float = 5.0,
+) -> list[float]:
     """Write a bag of `kind` ros1 | sqlite3 | mcap; return the image header stamps (s from START_S)."""
     from rosbags.typesys import Stores, get_typestore
 
@@ -95,33 +104,55 @@ def write_bag(path: Path, kind: str, motion: Motion, *, image_topic: str = "/cam
     image_stamps = list(np.arange(0.05, motion.t[-1], 1.0 / image_rate_hz))
     events: list[tuple[float, str, object]] = []
     for t, q, v in zip(motion.t, motion.q, motion.v):
-        events.append((t, "/joint_states", JointState(header=header(t), name=names, position=q, velocity=v, effort=np.zeros(0))))
+        events.append(
+            (t, "/joint_states", JointState(header=header(t), name=names, position=q, velocity=v, effort=np.zeros(0)))
+        )
     for k, t in enumerate(image_stamps):
         if image_mode == "jpeg":
-            ok, buf = cv2.imencode(".jpg", frame_image(k, "bgr8"), [cv2.IMWRITE_JPEG_QUALITY, 98])
+            _ok, buf = cv2.imencode(".jpg", frame_image(k, "bgr8"), [cv2.IMWRITE_JPEG_QUALITY, 98])
             msg = Compressed(header=header(t), format="bgr8; jpeg compressed bgr8", data=buf.reshape(-1))
         else:
             img = frame_image(k, image_mode)
             ch = 1 if image_mode == "mono8" else 3
-            msg = Image(header=header(t), height=24, width=32, encoding=image_mode, is_bigendian=0, step=32 * ch, data=img.reshape(-1))
+            msg = Image(
+                header=header(t),
+                height=24,
+                width=32,
+                encoding=image_mode,
+                is_bigendian=0,
+                step=32 * ch,
+                data=img.reshape(-1),
+            )
         events.append((t, image_topic, msg))
     if camera_info:
         K = np.array([40.0, 0, 15.5, 0, 40.0, 11.5, 0, 0, 1])
-        fields = dict(header=header(0.0), height=24, width=32, distortion_model="plumb_bob", binning_x=0, binning_y=0,
-                      roi=ROI(x_offset=0, y_offset=0, height=0, width=0, do_rectify=False))
+        fields = dict(
+            header=header(0.0),
+            height=24,
+            width=32,
+            distortion_model="plumb_bob",
+            binning_x=0,
+            binning_y=0,
+            roi=ROI(x_offset=0, y_offset=0, height=0, width=0, do_rectify=False),
+        )
         if ros1:
             info = CameraInfo(**fields, D=np.zeros(5), K=K, R=np.eye(3).reshape(-1), P=np.zeros(12))
         else:
             info = CameraInfo(**fields, d=np.zeros(5), k=K, r=np.eye(3).reshape(-1), p=np.zeros(12))
         events.append((0.0, "/camera/camera_info", info))
     events.sort(key=lambda e: e[0])
-    types = {"/joint_states": "sensor_msgs/msg/JointState", image_topic: "sensor_msgs/msg/CompressedImage" if image_mode == "jpeg" else "sensor_msgs/msg/Image",
-             "/camera/camera_info": "sensor_msgs/msg/CameraInfo"}
+    types = {
+        "/joint_states": "sensor_msgs/msg/JointState",
+        image_topic: "sensor_msgs/msg/CompressedImage" if image_mode == "jpeg" else "sensor_msgs/msg/Image",
+        "/camera/camera_info": "sensor_msgs/msg/CameraInfo",
+    }
     if ros1:
         from rosbags.rosbag1 import Writer as Writer1
 
         with Writer1(path) as writer:
-            conns = {topic: writer.add_connection(topic, types[topic], typestore=store) for topic in {e[1] for e in events}}
+            conns = {
+                topic: writer.add_connection(topic, types[topic], typestore=store) for topic in {e[1] for e in events}
+            }
             for t, topic, msg in events:
                 latency = rng.uniform(0.04, 0.06)
                 writer.write(conns[topic], int((START_S + t + latency) * 1e9), store.serialize_ros1(msg, types[topic]))
@@ -131,7 +162,9 @@ def write_bag(path: Path, kind: str, motion: Motion, *, image_topic: str = "/cam
 
         plugin = StoragePlugin.MCAP if kind == "mcap" else StoragePlugin.SQLITE3
         with Writer2(path, version=9, storage_plugin=plugin) as writer:
-            conns = {topic: writer.add_connection(topic, types[topic], typestore=store) for topic in {e[1] for e in events}}
+            conns = {
+                topic: writer.add_connection(topic, types[topic], typestore=store) for topic in {e[1] for e in events}
+            }
             for t, topic, msg in events:
                 latency = rng.uniform(0.04, 0.06)
                 writer.write(conns[topic], int((START_S + t + latency) * 1e9), store.serialize_cdr(msg, types[topic]))

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-
 import numpy as np
 
 from armtool.calib.apriltag import tag_object_points
@@ -31,7 +30,14 @@ class Synthetic:
     size_m: float = 0.08
 
 
-def make_problem(chain: Chain, n: int = 40, noise_px: float = 0.05, seed: int = 0, setup: Setup = Setup.EYE_TO_HAND, freeze_joint: int | None = None) -> Synthetic:
+def make_problem(
+    chain: Chain,
+    n: int = 40,
+    noise_px: float = 0.05,
+    seed: int = 0,
+    setup: Setup = Setup.EYE_TO_HAND,
+    freeze_joint: int | None = None,
+) -> Synthetic:
     spec = SimulationSpec(samples=n, setup=setup, seed=seed)
     rng = np.random.default_rng(seed)
     nominal = CalibModel(chain, setup, np.eye(4), np.eye(4))
@@ -50,5 +56,3 @@ def make_problem(chain: Chain, n: int = 40, noise_px: float = 0.05, seed: int = 
     samples = [Sample(str(i), i + 2, Q[i].copy(), None) for i in range(n)]
     obs = {s.id: Observation(s.id, uv[i]) for i, s in enumerate(samples)}
     return Synthetic(nominal, camera, samples, obs, Truth(x_true, Q_val, {}))
-
-

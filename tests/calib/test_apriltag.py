@@ -181,7 +181,9 @@ def test_small_tag_and_wrong_image_size_are_rejected() -> None:
     assert not det.ok and det.reason == f"too small: {det.side_px:.0f} px side (minimum 100)"
     assert 75 < det.side_px < 85
     small_camera = CameraModel(K, np.zeros(5), 640, 480)
-    assert detect_tag(img, FAMILY, TAG_ID, small_camera).reason == "image is 1280x720 but the intrinsics are for 640x480"
+    assert (
+        detect_tag(img, FAMILY, TAG_ID, small_camera).reason == "image is 1280x720 but the intrinsics are for 640x480"
+    )
 
 
 def test_colour_images_are_accepted_and_float_images_refused() -> None:

@@ -42,7 +42,9 @@ def test_slow_motion_and_short_pauses_are_not_settled() -> None:
     t = np.arange(0, 10, 0.02)
     creeping = np.column_stack([0.01 * t, np.zeros_like(t)])  # 0.01 rad/s: 0.005 rad per 0.5 s
     assert settled_windows(t, creeping, 0.5, tolerance=0.002) == []
-    q = (0.2 * np.clip(t, None, 4.0) + 0.2 * np.clip(t - 4.3, 0.0, None))[:, None]  # 0.2 rad/s with one 0.3 s pause at 4 s
+    q = (0.2 * np.clip(t, None, 4.0) + 0.2 * np.clip(t - 4.3, 0.0, None))[
+        :, None
+    ]  # 0.2 rad/s with one 0.3 s pause at 4 s
     assert settled_windows(t, q, 0.5, tolerance=0.002) == []
     assert len(settled_windows(t, q, 0.2, tolerance=0.002)) == 1
 
@@ -75,7 +77,9 @@ def test_import_takes_the_image_nearest_each_window_centre(tmp_path: Path, kind:
 def test_without_header_stamps_the_bag_time_is_used(tmp_path: Path) -> None:
     m = simulate_motion(n_stops=3, seed=1)
     write_bag(tmp_path / "cal.bag", "ros1", m, zero_stamps=True)
-    result = import_bag(tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw", flange="tool0"))
+    result = import_bag(
+        tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw", flange="tool0")
+    )
     assert result.clock == "bag receive time" and len(result.samples) == 3
     assert any("no header stamp" in w for w in result.warnings) and any("no intrinsics" in w for w in result.warnings)
 
@@ -87,7 +91,9 @@ def _nothing_written(tmp_path: Path, out: Path) -> bool:
 def test_a_missing_topic_names_the_recorded_ones_and_writes_nothing(tmp_path: Path) -> None:
     write_bag(tmp_path / "cal.bag", "ros1", simulate_motion(n_stops=2))
     out = tmp_path / "out"
-    with pytest.raises(ArmtoolError, match=r"topic '/camera/image' is not in the bag \(did you mean '/camera/image_raw'\?\)") as info:
+    with pytest.raises(
+        ArmtoolError, match=r"topic '/camera/image' is not in the bag \(did you mean '/camera/image_raw'\?\)"
+    ) as info:
         import_bag(tmp_path / "cal.bag", CLEAN_ARM, out, ImportOptions("/camera/image", flange="tool0"))
     assert "/joint_states (sensor_msgs/msg/JointState)" in (info.value.hint or "")
     assert _nothing_written(tmp_path, out)
@@ -99,7 +105,9 @@ def test_a_missing_topic_names_the_recorded_ones_and_writes_nothing(tmp_path: Pa
 def test_joints_that_the_urdf_does_not_name_are_an_error(tmp_path: Path) -> None:
     write_bag(tmp_path / "cal", "sqlite3", simulate_motion(n_stops=2), joint_names=[f"arm_{j}" for j in JOINTS])
     out = tmp_path / "out"
-    with pytest.raises(ArmtoolError, match=r"joint\(s\) joint1 \(did you mean 'arm_joint1'\?\).* are not in the JointState messages") as info:
+    with pytest.raises(
+        ArmtoolError, match=r"joint\(s\) joint1 \(did you mean 'arm_joint1'\?\).* are not in the JointState messages"
+    ) as info:
         import_bag(tmp_path / "cal", CLEAN_ARM, out, ImportOptions("/camera/image_raw", flange="tool0"))
     assert "arm_joint6" in (info.value.hint or "")
     assert _nothing_written(tmp_path, out)
@@ -108,18 +116,27 @@ def test_joints_that_the_urdf_does_not_name_are_an_error(tmp_path: Path) -> None
 def test_no_settled_window_and_existing_output_are_errors(tmp_path: Path) -> None:
     write_bag(tmp_path / "cal.bag", "ros1", simulate_motion(n_stops=2))
     with pytest.raises(ArmtoolError, match="no settled window"):
-        import_bag(tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw", flange="tool0", min_still_s=5.0))
+        import_bag(
+            tmp_path / "cal.bag",
+            CLEAN_ARM,
+            tmp_path / "out",
+            ImportOptions("/camera/image_raw", flange="tool0", min_still_s=5.0),
+        )
     (tmp_path / "full").mkdir()
     (tmp_path / "full" / "keep.txt").write_text("mine")
     with pytest.raises(ArmtoolError, match="not an empty directory"):
-        import_bag(tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "full", ImportOptions("/camera/image_raw", flange="tool0"))
+        import_bag(
+            tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "full", ImportOptions("/camera/image_raw", flange="tool0")
+        )
     assert [p.name for p in (tmp_path / "full").iterdir()] == ["keep.txt"]
     with pytest.raises(ArmtoolError, match="not a ROS bag|bag not found"):
         import_bag(tmp_path / "full" / "keep.txt", CLEAN_ARM, tmp_path / "o2", ImportOptions("/camera/image_raw"))
 
 
 def _raw(encoding: str, data: np.ndarray, h: int, w: int, step: int, big: int = 0) -> SimpleNamespace:
-    return SimpleNamespace(encoding=encoding, height=h, width=w, step=step, is_bigendian=big, data=data.reshape(-1).view(np.uint8))
+    return SimpleNamespace(
+        encoding=encoding, height=h, width=w, step=step, is_bigendian=big, data=data.reshape(-1).view(np.uint8)
+    )
 
 
 def test_raw_encodings_decode_to_opencv_arrays() -> None:
@@ -137,4 +154,3 @@ def test_raw_encodings_decode_to_opencv_arrays() -> None:
         raw_image_array(_raw("32FC1", np.zeros(4, np.float32), 1, 1, 4))
     with pytest.raises(ArmtoolError, match="inconsistent"):
         raw_image_array(_raw("mono8", np.zeros(3, np.uint8), 2, 3, 3))
-

@@ -140,7 +140,10 @@ def test_loads_opencv4_header_and_other_key_spellings(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(
     ("model", "coeffs"),
-    [("plumb_bob", [0.1, -0.25, 5e-4, -3e-4, 0.1]), ("rational_polynomial", [0.1, -0.25, 5e-4, -3e-4, 0.1, 0.01, 0.02, 0.03])],
+    [
+        ("plumb_bob", [0.1, -0.25, 5e-4, -3e-4, 0.1]),
+        ("rational_polynomial", [0.1, -0.25, 5e-4, -3e-4, 0.1, 0.01, 0.02, 0.03]),
+    ],
 )
 def test_loads_ros_camera_info(tmp_path: Path, model: str, coeffs: list[float]) -> None:
     path = tmp_path / "camera_info.yaml"
@@ -152,13 +155,30 @@ def test_loads_ros_camera_info(tmp_path: Path, model: str, coeffs: list[float]) 
     ("text", "message"),
     [
         (ROS_YAML.replace("camera_matrix:", "camera_mat:"), "missing key 'camera_matrix'"),
-        (ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace("0.0, 0.0, 1.0]\ndistortion_model", "0.0, 1.0]\ndistortion_model"), "key 'camera_matrix' must have 9 values"),
-        (ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace("distortion_coefficients:", "distortion:"), "missing key 'distortion_coefficients'"),
+        (
+            ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace(
+                "0.0, 0.0, 1.0]\ndistortion_model", "0.0, 1.0]\ndistortion_model"
+            ),
+            "key 'camera_matrix' must have 9 values",
+        ),
+        (
+            ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace("distortion_coefficients:", "distortion:"),
+            "missing key 'distortion_coefficients'",
+        ),
         (ros_yaml("equidistant", [0.1, 0.2, 0.0, 0.0]), "unsupported distortion_model 'equidistant'"),
         (ros_yaml("plumb_bob", [0.1, 0.2, 0.0]), "needs 5 coefficients"),
-        (ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace("image_width: 1280\n", ""), "missing key 'image_width'"),
-        (ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace("image_height: 720", "image_height: -5"), "key 'image_height' must be a positive"),
-        (ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace("data: [910.0", "data: [fx"), "key 'camera_matrix' is not a list of numbers"),
+        (
+            ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace("image_width: 1280\n", ""),
+            "missing key 'image_width'",
+        ),
+        (
+            ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace("image_height: 720", "image_height: -5"),
+            "key 'image_height' must be a positive",
+        ),
+        (
+            ros_yaml("plumb_bob", [0.1, 0.2, 0.0, 0.0, 0.0]).replace("data: [910.0", "data: [fx"),
+            "key 'camera_matrix' is not a list of numbers",
+        ),
         ("image_width: 1280\ncamera_matrix: [1, 2\n", "cannot parse intrinsics file"),
         ("- just\n- a list\n", "not a mapping"),
         ("%YAML:1.0\n---\ncamera_matrix: !!opencv-matrix\n   rows: [\n", "not a readable OpenCV FileStorage"),

@@ -17,7 +17,9 @@ JOINTS = ["joint1", "joint2", "joint3", "joint4", "joint5", "joint6"]
 
 def _dataset(tmp_path: Path, rows: list[str], header: str = "id,image," + ",".join(JOINTS), extra: str = "") -> Path:
     shutil.copy(CLEAN_ARM, tmp_path / "robot.urdf")
-    (tmp_path / "camera.yaml").write_text("image_width: 1280\nimage_height: 720\ncamera_matrix:\n  rows: 3\n  cols: 3\n  data: [910, 0, 640, 0, 910, 360, 0, 0, 1]\ndistortion_model: plumb_bob\ndistortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [0, 0, 0, 0, 0]\n")
+    (tmp_path / "camera.yaml").write_text(
+        "image_width: 1280\nimage_height: 720\ncamera_matrix:\n  rows: 3\n  cols: 3\n  data: [910, 0, 640, 0, 910, 360, 0, 0, 1]\ndistortion_model: plumb_bob\ndistortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [0, 0, 0, 0, 0]\n"
+    )
     (tmp_path / "samples.csv").write_text("\n".join([header, *rows]) + "\n")
     (tmp_path / "dataset.yaml").write_text(
         "format: armtool-calib-dataset/1\nsetup: eye_to_hand\n"
@@ -70,7 +72,9 @@ def test_units_other_than_radians_are_refused(tmp_path: Path) -> None:
 
 def test_corners_csv(tmp_path: Path) -> None:
     root = _dataset(tmp_path, ["0,,0,0,0,0,0,0", "1,,0,0,0,0,0,0.1"], extra="corners: corners.csv\n")
-    (root / "corners.csv").write_text("id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3\n0,0,1,2,3,4,5,6,7,8\n1,5,1,2,3,4,5,6,7,8\n7,0,1,2,3,4,5,6,7,8\n")
+    (root / "corners.csv").write_text(
+        "id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3\n0,0,1,2,3,4,5,6,7,8\n1,5,1,2,3,4,5,6,7,8\n7,0,1,2,3,4,5,6,7,8\n"
+    )
     ds = load_dataset(root, JOINTS)
     assert list(ds.corners) == ["0"] and ds.corners["0"].shape == (4, 2)
     (p,) = ds.errors

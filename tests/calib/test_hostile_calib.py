@@ -13,7 +13,6 @@ import json
 import os
 import shutil
 import struct
-import sys
 import time
 import zlib
 from pathlib import Path
@@ -30,8 +29,12 @@ from tests.calib.conftest import CLEAN_ARM
 
 runner = CliRunner()
 # No shrinking: a fit takes seconds, and the failing example is printed as found.
-HYPO = settings(max_examples=10, deadline=None, phases=[Phase.explicit, Phase.reuse, Phase.generate],
-                suppress_health_check=[HealthCheck.function_scoped_fixture])
+HYPO = settings(
+    max_examples=10,
+    deadline=None,
+    phases=[Phase.explicit, Phase.reuse, Phase.generate],
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 IS_ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
 JOINTS = ["joint1", "joint2", "joint3", "joint4", "joint5", "joint6"]
 
@@ -49,6 +52,7 @@ def run(*args: object) -> tuple[int, str, str]:
 
 def strict_json(text: str) -> object:
     """JSON as the standard defines it: NaN and Infinity (which Python accepts) are refused."""
+
     def refuse(constant: str) -> object:
         raise AssertionError(f"{constant} in JSON output")
 
@@ -102,7 +106,9 @@ def dataset(base_dataset: Path, tmp_path: Path) -> Path:
 def test_the_tiny_dataset_fits_with_a_negative_seed(dataset: Path, tmp_path: Path) -> None:
     """The baseline the other tests break (the image-free dataset is good), and `--seed -1`,
     which was an internal error, works like any other seed."""
-    code, out, err = run("calibrate", "fit", dataset, "--out", tmp_path / "out", "--format", "json", "--holdout", "0.25", "--seed", "-1")
+    code, out, err = run(
+        "calibrate", "fit", dataset, "--out", tmp_path / "out", "--format", "json", "--holdout", "0.25", "--seed", "-1"
+    )
     assert code == 0, err
     assert strict_json(out)["schema_version"] == 1  # type: ignore[index]
     assert (tmp_path / "out" / "calibrated.urdf").is_file()
@@ -140,22 +146,95 @@ def test_camera_refuses_to_write_over_an_image(tmp_path: Path) -> None:
 # ---------------------------------------------------------------- validation of options
 
 
-@pytest.mark.parametrize("args, flag", [
-    (["simulate", "x.urdf", "-o", "o", "--tag-size", "inf"], "--tag-size"),
-    (["simulate", "x.urdf", "-o", "o", "--tag-size", "nan"], "--tag-size"),
-    (["simulate", "x.urdf", "-o", "o", "--tag-size", "-0.08"], "--tag-size"),
-    (["simulate", "x.urdf", "-o", "o", "--samples", "100000000"], "--samples"),
-    (["simulate", "x.urdf", "-o", "o", "--validation", "0"], "--validation"),
-    (["simulate", "x.urdf", "-o", "o", "--bad-samples", "-1"], "--bad-samples"),
-    (["fit", "ds", "-o", "o", "--holdout", "nan"], "--holdout"),
-    (["fit", "ds", "-o", "o", "--holdout", "0.95"], "--holdout"),
-    (["import-bag", "b.bag", "--image-topic", "/i", "--urdf", "r.urdf", "-o", "o", "--tag-size", "inf"], "--tag-size"),
-    (["import-bag", "b.bag", "--image-topic", "/i", "--urdf", "r.urdf", "-o", "o", "--tag-size", "0.08", "--tolerance", "nan"], "--tolerance"),
-    (["import-bag", "b.bag", "--image-topic", "/i", "--urdf", "r.urdf", "-o", "o", "--tag-size", "0.08", "--min-still", "inf"], "--min-still"),
-    (["import-bag", "b.bag", "--image-topic", "/i", "--urdf", "r.urdf", "-o", "o", "--tag-size", "0.08", "--max-velocity", "-1"], "--max-velocity"),
-    (["import-bag", "b.bag", "--image-topic", "/i", "--urdf", "r.urdf", "-o", "o", "--tag-size", "0.08", "--tag-id", "99999"], "--tag-id"),
-    (["camera", "x.png", "--board", "charuco:5x4:0.03:0.022", "-o", "c.yaml", "--min-images", "1000000"], "--min-images"),
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (["simulate", "x.urdf", "-o", "o", "--tag-size", "inf"], "--tag-size"),
+        (["simulate", "x.urdf", "-o", "o", "--tag-size", "nan"], "--tag-size"),
+        (["simulate", "x.urdf", "-o", "o", "--tag-size", "-0.08"], "--tag-size"),
+        (["simulate", "x.urdf", "-o", "o", "--samples", "100000000"], "--samples"),
+        (["simulate", "x.urdf", "-o", "o", "--validation", "0"], "--validation"),
+        (["simulate", "x.urdf", "-o", "o", "--bad-samples", "-1"], "--bad-samples"),
+        (["fit", "ds", "-o", "o", "--holdout", "nan"], "--holdout"),
+        (["fit", "ds", "-o", "o", "--holdout", "0.95"], "--holdout"),
+        (
+            ["import-bag", "b.bag", "--image-topic", "/i", "--urdf", "r.urdf", "-o", "o", "--tag-size", "inf"],
+            "--tag-size",
+        ),
+        (
+            [
+                "import-bag",
+                "b.bag",
+                "--image-topic",
+                "/i",
+                "--urdf",
+                "r.urdf",
+                "-o",
+                "o",
+                "--tag-size",
+                "0.08",
+                "--tolerance",
+                "nan",
+            ],
+            "--tolerance",
+        ),
+        (
+            [
+                "import-bag",
+                "b.bag",
+                "--image-topic",
+                "/i",
+                "--urdf",
+                "r.urdf",
+                "-o",
+                "o",
+                "--tag-size",
+                "0.08",
+                "--min-still",
+                "inf",
+            ],
+            "--min-still",
+        ),
+        (
+            [
+                "import-bag",
+                "b.bag",
+                "--image-topic",
+                "/i",
+                "--urdf",
+                "r.urdf",
+                "-o",
+                "o",
+                "--tag-size",
+                "0.08",
+                "--max-velocity",
+                "-1",
+            ],
+            "--max-velocity",
+        ),
+        (
+            [
+                "import-bag",
+                "b.bag",
+                "--image-topic",
+                "/i",
+                "--urdf",
+                "r.urdf",
+                "-o",
+                "o",
+                "--tag-size",
+                "0.08",
+                "--tag-id",
+                "99999",
+            ],
+            "--tag-id",
+        ),
+        (
+            ["camera", "x.png", "--board", "charuco:5x4:0.03:0.022", "-o", "c.yaml", "--min-images", "1000000"],
+            "--min-images",
+        ),
+    ],
+)
 def test_bad_numbers_are_refused_naming_the_flag(args: list[str], flag: str) -> None:
     code, _, err = run("calibrate", *args)
     assert code == 2 and flag in err, err
@@ -173,9 +252,23 @@ def test_tag_size_inf_is_a_message_not_an_internal_error(tmp_path: Path) -> None
 def test_out_that_is_a_file_is_a_message(dataset: Path, tmp_path: Path) -> None:
     blocker = tmp_path / "file"
     blocker.write_text("keep me")
-    for args in (["fit", dataset, "--out", blocker], ["fit", dataset, "--out", blocker / "sub"],
-                 ["simulate", CLEAN_ARM, "--flange", "tool0", "-o", blocker],
-                 ["import-bag", tmp_path / "b.bag", "--image-topic", "/i", "--urdf", CLEAN_ARM, "-o", blocker, "--tag-size", "0.08"]):
+    for args in (
+        ["fit", dataset, "--out", blocker],
+        ["fit", dataset, "--out", blocker / "sub"],
+        ["simulate", CLEAN_ARM, "--flange", "tool0", "-o", blocker],
+        [
+            "import-bag",
+            tmp_path / "b.bag",
+            "--image-topic",
+            "/i",
+            "--urdf",
+            CLEAN_ARM,
+            "-o",
+            blocker,
+            "--tag-size",
+            "0.08",
+        ],
+    ):
         code, _, err = run("calibrate", *args)
         assert code == 2 and "file" in err, (args, err)
     assert blocker.read_text() == "keep me"
@@ -187,10 +280,24 @@ def test_unwritable_out_is_refused_before_the_work(dataset: Path, tmp_path: Path
     locked.mkdir()
     locked.chmod(0o500)
     try:
-        for args in (["fit", dataset, "--out", locked / "o"], ["fit", dataset, "--out", locked],
-                     ["simulate", CLEAN_ARM, "--flange", "tool0", "-o", locked / "o"],
-                     ["camera", _png(tmp_path / "a.png", 8, 8), "--board", "charuco:5x4:0.03:0.022", "-o", locked / "c.yaml"],
-                     ["import-bag", tmp_path / "b.bag", "--image-topic", "/i", "--urdf", CLEAN_ARM, "-o", locked / "o", "--tag-size", "0.08"]):
+        for args in (
+            ["fit", dataset, "--out", locked / "o"],
+            ["fit", dataset, "--out", locked],
+            ["simulate", CLEAN_ARM, "--flange", "tool0", "-o", locked / "o"],
+            ["camera", _png(tmp_path / "a.png", 8, 8), "--board", "charuco:5x4:0.03:0.022", "-o", locked / "c.yaml"],
+            [
+                "import-bag",
+                tmp_path / "b.bag",
+                "--image-topic",
+                "/i",
+                "--urdf",
+                CLEAN_ARM,
+                "-o",
+                locked / "o",
+                "--tag-size",
+                "0.08",
+            ],
+        ):
             t0 = time.monotonic()
             code, _, err = run("calibrate", *args)
             assert code == 2 and "not writable" in err, (args, err)
@@ -243,9 +350,13 @@ def test_too_many_samples_are_refused(dataset: Path) -> None:
 def test_dataset_values_are_typed_and_in_range(dataset: Path) -> None:
     manifest = dataset / "dataset.yaml"
     good = manifest.read_text()
-    for old, new, expected in [("size_m: 0.08", "size_m: .nan", "target.size_m"), ("size_m: 0.08", "size_m: .inf", "target.size_m"),
-                               ("id: 0", "id: -3", "target.id"), ("family: tag36h11", "family: [a]", "target.family"),
-                               ("{intrinsics: camera.yaml}", "{intrinsics: camera.yaml, images_rectified: maybe}", "images_rectified")]:
+    for old, new, expected in [
+        ("size_m: 0.08", "size_m: .nan", "target.size_m"),
+        ("size_m: 0.08", "size_m: .inf", "target.size_m"),
+        ("id: 0", "id: -3", "target.id"),
+        ("family: tag36h11", "family: [a]", "target.family"),
+        ("{intrinsics: camera.yaml}", "{intrinsics: camera.yaml, images_rectified: maybe}", "images_rectified"),
+    ]:
         manifest.write_text(good.replace(old, new))
         code, _, err = run("calibrate", "check", dataset, "--no-detect")
         assert code == 1 and expected in err, (new, err)
@@ -256,12 +367,16 @@ def test_dataset_values_are_typed_and_in_range(dataset: Path) -> None:
 
 def test_broken_camera_yaml_gives_the_line(dataset: Path) -> None:
     cam = dataset / "camera.yaml"
-    cam.write_text("image_width: 1280\nimage_height: 720\ncamera_matrix: [910, 0, 640, 0, 910, 360, 0, 0, .nan]\n"
-                   "distortion_coefficients: [0, 0, 0, 0, 0]\n")
+    cam.write_text(
+        "image_width: 1280\nimage_height: 720\ncamera_matrix: [910, 0, 640, 0, 910, 360, 0, 0, .nan]\n"
+        "distortion_coefficients: [0, 0, 0, 0, 0]\n"
+    )
     code, _, err = run("calibrate", "check", dataset, "--no-detect")
     assert code == 1 and "camera.yaml:3" in err, err
-    cam.write_text("image_width: 1280\nimage_height: -720\ncamera_matrix: [910, 0, 640, 0, 910, 360, 0, 0, 1]\n"
-                   "distortion_coefficients: [0, 0, 0, 0, 0]\n")
+    cam.write_text(
+        "image_width: 1280\nimage_height: -720\ncamera_matrix: [910, 0, 640, 0, 910, 360, 0, 0, 1]\n"
+        "distortion_coefficients: [0, 0, 0, 0, 0]\n"
+    )
     code, _, err = run("calibrate", "check", dataset, "--no-detect")
     assert code == 1 and "camera.yaml:2" in err, err
 
@@ -276,12 +391,30 @@ def test_image_that_is_a_directory_is_not_reported_missing(dataset: Path, tmp_pa
     assert "a part of its path is a file" in (unreadable_reason(tmp_path / "flat" / "0.png") or "")
     (tmp_path / "link.png").symlink_to(tmp_path / "gone.png")
     assert unreadable_reason(tmp_path / "link.png") == "is a broken symbolic link"
-    code, _, err = run("calibrate", "camera", tmp_path / "images" / "a.png", "--board", "charuco:5x4:0.03:0.022", "-o", tmp_path / "c.yaml")
+    code, _, err = run(
+        "calibrate",
+        "camera",
+        tmp_path / "images" / "a.png",
+        "--board",
+        "charuco:5x4:0.03:0.022",
+        "-o",
+        tmp_path / "c.yaml",
+    )
     assert code == 2 and "does not exist" in err
     os.mkfifo(tmp_path / "images" / "a.png")  # a FIFO named like an image: reading it would hang
-    code, _, err = run("calibrate", "camera", tmp_path / "images" / "a.png", "--board", "charuco:5x4:0.03:0.022", "-o", tmp_path / "c.yaml")
+    code, _, err = run(
+        "calibrate",
+        "camera",
+        tmp_path / "images" / "a.png",
+        "--board",
+        "charuco:5x4:0.03:0.022",
+        "-o",
+        tmp_path / "c.yaml",
+    )
     assert code == 2 and "is not a regular file" in err
-    code, _, err = run("calibrate", "camera", tmp_path / "images", "--board", "charuco:5x4:0.03:0.022", "-o", tmp_path / "c.yaml")
+    code, _, err = run(
+        "calibrate", "camera", tmp_path / "images", "--board", "charuco:5x4:0.03:0.022", "-o", tmp_path / "c.yaml"
+    )
     assert code == 2 and "no readable image files in the directory" in err
     # in a dataset: samples.csv as a directory is named as such
     (dataset / "samples.csv").unlink()
@@ -321,11 +454,16 @@ def test_base_equal_to_flange_says_what_is_wrong(dataset: Path, tmp_path: Path) 
 
 def _png(path: Path, width: int, height: int, pixels: bool = True) -> Path:
     """A grey PNG; with pixels=False only its header (a decompression bomb needs no more to lie)."""
+
     def chunk(kind: bytes, data: bytes) -> bytes:
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
 
     ihdr = struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)
-    body = zlib.compress(b"".join(b"\x00" + b"\x80" * width for _ in range(height))) if pixels else zlib.compress(b"\x00" * 1000)
+    body = (
+        zlib.compress(b"".join(b"\x00" + b"\x80" * width for _ in range(height)))
+        if pixels
+        else zlib.compress(b"\x00" * 1000)
+    )
     path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", body) + chunk(b"IEND", b""))
     return path
 
@@ -357,14 +495,31 @@ def test_jpeg_header_size_is_read() -> None:
 
 
 @settings(HYPO, max_examples=6)
-@given(holdout=st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.sampled_from([0.0, 0.3, 0.9, -0.1, 1.0])),
-       seed=st.integers(min_value=-(2**70), max_value=2**70))
-def test_fit_numeric_options(base_dataset: Path, tmp_path_factory: pytest.TempPathFactory, holdout: float, seed: int) -> None:
+@given(
+    holdout=st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.sampled_from([0.0, 0.3, 0.9, -0.1, 1.0])),
+    seed=st.integers(min_value=-(2**70), max_value=2**70),
+)
+def test_fit_numeric_options(
+    base_dataset: Path, tmp_path_factory: pytest.TempPathFactory, holdout: float, seed: int
+) -> None:
     out = tmp_path_factory.mktemp("fit") / "o"
     before = snapshot(base_dataset)
     t0 = time.monotonic()
-    code, stdout, err = run("calibrate", "fit", base_dataset, "--out", out, "--holdout", repr(holdout), "--seed", str(seed), "--format", "json",
-                            "--params", "offsets")
+    code, stdout, err = run(
+        "calibrate",
+        "fit",
+        base_dataset,
+        "--out",
+        out,
+        "--holdout",
+        repr(holdout),
+        "--seed",
+        str(seed),
+        "--format",
+        "json",
+        "--params",
+        "offsets",
+    )
     assert code in (0, 1, 2), err
     assert "Traceback" not in err and "internal error" not in err
     if code == 0:
@@ -375,8 +530,11 @@ def test_fit_numeric_options(base_dataset: Path, tmp_path_factory: pytest.TempPa
     assert time.monotonic() - t0 < 30
 
 
-NUMBER = st.one_of(st.floats(allow_nan=True, allow_infinity=True).map(repr), st.integers(-(2**40), 2**40).map(str),
-                   st.sampled_from(["nan", "inf", "-inf", "0", "-1", "1e308", "1e-308", "", "x"]))
+NUMBER = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.integers(-(2**40), 2**40).map(str),
+    st.sampled_from(["nan", "inf", "-inf", "0", "-1", "1e308", "1e-308", "", "x"]),
+)
 
 
 @HYPO
@@ -405,7 +563,7 @@ MUTATIONS = st.sampled_from(["flip", "nan", "inf", "deep", "huge", "truncate", "
 def _mutate(data: bytes, how: str, where: float, byte: int) -> bytes:
     at = int(where * max(len(data) - 1, 0))
     if how == "flip":
-        return data[:at] + bytes([data[at] ^ (byte or 1)]) + data[at + 1:] if data else data
+        return data[:at] + bytes([data[at] ^ (byte or 1)]) + data[at + 1 :] if data else data
     if how == "nan":
         return data.replace(b"0.", b"nan", 1) if b"0." in data else data + b"nan\n"
     if how == "inf":
@@ -422,10 +580,22 @@ def _mutate(data: bytes, how: str, where: float, byte: int) -> bytes:
 
 
 @settings(HYPO, max_examples=int(os.environ.get("HOSTILE_EXAMPLES", "10")))
-@given(name=st.sampled_from(["dataset.yaml", "samples.csv", "corners.csv", "camera.yaml"]), how=MUTATIONS,
-       where=st.floats(0, 1), byte=st.integers(0, 255), fit=st.booleans())
-def test_mutated_dataset_files(base_dataset: Path, tmp_path_factory: pytest.TempPathFactory, name: str, how: str, where: float,
-                               byte: int, fit: bool) -> None:
+@given(
+    name=st.sampled_from(["dataset.yaml", "samples.csv", "corners.csv", "camera.yaml"]),
+    how=MUTATIONS,
+    where=st.floats(0, 1),
+    byte=st.integers(0, 255),
+    fit=st.booleans(),
+)
+def test_mutated_dataset_files(
+    base_dataset: Path,
+    tmp_path_factory: pytest.TempPathFactory,
+    name: str,
+    how: str,
+    where: float,
+    byte: int,
+    fit: bool,
+) -> None:
     tmp = tmp_path_factory.mktemp("mut")
     ds = Path(shutil.copytree(base_dataset, tmp / "ds"))
     target = ds / name

@@ -23,7 +23,14 @@ def _views(board: str) -> list[tuple[str, BoardView]]:
 
 def test_parse_board_reads_both_kinds_and_defaults() -> None:
     c = parse_board("charuco:9x7:0.03:0.022")
-    assert (c.kind, c.cols, c.rows, c.square_m, c.marker_m, c.dictionary) == (BoardKind.CHARUCO, 9, 7, 0.03, 0.022, "DICT_6X6_250")
+    assert (c.kind, c.cols, c.rows, c.square_m, c.marker_m, c.dictionary) == (
+        BoardKind.CHARUCO,
+        9,
+        7,
+        0.03,
+        0.022,
+        "DICT_6X6_250",
+    )
     assert parse_board("charuco:9x7:0.03:0.022:5x5_100").dictionary == "DICT_5X5_100"
     g = parse_board("aprilgrid:6x4:0.04:0.01")
     assert (g.kind, g.dictionary, g.family) == (BoardKind.APRILGRID, "DICT_APRILTAG_36h11", "tag36h11")
@@ -88,7 +95,9 @@ def test_an_image_whose_corners_disagree_is_rejected_as_an_outlier() -> None:
     views[3] = (name, BoardView(bad.ids, shifted))
     result = calibrate_views(views, parse_board(CHARUCO), (640, 480))
     rejected = [v for v in result.views if not v.used]
-    assert [v.name for v in rejected] == [name] and rejected[0].reason.startswith("outlier") and rejected[0].rms_px > 1.0
+    assert (
+        [v.name for v in rejected] == [name] and rejected[0].reason.startswith("outlier") and rejected[0].rms_px > 1.0
+    )
     assert abs(result.camera.K[0, 0] / 600.0 - 1) < 0.002
 
 
@@ -107,7 +116,7 @@ def test_warns_when_the_board_never_reaches_the_corners_or_never_tilts() -> None
     spec = parse_board(CHARUCO)
     rng = np.random.default_rng(1)
     poses = []
-    for k in range(12):  # small, near the centre, facing the camera within 10°
+    for _k in range(12):  # small, near the centre, facing the camera within 10°
         R = cv2.Rodrigues(np.array([rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15), rng.uniform(-0.3, 0.3)]))[0]
         centre = np.array([spec.cols * spec.square_m / 2, spec.rows * spec.square_m / 2, 0])
         pose = np.eye(4)

@@ -42,7 +42,9 @@ def test_cells_are_where_the_bits_say_with_the_tag_facing_the_camera() -> None:
     bits = tag_bits("tag36h11", tag_id)
     n = bits.shape[0]
     cell = size / n
-    centres = np.array([[-size / 2 + (c + 0.5) * cell, size / 2 - (r + 0.5) * cell, 0.0] for r in range(n) for c in range(n)])
+    centres = np.array(
+        [[-size / 2 + (c + 0.5) * cell, size / 2 - (r + 0.5) * cell, 0.0] for r in range(n) for c in range(n)]
+    )
     px = CAM.project(centres @ cMt[:3, :3].T + cMt[:3, 3])
     values = img[np.round(px[:, 1]).astype(int), np.round(px[:, 0]).astype(int)]
     expected = np.where(bits.reshape(-1), round(0.8 * 255), round(0.12 * 255))
@@ -81,7 +83,9 @@ def test_same_seed_same_image_and_noise_has_the_requested_sigma() -> None:
 
 
 def test_gradient_spans_the_requested_fraction_of_the_image() -> None:
-    img = render_tag(CAM, pose(FACING, [0.0, 0.0, 0.6]), 0.05, "tag36h11", 0, blur_sigma_px=0.0, noise_sigma=0.0, gradient=0.2)
+    img = render_tag(
+        CAM, pose(FACING, [0.0, 0.0, 0.6]), 0.05, "tag36h11", 0, blur_sigma_px=0.0, noise_sigma=0.0, gradient=0.2
+    )
     assert img is not None
     corners = img[[0, 0, -1, -1], [0, -1, 0, -1]].astype(float) / (0.35 * 255)
     assert 0.17 < corners.max() - corners.min() < 0.21

@@ -50,7 +50,23 @@ def test_eye_in_hand_5_dof_calibrates() -> None:
 
 def test_simulate_eye_in_hand_on_a_5_dof_arm_from_the_command_line(tmp_path: Path) -> None:
     out = tmp_path / "so101"
-    result = CliRunner().invoke(app, ["calibrate", "simulate", str(erd("so_arm_description/urdf/so101.urdf")), "--flange", "gripper_frame_link",
-                                      "--setup", "eye_in_hand", "-o", str(out), "--samples", "8", "--validation", "4"])
+    result = CliRunner().invoke(
+        app,
+        [
+            "calibrate",
+            "simulate",
+            str(erd("so_arm_description/urdf/so101.urdf")),
+            "--flange",
+            "gripper_frame_link",
+            "--setup",
+            "eye_in_hand",
+            "-o",
+            str(out),
+            "--samples",
+            "8",
+            "--validation",
+            "4",
+        ],
+    )
     assert result.exit_code == 0, result.output
     assert len(list((out / "images").glob("*.png"))) == 8

@@ -26,7 +26,9 @@ def test_written_urdf_has_the_fitted_kinematics(clean_chain: Chain) -> None:
     for q, T in zip(Q, F):
         assert np.allclose(chain2.fk(q), T, atol=1e-9)
     # Only origin values changed: the same comments, the same number of lines.
-    assert [line for line in text.splitlines() if "<!--" in line] == [line for line in new.splitlines() if "<!--" in line]
+    assert [line for line in text.splitlines() if "<!--" in line] == [
+        line for line in new.splitlines() if "<!--" in line
+    ]
     assert len(new.splitlines()) == len(text.splitlines())
 
 
@@ -102,12 +104,18 @@ def test_a_wrong_result_is_refused(clean_chain: Chain) -> None:
 def test_relocate_meshes_keeps_relative_paths_resolving(tmp_path) -> None:  # type: ignore[no-untyped-def]
     from armtool.calib.urdf_out import relocate_meshes
 
-    text = ('<robot name="r"><link name="a"><visual><geometry><mesh filename="assets/a.stl" scale="1 1 1"/></geometry></visual>'
-            '<collision><geometry><mesh filename="package://pkg/meshes/a.stl"/></geometry></collision>'
-            "<visual><geometry><mesh filename='/abs/b.stl'/></geometry></visual>"
-            '<visual><geometry><mesh filename="file:///abs/c.stl"/></geometry></visual></link></robot>')
+    text = (
+        '<robot name="r"><link name="a"><visual><geometry><mesh filename="assets/a.stl" scale="1 1 1"/></geometry></visual>'
+        '<collision><geometry><mesh filename="package://pkg/meshes/a.stl"/></geometry></collision>'
+        "<visual><geometry><mesh filename='/abs/b.stl'/></geometry></visual>"
+        '<visual><geometry><mesh filename="file:///abs/c.stl"/></geometry></visual></link></robot>'
+    )
     src, out = tmp_path / "robot", tmp_path / "out" / "calib"
     new = relocate_meshes(text, src, out)
     assert 'filename="../../robot/assets/a.stl" scale="1 1 1"' in new
-    assert 'filename="package://pkg/meshes/a.stl"' in new and "filename='/abs/b.stl'" in new and 'filename="file:///abs/c.stl"' in new
+    assert (
+        'filename="package://pkg/meshes/a.stl"' in new
+        and "filename='/abs/b.stl'" in new
+        and 'filename="file:///abs/c.stl"' in new
+    )
     assert relocate_meshes(text, src, src) == text

@@ -42,7 +42,10 @@ def test_so101_offsets_that_trade_with_origin_errors_are_not_presented_as_physic
         assert z.uncertainty_rad > abs(z.value_rad - _true_zero(p, z.joint)) / 3
     doc = calibration_document(result, "ds", "so101.urdf")
     assert all(doc["joints"][z.joint]["zero_offset_physical"] is False for z in identified)
-    assert doc["zero_offsets"]["shoulder_lift"]["physical"] is False and doc["zero_offsets"]["shoulder_lift"]["trades_with"]
+    assert (
+        doc["zero_offsets"]["shoulder_lift"]["physical"] is False
+        and doc["zero_offsets"]["shoulder_lift"]["trades_with"]
+    )
 
 
 @pytest.mark.parametrize("seed", [0, 3])

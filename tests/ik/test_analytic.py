@@ -41,7 +41,9 @@ def check_all_solutions(chain: Chain, result: IKResult, target: Array, seed: Arr
     dist = [float(np.sum((x - seed) ** 2)) for x in result.solutions]
     assert dist == sorted(dist)
     ok, pos, rot = verify(chain, result.q, target, 1e-5)
-    assert result.position_error_m == pytest.approx(pos, abs=1e-12) and result.orientation_error_rad == pytest.approx(rot, abs=1e-9)
+    assert result.position_error_m == pytest.approx(pos, abs=1e-12) and result.orientation_error_rad == pytest.approx(
+        rot, abs=1e-9
+    )
 
 
 def assert_finds_random_configurations(chain: Chain, count: int = 200, seed: int = 0) -> float:
@@ -161,14 +163,20 @@ def test_solutions_outside_the_limits_are_dropped() -> None:
     assert free.success and all(abs(x[2]) > 0.1 for x in free.solutions)
     chain.lower[2], chain.upper[2] = -0.1, 0.1
     result = make_solver("analytic", chain).solve(target, np.zeros(6))
-    assert not result.success and result.reason == f"{len(free.solutions)} closed-form solution(s), none within the joint limits"
+    assert (
+        not result.success
+        and result.reason == f"{len(free.solutions)} closed-form solution(s), none within the joint limits"
+    )
     assert chain.within_limits(result.q)
 
 
 def test_panda_has_no_closed_form() -> None:
     relative, base, tip = ARMS["panda"]
     chain = load_chain(erd(relative), base, tip)
-    with pytest.raises(ArmtoolError, match=r"the chain has 7 joints; closed form needs 6R with a spherical wrist or three parallel axes \(UR-type\)") as info:
+    with pytest.raises(
+        ArmtoolError,
+        match=r"the chain has 7 joints; closed form needs 6R with a spherical wrist or three parallel axes \(UR-type\)",
+    ) as info:
         make_solver("analytic", chain)
     assert "gripper" not in (info.value.hint or ""), "panda_joint7 is an arm joint, not a gripper's"
 
@@ -203,9 +211,30 @@ def test_no_options() -> None:
 # ---- synthetic arms: geometry given as DH, hidden behind rotated URDF frames ------------------------------------
 
 # (d, a, alpha) of joints 1..6 in standard DH; the URDF adds joint-zero offsets, flipped axes and unaligned frames.
-PUMA_LIKE = [(0.30, 0.05, 1.3), (0.12, 0.43, 0.0), (-0.04, 0.02, 1.5708), (0.43, 0.0, -1.2), (0.0, 0.0, 1.9), (0.06, 0.0, 0.0)]
-UR_LIKE = [(0.10, 0.04, 1.4), (0.05, 0.40, 0.0), (-0.03, 0.35, 0.0), (0.11, 0.03, 1.2), (0.09, 0.0, -1.75), (0.08, 0.0, 0.0)]
-PUMA_RIGHT = [(0.0, 0.0, math.pi / 2), (0.15, 0.43, 0.0), (0.0, 0.02, -math.pi / 2), (0.43, 0.0, math.pi / 2), (0.0, 0.0, -math.pi / 2), (0.06, 0.0, 0.0)]
+PUMA_LIKE = [
+    (0.30, 0.05, 1.3),
+    (0.12, 0.43, 0.0),
+    (-0.04, 0.02, 1.5708),
+    (0.43, 0.0, -1.2),
+    (0.0, 0.0, 1.9),
+    (0.06, 0.0, 0.0),
+]
+UR_LIKE = [
+    (0.10, 0.04, 1.4),
+    (0.05, 0.40, 0.0),
+    (-0.03, 0.35, 0.0),
+    (0.11, 0.03, 1.2),
+    (0.09, 0.0, -1.75),
+    (0.08, 0.0, 0.0),
+]
+PUMA_RIGHT = [
+    (0.0, 0.0, math.pi / 2),
+    (0.15, 0.43, 0.0),
+    (0.0, 0.02, -math.pi / 2),
+    (0.43, 0.0, math.pi / 2),
+    (0.0, 0.0, -math.pi / 2),
+    (0.06, 0.0, 0.0),
+]
 GENERAL_6R = [(0.3, 0.1, 1.2), (0.1, 0.4, 0.3), (0.0, 0.3, 1.4), (0.2, 0.05, -1.0), (0.1, 0.02, 0.9), (0.1, 0.0, 0.0)]
 
 
@@ -224,7 +253,9 @@ def _random_rotation(rng: np.random.Generator) -> Array:
     return Q if np.linalg.det(Q) > 0 else -Q
 
 
-def dh_chain(table: list[tuple[float, float, float]], name: str = "synthetic", seed: int = 7, limits: float = math.pi) -> Chain:
+def dh_chain(
+    table: list[tuple[float, float, float]], name: str = "synthetic", seed: int = 7, limits: float = math.pi
+) -> Chain:
     """A URDF whose joint i turns about z of DH frame i−1, with link frames rotated and shifted along the axis,
     joint-zero offsets, some axes flipped, a rotated base, a fixed joint inside, and a rotated tool."""
     rng = np.random.default_rng(seed)
@@ -255,7 +286,11 @@ def dh_chain(table: list[tuple[float, float, float]], name: str = "synthetic", s
     tool = np.eye(4)
     tool[:3, :3] = _random_rotation(rng)
     tool[:3, 3] = [0.01, -0.02, 0.03]
-    links = ['<link name="base"/>'] + [f'<link name="l{i}"/>' for i in range(1, 7)] + ['<link name="mid"/>', '<link name="tool"/>']
+    links = (
+        ['<link name="base"/>']
+        + [f'<link name="l{i}"/>' for i in range(1, 7)]
+        + ['<link name="mid"/>', '<link name="tool"/>']
+    )
     joints = []
     for i in range(6):
         if i == 0:
@@ -267,7 +302,9 @@ def dh_chain(table: list[tuple[float, float, float]], name: str = "synthetic", s
         if i == 3:  # split this origin with a fixed joint, which the chain folds in
             half = np.eye(4)
             half[:3, 3] = [0.05, 0.0, 0.0]
-            joints.append(f'<joint name="fixed_mid" type="fixed"><parent link="l3"/><child link="mid"/>{_origin(half)}</joint>')
+            joints.append(
+                f'<joint name="fixed_mid" type="fixed"><parent link="l3"/><child link="mid"/>{_origin(half)}</joint>'
+            )
             origin, parent = np.linalg.inv(half) @ origin, "mid"
         kind = "continuous" if i == 5 else "revolute"
         limit = "" if kind == "continuous" else f'<limit lower="{-limits}" upper="{limits}" effort="1" velocity="1"/>'
@@ -277,7 +314,9 @@ def dh_chain(table: list[tuple[float, float, float]], name: str = "synthetic", s
             f'<axis xyz="{" ".join(repr(float(v)) for v in axis)}"/>{limit}</joint>'
         )
     last = np.linalg.inv(H[5]) @ dh(*table[5]) @ tool
-    joints.append(f'<joint name="tool_joint" type="fixed"><parent link="l6"/><child link="tool"/>{_origin(last)}</joint>')
+    joints.append(
+        f'<joint name="tool_joint" type="fixed"><parent link="l6"/><child link="tool"/>{_origin(last)}</joint>'
+    )
     xml = f'<robot name="{name}">{"".join(links)}{"".join(joints)}</robot>'
     return chain_from_xml(etree.fromstring(xml), "base", "tool")
 
@@ -298,7 +337,12 @@ def test_spherical_wrist_singularity() -> None:
     solver = make_solver("analytic", chain)
     j4, j5 = solver.geometry.joints[3:5]
     # cos(angle between axes 4 and 6) = cos α4 cos α5 − sin α4 sin α5 cos θ5: ±1 at θ5 = 0 or π
-    theta5 = min((0.0, math.pi), key=lambda t: 1 - abs(math.cos(j4.alpha) * math.cos(j5.alpha) - math.sin(j4.alpha) * math.sin(j5.alpha) * math.cos(t)))
+    theta5 = min(
+        (0.0, math.pi),
+        key=lambda t: (
+            1 - abs(math.cos(j4.alpha) * math.cos(j5.alpha) - math.sin(j4.alpha) * math.sin(j5.alpha) * math.cos(t))
+        ),
+    )
     rng = np.random.default_rng(4)
     for _ in range(50):
         q = chain.random(rng)
@@ -323,7 +367,7 @@ def check_near(chain: Chain, kind: str, samples: int = 40) -> None:
             sv = np.linalg.svd(chain.jacobian(q), compute_uv=False)
             assert sv[0] / sv[-1] > 1000, result.reason
         for x in result.solutions:
-            ok, pos, rot = verify(chain, x, target, 1e-5)
+            ok, _pos, _rot = verify(chain, x, target, 1e-5)
             assert ok and chain.within_limits(x, tol=0.0)
         for i, x in enumerate(result.solutions):
             assert all(wrapped_distance(x, y) > 1e-7 for y in result.solutions[i + 1 :])
@@ -337,7 +381,14 @@ def test_nearly_parallel_axes_are_solved_through_the_nearest_model() -> None:
 
 def test_near_spherical_wrist_is_solved_through_the_nearest_model() -> None:
     """Axis 6 misses the wrist centre by 0.35 mm and axes 2/3 are 2e-4 rad off parallel (Kinova Gen3 6-DOF's kind of arm)."""
-    near = [PUMA_RIGHT[0], (0.15, 0.43, 2e-4), PUMA_RIGHT[2], PUMA_RIGHT[3], (0.0, 0.00035, -math.pi / 2), PUMA_RIGHT[5]]
+    near = [
+        PUMA_RIGHT[0],
+        (0.15, 0.43, 2e-4),
+        PUMA_RIGHT[2],
+        PUMA_RIGHT[3],
+        (0.0, 0.00035, -math.pi / 2),
+        PUMA_RIGHT[5],
+    ]
     check_near(dh_chain(near, seed=9), "spherical-wrist")
 
 

@@ -67,4 +67,6 @@ def test_solver_randomness_is_independent_of_the_target_stream() -> None:
     table = solver._table[0]  # type: ignore[attr-defined]
     nearest = np.abs(table[:, None, :] - targets.q_true[None, :, :]).sum(axis=2).min()
     assert nearest > 1e-3
-    assert not np.allclose(solver.rng.uniform(chain.lower, chain.upper), np.random.default_rng(0).uniform(chain.lower, chain.upper))
+    assert not np.allclose(
+        solver.rng.uniform(chain.lower, chain.upper), np.random.default_rng(0).uniform(chain.lower, chain.upper)
+    )

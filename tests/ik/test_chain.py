@@ -132,12 +132,20 @@ def test_default_chain_stops_before_fingers_and_prefers_a_tool_frame() -> None:
     no_tool = ARM.replace('"tool_frame"', '"plate"')
     assert default_base_tip(etree.fromstring(no_tool)) == ("world", "plate")  # the deepest link at the arm's end
     # A mimic joint counts as a gripper joint whatever its name (j1, which it mimics, drives the arm below it).
-    mimic = ARM.replace('name="finger_joint"', 'name="j4"').replace('<limit lower="0" upper="0.04"', '<mimic joint="j1"/><limit lower="0" upper="0.04"')
+    mimic = ARM.replace('name="finger_joint"', 'name="j4"').replace(
+        '<limit lower="0" upper="0.04"', '<mimic joint="j1"/><limit lower="0" upper="0.04"'
+    )
     assert default_base_tip(etree.fromstring(mimic))[1] == "tool_frame"
     # ... and so does the joint the fingers mimic (xArm's gripper: drive_joint, followers *_knuckle_joint).
-    drive = ARM.replace('name="finger_joint"', 'name="drive_joint"').replace('"tool_frame"', '"plate"').replace(
-        "</robot>", '<link name="follower"/><joint name="follower_joint" type="revolute"><parent link="finger"/><child link="follower"/>'
-        '<mimic joint="drive_joint"/><axis xyz="0 0 1"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint></robot>')
+    drive = (
+        ARM.replace('name="finger_joint"', 'name="drive_joint"')
+        .replace('"tool_frame"', '"plate"')
+        .replace(
+            "</robot>",
+            '<link name="follower"/><joint name="follower_joint" type="revolute"><parent link="finger"/><child link="follower"/>'
+            '<mimic joint="drive_joint"/><axis xyz="0 0 1"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint></robot>',
+        )
+    )
     assert default_base_tip(etree.fromstring(drive))[1] == "plate"
 
 

@@ -28,7 +28,9 @@ ARM = """<robot name="arm">
 
 
 def chain_of(groups: str, group: str = "arm") -> tuple[str, str, tuple[str, ...]]:
-    srdf = etree.fromstring(f'<robot name="arm"><virtual_joint name="fixed_base" type="fixed" parent_frame="map" child_link="world"/>{groups}</robot>')
+    srdf = etree.fromstring(
+        f'<robot name="arm"><virtual_joint name="fixed_base" type="fixed" parent_frame="map" child_link="world"/>{groups}</robot>'
+    )
     found = group_chain(srdf, group, etree.fromstring(ARM), source="arm.srdf")
     return found.base, found.tip, found.joints
 
@@ -41,23 +43,34 @@ def test_joint_list_is_a_set_ordered_by_the_tree() -> None:
 
 def test_fixed_first_joint_sets_the_base_frame() -> None:
     """xArm lists world_joint: MoveIt's base frame is that joint's parent."""
-    group = '<group name="arm"><joint name="world_joint"/><joint name="j1"/><joint name="j2"/><joint name="j3"/></group>'
+    group = (
+        '<group name="arm"><joint name="world_joint"/><joint name="j1"/><joint name="j2"/><joint name="j3"/></group>'
+    )
     assert chain_of(group)[:2] == ("world", "l3")
 
 
 def test_links_chains_and_subgroups() -> None:
-    groups = ('<group name="upper"><link name="l1"/><link name="l2"/></group>'
-              '<group name="arm"><group name="upper"/><chain base_link="l2" tip_link="flange"/></group>')
+    groups = (
+        '<group name="upper"><link name="l1"/><link name="l2"/></group>'
+        '<group name="arm"><group name="upper"/><chain base_link="l2" tip_link="flange"/></group>'
+    )
     assert chain_of(groups) == ("base", "flange", ("j1", "j2", "j3", "flange_joint"))
 
 
 def test_fixed_virtual_joint_in_group_is_ignored() -> None:
-    assert chain_of('<group name="arm"><joint name="fixed_base"/><chain base_link="base" tip_link="l3"/></group>')[:2] == ("base", "l3")
+    assert chain_of('<group name="arm"><joint name="fixed_base"/><chain base_link="base" tip_link="l3"/></group>')[
+        :2
+    ] == ("base", "l3")
 
 
 def test_not_a_chain_is_refused() -> None:
-    with pytest.raises(ArmtoolError, match="not a serial chain .*tool_frame_joint.* another branch|not a serial chain .*finger_joint.* another branch"):
-        chain_of('<group name="arm"><joint name="j1"/><joint name="finger_joint"/><joint name="tool_frame_joint"/></group>')
+    with pytest.raises(
+        ArmtoolError,
+        match="not a serial chain .*tool_frame_joint.* another branch|not a serial chain .*finger_joint.* another branch",
+    ):
+        chain_of(
+            '<group name="arm"><joint name="j1"/><joint name="finger_joint"/><joint name="tool_frame_joint"/></group>'
+        )
     with pytest.raises(ArmtoolError, match=r"moving joint\(s\) j2 .* not in the group"):
         chain_of('<group name="arm"><joint name="j1"/><joint name="j3"/></group>')
 
@@ -73,8 +86,10 @@ def test_unknown_names_are_clear() -> None:
 
 def test_position_only_ik_and_timeout(tmp_path: Path) -> None:
     kin = tmp_path / "kinematics.yaml"
-    kin.write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n"
-                   "  kinematics_solver_timeout: 0.02\n  position_only_ik: true\nother:\n  kinematics_solver_timeout: 1\n")
+    kin.write_text(
+        "arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n"
+        "  kinematics_solver_timeout: 0.02\n  position_only_ik: true\nother:\n  kinematics_solver_timeout: 1\n"
+    )
     settings = group_settings(kin, "arm")
     assert (settings.timeout_s, settings.position_only) == (0.02, True)
     assert not group_settings(kin, "other").position_only

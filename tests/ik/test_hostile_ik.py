@@ -63,7 +63,7 @@ def test_one_joint_chain_has_a_6x1_jacobian() -> None:
     from armtool.ik.chain import load_chain
 
     chain = load_chain(URDF, "base_link", "link1")
-    T, J = chain.fk_jacobian(chain.mid())
+    _T, J = chain.fk_jacobian(chain.mid())
     assert J.shape == (6, 1) and chain.jacobian(chain.mid()).shape == (6, 1)
     assert np.allclose(J[:, 0], [0, 0, 0, 0, 0, 1])
 
@@ -74,8 +74,22 @@ ONE_JOINT_SOLVERS = ["dls", "kdl-nr-jl", "kdl-lma", "trac", "lm"]
 @pytest.mark.parametrize("solver", ONE_JOINT_SOLVERS)
 @pytest.mark.parametrize("base, tip", [("base_link", "link1"), ("gripper_base", "left_finger")])
 def test_one_joint_chain_is_benchmarked(solver: str, base: str, tip: str) -> None:
-    code, out, err = run("ik-bench", str(URDF), "--base", base, "--tip", tip, "--samples", "5", "--solvers", solver,
-                         "--timeout", "0.05", "--format", "json")
+    code, out, err = run(
+        "ik-bench",
+        str(URDF),
+        "--base",
+        base,
+        "--tip",
+        tip,
+        "--samples",
+        "5",
+        "--solvers",
+        solver,
+        "--timeout",
+        "0.05",
+        "--format",
+        "json",
+    )
     assert code == 0, err
     doc = json.loads(out)
     assert len(doc["joints"]) == 1 and doc["solvers"][0]["solver"] == solver
@@ -137,11 +151,14 @@ def test_several_roots_pick_the_one_with_the_arm(tmp_path: Path) -> None:
     assert default_base_tip(etree.fromstring(text)) == ("base", "tool")
 
 
-@pytest.mark.parametrize("edit, what", [
-    (('<origin xyz="0.5 0 0"/>', '<origin xyz="1e200 0 0"/>'), "joint 'j2' <origin xyz>"),
-    (('lower="-3" upper="3"', 'lower="-1e308" upper="1e308"'), "joint 'j1' <limit lower>"),
-    (('<origin xyz="0.5 0 0"/>', '<origin xyz="0 nan 0.1"/>'), "joint 'j2' <origin xyz>: bad numbers '0 nan 0.1'"),
-])
+@pytest.mark.parametrize(
+    "edit, what",
+    [
+        (('<origin xyz="0.5 0 0"/>', '<origin xyz="1e200 0 0"/>'), "joint 'j2' <origin xyz>"),
+        (('lower="-3" upper="3"', 'lower="-1e308" upper="1e308"'), "joint 'j1' <limit lower>"),
+        (('<origin xyz="0.5 0 0"/>', '<origin xyz="0 nan 0.1"/>'), "joint 'j2' <origin xyz>: bad numbers '0 nan 0.1'"),
+    ],
+)
 def test_numbers_no_robot_has_are_refused_naming_the_joint(tmp_path: Path, edit: tuple[str, str], what: str) -> None:
     code, _, err = run("ik-bench", str(planar(tmp_path, PLANAR_2R.replace(*edit, 1))), *QUICK)
     assert code == 2 and what in err, err
@@ -150,18 +167,21 @@ def test_numbers_no_robot_has_are_refused_naming_the_joint(tmp_path: Path, edit:
 # ---------------------------------------------------------------- 4. memory and time; one validation layer
 
 
-@pytest.mark.parametrize("args, flag", [
-    (["--timeout", "inf"], "--timeout"),
-    (["--timeout", "nan"], "--timeout"),
-    (["--timeout", "-1"], "--timeout"),
-    (["--timeout", "1e9"], "--timeout"),
-    (["--tolerance", "nan"], "--tolerance"),
-    (["--tolerance", "0"], "--tolerance"),
-    (["--tolerance", "inf"], "--tolerance"),
-    (["--samples", "0"], "--samples"),
-    (["--samples", "1000000000"], "--samples"),
-    (["--seed", "1.5"], "--seed"),
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (["--timeout", "inf"], "--timeout"),
+        (["--timeout", "nan"], "--timeout"),
+        (["--timeout", "-1"], "--timeout"),
+        (["--timeout", "1e9"], "--timeout"),
+        (["--tolerance", "nan"], "--tolerance"),
+        (["--tolerance", "0"], "--tolerance"),
+        (["--tolerance", "inf"], "--tolerance"),
+        (["--samples", "0"], "--samples"),
+        (["--samples", "1000000000"], "--samples"),
+        (["--seed", "1.5"], "--seed"),
+    ],
+)
 def test_bad_numbers_are_refused_naming_the_flag(tmp_path: Path, args: list[str], flag: str) -> None:
     start = time.monotonic()
     code, _, err = run("ik-bench", str(planar(tmp_path)), "--solvers", "dls", *args)
@@ -175,19 +195,26 @@ def test_kinematics_yaml_timeout_is_finite_and_bounded(tmp_path: Path, value: st
     srdf = tmp_path / "planar.srdf"
     srdf.write_text('<robot name="planar"><group name="arm"><chain base_link="base" tip_link="l2"/></group></robot>')
     kin = tmp_path / "kinematics.yaml"
-    kin.write_text(f"arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  kinematics_solver_timeout: {value}\n")
+    kin.write_text(
+        f"arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  kinematics_solver_timeout: {value}\n"
+    )
     start = time.monotonic()
-    code, _, err = run("ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin), *QUICK)
+    code, _, err = run(
+        "ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin), *QUICK
+    )
     assert code == 2 and "kinematics_solver_timeout" in err and f"{kin}:3" in err, err
     assert time.monotonic() - start < 5
 
 
-@pytest.mark.parametrize("text, what", [
-    ("- arm\n- other\n", "not a mapping of group names"),
-    ("arm: 5\n", "not a mapping of settings"),
-    ("other:\n  kinematics_solver_timeout: 0.01\n", "group 'arm' is not in kinematics.yaml"),
-    ("arm: [\n", "not valid YAML"),
-])
+@pytest.mark.parametrize(
+    "text, what",
+    [
+        ("- arm\n- other\n", "not a mapping of group names"),
+        ("arm: 5\n", "not a mapping of settings"),
+        ("other:\n  kinematics_solver_timeout: 0.01\n", "group 'arm' is not in kinematics.yaml"),
+        ("arm: [\n", "not valid YAML"),
+    ],
+)
 def test_kinematics_yaml_without_the_group_is_not_silently_ignored(tmp_path: Path, text: str, what: str) -> None:
     from armtool.ik.group import group_settings
 
@@ -212,13 +239,16 @@ def test_solver_api_refuses_an_endless_timeout() -> None:
 # ---------------------------------------------------------------- 7. silent no-ops
 
 
-@pytest.mark.parametrize("args, flag", [
-    (["--solvers", ","], "--solvers"),
-    (["--solvers", ""], "--solvers"),
-    (["--solvers", "dls", "--peers", ","], "--peers"),
-    (["--solvers", "dls", "--peers", " "], "--peers"),
-    (["--solvers", "dls,dls"], "--solvers"),
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (["--solvers", ","], "--solvers"),
+        (["--solvers", ""], "--solvers"),
+        (["--solvers", "dls", "--peers", ","], "--peers"),
+        (["--solvers", "dls", "--peers", " "], "--peers"),
+        (["--solvers", "dls,dls"], "--solvers"),
+    ],
+)
 def test_empty_solver_lists_are_refused(tmp_path: Path, args: list[str], flag: str) -> None:
     code, out, err = run("ik-bench", str(planar(tmp_path)), "--samples", "5", *args)
     assert code == 2 and flag in err and out == "", err
@@ -290,13 +320,29 @@ class _LoudPeer:
         return Loud(chain, timeout=timeout, tolerance=tolerance)
 
 
-def test_native_prints_of_peers_never_reach_stdout(tmp_path: Path, capfd: pytest.CaptureFixture[str],
-                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+def test_native_prints_of_peers_never_reach_stdout(
+    tmp_path: Path, capfd: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
     import armtool.ik.peers as peers
 
     monkeypatch.setitem(peers.PEERS, "loud", (f"{__name__}:_LoudPeer", "os", "nothing to install"))
-    code, out, err = run("ik-bench", str(URDF), "--base", "base_link", "--tip", "link1", "--samples", "5",
-                         "--solvers", "dls", "--no-batch", "--peers", "loud", "--format", "json")
+    code, out, err = run(
+        "ik-bench",
+        str(URDF),
+        "--base",
+        "base_link",
+        "--tip",
+        "link1",
+        "--samples",
+        "5",
+        "--solvers",
+        "dls",
+        "--no-batch",
+        "--peers",
+        "loud",
+        "--format",
+        "json",
+    )
     assert code == 0, err
     assert [r["solver"] for r in json.loads(out)["solvers"]] == ["dls", "loud"]
     captured = capfd.readouterr()
@@ -316,8 +362,11 @@ def test_stdout_redirect_restores_fd_1(capfd: pytest.CaptureFixture[str]) -> Non
 
 # ---------------------------------------------------------------- property-based
 
-NUMBERS = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**30, 10**30),
-                    st.sampled_from(["nan", "inf", "-inf", "1e308", "1e-300", "0", "-0", "abc", ""]))
+NUMBERS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.integers(-(10**30), 10**30),
+    st.sampled_from(["nan", "inf", "-inf", "1e308", "1e-300", "0", "-0", "abc", ""]),
+)
 # Valid timeouts stay short here: a 10 s budget on a failing solver would only make the run slow.
 TIMEOUTS = st.one_of(st.floats(1e-4, 0.02), st.sampled_from(["nan", "inf", "-inf", "0", "-1", "1e308", "11", "x"]))
 
@@ -330,32 +379,62 @@ def ok_codes(code: int, out: str, err: str, fmt: str = "json") -> None:
 
 
 @HYPO
-@given(samples=st.one_of(st.integers(-5, 8), st.sampled_from([0, 10**6, 10**12])), seed=st.integers(-10**20, 10**20),
-       timeout=TIMEOUTS, tolerance=NUMBERS)
-def test_numeric_options(tmp_path_factory: pytest.TempPathFactory, samples: int, seed: int, timeout: Any, tolerance: Any) -> None:
+@given(
+    samples=st.one_of(st.integers(-5, 8), st.sampled_from([0, 10**6, 10**12])),
+    seed=st.integers(-(10**20), 10**20),
+    timeout=TIMEOUTS,
+    tolerance=NUMBERS,
+)
+def test_numeric_options(
+    tmp_path_factory: pytest.TempPathFactory, samples: int, seed: int, timeout: Any, tolerance: Any
+) -> None:
     urdf = planar(tmp_path_factory.mktemp("opts"))
     start = time.monotonic()
-    code, out, err = run("ik-bench", str(urdf), "--solvers", "dls", "--no-batch", "--samples", str(samples),
-                         "--seed", str(seed), "--timeout", str(timeout), "--tolerance", str(tolerance), "--format", "json")
+    code, out, err = run(
+        "ik-bench",
+        str(urdf),
+        "--solvers",
+        "dls",
+        "--no-batch",
+        "--samples",
+        str(samples),
+        "--seed",
+        str(seed),
+        "--timeout",
+        str(timeout),
+        "--tolerance",
+        str(tolerance),
+        "--format",
+        "json",
+    )
     ok_codes(code, out, err)
     assert urdf.read_text() == PLANAR_2R and time.monotonic() - start < 20
 
 
-HOSTILE = st.sampled_from(["nan", "inf", "-inf", "1e308", "-1e308", "1e200", "0", "-0", "5e-324", "1e-300", "", "x", "1 2"])
+HOSTILE = st.sampled_from(
+    ["nan", "inf", "-inf", "1e308", "-1e308", "1e200", "0", "-0", "5e-324", "1e-300", "", "x", "1 2"]
+)
 SLOTS = [  # (attribute text in PLANAR_2R, how many numbers it holds)
-    ('xyz="0 0 0.1"', 3), ('xyz="0.5 0 0"', 3), ('xyz="0.3 0 0"', 3), ('rpy="0 0 0"', 3),
-    ('<axis xyz="0 0 1"/><limit lower="-3"', 3), ('lower="-3"', 1), ('upper="3"', 1),
+    ('xyz="0 0 0.1"', 3),
+    ('xyz="0.5 0 0"', 3),
+    ('xyz="0.3 0 0"', 3),
+    ('rpy="0 0 0"', 3),
+    ('<axis xyz="0 0 1"/><limit lower="-3"', 3),
+    ('lower="-3"', 1),
+    ('upper="3"', 1),
 ]
 
 
 @HYPO
 @given(slot=st.integers(0, len(SLOTS) - 1), values=st.lists(HOSTILE, min_size=1, max_size=3), which=st.integers(0, 1))
-def test_mutated_urdf_numbers(tmp_path_factory: pytest.TempPathFactory, slot: int, values: list[str], which: int) -> None:
+def test_mutated_urdf_numbers(
+    tmp_path_factory: pytest.TempPathFactory, slot: int, values: list[str], which: int
+) -> None:
     attr, n = SLOTS[slot]
     name, _, rest = attr.partition('="')
     numbers = rest.split('"')[0].split()
     numbers[: len(values)] = values[:n]
-    replaced = f'{name}="{" ".join(numbers)}"' + rest[rest.index('"') + 1:]
+    replaced = f'{name}="{" ".join(numbers)}"' + rest[rest.index('"') + 1 :]
     text = PLANAR_2R.replace(attr, "\0", which + 1).replace("\0", attr, which).replace("\0", replaced)
     urdf = planar(tmp_path_factory.mktemp("urdf"), text)
     start = time.monotonic()
@@ -381,16 +460,48 @@ def test_byte_flipped_urdf(tmp_path_factory: pytest.TempPathFactory, flips: list
 
 SRDF_TEXT = '<robot name="planar"><group name="arm"><chain base_link="base" tip_link="tool"/></group></robot>'
 KIN_TEXT = "arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  kinematics_solver_timeout: 0.005\n"
-YAML_VALUES = st.sampled_from([".inf", "-.inf", ".nan", "0", "-1", "1e400", "'x'", "[1, 2]", "{a: 1}", "null", "true",
-                               "0.01", "*x", "&x 1", "!!binary AAAA", "9" * 400])
+YAML_VALUES = st.sampled_from(
+    [
+        ".inf",
+        "-.inf",
+        ".nan",
+        "0",
+        "-1",
+        "1e400",
+        "'x'",
+        "[1, 2]",
+        "{a: 1}",
+        "null",
+        "true",
+        "0.01",
+        "*x",
+        "&x 1",
+        "!!binary AAAA",
+        "9" * 400,
+    ]
+)
 
 
 @HYPO
-@given(srdf_edit=st.sampled_from([("tool", "tol"), ("base", "tool"), ('"arm"', '"ram"'), ("<chain", "<joint name=\"j1\"/><chain"),
-                                  ("chain", "link name=\"l2\"/><x"), ("</robot>", ""), ("arm", "arm\x00"), ("", "")]),
-       key=st.sampled_from(["kinematics_solver_timeout", "position_only_ik", "arm"]), value=YAML_VALUES)
-def test_mutated_srdf_and_kinematics_yaml(tmp_path_factory: pytest.TempPathFactory, srdf_edit: tuple[str, str], key: str,
-                                          value: str) -> None:
+@given(
+    srdf_edit=st.sampled_from(
+        [
+            ("tool", "tol"),
+            ("base", "tool"),
+            ('"arm"', '"ram"'),
+            ("<chain", '<joint name="j1"/><chain'),
+            ("chain", 'link name="l2"/><x'),
+            ("</robot>", ""),
+            ("arm", "arm\x00"),
+            ("", ""),
+        ]
+    ),
+    key=st.sampled_from(["kinematics_solver_timeout", "position_only_ik", "arm"]),
+    value=YAML_VALUES,
+)
+def test_mutated_srdf_and_kinematics_yaml(
+    tmp_path_factory: pytest.TempPathFactory, srdf_edit: tuple[str, str], key: str, value: str
+) -> None:
     folder = tmp_path_factory.mktemp("group")
     urdf = planar(folder)
     srdf_text = SRDF_TEXT.replace(*srdf_edit, 1) if srdf_edit[0] else SRDF_TEXT
@@ -400,7 +511,18 @@ def test_mutated_srdf_and_kinematics_yaml(tmp_path_factory: pytest.TempPathFacto
     kin = folder / "kinematics.yaml"
     kin.write_text(kin_text)
     start = time.monotonic()
-    code, out, err = run("ik-bench", str(urdf), "--group", "arm", "--srdf", str(srdf), "--kinematics-yaml", str(kin),
-                         *QUICK, "--format", "json")
+    code, out, err = run(
+        "ik-bench",
+        str(urdf),
+        "--group",
+        "arm",
+        "--srdf",
+        str(srdf),
+        "--kinematics-yaml",
+        str(kin),
+        *QUICK,
+        "--format",
+        "json",
+    )
     ok_codes(code, out, err)
     assert srdf.read_text() == srdf_text and kin.read_text() == kin_text and time.monotonic() - start < 20

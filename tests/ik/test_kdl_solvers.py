@@ -63,7 +63,9 @@ def test_solves_targets_near_the_seed(make_chain: Callable[[], Chain], name: str
         result = solver.solve(target, chain.mid())
         assert result.success, result.reason
         ok, pos, rot = verify(chain, result.q, target, 1e-5)
-        assert ok and pos == pytest.approx(result.position_error_m) and rot == pytest.approx(result.orientation_error_rad)
+        assert (
+            ok and pos == pytest.approx(result.position_error_m) and rot == pytest.approx(result.orientation_error_rad)
+        )
         assert result.iterations >= 1
 
 

@@ -169,7 +169,7 @@ def test_restart_seeds_are_near_the_target() -> None:
     relative, base, tip = ARMS["panda"]
     chain = load_chain(erd(relative), base, tip)
     solver = make_solver("lm", chain)
-    Q, F, F2 = solver._table  # type: ignore[attr-defined]
+    _Q, F, _F2 = solver._table  # type: ignore[attr-defined]
     for target in chain.fk_batch(chain.random(np.random.default_rng(8), 5)):
         seeds = solver._restart_seeds(target)  # type: ignore[attr-defined]
         f = np.concatenate((target[:3, 3], 0.2 * target[:3, :3].reshape(9)))

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
-from functools import lru_cache
+from functools import cache
 from types import SimpleNamespace
 from typing import Any
 
@@ -24,7 +24,7 @@ from armtool.model.load import load_robot_xml
 from tests.ik.robots import ARMS, PLANAR_2R, erd
 
 
-@lru_cache(maxsize=None)
+@cache
 def _arm(name: str) -> tuple[Chain, etree._Element]:
     relative, base, tip = ARMS[name]
     root = load_robot_xml(erd(relative))
@@ -95,7 +95,7 @@ def test_path_urdf_of_a_chain_that_starts_below_the_root() -> None:
     chain = chain_from_xml(root, "shoulder_link", "wrist_3_link")
     path = path_urdf(root, chain)
     assert [j.get("name") for j in path.findall("joint")] == full.joint_names[1:]
-    assert [lk.get("name") for lk in path.findall("link")][0] == "shoulder_link"
+    assert next(lk.get("name") for lk in path.findall("link")) == "shoulder_link"
     assert path.find("link/visual") is None
     again = chain_from_xml(path, chain.base, chain.tip)
     q = chain.mid() + 0.1
@@ -147,7 +147,9 @@ def test_pytracik_claiming_a_wrong_answer_is_not_trusted() -> None:
 def test_rtb_claiming_a_wrong_answer_is_not_trusted() -> None:
     solver: Any = peer("rtb-lm", "ur5")
     wrong = solver.chain.mid()
-    solver._ets = SimpleNamespace(ik_LM=lambda *a, **k: SimpleNamespace(q=wrong, success=True, iterations=1, searches=1))
+    solver._ets = SimpleNamespace(
+        ik_LM=lambda *a, **k: SimpleNamespace(q=wrong, success=True, iterations=1, searches=1)
+    )
     result = solver.solve(solver.chain.fk(wrong + 0.3), wrong)
     assert not result.success and "our FK check rejects" in result.reason
 

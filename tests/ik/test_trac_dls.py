@@ -155,7 +155,12 @@ def test_sqp_gradient_matches_finite_differences(panda: Chain) -> None:
     for q in panda.random(rng, 3):
         _, grad, _ = squared_error(panda, target, q)
         h = 1e-6
-        fd = np.array([(squared_error(panda, target, q + h * d)[0] - squared_error(panda, target, q - h * d)[0]) / (2 * h) for d in np.eye(panda.n)])
+        fd = np.array(
+            [
+                (squared_error(panda, target, q + h * d)[0] - squared_error(panda, target, q - h * d)[0]) / (2 * h)
+                for d in np.eye(panda.n)
+            ]
+        )
         assert np.allclose(grad, fd, atol=1e-6 * max(1.0, float(np.abs(fd).max())))
 
 

@@ -15,7 +15,9 @@ def robot(body: str, name: str = "arm") -> str:
     return f'<robot name="{name}">\n{body}\n</robot>\n'
 
 
-def revolute(name: str, parent: str, child: str, limit: str = 'lower="-1" upper="1" effort="10" velocity="1"', extra: str = "") -> str:
+def revolute(
+    name: str, parent: str, child: str, limit: str = 'lower="-1" upper="1" effort="10" velocity="1"', extra: str = ""
+) -> str:
     return (
         f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
         f'<axis xyz="0 0 1"/><limit {limit}/>{extra}</joint>'

@@ -14,8 +14,12 @@ from armtool.lint.engine import LintOptions, lint_paths
 from tests.lint.helpers import LINK, revolute, robot
 
 DEGREES = robot(
-    '<link name="base"/>\n' + LINK.format(name="l1") + "\n"
-    + revolute("j1", "base", "l1", limit='lower="-1" upper="1" effort="10" velocity="0"', extra='<origin rpy="0 0 90"/>')
+    '<link name="base"/>\n'
+    + LINK.format(name="l1")
+    + "\n"
+    + revolute(
+        "j1", "base", "l1", limit='lower="-1" upper="1" effort="10" velocity="0"', extra='<origin rpy="0 0 90"/>'
+    )
 )
 
 
@@ -36,17 +40,23 @@ def test_select_ignore_severity_and_per_file(tmp_path: Path) -> None:
     assert lint_with(tmp_path, '[tool.armtool.lint]\nselect = ["U3"]\n') == [("U301", "warning")]
     assert lint_with(tmp_path, '[tool.armtool.lint]\nignore = ["non-positive-velocity"]\n') == [("U301", "warning")]
     assert sorted(lint_with(tmp_path, '[tool.armtool.lint]\nseverity = { U301 = "error" }\n')) == [
-        ("U203", "error"), ("U301", "error")]
+        ("U203", "error"),
+        ("U301", "error"),
+    ]
     assert lint_with(tmp_path, '[tool.armtool.lint]\nper-file-ignores = { "urdf/*.urdf" = ["U203"] }\n') == [
-        ("U301", "warning")]
+        ("U301", "warning")
+    ]
 
 
-@pytest.mark.parametrize("toml", [
-    '[tool.armtool.lint]\nselect = ["Q999"]\n',
-    '[tool.armtool.lint]\nselekt = ["U"]\n',
-    '[tool.armtool.lint]\nseverity = { U301 = "fatal" }\n',
-    "[tool.armtool.lint\n",
-])
+@pytest.mark.parametrize(
+    "toml",
+    [
+        '[tool.armtool.lint]\nselect = ["Q999"]\n',
+        '[tool.armtool.lint]\nselekt = ["U"]\n',
+        '[tool.armtool.lint]\nseverity = { U301 = "fatal" }\n',
+        "[tool.armtool.lint\n",
+    ],
+)
 def test_bad_config_is_a_clear_error(tmp_path: Path, toml: str) -> None:
     (tmp_path / "pyproject.toml").write_text(toml)
     with pytest.raises(ArmtoolError) as err:
@@ -80,13 +90,17 @@ XACRO_ROBOT = """<robot name="$(arg name)" xmlns:xacro="http://www.ros.org/wiki/
 
 def test_per_file_xacro_args_package_paths_and_urdf_pairing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (tmp_path / "urdf").mkdir()
-    (tmp_path / "urdf" / "ur.urdf.xacro").write_text(XACRO_ROBOT.replace("<link", '<xacro:include filename="$(find ur_meshes)/m.xacro"/>\n  <link'))
+    (tmp_path / "urdf" / "ur.urdf.xacro").write_text(
+        XACRO_ROBOT.replace("<link", '<xacro:include filename="$(find ur_meshes)/m.xacro"/>\n  <link')
+    )
     meshes = tmp_path / "vendor" / "ur_meshes"
     meshes.mkdir(parents=True)
     (meshes / "package.xml").write_text("<package><name>ur_meshes</name></package>")
     (meshes / "m.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"/>')
     (tmp_path / "srdf").mkdir()
-    (tmp_path / "srdf" / "robot.srdf").write_text('<robot name="ur"><group name="g"><link name="base"/></group></robot>')
+    (tmp_path / "srdf" / "robot.srdf").write_text(
+        '<robot name="ur"><group name="g"><link name="base"/></group></robot>'
+    )
     toml = """[lint]
 package-paths = ["vendor"]
 [lint.xacro-args]

@@ -49,7 +49,13 @@ def run_cli(*args: str, cwd: Path | None = None, timeout: float = 60) -> subproc
     env["NO_COLOR"] = "1"
     return subprocess.run(
         [sys.executable, "-m", "armtool", *args],
-        capture_output=True, text=True, encoding="utf-8", errors="replace", timeout=timeout, cwd=cwd, env=env,
+        capture_output=True,
+        text=True,
+        encoding="utf-8",
+        errors="replace",
+        timeout=timeout,
+        cwd=cwd,
+        env=env,
     )
 
 
@@ -234,8 +240,11 @@ def _laughs() -> str:
 BOMBS = {
     "laughs-in-attribute": _laughs() + f'<robot name="&i;"><link name="l0"/>{LINK.format(name="l1")}</robot>\n',
     "laughs-in-text": _laughs() + '<robot name="arm"><link name="l0"/><gazebo>&i;</gazebo></robot>\n',
-    "quadratic": '<!DOCTYPE robot [<!ENTITY a "' + "a" * 100_000 + '">]>\n<robot name="arm"><link name="l0"/><gazebo>'
-    + "&a;" * 20_000 + "</gazebo></robot>\n",
+    "quadratic": '<!DOCTYPE robot [<!ENTITY a "'
+    + "a" * 100_000
+    + '">]>\n<robot name="arm"><link name="l0"/><gazebo>'
+    + "&a;" * 20_000
+    + "</gazebo></robot>\n",
 }
 
 
@@ -258,7 +267,12 @@ def _alias_bomb() -> str:
     lines = ['a: &a ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]']
     for prev, name in zip("abcdefgh", "bcdefghi"):
         lines.append(f"{name}: &{name} [" + ", ".join([f"*{prev}"] * 10) + "]")
-    lines += ["arm:", "  kinematics_solver: *i", "  kinematics_solver_timeout: *i", "  kinematics_solver_search_resolution: *i"]
+    lines += [
+        "arm:",
+        "  kinematics_solver: *i",
+        "  kinematics_solver_timeout: *i",
+        "  kinematics_solver_search_resolution: *i",
+    ]
     return "\n".join(lines) + "\n"
 
 
@@ -434,22 +448,121 @@ def _sources() -> list[tuple[Path, Path | None]]:
 SOURCES = _sources()
 XACRO_NS = "http://www.ros.org/wiki/xacro"
 TAGS = [
-    "robot", "link", "joint", "origin", "axis", "limit", "mimic", "inertial", "mass", "inertia", "visual",
-    "collision", "geometry", "mesh", "box", "cylinder", "sphere", "transmission", "actuator",
-    "mechanicalReduction", "parent", "child", "calibration", "dynamics", "safety_controller", "group", "chain",
-    "group_state", "end_effector", "virtual_joint", "passive_joint", "disable_collisions", "material", "gazebo",
-    f"{{{XACRO_NS}}}macro", f"{{{XACRO_NS}}}property", f"{{{XACRO_NS}}}if", f"{{{XACRO_NS}}}arg", "unknown_tag",
+    "robot",
+    "link",
+    "joint",
+    "origin",
+    "axis",
+    "limit",
+    "mimic",
+    "inertial",
+    "mass",
+    "inertia",
+    "visual",
+    "collision",
+    "geometry",
+    "mesh",
+    "box",
+    "cylinder",
+    "sphere",
+    "transmission",
+    "actuator",
+    "mechanicalReduction",
+    "parent",
+    "child",
+    "calibration",
+    "dynamics",
+    "safety_controller",
+    "group",
+    "chain",
+    "group_state",
+    "end_effector",
+    "virtual_joint",
+    "passive_joint",
+    "disable_collisions",
+    "material",
+    "gazebo",
+    f"{{{XACRO_NS}}}macro",
+    f"{{{XACRO_NS}}}property",
+    f"{{{XACRO_NS}}}if",
+    f"{{{XACRO_NS}}}arg",
+    "unknown_tag",
 ]
 ATTRS = [
-    "name", "type", "link", "joint", "xyz", "rpy", "lower", "upper", "effort", "velocity", "value", "ixx", "ixy",
-    "ixz", "iyy", "iyz", "izz", "filename", "scale", "size", "radius", "length", "multiplier", "offset",
-    "base_link", "tip_link", "group", "parent_link", "parent_group", "child_link", "link1", "link2", "params",
+    "name",
+    "type",
+    "link",
+    "joint",
+    "xyz",
+    "rpy",
+    "lower",
+    "upper",
+    "effort",
+    "velocity",
+    "value",
+    "ixx",
+    "ixy",
+    "ixz",
+    "iyy",
+    "iyz",
+    "izz",
+    "filename",
+    "scale",
+    "size",
+    "radius",
+    "length",
+    "multiplier",
+    "offset",
+    "base_link",
+    "tip_link",
+    "group",
+    "parent_link",
+    "parent_group",
+    "child_link",
+    "link1",
+    "link2",
+    "params",
 ]
 SPECIAL = [
-    "nan", "NaN", "-nan", "inf", "-inf", "Infinity", "1e308", "-1e308", "1e400", "-1e400", "1e-320", "0", "-0",
-    "0.0", "", " ", "1 2", "1 2 3 4", "nan nan nan", "inf 0 0", "0 0 0", "1,2,3", "0x1F", "1_000", "३",
-    "package://", "package:///", "package://ghost/x.stl", "file://", "../../x.stl", "$(find ghost)",
-    "$(arg ghost)", "${ghost}", "${1/0}", "${[1]*10**9}", "[/bold]", "%s%n", "\u202e", "\t\n",
+    "nan",
+    "NaN",
+    "-nan",
+    "inf",
+    "-inf",
+    "Infinity",
+    "1e308",
+    "-1e308",
+    "1e400",
+    "-1e400",
+    "1e-320",
+    "0",
+    "-0",
+    "0.0",
+    "",
+    " ",
+    "1 2",
+    "1 2 3 4",
+    "nan nan nan",
+    "inf 0 0",
+    "0 0 0",
+    "1,2,3",
+    "0x1F",
+    "1_000",
+    "३",
+    "package://",
+    "package:///",
+    "package://ghost/x.stl",
+    "file://",
+    "../../x.stl",
+    "$(find ghost)",
+    "$(arg ghost)",
+    "${ghost}",
+    "${1/0}",
+    "${[1]*10**9}",
+    "[/bold]",
+    "%s%n",
+    "\u202e",
+    "\t\n",
 ]
 XML_TEXT = st.text(st.characters(codec="utf-8", exclude_categories=("Cs", "Cc")), max_size=24)
 VALUES = st.one_of(
@@ -504,8 +617,13 @@ def mutants(draw: st.DrawFn) -> tuple[Path, Path | None, bytes]:
         if byte_op == "truncate":
             data = data[:at]
         else:
-            blob = draw(st.one_of(st.binary(min_size=1, max_size=12), st.sampled_from([b"<", b"&", b"]]>", b"\x00", b"\xff\xfe", b"<!--", b"<![CDATA["])))
-            data = data[:at] + blob + data[at + (len(blob) if byte_op == "replace" else 0):]
+            blob = draw(
+                st.one_of(
+                    st.binary(min_size=1, max_size=12),
+                    st.sampled_from([b"<", b"&", b"]]>", b"\x00", b"\xff\xfe", b"<!--", b"<![CDATA["]),
+                )
+            )
+            data = data[:at] + blob + data[at + (len(blob) if byte_op == "replace" else 0) :]
     return source, urdf, data
 
 

@@ -108,7 +108,9 @@ def test_group_that_is_not_a_mapping_is_k106(value: str, shown: str, arm: Path) 
     path = _moveit_config(arm, f"# the arm\narm: {value}\n")
     (f,) = lint(path)
     assert (f.code, f.line) == ("K106", 2) and "'arm'" in f.message and shown in f.message
-    mixed = _moveit_config(arm, f"arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\ngripper: {value}\n")
+    mixed = _moveit_config(
+        arm, f"arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\ngripper: {value}\n"
+    )
     assert [(g.code, g.line) for g in lint(mixed)] == [("K106", 3)]
 
 
@@ -169,7 +171,7 @@ def test_xacro_including_a_fifo_is_x001(tmp_path: Path) -> None:
 
 def test_xacro_include_over_the_size_limit_is_x001(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(xacro_source, "MAX_INCLUDE_BYTES", 1000)
-    (tmp_path / "parts.xacro").write_text(f'<robot {XACRO_NS}><!-- {"x" * 2000} --></robot>\n')
+    (tmp_path / "parts.xacro").write_text(f"<robot {XACRO_NS}><!-- {'x' * 2000} --></robot>\n")
     (f,) = lint(_xacro(tmp_path, '  <xacro:include filename="parts.xacro"/>'))
     assert f.code == "X001" and "limit" in f.message
 
@@ -181,7 +183,9 @@ def test_expanded_document_over_the_limit_is_x001(tmp_path: Path, monkeypatch: p
 
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="the time bound needs fork")
-def test_endless_xacro_expression_is_x001_within_the_time_bound(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_endless_xacro_expression_is_x001_within_the_time_bound(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setattr(xacro_source, "TIMEOUT_S", 2.0)
     start = time.monotonic()
     (f,) = lint(_xacro(tmp_path, '  <link name="${str(9**9**9)}"/>'))
@@ -197,7 +201,9 @@ def test_xacro_expression_filling_memory_is_x001(tmp_path: Path, monkeypatch: py
 
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="the bound needs fork")
-def test_xacro_child_that_dies_is_said_as_it_died_not_as_out_of_memory(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_xacro_child_that_dies_is_said_as_it_died_not_as_out_of_memory(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     import signal
 
     def die(*_: object) -> None:
@@ -232,7 +238,9 @@ def _many(tmp_path: Path, n: int = 20) -> list[Path]:
     return paths
 
 
-def test_one_file_too_deep_in_a_parallel_run_is_that_files_finding(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_one_file_too_deep_in_a_parallel_run_is_that_files_finding(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     paths = _many(tmp_path)
     original = engine.Linter.lint_file
 
@@ -269,7 +277,9 @@ def test_non_utf8_pyproject_is_exit_2_with_the_line(arm: Path) -> None:
     assert code == 2 and "not UTF-8" in err and "pyproject.toml:2" in err
 
 
-@pytest.mark.parametrize("toml, expected", [('tool = "armtool"\n', 0), ("[tool]\narmtool = 1\n", 2), ("[tool.armtool]\nlint = 3\n", 2)])
+@pytest.mark.parametrize(
+    "toml, expected", [('tool = "armtool"\n', 0), ("[tool]\narmtool = 1\n", 2), ("[tool.armtool]\nlint = 3\n", 2)]
+)
 def test_pyproject_with_armtool_not_a_table(toml: str, expected: int, arm: Path) -> None:
     (arm / "pyproject.toml").write_text(toml)
     code, _, err = invoke("lint", "urdf/clean_arm.urdf", cwd=arm)
@@ -286,10 +296,16 @@ def test_huge_axis_is_reported_with_a_finite_fix(tmp_path: Path) -> None:
 
 def test_fix_of_a_non_utf8_file_leaves_it_unchanged(tmp_path: Path) -> None:
     path = tmp_path / "robot.urdf"
-    text = robot_urdf(1).replace('rpy="0 0 0"', 'rpy="0 0 7"').replace('<robot name="arm">', '<robot name="arm"><!-- caf\xe9 -->')
-    path.write_bytes(text.replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="ISO-8859-1"?>').encode("latin-1"))
+    text = (
+        robot_urdf(1)
+        .replace('rpy="0 0 0"', 'rpy="0 0 7"')
+        .replace('<robot name="arm">', '<robot name="arm"><!-- caf\xe9 -->')
+    )
+    path.write_bytes(
+        text.replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="ISO-8859-1"?>').encode("latin-1")
+    )
     before = path.read_bytes()
-    code, out, err = invoke("lint", "--fix", str(path))
+    code, out, _err = invoke("lint", "--fix", str(path))
     assert code == 0 and "U301" in out and path.read_bytes() == before
 
 
@@ -313,8 +329,11 @@ def test_fix_that_cannot_write_is_exit_2_naming_the_file(tmp_path: Path, monkeyp
 
 def test_non_finite_and_malformed_numbers_name_the_joint(tmp_path: Path) -> None:
     path = tmp_path / "robot.urdf"
-    path.write_text(robot_urdf(2).replace('<axis xyz="0 0 1"/>', '<axis xyz="0 nan 0.1"/>', 1)
-                    .replace('<mass value="1"/>', '<mass value="one"/>', 1))
+    path.write_text(
+        robot_urdf(2)
+        .replace('<axis xyz="0 0 1"/>', '<axis xyz="0 nan 0.1"/>', 1)
+        .replace('<mass value="1"/>', '<mass value="one"/>', 1)
+    )
     by_code = {f.code: f.message for f in lint(path)}
     assert by_code["U304"].startswith("joint 'j1': <axis xyz=\"0 nan 0.1\">")
     assert by_code["U305"].startswith("link 'l1': <mass value=\"one\">")
@@ -334,8 +353,26 @@ def test_xacro_error_is_at_its_line_not_line_1(tmp_path: Path) -> None:
 SRDF = (CLEAN / "config" / "clean_arm.srdf").read_bytes()
 KINEMATICS = (CLEAN / "config" / "kinematics.yaml").read_bytes()
 URDF = (CLEAN / "urdf" / "clean_arm.urdf").read_bytes()
-HOSTILE_BITS = [b"nan", b"inf", b"-1e400", b"1e308", b"9" * 400, b"\x00", b"\xff\xfe", b"<", b"&", b"]]>",
-                b"<a>" * 300, b"[" * 3000, b"{" * 3000, b"- " * 2000, b"&x;", b"${9**9}", b"\n\t", b"\xe9"]
+HOSTILE_BITS = [
+    b"nan",
+    b"inf",
+    b"-1e400",
+    b"1e308",
+    b"9" * 400,
+    b"\x00",
+    b"\xff\xfe",
+    b"<",
+    b"&",
+    b"]]>",
+    b"<a>" * 300,
+    b"[" * 3000,
+    b"{" * 3000,
+    b"- " * 2000,
+    b"&x;",
+    b"${9**9}",
+    b"\n\t",
+    b"\xe9",
+]
 
 
 @st.composite
@@ -351,12 +388,16 @@ def mutated(draw: st.DrawFn, base: bytes) -> bytes:
             del data[at:]
         else:
             blob = draw(st.one_of(st.sampled_from(HOSTILE_BITS), st.binary(min_size=1, max_size=16)))
-            data[at:at + (len(blob) if op == "replace" else 0)] = blob
+            data[at : at + (len(blob) if op == "replace" else 0)] = blob
     return bytes(data)
 
 
 def _digest(root: Path) -> dict[str, str]:
-    return {str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(root.rglob("*")) if p.is_file()}
+    return {
+        str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(root.rglob("*"))
+        if p.is_file()
+    }
 
 
 def _check_cli(root: Path, *args: str) -> None:
@@ -381,7 +422,9 @@ def _package(tmp: Path, name: str, data: bytes) -> Path:
     return root
 
 
-SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+SETTINGS = settings(
+    max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture]
+)
 
 
 @SETTINGS
@@ -399,23 +442,45 @@ def test_mutated_srdf(data: bytes, tmp_path: Path) -> None:
 
 
 @SETTINGS
-@given(data=st.one_of(mutated(KINEMATICS), st.sampled_from([b"- a\n- b\n", b"arm: 5\n", b"7\n", b"arm: .nan\n",
-                                                             b"arm:\n  kinematics_solver_timeout: .inf\n"])))
+@given(
+    data=st.one_of(
+        mutated(KINEMATICS),
+        st.sampled_from(
+            [b"- a\n- b\n", b"arm: 5\n", b"7\n", b"arm: .nan\n", b"arm:\n  kinematics_solver_timeout: .inf\n"]
+        ),
+    )
+)
 def test_mutated_kinematics_yaml(data: bytes, tmp_path: Path) -> None:
     root = _package(tmp_path, "config/kinematics.yaml", data)
     _check_cli(root, "config/kinematics.yaml")
 
 
 PYPROJECT = b'[tool.armtool.lint]\nselect = ["U", "S1"]\nignore = ["U502"]\nfail-on = "warning"\n[tool.armtool.lint.severity]\nU301 = "info"\n'
-TOML_VALUES = st.sampled_from(['[]', '""', '","', '"U999"', '3', 'nan', 'inf', '{}', '"armtool"', '[[]]', '"\\u0000"', "true"])
+TOML_VALUES = st.sampled_from(
+    ["[]", '""', '","', '"U999"', "3", "nan", "inf", "{}", '"armtool"', "[[]]", '"\\u0000"', "true"]
+)
 
 
 @st.composite
 def pyprojects(draw: st.DrawFn) -> bytes:
     if draw(st.booleans()):
         return draw(mutated(PYPROJECT))
-    key = draw(st.sampled_from(["select", "ignore", "fail-on", "per-file-ignores", "severity", "package-paths",
-                                "xacro-args", "urdf", "srdf", "unknown"]))
+    key = draw(
+        st.sampled_from(
+            [
+                "select",
+                "ignore",
+                "fail-on",
+                "per-file-ignores",
+                "severity",
+                "package-paths",
+                "xacro-args",
+                "urdf",
+                "srdf",
+                "unknown",
+            ]
+        )
+    )
     section = draw(st.sampled_from(["[tool.armtool.lint]", "[tool.armtool]", "[tool]", ""]))
     return f"{section}\n{key} = {draw(TOML_VALUES)}\n".encode()
 
@@ -431,7 +496,7 @@ def test_deeply_nested_pyproject_is_a_message(tmp_path: Path) -> None:
     """Found by test_mutated_pyproject: tomllib raises RecursionError on deep nesting."""
     root = _package(tmp_path, "pyproject.toml", b"[tool.armtool.lint]\nselect = " + b"[" * 5000 + b"\n")
     _check_cli(root, "urdf/clean_arm.urdf", "config/kinematics.yaml")
-    code, out, err = invoke("lint", "--config", str(root / "pyproject.toml"), str(root / "urdf" / "clean_arm.urdf"))
+    code, _out, err = invoke("lint", "--config", str(root / "pyproject.toml"), str(root / "urdf" / "clean_arm.urdf"))
     assert code == 2 and "nested too deeply" in err
 
 

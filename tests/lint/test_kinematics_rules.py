@@ -83,7 +83,11 @@ def test_sound_ros2_file(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(
     "plugin",
-    [*KNOWN_PLUGINS, "ur5_arm_ikfast_plugin/IKFastKinematicsPlugin", "my_robot_manipulator_kinematics/IKFastKinematicsPlugin"],
+    [
+        *KNOWN_PLUGINS,
+        "ur5_arm_ikfast_plugin/IKFastKinematicsPlugin",
+        "my_robot_manipulator_kinematics/IKFastKinematicsPlugin",
+    ],
 )
 def test_known_plugins_are_accepted(tmp_path: Path, plugin: str) -> None:
     assert lint_yaml(tmp_path, f"arm:\n  kinematics_solver: {plugin}\n") == []
@@ -93,7 +97,9 @@ def test_known_plugins_are_accepted(tmp_path: Path, plugin: str) -> None:
 
 
 def test_k101_group_not_in_srdf(tmp_path: Path) -> None:
-    found = lint_yaml(tmp_path, "arm:\n  kinematics_solver_timeout: 0.005\ngriper:\n  kinematics_solver_timeout: 0.005\n")
+    found = lint_yaml(
+        tmp_path, "arm:\n  kinematics_solver_timeout: 0.005\ngriper:\n  kinematics_solver_timeout: 0.005\n"
+    )
     (f,) = found
     assert (f.code, f.line, f.column, f.severity) == ("K101", 3, 1, Severity.ERROR)
     assert f.message == "group 'griper' is not defined in arm.srdf (did you mean 'gripper'?)"
@@ -132,8 +138,16 @@ def test_k102_unknown_plugin_without_suggestion(tmp_path: Path) -> None:
 # ---- K103 / K104 -------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("value, shown", [("0", "is 0"), ("-0.005", "is -0.005"), ("fast", "is 'fast', not a number"),
-                                          ("'0.005'", "is '0.005', not a number"), ("true", "is True, not a number")])
+@pytest.mark.parametrize(
+    "value, shown",
+    [
+        ("0", "is 0"),
+        ("-0.005", "is -0.005"),
+        ("fast", "is 'fast', not a number"),
+        ("'0.005'", "is '0.005', not a number"),
+        ("true", "is True, not a number"),
+    ],
+)
 def test_k103_non_positive_or_not_a_number(tmp_path: Path, value: str, shown: str) -> None:
     (f,) = lint_yaml(tmp_path, f"arm:\n  kinematics_solver_timeout: {value}\n")
     assert (f.code, f.line, f.column, f.severity) == ("K103", 2, 30, Severity.ERROR)
@@ -184,26 +198,32 @@ def test_codes_helper_on_several_findings(tmp_path: Path) -> None:
     assert codes(lint_yaml(tmp_path, text)) == [("K102", 2), ("K104", 3), ("K105", 4), ("K101", 5), ("K103", 6)]
 
 
-@pytest.mark.parametrize("plugin", [
-    "moveit_opw_kinematics_plugin/MoveItOPWKinematicsPlugin",
-    "prbt_manipulator/IKFastKinematicsPlugin",  # an IKFast plugin of any name
-    "fanuc_m10ia_ikfast_manipulator_plugin::IKFastKinematicsPlugin",
-    "pick_ik/PickIkPlugin",
-    "bio_ik/BioIKKinematicsPlugin",
-    "cached_ik_kinematics_plugin/CachedKDLKinematicsPlugin",
-    "lma_kinematics_plugin/LMAKinematicsPlugin",
-    "srv_kinematics_plugin/SrvKinematicsPlugin",
-    "my_robot_kinematics/MyAnalyticPlugin",  # a plugin of the workspace: pluginlib's package/Class pattern
-])
+@pytest.mark.parametrize(
+    "plugin",
+    [
+        "moveit_opw_kinematics_plugin/MoveItOPWKinematicsPlugin",
+        "prbt_manipulator/IKFastKinematicsPlugin",  # an IKFast plugin of any name
+        "fanuc_m10ia_ikfast_manipulator_plugin::IKFastKinematicsPlugin",
+        "pick_ik/PickIkPlugin",
+        "bio_ik/BioIKKinematicsPlugin",
+        "cached_ik_kinematics_plugin/CachedKDLKinematicsPlugin",
+        "lma_kinematics_plugin/LMAKinematicsPlugin",
+        "srv_kinematics_plugin/SrvKinematicsPlugin",
+        "my_robot_kinematics/MyAnalyticPlugin",  # a plugin of the workspace: pluginlib's package/Class pattern
+    ],
+)
 def test_k102_real_plugins_pass(tmp_path: Path, plugin: str) -> None:
     assert lint_yaml(tmp_path, f"arm:\n  kinematics_solver: {plugin}\n") == []
 
 
-@pytest.mark.parametrize("plugin, meant", [
-    ("kdl_kinematic_plugin/KDLKinematicsPlugin", "kdl_kinematics_plugin/KDLKinematicsPlugin"),
-    ("pick_ik/PickIKPlugin", "pick_ik/PickIkPlugin"),
-    ("trac_ik_kinematics_plugin/KDLKinematicsPlugin", "trac_ik_kinematics_plugin/TRAC_IKKinematicsPlugin"),
-])
+@pytest.mark.parametrize(
+    "plugin, meant",
+    [
+        ("kdl_kinematic_plugin/KDLKinematicsPlugin", "kdl_kinematics_plugin/KDLKinematicsPlugin"),
+        ("pick_ik/PickIKPlugin", "pick_ik/PickIkPlugin"),
+        ("trac_ik_kinematics_plugin/KDLKinematicsPlugin", "trac_ik_kinematics_plugin/TRAC_IKKinematicsPlugin"),
+    ],
+)
 def test_k102_near_misses_are_reported_with_the_real_name(tmp_path: Path, plugin: str, meant: str) -> None:
     (f,) = lint_yaml(tmp_path, f"arm:\n  kinematics_solver: {plugin}\n")
     assert f.code == "K102" and f"did you mean '{meant}'" in f.message

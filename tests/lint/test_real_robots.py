@@ -76,13 +76,23 @@ Lines = tuple[int, ...] | range | Every
 EXPECTED_ERRORS: dict[str, list[tuple[str, Lines, str]]] = {
     # ---- URDF ---------------------------------------------------------------------------------
     "alex_description/urdf/alex_psyonic_hands.urdf": [
-        ("U106", (1037, 1103, 1170, 1235, 1413, 1478, 1541, 1606),
-         "<mimic joint> names 'index_q1'/'middle_q1'/'ring_q1'/'pinky_q1'; the joints are 'Left_*_q1'/'Right_*_q1'"),
-        ("U405", (945, 964, 1323, 1342),
-         "principal moments 2.66e-4, 1.01e-3, 1.40e-3: 1.40e-3 > 2.66e-4 + 1.01e-3 (physically impossible body)"),
+        (
+            "U106",
+            (1037, 1103, 1170, 1235, 1413, 1478, 1541, 1606),
+            "<mimic joint> names 'index_q1'/'middle_q1'/'ring_q1'/'pinky_q1'; the joints are 'Left_*_q1'/'Right_*_q1'",
+        ),
+        (
+            "U405",
+            (945, 964, 1323, 1342),
+            "principal moments 2.66e-4, 1.01e-3, 1.40e-3: 1.40e-3 > 2.66e-4 + 1.01e-3 (physically impossible body)",
+        ),
     ],
     "allegro_hand_description/urdf/allegro_left_hand.urdf": [
-        ("U405", (143, 281, 419, 565), "moments 2.30e-6, 3.49e-6, 7.27e-6 (and 8.2e-6, 2.8e-5, 4.4e-5): largest > sum of the others"),
+        (
+            "U405",
+            (143, 281, 419, 565),
+            "moments 2.30e-6, 3.49e-6, 7.27e-6 (and 8.2e-6, 2.8e-5, 4.4e-5): largest > sum of the others",
+        ),
     ],
     "allegro_hand_description/urdf/allegro_right_hand.urdf": [
         ("U405", (143, 281, 419, 565), "same finger inertias as the left hand: triangle inequality broken"),
@@ -93,41 +103,68 @@ EXPECTED_ERRORS: dict[str, list[tuple[str, Lines, str]]] = {
     # effort="0" on every joint (double pendulums, iris rotors) is the kinematics-only convention:
     # one info finding for the model (armtool/lint/kinematics_only.py), no per-joint U204 errors.
     "double_pendulum_description/urdf/double_pendulum.urdf": [
-        ("U203", (103, 163), "revolute joint1/joint2 <limit velocity=\"0\">: unplannable"),
+        ("U203", (103, 163), 'revolute joint1/joint2 <limit velocity="0">: unplannable'),
     ],
     "double_pendulum_description/urdf/double_pendulum_continuous.urdf": [
-        ("U203", (103, 163), "continuous joint1/joint2 with a <limit velocity=\"0\">: unplannable"),
+        ("U203", (103, 163), 'continuous joint1/joint2 with a <limit velocity="0">: unplannable'),
     ],
     "double_pendulum_description/urdf/double_pendulum_simple.urdf": [
-        ("U203", (98, 156), "revolute joint1/joint2 <limit velocity=\"0\">"),
+        ("U203", (98, 156), 'revolute joint1/joint2 <limit velocity="0">'),
     ],
     "iris_description/robots/iris.urdf": [
-        ("U203", (15, 22, 29, 36), "revolute rotor joints with velocity=\"0.0\""),
+        ("U203", (15, 22, 29, 36), 'revolute rotor joints with velocity="0.0"'),
     ],
     "pr2_description/urdf/pr2.urdf": [
         ("U405", (786, 877), "sensor_mount_link/double_stereo_link: ixx=iyy=0.001, izz=0.01 > 0.001 + 0.001"),
     ],
     "romeo_description/urdf/romeo.urdf": [
-        ("U203", Every(r'^\s*<limit effort="0" .*velocity="0"', 24), "24 revolute hand/finger joints with velocity=\"0\""),
-        ("U204", Every(r'^\s*<limit effort="0" .*velocity="0"', 24), "the same 24 joints with effort=\"0\""),
+        (
+            "U203",
+            Every(r'^\s*<limit effort="0" .*velocity="0"', 24),
+            '24 revolute hand/finger joints with velocity="0"',
+        ),
+        ("U204", Every(r'^\s*<limit effort="0" .*velocity="0"', 24), 'the same 24 joints with effort="0"'),
     ],
     "romeo_description/urdf/romeo_laas_small.urdf": [
-        ("U405", (239, 263), "LShoulderYaw_link/LElbowYaw_link: largest moment exceeds the sum of the others (by 0.18 %, 12 %)"),
-        ("U404", (331, 362, 434), "body, LHipPitch_link, RHipPitch_link: a negative principal moment (-0.021, -0.0027, -0.0028)"),
-        ("U501", Every(r'filename="file:///usr/Romeo/', 20), "absolute file:///usr/Romeo/naoqi-sdk-.../*.mesh paths to a vendor SDK"),
+        (
+            "U405",
+            (239, 263),
+            "LShoulderYaw_link/LElbowYaw_link: largest moment exceeds the sum of the others (by 0.18 %, 12 %)",
+        ),
+        (
+            "U404",
+            (331, 362, 434),
+            "body, LHipPitch_link, RHipPitch_link: a negative principal moment (-0.021, -0.0027, -0.0028)",
+        ),
+        (
+            "U501",
+            Every(r'filename="file:///usr/Romeo/', 20),
+            "absolute file:///usr/Romeo/naoqi-sdk-.../*.mesh paths to a vendor SDK",
+        ),
     ],
     "romeo_description/urdf/romeo_small.urdf": [
-        ("U405", (550, 588), "RShoulderYawLink/RElbowYawLink: moments ~6.6e-4, 6.8e-4, 6.6e-3 break the triangle inequality"),
+        (
+            "U405",
+            (550, 588),
+            "RShoulderYawLink/RElbowYawLink: moments ~6.6e-4, 6.8e-4, 6.6e-3 break the triangle inequality",
+        ),
     ],
     "talos_data/robots/talos_full_v2.urdf": [
-        ("U501", Every(r'filename="package:///', 93),
-         "package:///example-robot-data/... names an empty package: ROS resource_retriever/RViz/Gazebo cannot resolve it"),
+        (
+            "U501",
+            Every(r'filename="package:///', 93),
+            "package:///example-robot-data/... names an empty package: ROS resource_retriever/RViz/Gazebo cannot resolve it",
+        ),
     ],
     "talos_data/robots/talos_full_v2_box.urdf": [
         ("U501", Every(r'filename="package:///', 93), "same package:/// mesh paths as talos_full_v2.urdf"),
     ],
     "talos_data/robots/talos_left_arm.urdf": [
-        ("U503", (353,), "transmission arm_left_1_trans names arm_left_1_joint; this left-arm model starts at arm_left_2_joint"),
+        (
+            "U503",
+            (353,),
+            "transmission arm_left_1_trans names arm_left_1_joint; this left-arm model starts at arm_left_2_joint",
+        ),
     ],
     "ur_description/urdf/ur3.urdf": [
         ("U107", (6,), "<robot> has no name (and no links): urdfdom refuses to load it"),
@@ -143,17 +180,29 @@ EXPECTED_ERRORS: dict[str, list[tuple[str, Lines, str]]] = {
     ],
     # ---- SRDF (as checked against the URDF that example-robot-data's own loader pairs them with) -------
     "alex_description/srdf/alex_nub_hands.srdf": [
-        ("S105", (68, 69), "end_effector parent_link 'LeftGripperYaw'/'RightGripperYaw' is a joint; the link is '...YawLink'"),
+        (
+            "S105",
+            (68, 69),
+            "end_effector parent_link 'LeftGripperYaw'/'RightGripperYaw' is a joint; the link is '...YawLink'",
+        ),
     ],
     "alex_description/srdf/alex_psyonic_hands.srdf": [
-        ("S106", (102, 113), "default state puts Left_/Right_thumb_q1 at 0.001, above upper limit 0 in alex_psyonic_hands.urdf"),
+        (
+            "S106",
+            (102, 113),
+            "default state puts Left_/Right_thumb_q1 at 0.001, above upper limit 0 in alex_psyonic_hands.urdf",
+        ),
         ("S105", (118, 119), "end_effector parent_link names the joint 'LeftGripperYaw'/'RightGripperYaw', not a link"),
     ],
     "alex_description/srdf/alex_sake_hands.srdf": [
         ("S105", (86, 87), "end_effector parent_link names the joint 'LeftGripperYaw'/'RightGripperYaw', not a link"),
     ],
     "baxter_description/srdf/baxter_manipulation.srdf": [
-        ("S101", (*range(18, 37), *range(39, 58)), "joints named 'baxter/head_pan', 'baxter/left_s0', ...; the URDF says 'head_pan', 'left_s0'"),
+        (
+            "S101",
+            (*range(18, 37), *range(39, 58)),
+            "joints named 'baxter/head_pan', 'baxter/left_s0', ...; the URDF says 'head_pan', 'left_s0'",
+        ),
     ],
     "bolt_description/srdf/bolt.srdf": [
         ("S101", (28,), "group_state sets 'root_joint' but the SRDF declares no <virtual_joint> (MoveIt drops it)"),
@@ -166,41 +215,69 @@ EXPECTED_ERRORS: dict[str, list[tuple[str, Lines, str]]] = {
     ],
     "hyq_description/srdf/hyq.srdf": [
         ("S101", (69, 85), "group_state sets 'root_joint' but no <virtual_joint> declares it"),
-        ("S103", (33, 34, 35, 36, 39, 40, 43, 44, 47, 48, 51, 52, 55, 56, 59, 60),
-         "subgroups 'lf', 'rf', 'lh', 'rh' are not defined; the groups are 'lf_leg', 'rf_leg', 'lh_leg', 'rh_leg'"),
+        (
+            "S103",
+            (33, 34, 35, 36, 39, 40, 43, 44, 47, 48, 51, 52, 55, 56, 59, 60),
+            "subgroups 'lf', 'rf', 'lh', 'rh' are not defined; the groups are 'lf_leg', 'rf_leg', 'lh_leg', 'rh_leg'",
+        ),
     ],
     "icub_description/srdf/icub.srdf": [
-        ("S104", (11, 20), "leg chains run from 'chest' to 'l_sole'/'r_sole': chest is not above the feet (common root is root_link)"),
+        (
+            "S104",
+            (11, 20),
+            "leg chains run from 'chest' to 'l_sole'/'r_sole': chest is not above the feet (common root is root_link)",
+        ),
         ("S101", (86,), "group_state sets 'root_joint' but no <virtual_joint> declares it"),
     ],
     "kinova_description/srdf/kinova.srdf": [
         ("S106", (19,), "arm_up puts j2s6s200_joint_3 at -1.5707, below its lower limit 0.3316"),
     ],
     "romeo_description/srdf/romeo.srdf": [
-        ("S101", (95, 103, 105, 118, 131, 132, 133, 134),
-         "half_sitting sets LToePitch, RToePitch, LFinger11, RFinger11, L/REyeYaw, L/REyePitch: none is in romeo.urdf"),
+        (
+            "S101",
+            (95, 103, 105, 118, 131, 132, 133, 134),
+            "half_sitting sets LToePitch, RToePitch, LFinger11, RFinger11, L/REyeYaw, L/REyePitch: none is in romeo.urdf",
+        ),
     ],
     "romeo_description/srdf/romeo_small.srdf": [
-        ("S101", (88, 96, 98, 99, 100, 101), "half_sitting sets L/RToePitch, L/REyeYaw, L/REyePitch: not in romeo_small.urdf"),
+        (
+            "S101",
+            (88, 96, 98, 99, 100, 101),
+            "half_sitting sets L/RToePitch, L/REyeYaw, L/REyePitch: not in romeo_small.urdf",
+        ),
     ],
     "simple_humanoid_description/srdf/simple_humanoid.srdf": [
         ("S102", (29, 33), "chain tip_link 'r_foot'/'l_foot' does not exist (the URDF has no foot links)"),
         ("S105", (89, 90), "end_effector parent_link 'r_foot'/'l_foot' does not exist"),
         ("S103", (94,), "group_state group 'all' is only defined inside a comment"),
-        ("S106", (100, 112, 114, 115), "RLEG_ANKLE_P -0.419 < 0, LLEG_HIP_P -0.454 < -0.349, LLEG_KNEE 0.873 > 0.7, LLEG_ANKLE_P -0.419 < 0"),
+        (
+            "S106",
+            (100, 112, 114, 115),
+            "RLEG_ANKLE_P -0.419 < 0, LLEG_HIP_P -0.454 < -0.349, LLEG_KNEE 0.873 > 0.7, LLEG_ANKLE_P -0.419 < 0",
+        ),
     ],
     "simple_humanoid_description/srdf/simple_humanoid_classical.srdf": [
         ("S102", (29, 33), "chain tip_link 'r_foot'/'l_foot' does not exist"),
         ("S105", (89, 90), "end_effector parent_link 'r_foot'/'l_foot' does not exist"),
         ("S103", (94,), "group_state group 'all' is only defined inside a comment"),
-        ("S106", (100, 114, 115), "in simple_humanoid_classical.urdf: RLEG_ANKLE_P -0.419 < 0, LLEG_KNEE 0.873 > 0.7, LLEG_ANKLE_P -0.419 < 0"),
+        (
+            "S106",
+            (100, 114, 115),
+            "in simple_humanoid_classical.urdf: RLEG_ANKLE_P -0.419 < 0, LLEG_KNEE 0.873 > 0.7, LLEG_ANKLE_P -0.419 < 0",
+        ),
     ],
     "solo_description/srdf/solo.srdf": [
-        ("S101", (6, 13, 20, 27, 70, 73, 76, 79, 86, 89, 92, 95),
-         "FL/FR/HL/HR_HAA are Solo-12 joints; solo.urdf (Solo-8) has none (the SRDF is shared with solo12.urdf)"),
+        (
+            "S101",
+            (6, 13, 20, 27, 70, 73, 76, 79, 86, 89, 92, 95),
+            "FL/FR/HL/HR_HAA are Solo-12 joints; solo.urdf (Solo-8) has none (the SRDF is shared with solo12.urdf)",
+        ),
         ("S101", (69, 85), "group_state sets 'root_joint' but no <virtual_joint> declares it"),
-        ("S103", (33, 34, 35, 36, 39, 40, 43, 44, 47, 48, 51, 52, 55, 56, 59, 60),
-         "subgroups 'lf', 'rf', 'lh', 'rh' are not defined; the groups are 'lf_leg', ... 'rh_leg'"),
+        (
+            "S103",
+            (33, 34, 35, 36, 39, 40, 43, 44, 47, 48, 51, 52, 55, 56, 59, 60),
+            "subgroups 'lf', 'rf', 'lh', 'rh' are not defined; the groups are 'lf_leg', ... 'rh_leg'",
+        ),
     ],
     "talos_data/srdf/talos.srdf": [
         ("S101", (104,), "group_state sets 'root_joint' but no <virtual_joint> declares it"),
@@ -275,7 +352,9 @@ def _lines_of(relative: str, lines: Lines) -> set[int]:
     pattern = re.compile(lines.pattern)
     text = (ROBOTS / relative).read_text(encoding="utf-8", errors="replace")
     found = {n for n, line in enumerate(text.splitlines(), start=1) if pattern.search(line)}
-    assert len(found) == lines.count, f"{relative}: /{lines.pattern}/ matches {len(found)} lines, expected {lines.count}"
+    assert len(found) == lines.count, (
+        f"{relative}: /{lines.pattern}/ matches {len(found)} lines, expected {lines.count}"
+    )
     return found
 
 
@@ -389,12 +468,17 @@ def test_fixed_frames_without_inertial_are_quiet(by_file: dict[str, list[Finding
     checked = 0
     for relative in URDFS:
         links, parent_type = _tree(relative)
-        frames = {name: link.sourceline for name, link in links.items()
-                  if parent_type.get(name) == "fixed" and link.find("inertial") is None}
+        frames = {
+            name: link.sourceline
+            for name, link in links.items()
+            if parent_type.get(name) == "fixed" and link.find("inertial") is None
+        }
         checked += len(frames)
         noisy = [
-            (f.code, f.line, f.message) for f in by_file[relative]
-            if f.line in frames.values() or (f.code.startswith("U4") and any(f"link '{n}'" in f.message for n in frames))
+            (f.code, f.line, f.message)
+            for f in by_file[relative]
+            if f.line in frames.values()
+            or (f.code.startswith("U4") and any(f"link '{n}'" in f.message for n in frames))
         ]
         assert noisy == [], f"{relative}: a fixed frame without <inertial> was reported"
     assert checked >= 100  # 124 such frames in 6.0.0
@@ -424,4 +508,3 @@ def test_findings_point_inside_their_file(by_file: dict[str, list[Finding]]) -> 
         for f in findings:
             assert 1 <= f.line <= n_lines and f.column >= 1, (relative, f.code, f.line)
             assert f.message and "Traceback" not in f.message
-

@@ -5,8 +5,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from armtool.lint.rule import DOC_SECTIONS
 from armtool.lint.registry import RULES
+from armtool.lint.rule import DOC_SECTIONS
 
 RULES_DIR = Path(__file__).resolve().parents[2] / "armtool" / "lint" / "rules"
 

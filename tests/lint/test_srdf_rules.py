@@ -411,9 +411,16 @@ def test_s109_wrist_axis_named_gripper_is_not_a_finger(tmp_path: Path) -> None:
 
 REAL_DEFECTS = {
     # parent_link names the joint 'LeftGripperYaw' instead of its link 'LeftGripperYawLink'
-    ("alex_description/srdf/alex_nub_hands.srdf", "alex_description/urdf/alex_nub_hands.urdf"): [("S105", 68), ("S105", 69)],
+    ("alex_description/srdf/alex_nub_hands.srdf", "alex_description/urdf/alex_nub_hands.urdf"): [
+        ("S105", 68),
+        ("S105", 69),
+    ],
     # leg chains start at 'chest' (above the root); group_state sets an undeclared 'root_joint'
-    ("icub_description/srdf/icub.srdf", "icub_description/robots/icub.urdf"): [("S101", 86), ("S104", 11), ("S104", 20)],
+    ("icub_description/srdf/icub.srdf", "icub_description/robots/icub.urdf"): [
+        ("S101", 86),
+        ("S104", 11),
+        ("S104", 20),
+    ],
     # arm_up puts j2s6s200_joint_3 at -1.5707, below its lower limit 0.33
     ("kinova_description/srdf/kinova.srdf", "kinova_description/robots/kinova.urdf"): [("S106", 19)],
     # chain base_link 'base' does not exist in z1.urdf

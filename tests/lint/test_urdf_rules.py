@@ -83,11 +83,14 @@ def test_u202_limit_without_effort_and_velocity(tmp_path: Path) -> None:
     assert f.code == "U202" and "effort and velocity" in f.message
 
 
-@pytest.mark.parametrize(("limit", "code"), [
-    ('lower="-1" upper="1" effort="10" velocity="0"', "U203"),
-    ('lower="-1" upper="1" effort="0" velocity="1"', "U204"),
-    ('lower="1" upper="-1" effort="10" velocity="1"', "U205"),
-])
+@pytest.mark.parametrize(
+    ("limit", "code"),
+    [
+        ('lower="-1" upper="1" effort="10" velocity="0"', "U203"),
+        ('lower="-1" upper="1" effort="0" velocity="1"', "U204"),
+        ('lower="1" upper="-1" effort="10" velocity="1"', "U205"),
+    ],
+)
 def test_limit_values(tmp_path: Path, limit: str, code: str) -> None:
     assert codes(lint_text(tmp_path, two_links(revolute("j1", "base", "l1", limit=limit)))) == [(code, 4)]
 
@@ -158,13 +161,24 @@ def test_u402_root_inertia_is_info(tmp_path: Path) -> None:
     assert (f.code, f.severity) == ("U402", Severity.INFO)
 
 
-@pytest.mark.parametrize(("inertial", "code", "severity"), [
-    ('<mass value="-1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>', "U403", Severity.ERROR),
-    ('<mass value="0"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>', "U403", Severity.WARNING),
-    ('<mass value="1"/><inertia ixx="-0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>', "U404", Severity.ERROR),
-    ('<mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.05"/>', "U405", Severity.ERROR),
-    ('<mass value="1"/>', "U406", Severity.ERROR),
-])
+@pytest.mark.parametrize(
+    ("inertial", "code", "severity"),
+    [
+        ('<mass value="-1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>', "U403", Severity.ERROR),
+        ('<mass value="0"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>', "U403", Severity.WARNING),
+        (
+            '<mass value="1"/><inertia ixx="-0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>',
+            "U404",
+            Severity.ERROR,
+        ),
+        (
+            '<mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.05"/>',
+            "U405",
+            Severity.ERROR,
+        ),
+        ('<mass value="1"/>', "U406", Severity.ERROR),
+    ],
+)
 def test_inertial_values(tmp_path: Path, inertial: str, code: str, severity: Severity) -> None:
     link = f'<link name="l1"><inertial>{inertial}</inertial></link>'
     (f,) = lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link))
@@ -194,7 +208,10 @@ def test_meshes_resolve_relative_package_and_missing(tmp_path: Path) -> None:
         '<visual><geometry><mesh filename="package://other_pkg/x.stl"/></geometry></visual>'
         '<visual><geometry><mesh filename="../meshes/a.stl"/></geometry></visual></link>'
     )
-    link = link.replace('<link name="l1">', '<link name="l1"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')
+    link = link.replace(
+        '<link name="l1">',
+        '<link name="l1"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>',
+    )
     found = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), link))
     assert sorted(f.code for f in found) == ["U501", "U502"]
     assert "b.stl" in only(found, "U501")[0].message and "other_pkg" in only(found, "U502")[0].message
@@ -228,7 +245,10 @@ def test_columns_point_at_the_attribute(tmp_path: Path) -> None:
     assert line[f.column - 1 :].startswith('velocity="0"')
 
 
-@given(st.floats(min_value=-1e4, max_value=1e4, allow_nan=False), st.sampled_from(["{:.0f}", "{:.3f}", "{:.12f}", "{:g}", "{!r}", "{:e}", "{:.4E}"]))
+@given(
+    st.floats(min_value=-1e4, max_value=1e4, allow_nan=False),
+    st.sampled_from(["{:.0f}", "{:.3f}", "{:.12f}", "{:g}", "{!r}", "{:e}", "{:.4E}"]),
+)
 def test_u301_text_precheck_never_misses_a_large_angle(value: float, style: str) -> None:
     import math
 

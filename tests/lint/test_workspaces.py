@@ -43,7 +43,9 @@ ROS2_CONTROL = f"""<?xml version="1.0"?>
   </xacro:macro>
 </robot>
 """
-KINEMATICS = "arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  kinematics_solver_timeout: 0.005\n"
+KINEMATICS = (
+    "arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n  kinematics_solver_timeout: 0.005\n"
+)
 
 
 def package(directory: Path, name: str) -> Path:
@@ -100,7 +102,8 @@ def srdf_xacro_config(tmp_path: Path) -> Path:
     config = setup_assistant_config(tmp_path)
     (config / "arm_groups.xacro").write_text(
         f'<?xml version="1.0"?>\n<robot {X}>\n  <xacro:macro name="arm_groups" params="prefix">\n'
-        + SRDF_BODY.replace('"link2"', '"${prefix}link2"') + "  </xacro:macro>\n</robot>\n"
+        + SRDF_BODY.replace('"link2"', '"${prefix}link2"')
+        + "  </xacro:macro>\n</robot>\n"
     )
     (config / "arm.srdf.xacro").write_text(
         f'<?xml version="1.0"?>\n<robot name="arm" {X}>\n  <xacro:arg name="prefix" default=""/>\n'
@@ -138,10 +141,14 @@ def test_kinematics_yaml_groups_checked_against_an_srdf_xacro(tmp_path: Path) ->
 
 def test_macro_library_with_another_root_is_not_a_robot(tmp_path: Path) -> None:
     lib = tmp_path / "gripper.urdf.xacro"  # prbt_pg70_support/urdf/pg70.urdf.xacro: <gripper> with macros
-    lib.write_text(f'<gripper name="pg70" {X}>\n  <xacro:macro name="pg70" params="prefix">\n'
-                   '    <link name="${prefix}finger"/>\n  </xacro:macro>\n</gripper>\n')
+    lib.write_text(
+        f'<gripper name="pg70" {X}>\n  <xacro:macro name="pg70" params="prefix">\n'
+        '    <link name="${prefix}finger"/>\n  </xacro:macro>\n</gripper>\n'
+    )
     args = tmp_path / "tcp_offset.xacro"
-    args.write_text(f'<gripper name="offset" {X}>\n  <xacro:arg name="tcp_offset_xyz" default="0 0 0.1"/>\n</gripper>\n')
+    args.write_text(
+        f'<gripper name="offset" {X}>\n  <xacro:arg name="tcp_offset_xyz" default="0 0 0.1"/>\n</gripper>\n'
+    )
     assert lint(lib, args) == []
 
 
@@ -185,8 +192,11 @@ def test_effort_zero_on_every_joint_is_reported_once_at_info(tmp_path: Path) -> 
 
 def test_one_missing_inertial_or_zero_effort_among_real_ones_stays_reported(tmp_path: Path) -> None:
     path = tmp_path / "arm.urdf"
-    path.write_text(arm_urdf().replace(f'<link name="link2">{INERTIAL}</link>', '<link name="link2"/>')
-                    .replace('effort="10" velocity="1"/></joint>\n</robot>', 'effort="0" velocity="1"/></joint>\n</robot>'))
+    path.write_text(
+        arm_urdf()
+        .replace(f'<link name="link2">{INERTIAL}</link>', '<link name="link2"/>')
+        .replace('effort="10" velocity="1"/></joint>\n</robot>', 'effort="0" velocity="1"/></joint>\n</robot>')
+    )
     assert sorted((f.code, f.severity) for f in lint(path)) == [("U204", Severity.ERROR), ("U401", Severity.WARNING)]
 
 
@@ -201,8 +211,10 @@ def test_xacro_error_inside_an_include_is_reported_at_the_call_in_the_linted_fil
     )
     main = tmp_path / "robot" / "robot.urdf.xacro"
     main.parent.mkdir()
-    main.write_text(f'<robot name="r" {X}>\n  <xacro:include filename="$(find lib_description)/macros.xacro"/>\n'
-                    '  <link name="base"/>\n  <xacro:outer name="l1"/>\n</robot>\n')
+    main.write_text(
+        f'<robot name="r" {X}>\n  <xacro:include filename="$(find lib_description)/macros.xacro"/>\n'
+        '  <link name="base"/>\n  <xacro:outer name="l1"/>\n</robot>\n'
+    )
     (f,) = lint(main)
     assert (Path(f.path).name, f.code, f.line) == ("robot.urdf.xacro", "X001", 4)
     assert f.message.count('Invalid parameter "b"') == 1 and "<class" not in f.message
@@ -211,7 +223,9 @@ def test_xacro_error_inside_an_include_is_reported_at_the_call_in_the_linted_fil
 
 def test_xacro_error_names_the_option_that_supplies_the_missing_piece(tmp_path: Path) -> None:
     main = tmp_path / "robot.urdf.xacro"
-    main.write_text(f'<robot name="$(arg name)" {X}>\n  <xacro:include filename="$(find missing_pkg)/x.xacro"/>\n</robot>\n')
+    main.write_text(
+        f'<robot name="$(arg name)" {X}>\n  <xacro:include filename="$(find missing_pkg)/x.xacro"/>\n</robot>\n'
+    )
     (f,) = lint(main)
     assert f.line == 1 and f.hint is not None and "--xacro-arg name:=" in f.hint
     (f,) = lint(main, xacro_args={"name": "r"})
@@ -226,8 +240,9 @@ def test_setup_assistant_names_the_urdf_in_another_package(tmp_path: Path) -> No
     (description / "robots").mkdir()
     (description / "robots" / "arm.xacro").write_text(
         f'<robot name="arm" {X}>\n  <xacro:arg name="dof" default=""/>\n'
-        '  <xacro:if value="${\'$(arg dof)\' != \'2\'}"><xacro:undefined_macro/></xacro:if>\n'
-        + "\n".join(arm_urdf().splitlines()[1:-1]) + "\n</robot>\n"
+        "  <xacro:if value=\"${'$(arg dof)' != '2'}\"><xacro:undefined_macro/></xacro:if>\n"
+        + "\n".join(arm_urdf().splitlines()[1:-1])
+        + "\n</robot>\n"
     )
     config_pkg = package(tmp_path / "ws" / "arm_moveit_config", "arm_moveit_config")
     (config_pkg / "config").mkdir()
@@ -263,14 +278,18 @@ def test_srdf_without_extension_is_recognised_by_content(tmp_path: Path) -> None
 
 def test_lint_reads_a_robot_description_from_stdin(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)
-    result = CliRunner().invoke(app, ["lint", "--format", "json", "-"], input=arm_urdf().replace('velocity="1"', 'velocity="0"', 1))
+    result = CliRunner().invoke(
+        app, ["lint", "--format", "json", "-"], input=arm_urdf().replace('velocity="1"', 'velocity="0"', 1)
+    )
     assert result.exit_code == 1, result.output
     assert '"U203"' in result.stdout and '"path": "-"' in result.stdout
 
 
 def test_expand_prints_armtools_expansion(tmp_path: Path) -> None:
     main = tmp_path / "robot.urdf.xacro"
-    main.write_text(f'<robot name="r" {X}>\n  <xacro:arg name="prefix" default=""/>\n  <link name="$(arg prefix)base"/>\n</robot>\n')
+    main.write_text(
+        f'<robot name="r" {X}>\n  <xacro:arg name="prefix" default=""/>\n  <link name="$(arg prefix)base"/>\n</robot>\n'
+    )
     result = CliRunner().invoke(app, ["expand", str(main), "--xacro-arg", "prefix:=left_"])
     assert result.exit_code == 0 and '<link name="left_base"/>' in result.stdout
     bad = CliRunner().invoke(app, ["expand", str(main.with_name("missing.xacro"))])

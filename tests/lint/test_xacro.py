@@ -80,7 +80,9 @@ def test_xacro_args_are_passed(tmp_path: Path) -> None:
 
 def test_expansion_failure_is_x001_with_xacro_message(tmp_path: Path) -> None:
     main = tmp_path / "bad.urdf.xacro"
-    main.write_text('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="${undefined_thing}"/></robot>')
+    main.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="${undefined_thing}"/></robot>'
+    )
     (f,) = lint_paths([main], LintOptions()).findings
     assert f.code == "X001" and "undefined_thing" in f.message
 

@@ -25,12 +25,16 @@ def test_package_is_found_by_its_package_xml_name_not_its_directory(tmp_path: Pa
 
 def test_packages_deep_below_a_package_path_are_found(tmp_path: Path) -> None:
     # moveit2/moveit_planners/test_configs/prbt_pg70_support: four levels below the workspace root
-    pkg = make_package(tmp_path / "moveit2" / "moveit_planners" / "test_configs" / "prbt_pg70_support",
-                       "moveit_resources_prbt_pg70_support")
+    pkg = make_package(
+        tmp_path / "moveit2" / "moveit_planners" / "test_configs" / "prbt_pg70_support",
+        "moveit_resources_prbt_pg70_support",
+    )
     assert PackageResolver([tmp_path]).find("moveit_resources_prbt_pg70_support") == pkg
 
 
-def test_relative_package_path_is_taken_from_the_working_directory(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_relative_package_path_is_taken_from_the_working_directory(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     pkg = make_package(tmp_path / "xarm_ros2" / "xarm_description", "xarm_description")
     elsewhere = tmp_path / "robots" / "urdf"
     elsewhere.mkdir(parents=True)
@@ -39,7 +43,9 @@ def test_relative_package_path_is_taken_from_the_working_directory(tmp_path: Pat
     assert found is not None and found.is_absolute() and found.resolve() == pkg.resolve()
 
 
-def test_relative_ros_package_path_is_taken_from_the_working_directory(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_relative_ros_package_path_is_taken_from_the_working_directory(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     pkg = make_package(tmp_path / "src" / "arm_description", "arm_description")
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("ROS_PACKAGE_PATH", "src")

@@ -25,13 +25,18 @@ def test_text_tree_shows_structure_types_axes_limits() -> None:
     assert "root link: world has 1 child(ren)" in text
     assert "└── base  ← world_joint (fixed)" in text
     assert "l1  ← j1 (revolute, axis [0 0 1], limits [-3, 3])" in text
-    assert "├── tool_frame  ← tool_frame_joint (fixed)" in text and "└── finger  ← finger_joint (prismatic, axis [1 0 0], limits [0, 0.04])" in text
+    assert (
+        "├── tool_frame  ← tool_frame_joint (fixed)" in text
+        and "└── finger  ← finger_joint (prismatic, axis [1 0 0], limits [0, 0.04])" in text
+    )
     # depth shows as indentation: l3 is three levels below base
     assert any(line.startswith("            └── l3") for line in lines)
 
 
 def test_two_roots_and_dangling_joints_are_reported() -> None:
-    broken = ARM.replace('<link name="finger"/>', '<link name="finger"/><link name="stray"/>').replace('<child link="l3"/>', '<child link="l3x"/>')
+    broken = ARM.replace('<link name="finger"/>', '<link name="finger"/><link name="stray"/>').replace(
+        '<child link="l3"/>', '<child link="l3x"/>'
+    )
     text = render_text(read_tree(etree.fromstring(broken)))
     assert "root links (world, l3, stray)" in text
     assert "joint j3 connects l2 → l3x, which is not a link of the robot" in text
@@ -49,7 +54,12 @@ def test_dot_and_mermaid() -> None:
 
 def test_cli_writes_a_file_and_takes_xacro(tmp_path: Path) -> None:
     xacro = tmp_path / "arm.urdf.xacro"
-    xacro.write_text(ARM.replace('<robot name="arm">', '<robot xmlns:xacro="http://wiki.ros.org/xacro" name="$(arg name)"><xacro:arg name="name" default="x"/>'))
+    xacro.write_text(
+        ARM.replace(
+            '<robot name="arm">',
+            '<robot xmlns:xacro="http://wiki.ros.org/xacro" name="$(arg name)"><xacro:arg name="name" default="x"/>',
+        )
+    )
     result = runner.invoke(app, ["tree", str(xacro), "--xacro-arg", "name:=my_arm"])
     assert result.exit_code == 0, result.output
     assert result.stdout.startswith("robot name is: my_arm")
@@ -60,7 +70,10 @@ def test_cli_writes_a_file_and_takes_xacro(tmp_path: Path) -> None:
 
 def test_tree_module_does_not_import_numpy() -> None:
     code = "import sys, armtool.model.tree, armtool.cli.tree; print('numpy' in sys.modules)"
-    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip() == "False"
+    assert (
+        subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+        == "False"
+    )
 
 
 REALWORLD = Path(__file__).resolve().parents[2] / ".." / "shared" / "realworld"
@@ -72,4 +85,7 @@ def test_realworld_gen3_lite() -> None:
         pytest.skip("the realworld corpus is absent")
     result = runner.invoke(app, ["tree", str(urdf)])
     assert result.exit_code == 0, result.output
-    assert "mimics right_finger_bottom_joint" in result.stdout and "tool_frame  ← tool_frame_joint (fixed)" in result.stdout
+    assert (
+        "mimics right_finger_bottom_joint" in result.stdout
+        and "tool_frame  ← tool_frame_joint (fixed)" in result.stdout
+    )

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.registry import RULES
@@ -11,8 +10,12 @@ from armtool.output.base import LintReport
 from armtool.output.registry import FORMATS, OutputFormat, formatter
 
 FINDINGS = [
-    Finding("a/r.urdf", 3, 5, "U101", "unknown-link", Severity.ERROR, "joint 'j': child link 'b' does not exist", "add it"),
-    Finding("a/r.urdf", 7, 1, "U402", "root-inertia", Severity.INFO, "root link 'a' has an <inertial>, which KDL ignores"),
+    Finding(
+        "a/r.urdf", 3, 5, "U101", "unknown-link", Severity.ERROR, "joint 'j': child link 'b' does not exist", "add it"
+    ),
+    Finding(
+        "a/r.urdf", 7, 1, "U402", "root-inertia", Severity.INFO, "root link 'a' has an <inertial>, which KDL ignores"
+    ),
 ]
 REPORT = LintReport(FINDINGS, files_checked=2)
 
@@ -50,7 +53,10 @@ def test_sarif_carries_rule_docs_and_locations() -> None:
 
 def test_github_annotations_escape_properties() -> None:
     out = formatter(OutputFormat.GITHUB).render(REPORT, color=False).splitlines()
-    assert out[0] == "::error file=a/r.urdf,line=3,col=5,title=U101 unknown-link::joint 'j': child link 'b' does not exist (hint: add it)"
+    assert (
+        out[0]
+        == "::error file=a/r.urdf,line=3,col=5,title=U101 unknown-link::joint 'j': child link 'b' does not exist (hint: add it)"
+    )
     assert out[1].startswith("::notice ")
 
 
@@ -60,6 +66,14 @@ def test_sarif_takes_another_tool_and_its_rules() -> None:
     tool = SarifTool("other", [SarifRule("U101", "x", "short", "long", Severity.WARNING, "https://example.org/u101")])
     driver = json.loads(SarifFormatter(tool).render(REPORT, color=False))["runs"][0]["tool"]["driver"]
     assert driver["name"] == "other"
-    assert driver["rules"] == [{"id": "U101", "name": "x", "shortDescription": {"text": "short"}, "fullDescription": {"text": "long"},
-                                "help": {"text": "long"}, "helpUri": "https://example.org/u101",
-                                "defaultConfiguration": {"level": "warning"}}]
+    assert driver["rules"] == [
+        {
+            "id": "U101",
+            "name": "x",
+            "shortDescription": {"text": "short"},
+            "fullDescription": {"text": "long"},
+            "help": {"text": "long"},
+            "helpUri": "https://example.org/u101",
+            "defaultConfiguration": {"level": "warning"},
+        }
+    ]

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 import pytest
 
@@ -18,8 +19,12 @@ pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="the simulator n
 def sim_config(protocol: str = "dxl1", ids: tuple[int, ...] = (1, 2), **extra: Any) -> dict[str, Any]:
     model = {"dxl1": "AX-12A", "dxl2": "XL430-W250", "feetech": "STS3215"}[protocol]
     stops = {"dxl1": [92, 914], "dxl2": [700, 3400], "feetech": [800, 3300]}[protocol]
-    cfg: dict[str, Any] = {"protocol": protocol, "baud": 1000000, "return_delay": 0,
-                           "joints": [{"id": i, "model": model, "stops": stops} for i in ids]}
+    cfg: dict[str, Any] = {
+        "protocol": protocol,
+        "baud": 1000000,
+        "return_delay": 0,
+        "joints": [{"id": i, "model": model, "stops": stops} for i in ids],
+    }
     cfg.update(extra)
     return cfg
 

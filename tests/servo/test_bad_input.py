@@ -16,13 +16,16 @@ from armtool.servo.sim import sim_config_from_dict
 ARM = "joints:\n  - {name: j1, id: 1, model: AX-12A, zero_ticks: 512, direction: 1}\n"
 
 
-@pytest.mark.parametrize("text, what, where", [
-    ("baud: fast\n" + ARM, "'baud' must be a whole number, got 'fast'", "arm.yaml"),
-    (ARM.replace("id: 1,", "id: 400,"), "id 400 is outside 0..252", "joints[0]"),
-    (ARM.replace("id: 1,", "id: 1.7,"), "'id' must be a whole number, got 1.7", "joints[0]"),
-    (ARM.replace("AX-12A", "AX-99"), "unknown servo model 'AX-99'", "joints[0]"),
-    (ARM.replace("zero_ticks: 512", "zero_ticks: 5000"), "zero_ticks 5000 is outside 0..1023", "joints[0]"),
-])
+@pytest.mark.parametrize(
+    "text, what, where",
+    [
+        ("baud: fast\n" + ARM, "'baud' must be a whole number, got 'fast'", "arm.yaml"),
+        (ARM.replace("id: 1,", "id: 400,"), "id 400 is outside 0..252", "joints[0]"),
+        (ARM.replace("id: 1,", "id: 1.7,"), "'id' must be a whole number, got 1.7", "joints[0]"),
+        (ARM.replace("AX-12A", "AX-99"), "unknown servo model 'AX-99'", "joints[0]"),
+        (ARM.replace("zero_ticks: 512", "zero_ticks: 5000"), "zero_ticks 5000 is outside 0..1023", "joints[0]"),
+    ],
+)
 def test_arm_file(tmp_path: Path, text: str, what: str, where: str) -> None:
     path = tmp_path / "arm.yaml"
     path.write_text(text)
@@ -31,14 +34,17 @@ def test_arm_file(tmp_path: Path, text: str, what: str, where: str) -> None:
     assert what in info.value.what and where in (info.value.where or "")
 
 
-@pytest.mark.parametrize("change, what, where", [
-    ({"stops": ["a", "b"]}, "'stops' must be two numbers", "joints[0]"),
-    ({"stops": [1, 2, 3]}, "'stops' must be two numbers", "joints[0]"),
-    ({"model": "AX-99"}, "unknown servo model", "joints[0]"),
-    ({"faults": {"missing_ids": 3}}, "'missing_ids' must be a list of IDs", "faults"),
-    ({"baud": "fast"}, "'baud' must be a number", "sim.yaml"),
-    ({"person": {"speed_deg_s": "fast"}}, "'speed_deg_s' must be a number", "person"),
-])
+@pytest.mark.parametrize(
+    "change, what, where",
+    [
+        ({"stops": ["a", "b"]}, "'stops' must be two numbers", "joints[0]"),
+        ({"stops": [1, 2, 3]}, "'stops' must be two numbers", "joints[0]"),
+        ({"model": "AX-99"}, "unknown servo model", "joints[0]"),
+        ({"faults": {"missing_ids": 3}}, "'missing_ids' must be a list of IDs", "faults"),
+        ({"baud": "fast"}, "'baud' must be a number", "sim.yaml"),
+        ({"person": {"speed_deg_s": "fast"}}, "'speed_deg_s' must be a number", "person"),
+    ],
+)
 def test_sim_config(change: dict[str, object], what: str, where: str) -> None:
     joint: dict[str, object] = {"id": 1, "model": "AX-12A", "stops": [92, 914]}
     doc: dict[str, object] = {"protocol": "dxl1", "joints": [joint]}
@@ -53,18 +59,31 @@ def test_xacro_expression_in_the_urdf() -> None:
     text = '<robot name="r">\n  <joint name="a" type="revolute">\n    <limit lower="${-pi}" upper="1"/>\n  </joint>\n</robot>\n'
     with pytest.raises(ArmtoolError) as info:
         L.check_urdf_names(text, ["a"], "arm.urdf")
-    assert "is not a number" in info.value.what and info.value.where == "arm.urdf:2" and "xacro" in (info.value.hint or "")
+    assert (
+        "is not a number" in info.value.what and info.value.where == "arm.urdf:2" and "xacro" in (info.value.hint or "")
+    )
 
 
-@pytest.mark.parametrize("args, what", [
-    (["limits", "--port", "/dev/null", "--arm", "{arm}", "--mode", "auto", "--yes"], "'baud' must be a whole number"),
-    (["servo-lut", "measure", "--port", "/dev/null", "--id", "300", "--reference", "manual"], "300"),
-])
+@pytest.mark.parametrize(
+    "args, what",
+    [
+        (
+            ["limits", "--port", "/dev/null", "--arm", "{arm}", "--mode", "auto", "--yes"],
+            "'baud' must be a whole number",
+        ),
+        (["servo-lut", "measure", "--port", "/dev/null", "--id", "300", "--reference", "manual"], "300"),
+    ],
+)
 def test_cli_exit_2_without_internal_error(tmp_path: Path, args: list[str], what: str) -> None:
     arm = tmp_path / "arm.yaml"
     arm.write_text("baud: fast\n" + ARM)
-    r = subprocess.run([sys.executable, "-m", "armtool", *[a.format(arm=arm) for a in args]], capture_output=True,
-                       text=True, timeout=60, stdin=subprocess.DEVNULL)
+    r = subprocess.run(
+        [sys.executable, "-m", "armtool", *[a.format(arm=arm) for a in args]],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        stdin=subprocess.DEVNULL,
+    )
     assert r.returncode == 2 and what in r.stderr, r.stderr
     assert "internal error" not in r.stderr and "Traceback" not in r.stderr
 

@@ -17,7 +17,10 @@ from tests.servo.conftest import sim_config
 
 @pytest.mark.parametrize("protocol, model", [("dxl1", "AX-12A"), ("dxl2", "XL430-W250"), ("feetech", "STS3215")])
 def test_identify_read_write_sync_write(protocol: str, model: str) -> None:
-    with SimBus.start(sim_config(protocol, (1, 2))) as sim, open_bus(sim.port_path, protocol, 1000000, echo_check_id=1) as bus:
+    with (
+        SimBus.start(sim_config(protocol, (1, 2))) as sim,
+        open_bus(sim.port_path, protocol, 1000000, echo_check_id=1) as bus,
+    ):
         servos = bus.identify([1, 2])
         assert {s.model.name for s in servos.values()} == {model}
         assert bus.read(1, "present_position") == sim.present_ticks(1)
@@ -37,7 +40,7 @@ def test_feetech_sign_magnitude_load_and_speed() -> None:
         bus.write(1, "goal_position", 600)  # below the 800 stop: pushes toward lower ticks
         time.sleep(0.9)
         load = bus.read(1, "present_load")
-        assert load < -300                   # sign-magnitude bit 10 decoded as negative
+        assert load < -300  # sign-magnitude bit 10 decoded as negative
         raw = sim.servo(1).mem[60] | sim.servo(1).mem[61] << 8
         assert raw & 0x400 and (raw & 0x3FF) == -load
         assert bus.read(1, "present_position") == sim.stop_ticks(1)[0]
@@ -104,7 +107,9 @@ def test_missing_id_and_unknown_model_and_wrong_model() -> None:
 
 def test_wrong_baud_says_what_was_tried() -> None:
     with SimBus.start(sim_config("dxl1", (1, 2))) as sim, open_bus(sim.port_path, "dxl1", 57600) as bus:
-        with pytest.raises(ArmtoolError, match=r"no servo answered .* at 57600 baud with protocol dxl1 \(tried ID 1-2\)"):
+        with pytest.raises(
+            ArmtoolError, match=r"no servo answered .* at 57600 baud with protocol dxl1 \(tried ID 1-2\)"
+        ):
             bus.identify([1, 2])
 
 

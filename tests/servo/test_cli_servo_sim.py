@@ -13,8 +13,9 @@ from tests.servo.conftest import FIXTURES
 
 
 def _start(*args: str) -> tuple[subprocess.Popen[str], str, str]:
-    proc = subprocess.Popen([sys.executable, "-m", "armtool", "servo-sim", *args],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "armtool", "servo-sim", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
     assert proc.stdout is not None
     port = proc.stdout.readline().strip()
     encoder = proc.stdout.readline().strip()
@@ -39,7 +40,7 @@ def test_prints_ports_serves_sdk_and_stops_after_duration(tmp_path) -> None:  # 
 
 
 def test_sigterm_stops_it() -> None:
-    proc, path, _ = _start(str(FIXTURES / "so101_arm.yaml"))
+    proc, _path, _ = _start(str(FIXTURES / "so101_arm.yaml"))
     try:
         time.sleep(0.3)
         proc.send_signal(signal.SIGTERM)
@@ -51,6 +52,8 @@ def test_sigterm_stops_it() -> None:
 def test_bad_config_exits_2(tmp_path) -> None:  # type: ignore[no-untyped-def]
     bad = tmp_path / "bad.yaml"
     bad.write_text("protocol: dxl1\njoints:\n  - {id: 1, model: AX-12A, stops: [900, 100]}\n")
-    result = subprocess.run([sys.executable, "-m", "armtool", "servo-sim", str(bad)], capture_output=True, text=True, timeout=30)
+    result = subprocess.run(
+        [sys.executable, "-m", "armtool", "servo-sim", str(bad)], capture_output=True, text=True, timeout=30
+    )
     assert result.returncode == 2
     assert "stops must be [low, high]" in result.stderr and "joints[0]" in result.stderr

@@ -17,7 +17,7 @@ def test_plan_apply_verify(protocol: str) -> None:
         bus.identify([1])
         bus.write(1, "torque_enable", 1)
         plan = plan_writes(bus, {1: {"min_limit": 204, "max_limit": 678}})
-        assert [w.describe() for w in plan][0].startswith("ID 1: min_limit 0 -> 204")
+        assert next(w.describe() for w in plan).startswith("ID 1: min_limit 0 -> 204")
         apply_writes(bus, plan)
         assert (sim.peek(1, "min_limit"), sim.peek(1, "max_limit")) == (204, 678)
         assert sim.peek(1, "torque_enable") == 0

@@ -19,13 +19,13 @@ class FakePort:
         self.chunks = list(chunks)
         self.sent: list[bytes] = []
 
-    def clearPort(self) -> None:  # noqa: N802 - dynamixel-sdk's name
+    def clearPort(self) -> None:
         pass
 
-    def writePort(self, data: bytes) -> None:  # noqa: N802
+    def writePort(self, data: bytes) -> None:
         self.sent.append(bytes(data))
 
-    def readPort(self, n: int) -> bytes:  # noqa: N802
+    def readPort(self, n: int) -> bytes:
         return self.chunks.pop(0) if self.chunks else b""
 
 

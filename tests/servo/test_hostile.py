@@ -14,8 +14,9 @@ import os
 import stat
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 import pytest
 import yaml
@@ -84,7 +85,9 @@ def test_servo_sim_port_file_refuses_a_user_file_and_a_fifo(tmp_path: Path) -> N
     fifo = tmp_path / "pipe"
     os.mkfifo(fifo)
     for target in (notes, fifo):
-        code, _, err = run("servo-sim", str(FIXTURES / "ax12_arm.yaml"), "--duration", "0.2", "--port-file", str(target))
+        code, _, err = run(
+            "servo-sim", str(FIXTURES / "ax12_arm.yaml"), "--duration", "0.2", "--port-file", str(target)
+        )
         assert code == 2 and "is not a port file written by armtool" in err
     assert notes.read_text() == "my notes\n" and stat.S_ISFIFO(fifo.stat().st_mode)
 
@@ -110,7 +113,9 @@ def test_port_file_is_removed_only_if_still_ours(tmp_path: Path) -> None:
 
 def test_servo_sim_writes_and_removes_its_port_file(tmp_path: Path) -> None:
     port_file = tmp_path / "port"
-    code, out, err = run("servo-sim", str(FIXTURES / "ax12_arm.yaml"), "--duration", "0.3", "--port-file", str(port_file))
+    code, out, err = run(
+        "servo-sim", str(FIXTURES / "ax12_arm.yaml"), "--duration", "0.3", "--port-file", str(port_file)
+    )
     assert code == 0, err
     assert out.splitlines()[0].startswith("/dev/") and not port_file.exists()
 
@@ -133,15 +138,34 @@ def test_in_place_twice_keeps_the_original(tmp_path: Path) -> None:
 def sim() -> Iterator[Any]:
     from armtool.servo.sim import SimBus
 
-    cfg = {"protocol": "dxl1", "baud": 1000000, "return_delay": 0, "encoder": {"noise_deg": 0.05},
-           "joints": [{"id": 1, "model": "AX-12A", "stops": [92, 914], "start": 503}]}
+    cfg = {
+        "protocol": "dxl1",
+        "baud": 1000000,
+        "return_delay": 0,
+        "encoder": {"noise_deg": 0.05},
+        "joints": [{"id": 1, "model": "AX-12A", "stops": [92, 914], "start": 503}],
+    }
     with SimBus.start(cfg) as bus:
         yield bus
 
 
 def measure_args(sim: Any, *extra: str) -> list[str]:
-    return ["servo-lut", "measure", "--port", sim.port_path, "--id", "1", "--reference",
-            f"encoder:{sim.encoder_port_path}", "--speed", "600", "--dwell", "0.01", "--yes", *extra]
+    return [
+        "servo-lut",
+        "measure",
+        "--port",
+        sim.port_path,
+        "--id",
+        "1",
+        "--reference",
+        f"encoder:{sim.encoder_port_path}",
+        "--speed",
+        "600",
+        "--dwell",
+        "0.01",
+        "--yes",
+        *extra,
+    ]
 
 
 def test_negative_backoff_is_refused_before_moving(sim: Any) -> None:
@@ -166,22 +190,63 @@ def test_motion_layer_refuses_a_goal_outside_the_range() -> None:
     assert all(420 <= c <= 620 for c in plan_commands(420, 620, "both", 50, points=5000))
 
 
-@pytest.mark.parametrize("args, flag", [
-    (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--margin", "nan"], "--margin"),
-    (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--baud", "0"], "--baud"),
-    (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--timeout-ms", "nan"], "--timeout-ms"),
-    (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--timeout-ms", "inf"], "--timeout-ms"),
-    (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "manual", "--duration", "inf"], "--duration"),
-    (["limits", "--port", "/nonexistent", "--ids", "1-100000000000", "--mode", "auto", "--yes"], "--ids"),
-    (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--speed", "inf"], "--speed"),
-    (["servo-lut", "check", "{table}", "--port", "/nonexistent", "--id", "1", "--reference", "manual", "--max-err", "nan"], "--max-err"),
-    (["servo-lut", "measure", "--port", "/nonexistent", "--id", "1", "--reference", "manual", "--baud", "0"], "--baud"),
-    (["servo-lut", "measure", "--port", "/nonexistent", "--id", "1", "--reference", "manual", "--settle-timeout", "nan"], "--settle-timeout"),
-    (["servo-lut", "fit", str(MEAS), "--grid-step", "inf"], "--grid-step"),
-    (["servo-lut", "fit", str(MEAS), "--holdout", "nan"], "--holdout"),
-    (["servo-lut", "export", "{table}", "--step", "nan"], "--step"),
-    (["servo-sim", str(FIXTURES / "ax12_arm.yaml"), "--duration", "inf"], "--duration"),
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--margin", "nan"], "--margin"),
+        (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--baud", "0"], "--baud"),
+        (
+            ["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--timeout-ms", "nan"],
+            "--timeout-ms",
+        ),
+        (
+            ["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--timeout-ms", "inf"],
+            "--timeout-ms",
+        ),
+        (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "manual", "--duration", "inf"], "--duration"),
+        (["limits", "--port", "/nonexistent", "--ids", "1-100000000000", "--mode", "auto", "--yes"], "--ids"),
+        (["limits", "--port", "/nonexistent", "--ids", "1", "--mode", "auto", "--yes", "--speed", "inf"], "--speed"),
+        (
+            [
+                "servo-lut",
+                "check",
+                "{table}",
+                "--port",
+                "/nonexistent",
+                "--id",
+                "1",
+                "--reference",
+                "manual",
+                "--max-err",
+                "nan",
+            ],
+            "--max-err",
+        ),
+        (
+            ["servo-lut", "measure", "--port", "/nonexistent", "--id", "1", "--reference", "manual", "--baud", "0"],
+            "--baud",
+        ),
+        (
+            [
+                "servo-lut",
+                "measure",
+                "--port",
+                "/nonexistent",
+                "--id",
+                "1",
+                "--reference",
+                "manual",
+                "--settle-timeout",
+                "nan",
+            ],
+            "--settle-timeout",
+        ),
+        (["servo-lut", "fit", str(MEAS), "--grid-step", "inf"], "--grid-step"),
+        (["servo-lut", "fit", str(MEAS), "--holdout", "nan"], "--holdout"),
+        (["servo-lut", "export", "{table}", "--step", "nan"], "--step"),
+        (["servo-sim", str(FIXTURES / "ax12_arm.yaml"), "--duration", "inf"], "--duration"),
+    ],
+)
 def test_bad_numbers_are_refused_naming_the_flag(table: Path, args: list[str], flag: str) -> None:
     start = time.monotonic()
     code, _, err = run(*[a.format(table=table) for a in args])
@@ -202,14 +267,39 @@ def test_torque_limit_that_rounds_to_zero_is_refused(sim: Any) -> None:
 
 
 def test_encoder_reference_on_the_bus_port_is_refused(sim: Any) -> None:
-    code, _, err = run("servo-lut", "measure", "--port", sim.port_path, "--id", "1", "--reference",
-                       f"encoder:{sim.port_path}", "--min", "420", "--max", "620", "--yes")
+    code, _, err = run(
+        "servo-lut",
+        "measure",
+        "--port",
+        sim.port_path,
+        "--id",
+        "1",
+        "--reference",
+        f"encoder:{sim.port_path}",
+        "--min",
+        "420",
+        "--max",
+        "620",
+        "--yes",
+    )
     assert code == 2 and "is the servo bus" in err
 
 
 def test_manual_reference_without_a_terminal_says_so() -> None:
-    code, _, err = run("servo-lut", "measure", "--port", "/nonexistent", "--id", "1", "--reference", "manual",
-                       "--min", "420", "--max", "620")
+    code, _, err = run(
+        "servo-lut",
+        "measure",
+        "--port",
+        "/nonexistent",
+        "--id",
+        "1",
+        "--reference",
+        "manual",
+        "--min",
+        "420",
+        "--max",
+        "620",
+    )
     assert code == 2 and "stdin is not a terminal" in err and "Aborted" not in err
 
 
@@ -235,14 +325,22 @@ def test_fit_never_writes_non_finite_numbers(tmp_path: Path) -> None:
     assert not out.exists()
 
 
-@pytest.mark.parametrize("edit, what", [
-    (lambda d: d["knots"]["command_ticks"].__setitem__(0, -5.0), "outside the AX-12A's 0..1023"),
-    (lambda d: d.update(approach="*/ #include <evil.h> /*"), "approach must be one of"),
-    (lambda d: d["servo"].update(id="1; rm"), "servo.id"),
-    (lambda d: d.update(method="poly", poly={"degree": 3, "domain_deg": [0, 300], "coef": [500, -100, 0, 0]}),
-     "not increasing"),
-    (lambda d: d.update(method="poly", poly={"degree": 3, "domain_deg": [0, 300], "coef": [500, 100]}), "poly.coef"),
-])
+@pytest.mark.parametrize(
+    "edit, what",
+    [
+        (lambda d: d["knots"]["command_ticks"].__setitem__(0, -5.0), "outside the AX-12A's 0..1023"),
+        (lambda d: d.update(approach="*/ #include <evil.h> /*"), "approach must be one of"),
+        (lambda d: d["servo"].update(id="1; rm"), "servo.id"),
+        (
+            lambda d: d.update(method="poly", poly={"degree": 3, "domain_deg": [0, 300], "coef": [500, -100, 0, 0]}),
+            "not increasing",
+        ),
+        (
+            lambda d: d.update(method="poly", poly={"degree": 3, "domain_deg": [0, 300], "coef": [500, 100]}),
+            "poly.coef",
+        ),
+    ],
+)
 def test_table_read_back_is_validated_like_a_fitted_one(table: Path, tmp_path: Path, edit: Any, what: str) -> None:
     bad = edited(table, tmp_path, edit)
     header = tmp_path / "lut.h"
@@ -263,7 +361,9 @@ def test_limits_file_ticks_are_validated(tmp_path: Path, value: str) -> None:
 
 def test_table_with_nan_is_refused(table: Path, tmp_path: Path) -> None:
     bad = tmp_path / "nan.json"
-    bad.write_text(table.read_text().replace('"knots": {\n    "angle_deg": [\n', '"knots": {\n    "angle_deg": [\n      NaN,\n', 1))
+    bad.write_text(
+        table.read_text().replace('"knots": {\n    "angle_deg": [\n', '"knots": {\n    "angle_deg": [\n      NaN,\n', 1)
+    )
     code, _, err = run("servo-lut", "apply", str(bad), "--angles", "150")
     assert code == 2 and "NaN" in err
 
@@ -273,19 +373,24 @@ def test_c_header_cannot_be_injected_through_the_reference(table: Path, tmp_path
     code, header, err = run("servo-lut", "export", str(bad), "--format", "c")
     assert code == 0, err
     comment = header[: header.index("*/") + 2]
-    assert "evil" in comment and header.count("*/") == header.count("/*") and "\\\n" not in header and "??" not in header
+    assert (
+        "evil" in comment and header.count("*/") == header.count("/*") and "\\\n" not in header and "??" not in header
+    )
 
 
 # ---------------------------------------------------------------- 4. memory and time
 
 
-@pytest.mark.parametrize("args", [
-    ["servo-lut", "fit", str(MEAS), "--grid-step", "1e-7"],
-    ["servo-lut", "export", "{table}", "--step", "1e-7"],
-    ["servo-lut", "export", "{table}", "--format", "csv", "--step", "0.0001"],
-    ["servo-lut", "export", "{table}", "--step", "5e-324"],  # subnormal: range/step overflows to inf
-    ["servo-lut", "fit", str(MEAS), "--grid-step", "1e-310"],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["servo-lut", "fit", str(MEAS), "--grid-step", "1e-7"],
+        ["servo-lut", "export", "{table}", "--step", "1e-7"],
+        ["servo-lut", "export", "{table}", "--format", "csv", "--step", "0.0001"],
+        ["servo-lut", "export", "{table}", "--step", "5e-324"],  # subnormal: range/step overflows to inf
+        ["servo-lut", "fit", str(MEAS), "--grid-step", "1e-310"],
+    ],
+)
 def test_huge_tables_are_refused_at_once(table: Path, args: list[str]) -> None:
     start = time.monotonic()
     code, _, err = run(*[a.format(table=table) for a in args])
@@ -314,13 +419,16 @@ def test_negative_seed_is_any_integer(tmp_path: Path) -> None:
     assert json.loads(out)["kind"] == "armtool-servo-lut"
 
 
-@pytest.mark.parametrize("edit, what", [
-    ({"person": {"speed_deg_s": 0}}, "speed_deg_s"),
-    ({"return_delay": 100000}, "return_delay"),
-    ({"overload_time_s": float("inf")}, "overload_time_s"),
-    ({"faults": {"p_drop": 2}}, "p_drop"),
-    ({"joints": [{"id": 1, "model": "SCS0009"}], "protocol": "feetech"}, "does not support the SCS0009"),
-])
+@pytest.mark.parametrize(
+    "edit, what",
+    [
+        ({"person": {"speed_deg_s": 0}}, "speed_deg_s"),
+        ({"return_delay": 100000}, "return_delay"),
+        ({"overload_time_s": float("inf")}, "overload_time_s"),
+        ({"faults": {"p_drop": 2}}, "p_drop"),
+        ({"joints": [{"id": 1, "model": "SCS0009"}], "protocol": "feetech"}, "does not support the SCS0009"),
+    ],
+)
 def test_bad_sim_config_is_a_clear_error(tmp_path: Path, edit: dict[str, Any], what: str) -> None:
     cfg = yaml.safe_load((FIXTURES / "ax12_arm.yaml").read_text())
     cfg.update(edit)
@@ -334,6 +442,7 @@ def test_sim_thread_failure_is_reported_not_printed() -> None:
     from armtool.servo.sim import SimBus
 
     with SimBus.start({"protocol": "dxl1", "joints": [{"id": 1}]}) as sim:
+
         def boom(*_: Any) -> None:
             raise RuntimeError("physics broke")
 
@@ -348,13 +457,29 @@ def test_sim_thread_failure_is_reported_not_printed() -> None:
 def test_outputs_are_checked_before_the_bus_is_opened(tmp_path: Path) -> None:
     missing = tmp_path / "no" / "such" / "dir" / "out.yaml"
     arm = FIXTURES / "ax12_arm.yaml"
-    for args in (["limits", "--port", "/nonexistent", "--arm", str(arm), "--mode", "auto", "--yes", "-o", str(missing)],
-                 ["servo-lut", "measure", "--port", "/nonexistent", "--id", "1", "--reference", "encoder:/nonexistent2",
-                  "--min", "420", "--max", "620", "--yes", "-o", str(missing)]):
+    for args in (
+        ["limits", "--port", "/nonexistent", "--arm", str(arm), "--mode", "auto", "--yes", "-o", str(missing)],
+        [
+            "servo-lut",
+            "measure",
+            "--port",
+            "/nonexistent",
+            "--id",
+            "1",
+            "--reference",
+            "encoder:/nonexistent2",
+            "--min",
+            "420",
+            "--max",
+            "620",
+            "--yes",
+            "-o",
+            str(missing),
+        ],
+    ):
         code, _, err = run(*args)
         assert code == 2 and "does not exist" in err and "/nonexistent" not in err.split("(for")[0], err
-    code, _, err = run("limits", "--port", "/nonexistent", "--arm", str(arm), "--mode", "auto", "--yes",
-                       "-o", str(arm))
+    code, _, err = run("limits", "--port", "/nonexistent", "--arm", str(arm), "--mode", "auto", "--yes", "-o", str(arm))
     assert code == 2 and "is also an input" in err
 
 
@@ -370,7 +495,9 @@ def test_failed_final_write_keeps_the_readings(sim: Any, tmp_path: Path, monkeyp
         real(text, output, what)
 
     monkeypatch.setattr(cli, "_write", failing)
-    code, _, err = run(*measure_args(sim, "--min", "300", "--max", "700", "--points", "5", "--reads", "1", "-o", str(out)))
+    code, _, err = run(
+        *measure_args(sim, "--min", "300", "--max", "700", "--points", "5", "--reads", "1", "-o", str(out))
+    )
     assert code == 2 and "the readings were saved to" in err, err
     partial = tmp_path / "m.csv.partial"
     assert partial.exists() and partial.read_text().count("\n") > 5
@@ -379,8 +506,11 @@ def test_failed_final_write_keeps_the_readings(sim: Any, tmp_path: Path, monkeyp
 
 # ---------------------------------------------------------------- property-based
 
-NUMBERS = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**30, 10**30),
-                    st.sampled_from(["nan", "inf", "-inf", "1e308", "1e-300", "0", "-0", "abc", ""]))
+NUMBERS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.integers(-(10**30), 10**30),
+    st.sampled_from(["nan", "inf", "-inf", "1e308", "1e-300", "0", "-0", "abc", ""]),
+)
 
 
 def _ok_codes(code: int, err: str) -> None:
@@ -389,12 +519,23 @@ def _ok_codes(code: int, err: str) -> None:
 
 
 @HYPO
-@given(step=NUMBERS, holdout=NUMBERS, tol=NUMBERS, seed=st.integers(-10**20, 10**20))
+@given(step=NUMBERS, holdout=NUMBERS, tol=NUMBERS, seed=st.integers(-(10**20), 10**20))
 def test_fit_options(tmp_path_factory: pytest.TempPathFactory, step: Any, holdout: Any, tol: Any, seed: int) -> None:
     before = snapshot(MEAS)
     start = time.monotonic()
-    code, out, err = run("servo-lut", "fit", str(MEAS), "--grid-step", str(step), "--holdout", str(holdout),
-                         "--monotone-tol", str(tol), "--seed", str(seed))
+    code, out, err = run(
+        "servo-lut",
+        "fit",
+        str(MEAS),
+        "--grid-step",
+        str(step),
+        "--holdout",
+        str(holdout),
+        "--monotone-tol",
+        str(tol),
+        "--seed",
+        str(seed),
+    )
     _ok_codes(code, err)
     if code == 0:
         doc = json.loads(out)
@@ -417,13 +558,17 @@ def test_export_options(table: Path, step: Any, fmt: str, name: str) -> None:
 
 
 @HYPO
-@given(angles=st.lists(NUMBERS, min_size=1, max_size=5), zero=st.one_of(st.none(), NUMBERS),
-       direction=st.sampled_from(["1", "-1", "0", "2"]), clip=st.booleans())
+@given(
+    angles=st.lists(NUMBERS, min_size=1, max_size=5),
+    zero=st.one_of(st.none(), NUMBERS),
+    direction=st.sampled_from(["1", "-1", "0", "2"]),
+    clip=st.booleans(),
+)
 def test_apply_options(table: Path, angles: list[Any], zero: Any, direction: str, clip: bool) -> None:
     args = ["servo-lut", "apply", str(table), "--angles", ",".join(map(str, angles)), "--direction", direction]
     if zero is not None:
         args += ["--zero-deg", str(zero)]
-    code, out, err = run(*args, *(["--clip"] if clip else []))
+    code, _out, err = run(*args, *(["--clip"] if clip else []))
     _ok_codes(code, err)
 
 
@@ -445,16 +590,31 @@ def test_measure_options(values: list[Any]) -> None:
     flags = ["--min", "--max", "--points", "--backoff", "--speed", "--torque-limit", "--dwell", "--baud"]
     args = [a for flag, v in zip(flags, values) for a in (flag, str(v))]
     start = time.monotonic()
-    code, _, err = run("servo-lut", "measure", "--port", "/nonexistent/port", "--id", "1", "--reference",
-                       "encoder:/nonexistent/enc", "--yes", *args)
+    code, _, err = run(
+        "servo-lut",
+        "measure",
+        "--port",
+        "/nonexistent/port",
+        "--id",
+        "1",
+        "--reference",
+        "encoder:/nonexistent/enc",
+        "--yes",
+        *args,
+    )
     _ok_codes(code, err)
     assert code == 2 and time.monotonic() - start < 5
 
 
 @HYPO
-@given(lo=st.integers(-5000, 5000), width=st.integers(-10, 5000), margin=st.floats(allow_nan=True, allow_infinity=True),
-       zero=st.one_of(st.none(), st.integers(-5000, 5000)), direction=st.sampled_from([1, -1]),
-       model=st.sampled_from(["AX-12A", "XL430-W250", "STS3215"]))
+@given(
+    lo=st.integers(-5000, 5000),
+    width=st.integers(-10, 5000),
+    margin=st.floats(allow_nan=True, allow_infinity=True),
+    zero=st.one_of(st.none(), st.integers(-5000, 5000)),
+    direction=st.sampled_from([1, -1]),
+    model=st.sampled_from(["AX-12A", "XL430-W250", "STS3215"]),
+)
 def test_limits_convert(lo: int, width: int, margin: float, zero: int | None, direction: int, model: str) -> None:
     from armtool.cli.options import check_float
     from armtool.servo.limits import Joint, JointRange, convert
@@ -486,10 +646,17 @@ def test_parse_ids(text: str) -> None:
     assert ids and len(set(ids)) == len(ids) and all(0 <= i <= 252 for i in ids)
 
 
-JSON_VALUES = st.recursive(st.one_of(st.none(), st.booleans(), st.integers(-10**6, 10**6),
-                                     st.floats(allow_nan=False, allow_infinity=False), st.text(max_size=20)),
-                           lambda inner: st.one_of(st.lists(inner, max_size=4), st.dictionaries(st.text(max_size=8), inner, max_size=4)),
-                           max_leaves=10)
+JSON_VALUES = st.recursive(
+    st.one_of(
+        st.none(),
+        st.booleans(),
+        st.integers(-(10**6), 10**6),
+        st.floats(allow_nan=False, allow_infinity=False),
+        st.text(max_size=20),
+    ),
+    lambda inner: st.one_of(st.lists(inner, max_size=4), st.dictionaries(st.text(max_size=8), inner, max_size=4)),
+    max_leaves=10,
+)
 
 
 def _paths(doc: Any, prefix: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
@@ -531,8 +698,11 @@ def test_mutated_tables(table: Path, tmp_path_factory: pytest.TempPathFactory, d
     path = tmp_path_factory.mktemp("mut") / "t.json"
     path.write_text(json.dumps(doc))
     before = snapshot(path)
-    for args in (["export", str(path), "--format", "c"], ["export", str(path), "--format", "json"],
-                 ["apply", str(path), "--angles", "100,150,200"]):
+    for args in (
+        ["export", str(path), "--format", "c"],
+        ["export", str(path), "--format", "json"],
+        ["apply", str(path), "--angles", "100,150,200"],
+    ):
         code, out, err = run("servo-lut", *args)
         _ok_codes(code, err)
         if code == 0 and "json" in args:
@@ -564,8 +734,10 @@ def test_mutated_limits_and_arm_files(tmp_path_factory: pytest.TempPathFactory, 
     from armtool.servo.limits import load_arm
     from armtool.servo.lut.measure import read_limits
 
-    limits = {"schema": "armtool.limits/1", "joints": [{"id": 1, "model": "AX-12A", "safe_min_ticks": 100,
-                                                       "safe_max_ticks": 900}]}
+    limits = {
+        "schema": "armtool.limits/1",
+        "joints": [{"id": 1, "model": "AX-12A", "safe_min_ticks": 100, "safe_max_ticks": 900}],
+    }
     folder = tmp_path_factory.mktemp("yaml")
     lim, arm = folder / "limits.yaml", folder / "arm.yaml"
     lim.write_text(yaml.safe_dump(_mutate(limits, data, YAML_VALUES)))

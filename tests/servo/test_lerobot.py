@@ -50,9 +50,13 @@ def test_a_range_across_the_seam_is_moved_off_it() -> None:
     cal = LR.calibrate_joint("wrist_roll", 5, 3500, 4700, 0, FEETECH)
     assert -2047 <= cal.homing_offset <= 2047
     assert (cal.range_min, cal.range_max) == (1447, 2647)
-    assert reading(3500, cal.homing_offset, FEETECH) == 1447 and reading(4700 % 4096, cal.homing_offset, FEETECH) == 2647
+    assert (
+        reading(3500, cal.homing_offset, FEETECH) == 1447 and reading(4700 % 4096, cal.homing_offset, FEETECH) == 2647
+    )
     # recorded under another offset: the same physical range gives the same new readings
-    again = LR.calibrate_joint("wrist_roll", 5, reading(3500, 700, FEETECH), reading(3500, 700, FEETECH) + 1200, 700, FEETECH)
+    again = LR.calibrate_joint(
+        "wrist_roll", 5, reading(3500, 700, FEETECH), reading(3500, 700, FEETECH) + 1200, 700, FEETECH
+    )
     assert (again.homing_offset, again.range_min, again.range_max) == (cal.homing_offset, 1447, 2647)
 
 
@@ -92,8 +96,10 @@ def write(tmp_path: Path, doc: Any, name: str = "cal.json") -> Path:
     return path
 
 
-GOOD = {"shoulder_pan": {"id": 1, "drive_mode": 0, "homing_offset": -47, "range_min": 1047, "range_max": 3047},
-        "gripper": {"id": 6, "drive_mode": 0, "homing_offset": 2000, "range_min": 2000, "range_max": 3400}}
+GOOD = {
+    "shoulder_pan": {"id": 1, "drive_mode": 0, "homing_offset": -47, "range_min": 1047, "range_max": 3047},
+    "gripper": {"id": 6, "drive_mode": 0, "homing_offset": 2000, "range_min": 2000, "range_max": 3400},
+}
 
 
 def test_document_is_lerobots_layout_and_reads_back(tmp_path: Path) -> None:
@@ -103,18 +109,33 @@ def test_document_is_lerobots_layout_and_reads_back(tmp_path: Path) -> None:
     assert LR.read_calibration(write(tmp_path, text)) == cal
 
 
-@pytest.mark.parametrize("change, message, line", [
-    (lambda d: d["gripper"].pop("range_max"), "motor 'gripper' has no range_max", 9),
-    (lambda d: d["gripper"].update(range_min=2000.5), "gripper.range_min must be a whole number of ticks, got 2000.5", 13),
-    (lambda d: d["gripper"].update(range_min=2000.0), "gripper.range_min must be a whole number", 13),
-    (lambda d: d["gripper"].update(id=True), "gripper.id must be a whole number", 10),
-    (lambda d: d["gripper"].update(homing_offset="12"), 'gripper.homing_offset must be a whole number of ticks, got "12"', 12),
-    (lambda d: d["gripper"].update(range_min=3400), "motor 'gripper': range_min 3400 is not below range_max 3400", 13),
-    (lambda d: d["gripper"].update(range_max=5000), "gripper.range_max = 5000 is outside 0..4095", 14),
-    (lambda d: d["gripper"].update(extra=1), "unknown key(s) extra", 9),
-    (lambda d: d["gripper"].update(id=1), "ID 1 is given to more than one motor", None),
-    (lambda d: d.update(gripper=[1, 2]), "motor 'gripper' must be an object", 9),
-])
+@pytest.mark.parametrize(
+    "change, message, line",
+    [
+        (lambda d: d["gripper"].pop("range_max"), "motor 'gripper' has no range_max", 9),
+        (
+            lambda d: d["gripper"].update(range_min=2000.5),
+            "gripper.range_min must be a whole number of ticks, got 2000.5",
+            13,
+        ),
+        (lambda d: d["gripper"].update(range_min=2000.0), "gripper.range_min must be a whole number", 13),
+        (lambda d: d["gripper"].update(id=True), "gripper.id must be a whole number", 10),
+        (
+            lambda d: d["gripper"].update(homing_offset="12"),
+            'gripper.homing_offset must be a whole number of ticks, got "12"',
+            12,
+        ),
+        (
+            lambda d: d["gripper"].update(range_min=3400),
+            "motor 'gripper': range_min 3400 is not below range_max 3400",
+            13,
+        ),
+        (lambda d: d["gripper"].update(range_max=5000), "gripper.range_max = 5000 is outside 0..4095", 14),
+        (lambda d: d["gripper"].update(extra=1), "unknown key(s) extra", 9),
+        (lambda d: d["gripper"].update(id=1), "ID 1 is given to more than one motor", None),
+        (lambda d: d.update(gripper=[1, 2]), "motor 'gripper' must be an object", 9),
+    ],
+)
 def test_bad_files_name_the_file_line_and_key(tmp_path: Path, change: Any, message: str, line: int | None) -> None:
     doc = json.loads(json.dumps(GOOD))
     change(doc)
@@ -147,7 +168,9 @@ def test_check_against_arm(tmp_path: Path) -> None:
     doc = json.loads(json.dumps(GOOD))
     doc["gripper"]["homing_offset"] = 2100  # lerobot #1296: past the sign-magnitude register
     path = write(tmp_path, doc, "over.json")
-    with pytest.raises(ArmtoolError, match=r"gripper.homing_offset 2100 does not fit the register \(-2047..2047\)") as exc:
+    with pytest.raises(
+        ArmtoolError, match=r"gripper.homing_offset 2100 does not fit the register \(-2047..2047\)"
+    ) as exc:
         LR.check_against_arm(LR.read_calibration(path), joints, path, {j.name: FEETECH for j in joints})
     assert exc.value.where == f"{path}:12" and "-1996 reads the same" in (exc.value.hint or "")
 

@@ -17,7 +17,9 @@ from armtool.servo.sim import Person, PersonSpec, SimBus, load_sim_config
 from tests.servo.conftest import FIXTURES
 
 
-def _auto(fixture: str, ids: list[int] | None = None, **params: float) -> list[tuple[L.JointRange, tuple[int, int], int]]:
+def _auto(
+    fixture: str, ids: list[int] | None = None, **params: float
+) -> list[tuple[L.JointRange, tuple[int, int], int]]:
     arm = L.load_arm(FIXTURES / fixture)
     joints = [j for j in arm.joints if ids is None or j.id in ids]
     out = []
@@ -60,7 +62,9 @@ def test_auto_handles_an_overload_trip_and_rearms() -> None:
         assert sim.peek(5, "torque_enable") == 0 and sim.peek(5, "torque_limit") == 1023
 
 
-def _manual(fixture: str, ids: list[int], record_s: float | None, speed: float = 200.0) -> tuple[list[L.JointRange], dict[int, tuple[int, int]]]:
+def _manual(
+    fixture: str, ids: list[int], record_s: float | None, speed: float = 200.0
+) -> tuple[list[L.JointRange], dict[int, tuple[int, int]]]:
     arm = L.load_arm(FIXTURES / fixture)
     joints = [j for j in arm.joints if j.id in ids]
     with SimBus.start(FIXTURES / fixture) as sim, open_bus(sim.port_path, arm.protocol or "", arm.baud or 0) as bus:
@@ -204,7 +208,7 @@ def test_patch_urdf_with_transmissions(where: str) -> None:
     blocks = "\n  ".join(TRANSMISSION.format(j=j) for j in ("a", "b"))
     text = URDF.replace("<robot", "<robot", 1)
     if where == "before":
-        text = text.replace('  <joint name="a"', f"  {blocks}\n  <joint name=\"a\"", 1)
+        text = text.replace('  <joint name="a"', f'  {blocks}\n  <joint name="a"', 1)
     else:
         text = text.replace("</robot>", f"  {blocks}\n</robot>")
     assert text.count("<transmission") == 2

@@ -11,8 +11,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut.table import Approach, Method, fit_table, read_table, table_from_dict
 from armtool.servo.lut.csv_format import Measurements, Sample, parse_measurements, read_measurements
+from armtool.servo.lut.table import Approach, Method, fit_table, read_table, table_from_dict
 from armtool.servo.models import by_name as servo_model
 
 FIXTURE = Path(__file__).resolve().parents[2] / "fixtures" / "servo" / "lut" / "ax12a_meas.csv"
@@ -25,8 +25,9 @@ def curve_deg(ticks: np.ndarray) -> np.ndarray:
     return ticks * AX.deg_per_tick + 3.0 * np.sin(np.pi * (u - 0.5)) * (2 * np.abs(u - 0.5)) ** 2
 
 
-def measurements(commands: np.ndarray, angles: np.ndarray, approach: str = "up", repeats: int = 1,
-                 start_line: int = 2) -> Measurements:
+def measurements(
+    commands: np.ndarray, angles: np.ndarray, approach: str = "up", repeats: int = 1, start_line: int = 2
+) -> Measurements:
     samples, line = [], start_line
     for c, row in zip(commands, np.atleast_2d(angles.T).T if repeats > 1 else angles[:, None]):
         for r, a in enumerate(np.atleast_1d(row)):
@@ -145,14 +146,17 @@ def test_json_round_trip(tmp_path: Path) -> None:
     assert set(doc["fit"]) >= {"train_nominal", "holdout_lut", "nonlinearity_deg"}
 
 
-@pytest.mark.parametrize("change, message", [
-    (lambda d: d.update(kind="x"), "not a servo-lut table"),
-    (lambda d: d.update(schema_version=9), "schema_version 9"),
-    (lambda d: d["knots"].pop("angle_deg"), "missing field 'knots.angle_deg'"),
-    (lambda d: d["knots"]["angle_deg"].reverse(), "not strictly increasing"),
-    (lambda d: d["servo"].update(model="SG90"), "unknown servo model 'SG90'"),
-    (lambda d: d.update(method="spline"), "unknown method 'spline'"),
-])
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (lambda d: d.update(kind="x"), "not a servo-lut table"),
+        (lambda d: d.update(schema_version=9), "schema_version 9"),
+        (lambda d: d["knots"].pop("angle_deg"), "missing field 'knots.angle_deg'"),
+        (lambda d: d["knots"]["angle_deg"].reverse(), "not strictly increasing"),
+        (lambda d: d["servo"].update(model="SG90"), "unknown servo model 'SG90'"),
+        (lambda d: d.update(method="spline"), "unknown method 'spline'"),
+    ],
+)
 def test_bad_table_is_refused_naming_the_field(change, message: str) -> None:  # type: ignore[no-untyped-def]
     c = np.arange(100, 925, 64)
     doc = fit_table(measurements(c, curve_deg(c)), holdout=0).to_dict()
@@ -172,10 +176,17 @@ def test_read_table_errors(tmp_path: Path) -> None:
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(seed=st.integers(0, 2**32 - 1), step=st.integers(1, 24), repeats=st.integers(1, 5),
-       noise_ticks=st.floats(0.0, 0.45), lo=st.integers(0, 300), points=st.integers(8, 60))
-def test_noisy_repeated_measurements_give_a_monotone_table(seed: int, step: int, repeats: int, noise_ticks: float,
-                                                           lo: int, points: int) -> None:
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    step=st.integers(1, 24),
+    repeats=st.integers(1, 5),
+    noise_ticks=st.floats(0.0, 0.45),
+    lo=st.integers(0, 300),
+    points=st.integers(8, 60),
+)
+def test_noisy_repeated_measurements_give_a_monotone_table(
+    seed: int, step: int, repeats: int, noise_ticks: float, lo: int, points: int
+) -> None:
     """Readings with noise up to ±0.45 tick never step back further than one tick on average,
     so the fit must accept them, and its table must be monotone everywhere."""
     rng = np.random.default_rng(seed)

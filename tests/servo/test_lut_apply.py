@@ -9,8 +9,8 @@ import math
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut.table import LutTable, Method
 from armtool.servo.lut.apply import apply_csv, apply_list
+from armtool.servo.lut.table import LutTable, Method
 from armtool.servo.models import by_name as servo_model
 
 # 10° per 30 ticks below 150°, 10° per 40 ticks above: easy to check by hand

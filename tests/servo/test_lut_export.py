@@ -14,9 +14,9 @@ import pytest
 import yaml
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut.table import LutTable, Method, fit_table
-from armtool.servo.lut.export import ExportFormat, c_identifier, render
 from armtool.servo.lut.csv_format import read_measurements
+from armtool.servo.lut.export import ExportFormat, c_identifier, render
+from armtool.servo.lut.table import LutTable, Method, fit_table
 from armtool.servo.models import by_name as servo_model
 
 FIXTURE = Path(__file__).resolve().parents[2] / "fixtures" / "servo" / "lut" / "ax12a_meas.csv"
@@ -33,18 +33,25 @@ def test_c_header_compiles_and_lookup_matches(table: LutTable, tmp_path: Path) -
     header = tmp_path / "servo1_lut.h"
     header.write_text(render(table, ExportFormat.C, step_deg=0.5, name="servo1_lut"))
     (tmp_path / "only.c").write_text('#include "servo1_lut.h"\n')
-    done = subprocess.run([CC, "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-c", "only.c", "-o", "only.o"],
-                          cwd=tmp_path, capture_output=True, text=True)
+    done = subprocess.run(
+        [CC, "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-c", "only.c", "-o", "only.o"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+    )
     assert done.returncode == 0, done.stderr
     # the inline lookup at grid points and between them, against the table itself
     cdeg = [3300, 3350, 3373, 15000, 15049, 26100, 26123, 100, 99999]
     (tmp_path / "main.c").write_text(
         '#include <stdio.h>\n#include "servo1_lut.h"\nint main(void) {\n'
-        f'  static const int32_t q[] = {{{", ".join(map(str, cdeg))}}};\n'
+        f"  static const int32_t q[] = {{{', '.join(map(str, cdeg))}}};\n"
         '  printf("%u %ld %ld\\n", (unsigned)SERVO1_LUT_LEN, (long)SERVO1_LUT_START_CDEG, (long)SERVO1_LUT_STEP_CDEG);\n'
         '  for (unsigned i = 0; i < sizeof q / sizeof q[0]; ++i) printf("%u\\n", (unsigned)servo1_lut_lookup(q[i]));\n'
-        '  return 0;\n}\n')
-    built = subprocess.run([CC, "-std=c99", "-Wall", "-Werror", "main.c", "-o", "main"], cwd=tmp_path, capture_output=True, text=True)
+        "  return 0;\n}\n"
+    )
+    built = subprocess.run(
+        [CC, "-std=c99", "-Wall", "-Werror", "main.c", "-o", "main"], cwd=tmp_path, capture_output=True, text=True
+    )
     assert built.returncode == 0, built.stderr
     lines = subprocess.run([str(tmp_path / "main")], capture_output=True, text=True, check=True).stdout.split()
     grid = table.grid(0.5)
@@ -78,7 +85,9 @@ def test_c_header_survives_hostile_metadata_and_keeps_fit_numbers(table: LutTabl
     assert "held-out points:" in text  # the fit's numbers survive the JSON round trip
     (tmp_path / "t.h").write_text(text)
     (tmp_path / "t.c").write_text('#include "t.h"\n')
-    done = subprocess.run([CC, "-std=c99", "-Wall", "-Werror", "-c", "t.c", "-o", "t.o"], cwd=tmp_path, capture_output=True, text=True)
+    done = subprocess.run(
+        [CC, "-std=c99", "-Wall", "-Werror", "-c", "t.c", "-o", "t.o"], cwd=tmp_path, capture_output=True, text=True
+    )
     assert done.returncode == 0, done.stderr
 
 

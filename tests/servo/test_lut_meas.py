@@ -44,8 +44,15 @@ def test_missing_columns_are_named() -> None:
     assert "found: command_ticks, present_ticks" in str(exc.hint)
 
 
-@pytest.mark.parametrize("column, wanted", [("reference", "reference_deg"), ("load", "load_pct"),
-                                             ("angle", "reference_deg"), ("temperature", "temperature_c")])
+@pytest.mark.parametrize(
+    "column, wanted",
+    [
+        ("reference", "reference_deg"),
+        ("load", "load_pct"),
+        ("angle", "reference_deg"),
+        ("temperature", "temperature_c"),
+    ],
+)
 def test_column_without_unit_is_refused(column: str, wanted: str) -> None:
     exc = error(f"command_ticks,reference_deg,{column}\n100,30,1\n")
     assert "does not state its unit" in exc.what and wanted in str(exc.hint)
@@ -96,7 +103,10 @@ def test_model_must_be_stated_or_given() -> None:
     exc = error("command_ticks,reference_deg\n100,30\n", head="")
     assert "servo model is not stated" in exc.what and "--model" in str(exc.hint)
     assert parse("command_ticks,reference_deg\n100,30\n", head="", model="xl430").model.name == "XL430-W250"
-    assert "unknown servo model 'AX-99'" in error("command_ticks,reference_deg\n100,30\n", head="# servo_model: AX-99\n").what
+    assert (
+        "unknown servo model 'AX-99'"
+        in error("command_ticks,reference_deg\n100,30\n", head="# servo_model: AX-99\n").what
+    )
 
 
 def test_no_rows_and_no_header() -> None:
@@ -105,10 +115,15 @@ def test_no_rows_and_no_header() -> None:
 
 
 def test_render_parse_round_trip() -> None:
-    samples = [Sample(0, 100, 29.5, 101.0, -2.5, 34.0, 12.1, "up", 0, True),
-               Sample(0, 116, 34.25, None, None, None, None, "down", 1, None)]
+    samples = [
+        Sample(0, 100, 29.5, 101.0, -2.5, 34.0, 12.1, "up", 0, True),
+        Sample(0, 116, 34.25, None, None, None, None, "down", 1, None),
+    ]
     text = render_measurements({"servo_model": "AX-12A", "servo_id": "2", "reference": "manual"}, samples)
     back = parse_measurements(text, "x.csv")
     assert back.servo_id == 2 and back.reference == "manual"
-    got = [(s.command_ticks, s.reference_deg, s.present_ticks, s.load_pct, s.approach, s.repeat, s.settled) for s in back.samples]
+    got = [
+        (s.command_ticks, s.reference_deg, s.present_ticks, s.load_pct, s.approach, s.repeat, s.settled)
+        for s in back.samples
+    ]
     assert got == [(100, 29.5, 101.0, -2.5, "up", 0, True), (116, 34.25, None, None, "down", 1, None)]

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut.table import LutTable, Method
 from armtool.servo.lut.measure import check_angles, plan_commands, read_limits, speed_register, torque_register
+from armtool.servo.lut.table import LutTable, Method
 from armtool.servo.models import by_name
 
 AX = by_name("AX-12A")
@@ -27,8 +27,10 @@ def test_plan_leaves_room_to_back_off() -> None:
 
 def test_read_limits(tmp_path: Path) -> None:
     path = tmp_path / "limits.yaml"
-    path.write_text("joints:\n  - {id: 1, model: AX-12A, safe_min_ticks: 99, safe_max_ticks: 907}\n"
-                    "  - {id: 2, safe_min_ticks: 500, safe_max_ticks: 400}\n  - {id: 3, safe_min_ticks: 1}\n")
+    path.write_text(
+        "joints:\n  - {id: 1, model: AX-12A, safe_min_ticks: 99, safe_max_ticks: 907}\n"
+        "  - {id: 2, safe_min_ticks: 500, safe_max_ticks: 400}\n  - {id: 3, safe_min_ticks: 1}\n"
+    )
     assert read_limits(path, 1) == (99, 907, "AX-12A")
     with pytest.raises(ArmtoolError, match="is not below safe_max_ticks"):
         read_limits(path, 2)

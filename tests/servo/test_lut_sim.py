@@ -10,8 +10,9 @@ import csv
 import io
 import json
 import sys
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 import pytest
 
@@ -22,17 +23,23 @@ pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="the simulator n
 FAST = ["--speed", "600", "--dwell", "0.01", "--yes"]
 
 
-def config(model: str = "AX-12A", protocol: str = "dxl1", stops: tuple[int, int] = (92, 914), **extra: Any) -> dict[str, Any]:
-    return {"protocol": protocol, "baud": 1000000, "return_delay": 0, "encoder": {"noise_deg": 0.05},
-            "joints": [{"id": 1, "model": model, "stops": list(stops), "start": (stops[0] + stops[1]) // 2}], **extra}
+def config(
+    model: str = "AX-12A", protocol: str = "dxl1", stops: tuple[int, int] = (92, 914), **extra: Any
+) -> dict[str, Any]:
+    return {
+        "protocol": protocol,
+        "baud": 1000000,
+        "return_delay": 0,
+        "encoder": {"noise_deg": 0.05},
+        "joints": [{"id": 1, "model": model, "stops": list(stops), "start": (stops[0] + stops[1]) // 2}],
+        **extra,
+    }
 
 
 @pytest.fixture(scope="module")
 def sim() -> Iterator[SimBus]:
     with SimBus.start(config()) as bus:
         yield bus
-
-
 
 
 def bus_args(sim: SimBus) -> list[str]:
@@ -43,8 +50,21 @@ def bus_args(sim: SimBus) -> list[str]:
 def measured(sim: SimBus, tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     out = tmp_path_factory.mktemp("lut")
     meas, lut = out / "meas.csv", out / "lut.json"
-    code, _, err = invoke("measure", *bus_args(sim), "--min", "100", "--max", "900", "--points", "41", "--reads", "2",
-                          *FAST, "-o", str(meas))
+    code, _, err = invoke(
+        "measure",
+        *bus_args(sim),
+        "--min",
+        "100",
+        "--max",
+        "900",
+        "--points",
+        "41",
+        "--reads",
+        "2",
+        *FAST,
+        "-o",
+        str(meas),
+    )
     assert code == 0, err
     code, _, err = invoke("fit", str(meas), "-o", str(lut))
     assert code == 0, err
@@ -74,7 +94,9 @@ def test_fit_meets_the_acceptance_numbers(measured: tuple[Path, Path]) -> None:
 
 
 def test_check_meets_the_acceptance_numbers(sim: SimBus, measured: tuple[Path, Path]) -> None:
-    code, out, err = invoke("check", str(measured[1]), *bus_args(sim), "--n", "12", "--reads", "2", "--format", "json", *FAST)
+    code, out, err = invoke(
+        "check", str(measured[1]), *bus_args(sim), "--n", "12", "--reads", "2", "--format", "json", *FAST
+    )
     assert code == 0, err
     doc = json.loads(out)
     assert len(doc["points"]) == 12
@@ -88,7 +110,9 @@ def test_check_meets_the_acceptance_numbers(sim: SimBus, measured: tuple[Path, P
 
 
 def test_check_fails_above_max_err_and_prints_text(sim: SimBus, measured: tuple[Path, Path]) -> None:
-    code, out, err = invoke("check", str(measured[1]), *bus_args(sim), "--n", "3", "--reads", "1", "--max-err", "0.0001", *FAST)
+    code, out, err = invoke(
+        "check", str(measured[1]), *bus_args(sim), "--n", "3", "--reads", "1", "--max-err", "0.0001", *FAST
+    )
     assert code == 1 and "nominal" in out and "table" in out
     assert "above --max-err" in err
 
@@ -110,13 +134,40 @@ def test_check_refuses_a_table_from_another_id_without_a_range(measured: tuple[P
     two["joints"].append({"id": 5, "model": "AX-12A", "stops": [400, 640], "start": 520})
     with SimBus.start(two) as other:
         goal_before = other.peek(5, "goal_position")
-        code, _, err = invoke("check", str(measured[1]), "--port", other.port_path, "--id", "5", "--reference",
-                              f"encoder:{other.encoder_port_path}", *FAST)
+        code, _, err = invoke(
+            "check",
+            str(measured[1]),
+            "--port",
+            other.port_path,
+            "--id",
+            "5",
+            "--reference",
+            f"encoder:{other.encoder_port_path}",
+            *FAST,
+        )
         assert code == 2 and "measured on ID 1, not ID 5" in err and "--limits" in err, err
         assert other.peek(5, "torque_enable") == 0 and other.peek(5, "goal_position") == goal_before
-        code, out, err = invoke("check", str(measured[1]), "--port", other.port_path, "--id", "5", "--reference",
-                                f"encoder:{other.encoder_port_path}", "--min", "420", "--max", "620", "--n", "3",
-                                "--reads", "1", "--max-err", "90", *FAST)
+        code, _out, err = invoke(
+            "check",
+            str(measured[1]),
+            "--port",
+            other.port_path,
+            "--id",
+            "5",
+            "--reference",
+            f"encoder:{other.encoder_port_path}",
+            "--min",
+            "420",
+            "--max",
+            "620",
+            "--n",
+            "3",
+            "--reads",
+            "1",
+            "--max-err",
+            "90",
+            *FAST,
+        )
         assert code == 0, err
         assert other.servo(5).overload_trips == 0 and other.peek(5, "torque_enable") == 0
 
@@ -138,11 +189,26 @@ def test_range_is_required_and_checked(sim: SimBus) -> None:
 
 def test_measure_from_limits_file(sim: SimBus, tmp_path: Path) -> None:
     limits = tmp_path / "limits.yaml"
-    limits.write_text("schema: armtool.limits/1\njoints:\n  - {name: shoulder, id: 1, model: AX-12A, "
-                      "safe_min_ticks: 300, safe_max_ticks: 420}\n")
+    limits.write_text(
+        "schema: armtool.limits/1\njoints:\n  - {name: shoulder, id: 1, model: AX-12A, "
+        "safe_min_ticks: 300, safe_max_ticks: 420}\n"
+    )
     meas = tmp_path / "m.csv"
-    code, _, err = invoke("measure", *bus_args(sim), "--limits", str(limits), "--points", "5", "--reads", "1",
-                          "--approach", "both", *FAST, "-o", str(meas))
+    code, _, err = invoke(
+        "measure",
+        *bus_args(sim),
+        "--limits",
+        str(limits),
+        "--points",
+        "5",
+        "--reads",
+        "1",
+        "--approach",
+        "both",
+        *FAST,
+        "-o",
+        str(meas),
+    )
     assert code == 0, err
     rows = [ln.split(",") for ln in meas.read_text().splitlines() if ln[:1].isdigit()]
     assert {int(r[0]) for r in rows} == {310, 335, 360, 385, 410}  # inside 300..420 with room to back off both ways
@@ -156,9 +222,26 @@ def test_stop_inside_the_range_aborts_with_torque_off(tmp_path: Path) -> None:
     the run ends on the stall, long before the alarm, at the default torque limit."""
     with SimBus.start(config(stops=(92, 600))) as short:
         meas = tmp_path / "m.csv"
-        code, _, err = invoke("measure", "--port", short.port_path, "--id", "1", "--reference",
-                              f"encoder:{short.encoder_port_path}", "--min", "500", "--max", "700", "--points", "6",
-                              "--reads", "1", *FAST, "-o", str(meas))
+        code, _, err = invoke(
+            "measure",
+            "--port",
+            short.port_path,
+            "--id",
+            "1",
+            "--reference",
+            f"encoder:{short.encoder_port_path}",
+            "--min",
+            "500",
+            "--max",
+            "700",
+            "--points",
+            "6",
+            "--reads",
+            "1",
+            *FAST,
+            "-o",
+            str(meas),
+        )
         assert code == 2 and "pushing against something" in err, err
         assert "of its torque limit" in err
         assert short.peek(1, "torque_enable") == 0 and short.peek(1, "torque_limit") == 1023  # restored
@@ -173,8 +256,22 @@ def test_csv_reference_drives_the_commands_in_the_file(sim: SimBus, tmp_path: Pa
     readings = tmp_path / "protractor.csv"
     readings.write_text("command_ticks,reference_deg\n200,60.5\n400,118.0\n600,176.2\n")
     meas = tmp_path / "m.csv"
-    code, _, err = invoke("measure", "--port", sim.port_path, "--id", "1", "--reference", f"csv:{readings}",
-                          "--min", "150", "--max", "700", *FAST, "-o", str(meas))
+    code, _, err = invoke(
+        "measure",
+        "--port",
+        sim.port_path,
+        "--id",
+        "1",
+        "--reference",
+        f"csv:{readings}",
+        "--min",
+        "150",
+        "--max",
+        "700",
+        *FAST,
+        "-o",
+        str(meas),
+    )
     assert code == 0, err
     rows = [ln.split(",") for ln in meas.read_text().splitlines() if ln[:1].isdigit()]
     assert [(r[0], r[2]) for r in rows] == [("200", "60.5"), ("400", "118"), ("600", "176.2")]
@@ -186,8 +283,20 @@ def test_camera_reference_is_refused_without_a_detector(sim: SimBus, monkeypatch
 
     monkeypatch.setattr(reference, "_apriltag_detector", lambda: None)
     goal_before = sim.peek(1, "goal_position")
-    code, _, err = invoke("measure", "--port", sim.port_path, "--id", "1", "--reference", "camera:0",
-                          "--min", "100", "--max", "900", *FAST)
+    code, _, err = invoke(
+        "measure",
+        "--port",
+        sim.port_path,
+        "--id",
+        "1",
+        "--reference",
+        "camera:0",
+        "--min",
+        "100",
+        "--max",
+        "900",
+        *FAST,
+    )
     assert code == 2 and "camera reference is not available yet" in err
     assert sim.peek(1, "goal_position") == goal_before
 
@@ -200,11 +309,36 @@ def test_ctrl_c_leaves_torque_off_and_keeps_the_readings(tmp_path: Path) -> None
 
     with SimBus.start(config()) as live:
         meas = tmp_path / "m.csv"
-        proc = subprocess.Popen([sys.executable, "-m", "armtool", "servo-lut", "measure", "--port", live.port_path,
-                                 "--id", "1", "--reference", f"encoder:{live.encoder_port_path}", "--min", "100",
-                                 "--max", "900", "--points", "200", "--speed", "300", "--yes", "-o", str(meas)],
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                env={**os.environ, "NO_COLOR": "1"})
+        proc = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "armtool",
+                "servo-lut",
+                "measure",
+                "--port",
+                live.port_path,
+                "--id",
+                "1",
+                "--reference",
+                f"encoder:{live.encoder_port_path}",
+                "--min",
+                "100",
+                "--max",
+                "900",
+                "--points",
+                "200",
+                "--speed",
+                "300",
+                "--yes",
+                "-o",
+                str(meas),
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            env={**os.environ, "NO_COLOR": "1"},
+        )
         deadline = time.monotonic() + 30
         while live.peek(1, "torque_enable") == 0 and time.monotonic() < deadline:
             time.sleep(0.05)

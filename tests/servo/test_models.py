@@ -22,9 +22,17 @@ def test_sign_magnitude_and_twos_complement() -> None:
 def test_tables_are_consistent() -> None:
     for m in MODELS:
         spans = sorted((r.addr, r.addr + r.size, n) for n, r in m.table.items())
-        for (a0, a1, n0), (b0, _b1, n1) in zip(spans, spans[1:]):
+        for (_a0, a1, n0), (b0, _b1, n1) in zip(spans, spans[1:]):
             assert a1 <= b0, f"{m.name}: {n0} overlaps {n1}"
-        for name in ("model_number", "id", "torque_enable", "goal_position", "present_position", "min_limit", "max_limit"):
+        for name in (
+            "model_number",
+            "id",
+            "torque_enable",
+            "goal_position",
+            "present_position",
+            "min_limit",
+            "max_limit",
+        ):
             assert m.has(name), f"{m.name} lacks {name}"
         assert by_number(m.protocol, m.model_number) is m
     assert by_name("ax12a").model_number == 12 and by_name("STS3215").ticks == 4096

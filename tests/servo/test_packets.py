@@ -11,34 +11,47 @@ def h(text: str) -> bytes:
     return bytes.fromhex(text)
 
 
-@pytest.mark.parametrize("packet, sid, code, params", [
-    ("FF FF 01 02 01 FB", 1, pk.PING, ""),                                  # ping ID 1
-    ("FF FF 01 04 02 2B 01 CC", 1, pk.READ, "2B 01"),                       # read temperature of ID 1
-    ("FF FF FE 04 03 03 01 F6", 0xFE, pk.WRITE, "03 01"),                   # set ID to 1 by broadcast
-    ("FF FF 00 02 06 F7", 0, pk.FACTORY_RESET, ""),                          # reset ID 0
-    ("FF FF FE 02 05 FA", 0xFE, pk.ACTION, ""),                              # ACTION
-    ("FF FF FE 18 83 1E 04 00 10 00 50 01 01 20 02 60 03 02 30 00 70 01 03 20 02 80 03 12",
-     0xFE, pk.SYNC_WRITE, "1E 04 00 10 00 50 01 01 20 02 60 03 02 30 00 70 01 03 20 02 80 03"),
-])
+@pytest.mark.parametrize(
+    "packet, sid, code, params",
+    [
+        ("FF FF 01 02 01 FB", 1, pk.PING, ""),  # ping ID 1
+        ("FF FF 01 04 02 2B 01 CC", 1, pk.READ, "2B 01"),  # read temperature of ID 1
+        ("FF FF FE 04 03 03 01 F6", 0xFE, pk.WRITE, "03 01"),  # set ID to 1 by broadcast
+        ("FF FF 00 02 06 F7", 0, pk.FACTORY_RESET, ""),  # reset ID 0
+        ("FF FF FE 02 05 FA", 0xFE, pk.ACTION, ""),  # ACTION
+        (
+            "FF FF FE 18 83 1E 04 00 10 00 50 01 01 20 02 60 03 02 30 00 70 01 03 20 02 80 03 12",
+            0xFE,
+            pk.SYNC_WRITE,
+            "1E 04 00 10 00 50 01 01 20 02 60 03 02 30 00 70 01 03 20 02 80 03",
+        ),
+    ],
+)
 def test_protocol1_instruction_examples(packet: str, sid: int, code: int, params: str) -> None:
     assert pk.encode1(sid, code, h(params)) == h(packet)
     parsed = pk.parse1(bytearray(h(packet)))
     assert parsed == pk.Packet(sid, code, h(params))
 
 
-@pytest.mark.parametrize("packet, sid, error, params", [
-    ("FF FF 01 02 00 FC", 1, 0, ""),          # ping reply
-    ("FF FF 01 03 00 20 DB", 1, 0, "20"),     # temperature 32 °C
-])
+@pytest.mark.parametrize(
+    "packet, sid, error, params",
+    [
+        ("FF FF 01 02 00 FC", 1, 0, ""),  # ping reply
+        ("FF FF 01 03 00 20 DB", 1, 0, "20"),  # temperature 32 °C
+    ],
+)
 def test_protocol1_status_examples(packet: str, sid: int, error: int, params: str) -> None:
     assert pk.status1(sid, error, h(params)) == h(packet)
 
 
-@pytest.mark.parametrize("packet, sid, inst, params", [
-    ("FF FF FD 00 01 03 00 01 19 4E", 1, pk.PING, ""),
-    ("FF FF FD 00 01 07 00 02 84 00 04 00 1D 15", 1, pk.READ, "84 00 04 00"),            # read 4 bytes at 132
-    ("FF FF FD 00 01 09 00 03 74 00 00 02 00 00 CA 89", 1, pk.WRITE, "74 00 00 02 00 00"),  # goal 512 at 116
-])
+@pytest.mark.parametrize(
+    "packet, sid, inst, params",
+    [
+        ("FF FF FD 00 01 03 00 01 19 4E", 1, pk.PING, ""),
+        ("FF FF FD 00 01 07 00 02 84 00 04 00 1D 15", 1, pk.READ, "84 00 04 00"),  # read 4 bytes at 132
+        ("FF FF FD 00 01 09 00 03 74 00 00 02 00 00 CA 89", 1, pk.WRITE, "74 00 00 02 00 00"),  # goal 512 at 116
+    ],
+)
 def test_protocol2_instruction_examples(packet: str, sid: int, inst: int, params: str) -> None:
     assert pk.encode2(sid, inst, h(params)) == h(packet)
     assert pk.parse2(bytearray(h(packet))) == pk.Packet(sid, inst, h(params))

@@ -61,8 +61,12 @@ def test_in_plane_and_pose_angles(intrinsics: bool) -> None:
 
 
 def test_camera_measures_the_true_angle_after_alignment() -> None:
-    config = {"protocol": "dxl1", "baud": 1000000, "return_delay": 0,
-              "joints": [{"id": 1, "model": "AX-12A", "stops": [92, 914], "start": 512}]}
+    config = {
+        "protocol": "dxl1",
+        "baud": 1000000,
+        "return_delay": 0,
+        "joints": [{"id": 1, "model": "AX-12A", "stops": [92, 914], "start": 512}],
+    }
     with SimBus.start(config) as sim:
         # the camera looks at the horn from the front: it sees the servo turn the other way, from 40° off
         cam = HornCamera(lambda: 40.0 - sim.true_angle_deg(1))
@@ -87,8 +91,12 @@ def test_camera_measures_the_true_angle_after_alignment() -> None:
 
 
 def test_a_tag_that_does_not_turn_fails_alignment() -> None:
-    config = {"protocol": "dxl1", "baud": 1000000, "return_delay": 0,
-              "joints": [{"id": 1, "model": "AX-12A", "stops": [92, 914], "start": 512}]}
+    config = {
+        "protocol": "dxl1",
+        "baud": 1000000,
+        "return_delay": 0,
+        "joints": [{"id": 1, "model": "AX-12A", "stops": [92, 914], "start": 512}],
+    }
     with SimBus.start(config) as sim:
         ref = CameraReference("fake", capture=HornCamera(lambda: 10.0), settle_frames=1)
         bus = open_bus(sim.port_path, "dxl1", 1000000)

@@ -5,7 +5,15 @@ from __future__ import annotations
 import time
 
 import pytest
-from dynamixel_sdk import COMM_RX_CORRUPT, COMM_RX_TIMEOUT, COMM_SUCCESS, GroupSyncRead, GroupSyncWrite, PacketHandler, PortHandler
+from dynamixel_sdk import (
+    COMM_RX_CORRUPT,
+    COMM_RX_TIMEOUT,
+    COMM_SUCCESS,
+    GroupSyncRead,
+    GroupSyncWrite,
+    PacketHandler,
+    PortHandler,
+)
 
 from armtool.servo.sim import SimBus
 from tests.servo.conftest import sim_config
@@ -41,17 +49,17 @@ def test_protocol1_motion_stop_load_and_overload() -> None:
     cfg = sim_config("dxl1", (1,), overload_time_s=0.5)
     with SimBus.start(cfg) as sim:
         port, ph = _open(sim), PacketHandler(1.0)
-        ph.write2ByteTxRx(port, 1, 32, 600)        # ~400 deg/s
-        ph.write2ByteTxRx(port, 1, 30, 1000)       # goal past the high stop; torque comes on
+        ph.write2ByteTxRx(port, 1, 32, 600)  # ~400 deg/s
+        ph.write2ByteTxRx(port, 1, 30, 1000)  # goal past the high stop; torque comes on
         time.sleep(0.35)
-        lo, hi = sim.stop_ticks(1)
+        _lo, hi = sim.stop_ticks(1)
         pos, _, _ = ph.read2ByteTxRx(port, 1, 36)
         load, _, err = ph.read2ByteTxRx(port, 1, 40)
         assert pos == hi and err == 0
         assert load & 0x3FF > 700 and not load & 0x400  # pushing toward higher ticks (CCW)
         time.sleep(0.6)
         _, _, err = ph.read2ByteTxRx(port, 1, 36)
-        assert err & 0x20                           # overload alarm
+        assert err & 0x20  # overload alarm
         assert ph.read2ByteTxRx(port, 1, 34)[0] == 0  # alarm shutdown cut the torque limit
         assert ph.write2ByteTxRx(port, 1, 34, 1023)[1] & 0x20 == 0  # re-armed
         port.closePort()
@@ -74,9 +82,9 @@ def test_ax_potentiometer_nonlinearity_seen_only_by_the_encoder() -> None:
         assert enc.readline().startswith(b"E")
         enc.close()
         assert abs(pos - 150) <= 1
-        assert 1.5 < abs(true - nominal) < 4.0      # a few degrees off near the ends
+        assert 1.5 < abs(true - nominal) < 4.0  # a few degrees off near the ends
         assert abs(true - sim.true_angle_deg(1)) < 0.01
-        ph.write2ByteTxRx(port, 1, 30, 512)          # the middle is linear
+        ph.write2ByteTxRx(port, 1, 30, 512)  # the middle is linear
         time.sleep(0.5)
         assert abs(sim.true_angle_deg(1) - 512 * 300 / 1023) < 0.5
         port.closePort()
@@ -87,7 +95,7 @@ def test_protocol2_ping_read_write_sync_read_write() -> None:
         port, ph = _open(sim), PacketHandler(2.0)
         model, result, _ = ph.ping(port, 2)
         assert (model, result) == (1060, COMM_SUCCESS)
-        pos, result, err = ph.read4ByteTxRx(port, 1, 132)
+        pos, result, _err = ph.read4ByteTxRx(port, 1, 132)
         assert result == COMM_SUCCESS and pos == sim.present_ticks(1)
         assert ph.write1ByteTxRx(port, 1, 64, 1) == (COMM_SUCCESS, 0)
         assert ph.write4ByteTxRx(port, 1, 48, 3000)[1] == 7  # EEPROM with torque on: access error

@@ -45,8 +45,13 @@ def test_precision_check_inserts_points_on_coarse_steps() -> None:
     chain, q0 = clean()
     T0 = chain.fk(q0)  # type: ignore[attr-defined]
     seg = cart.circle_segment(T0, T0[:3, 3] + np.array([0, -0.1, 0]), np.array([1.0, 0, 0]), math.pi)
-    r = cart.compute_cartesian(chain, make_solver("lm", chain), q0, [seg],  # type: ignore[arg-type]
-                               cart.CartesianOptions(eef_step_m=0.1, jump_factor=None))
+    r = cart.compute_cartesian(
+        chain,
+        make_solver("lm", chain),
+        q0,
+        [seg],  # type: ignore[arg-type]
+        cart.CartesianOptions(eef_step_m=0.1, jump_factor=None),
+    )
     assert r.fraction == 1.0 and r.inserted > 0 and r.max_deviation_m <= 1e-3
     assert len(r.midpoint_deviation_m) == len(r.q) - 1 and r.midpoint_deviation_m.max() == r.max_deviation_m
 
@@ -75,8 +80,13 @@ def test_unreachable_line_stops_with_reason_and_fraction() -> None:
     T0 = chain.fk(q0)  # type: ignore[attr-defined]
     T1 = T0.copy()
     T1[:3, 3] += [3.0, 0, 0]  # far outside the arm's reach
-    r = cart.compute_cartesian(chain, make_solver("lm", chain, timeout=0.002), q0, [cart.line_segment(T0, T1)],  # type: ignore[arg-type]
-                               cart.CartesianOptions(eef_step_m=0.05))
+    r = cart.compute_cartesian(
+        chain,
+        make_solver("lm", chain, timeout=0.002),
+        q0,
+        [cart.line_segment(T0, T1)],  # type: ignore[arg-type]
+        cart.CartesianOptions(eef_step_m=0.05),
+    )
     assert 0 < r.fraction < 1 and r.reason in ("unreachable", "joint limit", "singularity") and r.detail
 
 

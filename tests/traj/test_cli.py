@@ -34,8 +34,23 @@ def passes_check(path: Path) -> None:
 
 def circle(tmp_path: Path, *extra: str) -> Path:
     out = tmp_path / "circle.csv"
-    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START,
-                          "--center-offset", "0,-0.1,0", "--normal", "1,0,0", "-o", str(out), *extra)
+    code, _, err = invoke(
+        "cartesian",
+        U,
+        "--base",
+        "base_link",
+        "--tip",
+        "tool0",
+        "--start",
+        START,
+        "--center-offset",
+        "0,-0.1,0",
+        "--normal",
+        "1,0,0",
+        "-o",
+        str(out),
+        *extra,
+    )
     assert code == 0, err
     return out
 
@@ -49,7 +64,9 @@ def test_circle_time_check_plot(tmp_path: Path) -> None:
     assert "sec:" in timed.read_text() and "nanosec:" in timed.read_text()  # .yaml: ROS 2 JointTrajectory
     passes_check(timed)
     png = tmp_path / "circle.png"
-    code, _, err = invoke("plot", str(timed), "--urdf", U, "--joint-limits", JL, "--base", "base_link", "--tip", "tool0", "-o", str(png))
+    code, _, err = invoke(
+        "plot", str(timed), "--urdf", U, "--joint-limits", JL, "--base", "base_link", "--tip", "tool0", "-o", str(png)
+    )
     assert code == 0, err
     import cv2
 
@@ -68,11 +85,26 @@ def test_thin_retime_and_join_outputs_pass_check(tmp_path: Path) -> None:
     passes_check(slow)
     line = tmp_path / "line.csv"
     last = thinned.read_text().splitlines()[-1].split(",")[1:7]
-    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", ",".join(last),
-                          "--line", "0,0,-0.05", "--relative", "-o", str(line))
+    code, _, err = invoke(
+        "cartesian",
+        U,
+        "--base",
+        "base_link",
+        "--tip",
+        "tool0",
+        "--start",
+        ",".join(last),
+        "--line",
+        "0,0,-0.05",
+        "--relative",
+        "-o",
+        str(line),
+    )
     assert code == 0, err
     joined = tmp_path / "joined.csv"
-    code, _, err = invoke("join", str(thinned), str(line), "--urdf", U, "--joint-limits", JL, "-o", str(joined), "--to", "ros1")
+    code, _, err = invoke(
+        "join", str(thinned), str(line), "--urdf", U, "--joint-limits", JL, "-o", str(joined), "--to", "ros1"
+    )
     assert code == 0, err
     assert "secs:" in joined.read_text()
     passes_check(joined)
@@ -85,21 +117,30 @@ def test_pipe_through_stdin(tmp_path: Path) -> None:
     assert out.startswith("time_s,joint1_rad,")
 
 
-@pytest.mark.parametrize("args, what", [
-    (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--center-offset", "0,0,0"], "radius"),
-    (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--radius", "0"], "radius"),
-    (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--line", "3,0,0"], "nothing written"),
-    (["retime", "PATH", "--scale", "0"], "--scale must be > 0"),
-    (["retime", "PATH", "--scale", "-2"], "--scale must be > 0"),
-    (["retime", "PATH", "--scale", "inf"], "finite"),
-    (["thin", "PATH", "--tolerance", "nan"], "finite"),
-    (["join", "PATH", "PATH", "--tolerance", "-1"], "≥ 0"),
-    (["time", "PATH", "--urdf", U, "--joint-limits", JL, "--velocity-scaling", "1.5"], "≤ 1"),
-    (["time", "ONE", "--urdf", U, "--joint-limits", JL], "at least two points"),
-    (["time", "NAN", "--urdf", U, "--joint-limits", JL], "nan"),
-    (["time", "PATH", "--urdf", U], "acceleration limit"),
-    (["join", "PATH", "OTHER", "--urdf", U, "--joint-limits", JL], "away from where"),
-])
+@pytest.mark.parametrize(
+    "args, what",
+    [
+        (
+            ["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--center-offset", "0,0,0"],
+            "radius",
+        ),
+        (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--radius", "0"], "radius"),
+        (
+            ["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--line", "3,0,0"],
+            "nothing written",
+        ),
+        (["retime", "PATH", "--scale", "0"], "--scale must be > 0"),
+        (["retime", "PATH", "--scale", "-2"], "--scale must be > 0"),
+        (["retime", "PATH", "--scale", "inf"], "finite"),
+        (["thin", "PATH", "--tolerance", "nan"], "finite"),
+        (["join", "PATH", "PATH", "--tolerance", "-1"], "≥ 0"),
+        (["time", "PATH", "--urdf", U, "--joint-limits", JL, "--velocity-scaling", "1.5"], "≤ 1"),
+        (["time", "ONE", "--urdf", U, "--joint-limits", JL], "at least two points"),
+        (["time", "NAN", "--urdf", U, "--joint-limits", JL], "nan"),
+        (["time", "PATH", "--urdf", U], "acceleration limit"),
+        (["join", "PATH", "OTHER", "--urdf", U, "--joint-limits", JL], "away from where"),
+    ],
+)
 def test_bad_input_exits_2_and_writes_nothing(tmp_path: Path, args: list[str], what: str) -> None:
     path = circle(tmp_path)
     files = {"PATH": str(path)}
@@ -147,19 +188,60 @@ def test_waypoints_and_arc(tmp_path: Path) -> None:
     wp.write_text("x_m,y_m,z_m\n" + f"{p[0]},{p[1] - 0.05},{p[2]}\n{p[0]},{p[1] - 0.05},{p[2] - 0.05}\n")
     out = tmp_path / "wp.csv"
     png = tmp_path / "wp.png"
-    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp),
-                          "-o", str(out), "--plot", str(png))
+    code, _, err = invoke(
+        "cartesian",
+        U,
+        "--base",
+        "base_link",
+        "--tip",
+        "tool0",
+        "--start",
+        START,
+        "--waypoints",
+        str(wp),
+        "-o",
+        str(out),
+        "--plot",
+        str(png),
+    )
     assert code == 0, err
     assert png.read_bytes()[:4] == b"\x89PNG"
     assert len(out.read_text().splitlines()) >= 11
     arc = tmp_path / "arc.json"
-    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START,
-                          "--arc-via", f"{p[0]},{p[1] - 0.05},{p[2] + 0.05}", "--arc-to", f"{p[0]},{p[1] - 0.1},{p[2]}", "-o", str(arc))
+    code, _, err = invoke(
+        "cartesian",
+        U,
+        "--base",
+        "base_link",
+        "--tip",
+        "tool0",
+        "--start",
+        START,
+        "--arc-via",
+        f"{p[0]},{p[1] - 0.05},{p[2] + 0.05}",
+        "--arc-to",
+        f"{p[0]},{p[1] - 0.1},{p[2]}",
+        "-o",
+        str(arc),
+    )
     assert code == 0, err
     assert json.loads(arc.read_text())["joint_names"][0] == "joint1"
     bad = tmp_path / "bad_poses.csv"
     bad.write_text("x_m,y_m,z_m\n0.1,nan,0.2\n")
-    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(bad), "-o", str(out))
+    code, _, err = invoke(
+        "cartesian",
+        U,
+        "--base",
+        "base_link",
+        "--tip",
+        "tool0",
+        "--start",
+        START,
+        "--waypoints",
+        str(bad),
+        "-o",
+        str(out),
+    )
     assert code == 2 and "bad_poses.csv:2" in err
 
 
@@ -171,7 +253,9 @@ def test_trajectory_pipes_into_servo_lut_apply(tmp_path: Path) -> None:
     assert result.exit_code == 0
     code, timed, err = invoke("time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", JL)
     assert code == 0, err
-    result = runner.invoke(app, ["servo-lut", "apply", str(lut), "-", "--column", "joint1_rad", "--zero-deg", "150"], input=timed)
+    result = runner.invoke(
+        app, ["servo-lut", "apply", str(lut), "-", "--column", "joint1_rad", "--zero-deg", "150"], input=timed
+    )
     assert result.exit_code == 0, result.output
     assert result.stdout.splitlines()[0].endswith(",joint1_command_ticks")
 
@@ -198,9 +282,15 @@ def test_retime_over_the_limits_with_urdf_writes_nothing(tmp_path: Path) -> None
 
 def test_time_with_jerk_limits_writes_and_says_jerk_is_not_planned(tmp_path: Path) -> None:
     jl = tmp_path / "jl.yaml"
-    jl.write_text(CLEAN_LIMITS.read_text().replace("has_acceleration_limits: true", "has_jerk_limits: true, max_jerk: 50, has_acceleration_limits: true"))
+    jl.write_text(
+        CLEAN_LIMITS.read_text().replace(
+            "has_acceleration_limits: true", "has_jerk_limits: true, max_jerk: 50, has_acceleration_limits: true"
+        )
+    )
     out = tmp_path / "t.csv"
-    result = runner.invoke(app, ["traj", "time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(jl), "-o", str(out)])
+    result = runner.invoke(
+        app, ["traj", "time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(jl), "-o", str(out)]
+    )
     assert result.exit_code == 0, result.output
     assert "not planned for" in result.stderr and out.exists()
 
@@ -211,25 +301,53 @@ def test_output_that_is_an_input_is_refused_and_the_input_kept(tmp_path: Path) -
     timed = tmp_path / "timed.yaml"
     assert invoke("time", str(path), "--urdf", U, "--joint-limits", JL, "-o", str(timed))[0] == 0
     timed_before = timed.read_bytes()
-    for args in (["thin", str(path), "--every", "4", "-o", str(path)],
-                 ["retime", str(timed), "--scale", "0.5", "-o", str(timed)],
-                 ["time", str(path), "--urdf", U, "--joint-limits", JL, "-o", str(path)],
-                 ["join", str(timed), str(path), "-o", str(path)],
-                 ["plot", str(path), "--urdf", U, "-o", str(path)]):
+    for args in (
+        ["thin", str(path), "--every", "4", "-o", str(path)],
+        ["retime", str(timed), "--scale", "0.5", "-o", str(timed)],
+        ["time", str(path), "--urdf", U, "--joint-limits", JL, "-o", str(path)],
+        ["join", str(timed), str(path), "-o", str(path)],
+        ["plot", str(path), "--urdf", U, "-o", str(path)],
+    ):
         code, _, err = invoke(*args)
         assert code == 2 and "input" in err, (args, err)
     assert path.read_bytes() == before and timed.read_bytes() == timed_before
     urdf = tmp_path / "arm.urdf"
     urdf.write_bytes(CLEAN_URDF.read_bytes())
-    code, _, err = invoke("cartesian", str(urdf), "--base", "base_link", "--tip", "tool0", "--start", START,
-                          "--center-offset", "0,-0.1,0", "--plot", str(urdf))
+    code, _, err = invoke(
+        "cartesian",
+        str(urdf),
+        "--base",
+        "base_link",
+        "--tip",
+        "tool0",
+        "--start",
+        START,
+        "--center-offset",
+        "0,-0.1,0",
+        "--plot",
+        str(urdf),
+    )
     assert code == 2 and urdf.read_bytes() == CLEAN_URDF.read_bytes()
 
 
 def test_bad_output_path_is_refused_before_the_work(tmp_path: Path) -> None:
     out = tmp_path / "path.csv"
-    code, stdout, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START,
-                               "--center-offset", "0,-0.1,0", "-o", str(out), "--plot", str(tmp_path / "missing" / "p.png"))
+    code, stdout, err = invoke(
+        "cartesian",
+        U,
+        "--base",
+        "base_link",
+        "--tip",
+        "tool0",
+        "--start",
+        START,
+        "--center-offset",
+        "0,-0.1,0",
+        "-o",
+        str(out),
+        "--plot",
+        str(tmp_path / "missing" / "p.png"),
+    )
     assert code == 2 and "missing" in err
     assert not out.exists() and stdout == ""
     code, _, err = invoke("thin", str(circle(tmp_path)), "--every", "4", "-o", str(tmp_path))
@@ -255,7 +373,9 @@ def test_fifo_inputs_are_refused_without_blocking(tmp_path: Path) -> None:
     os.mkfifo(fifo)
     code, _, err = _finishes("check", str(fifo), "--urdf", U)
     assert code == 2 and "not a regular file" in err and "fifo.csv" in err
-    code, _, err = _finishes("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(fifo))
+    code, _, err = _finishes(
+        "cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(fifo)
+    )
     assert code == 2 and "not a regular file" in err
     code, _, err = _finishes("check", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(fifo))
     assert code == 2 and "not a regular file" in err
@@ -264,7 +384,9 @@ def test_fifo_inputs_are_refused_without_blocking(tmp_path: Path) -> None:
 def test_waypoints_that_are_not_utf8_are_an_input_error(tmp_path: Path) -> None:
     wp = tmp_path / "latin1.csv"
     wp.write_bytes("# posé\nx_m,y_m,z_m\n0.1,0.2,0.3\n".encode("latin-1"))
-    code, _, err = invoke("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp))
+    code, _, err = invoke(
+        "cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp)
+    )
     assert code == 2 and "UTF-8" in err and "latin1.csv" in err
 
 
@@ -290,14 +412,17 @@ def test_check_sarif_documents_each_code(tmp_path: Path) -> None:
     assert driver["rules"][result["ruleIndex"]]["id"] == result["ruleId"] == "T301"
 
 
-@pytest.mark.parametrize("option, value, what", [
-    ("--angle", "inf", "finite"),
-    ("--angle", "nan", "finite"),
-    ("--eef-step", "inf", "finite"),
-    ("--precision", "0", "> 0"),
-    ("--min-fraction", "2", "≤ 1"),
-    ("--solver", "nope", "lm"),
-])
+@pytest.mark.parametrize(
+    "option, value, what",
+    [
+        ("--angle", "inf", "finite"),
+        ("--angle", "nan", "finite"),
+        ("--eef-step", "inf", "finite"),
+        ("--precision", "0", "> 0"),
+        ("--min-fraction", "2", "≤ 1"),
+        ("--solver", "nope", "lm"),
+    ],
+)
 def test_cartesian_numbers_and_solver_checked_at_parse_time(option: str, value: str, what: str) -> None:
     result = runner.invoke(app, ["traj", "cartesian", U, "--center-offset", "0,-0.1,0", option, value])
     text = (str(result.exception) if isinstance(result.exception, ArmtoolError) else "") + result.output

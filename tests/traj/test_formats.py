@@ -71,8 +71,14 @@ points:
 
 def sample(with_rates: bool = True) -> Trajectory:
     q = np.array([[0.0, 0.1], [0.25, -0.3], [0.5, 0.125]])
-    return Trajectory(("shoulder", "slide"), q, np.array([0.0, 0.5, 1.25]),
-                      q * 2 if with_rates else None, q * 3 if with_rates else None, prismatic=(False, True))
+    return Trajectory(
+        ("shoulder", "slide"),
+        q,
+        np.array([0.0, 0.5, 1.25]),
+        q * 2 if with_rates else None,
+        q * 3 if with_rates else None,
+        prismatic=(False, True),
+    )
 
 
 @pytest.mark.parametrize("fmt", list(TrajFormat))
@@ -117,8 +123,11 @@ def test_ros1_echo_secs_nsecs_and_reorder_by_name() -> None:
 
 
 def test_moveit_robot_trajectory() -> None:
-    text = "joint_trajectory:\n" + "".join("  " + ln + "\n" for ln in ROS2_ECHO.replace("---\n", "").splitlines()) + \
-        "multi_dof_joint_trajectory:\n  joint_names: []\n  points: []\n"
+    text = (
+        "joint_trajectory:\n"
+        + "".join("  " + ln + "\n" for ln in ROS2_ECHO.replace("---\n", "").splitlines())
+        + "multi_dof_joint_trajectory:\n  joint_names: []\n  points: []\n"
+    )
     assert detect_format(text) is TrajFormat.MOVEIT
     traj = read_trajectory("plan.yaml", text).trajectory
     np.testing.assert_allclose(traj.positions, [[0.5, 0.1], [0.6, 0.2]])
@@ -129,19 +138,22 @@ def test_untimed_csv_is_a_path() -> None:
     assert traj.times is None and traj.n_points == 2
 
 
-@pytest.mark.parametrize("text, where, what", [
-    ("time_s,j1_rad\n0,0\n1,nan\n", "p.csv:3", "nan"),
-    ("time_s,j1_rad\n0,0\n1,abc\n", "p.csv:3", "not a number"),
-    ("time_s,j1_rad\n0,0\n1\n", "p.csv:3", "fields"),
-    ("time_s,j1_deg\n0,0\n", "p.csv:1", "not a time or joint column"),
-    ("time_s\n0\n", "p.csv:1", "no joint position column"),
-    ("joint_names: [a]\npoints:\n- positions: [1, 2]\n", "p.csv:3", "2 values for 1 joints"),
-    ("joint_names: [a]\npoints:\n- positions: [.nan]\n", "p.csv:3", "nan"),
-    ("joint_names: [a]\npoints: [\n", "p.csv:3", "not valid YAML"),
-    ('{"joint_names": ["a"], "points": [{"positions": [NaN]}]}', "p.csv:1", "nan"),
-    ('{"joint_names": ["a"],\n "points": [}', "p.csv:2", "not valid JSON"),
-    ("header: {}\n", "p.csv", "not a trajectory"),
-])
+@pytest.mark.parametrize(
+    "text, where, what",
+    [
+        ("time_s,j1_rad\n0,0\n1,nan\n", "p.csv:3", "nan"),
+        ("time_s,j1_rad\n0,0\n1,abc\n", "p.csv:3", "not a number"),
+        ("time_s,j1_rad\n0,0\n1\n", "p.csv:3", "fields"),
+        ("time_s,j1_deg\n0,0\n", "p.csv:1", "not a time or joint column"),
+        ("time_s\n0\n", "p.csv:1", "no joint position column"),
+        ("joint_names: [a]\npoints:\n- positions: [1, 2]\n", "p.csv:3", "2 values for 1 joints"),
+        ("joint_names: [a]\npoints:\n- positions: [.nan]\n", "p.csv:3", "nan"),
+        ("joint_names: [a]\npoints: [\n", "p.csv:3", "not valid YAML"),
+        ('{"joint_names": ["a"], "points": [{"positions": [NaN]}]}', "p.csv:1", "nan"),
+        ('{"joint_names": ["a"],\n "points": [}', "p.csv:2", "not valid JSON"),
+        ("header: {}\n", "p.csv", "not a trajectory"),
+    ],
+)
 def test_malformed_files_say_what_and_where(text: str, where: str, what: str) -> None:
     with pytest.raises(ArmtoolError) as err:
         read_trajectory("p.csv", text)

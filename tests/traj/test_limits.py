@@ -50,7 +50,9 @@ def test_not_moveit_format_is_an_error(tmp_path: Path) -> None:
 
 def test_scaling_factors_from_the_file_and_options(tmp_path: Path) -> None:
     f = tmp_path / "jl.yaml"
-    f.write_text(CLEAN_LIMITS.read_text().replace("default_velocity_scaling_factor: 1.0", "default_velocity_scaling_factor: 0.1"))
+    f.write_text(
+        CLEAN_LIMITS.read_text().replace("default_velocity_scaling_factor: 1.0", "default_velocity_scaling_factor: 0.1")
+    )
     assert load_limits(CLEAN_URDF, f).velocity_scaling == 0.1
     assert load_limits(CLEAN_URDF, f, velocity_scaling=0.5).velocity_scaling == 0.5
     with pytest.raises(ArmtoolError, match="outside"):

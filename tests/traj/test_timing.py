@@ -57,7 +57,9 @@ def test_missing_acceleration_limit_is_an_error_saying_where_to_give_it() -> Non
 
 def test_scaling_factors_scale_the_limits() -> None:
     full = time_optimal(random_path(2), clean_limits())
-    half = time_optimal(random_path(2), load_limits(CLEAN_URDF, acc_limits=["4"], velocity_scaling=0.5, acceleration_scaling=0.25))
+    half = time_optimal(
+        random_path(2), load_limits(CLEAN_URDF, acc_limits=["4"], velocity_scaling=0.5, acceleration_scaling=0.25)
+    )
     assert half.duration_s > full.duration_s * 1.5
 
 
@@ -88,7 +90,11 @@ def test_within_one_percent_of_toppra() -> None:
         tp = ta.SplineInterpolator(spline.s, spline.waypoints, bc_type="natural")
         vlim = np.stack([-lim.velocity, lim.velocity], axis=1)
         alim = np.stack([-lim.acceleration, lim.acceleration], axis=1)
-        inst = algo.TOPPRA([constraint.JointVelocityConstraint(vlim), constraint.JointAccelerationConstraint(alim)], tp,
-                           parametrizer="ParametrizeConstAccel", gridpoints=np.linspace(0, spline.length, 401))
+        inst = algo.TOPPRA(
+            [constraint.JointVelocityConstraint(vlim), constraint.JointAccelerationConstraint(alim)],
+            tp,
+            parametrizer="ParametrizeConstAccel",
+            gridpoints=np.linspace(0, spline.length, 401),
+        )
         ref = inst.compute_trajectory()
         assert ours.duration_s <= ref.duration * 1.01

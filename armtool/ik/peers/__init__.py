@@ -25,8 +25,16 @@ from armtool.ik.solver import Array, Solver
 
 # name -> ("module:Class", python module it needs, how to install it)
 PEERS: dict[str, tuple[str, str, str]] = {
-    "pytracik": ("armtool.ik.peers.pytracik_peer:PyTracIK", "pytracik", "pip install 'armtool[peers]' (or pip install pytracik)"),
-    "rtb-lm": ("armtool.ik.peers.rtb_lm:RtbLM", "roboticstoolbox", "pip install 'armtool[peers]' (or pip install roboticstoolbox-python)"),
+    "pytracik": (
+        "armtool.ik.peers.pytracik_peer:PyTracIK",
+        "pytracik",
+        "pip install 'armtool[peers]' (or pip install pytracik)",
+    ),
+    "rtb-lm": (
+        "armtool.ik.peers.rtb_lm:RtbLM",
+        "roboticstoolbox",
+        "pip install 'armtool[peers]' (or pip install roboticstoolbox-python)",
+    ),
     "ikpy": ("armtool.ik.peers.ikpy_peer:IkPy", "ikpy", "pip install 'armtool[peers]' (or pip install ikpy)"),
     "pykdl": ("armtool.ik.peers.pykdl_peer:PyKdlNrJl", "PyKDL", "apt install python3-pykdl (ROS)"),
 }

@@ -44,12 +44,17 @@ class IkPy(Solver):
                 handle.write(etree.tostring(urdf))
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # ikpy warns about the fixed links it reads
-                self._chain: Any = IkpyChain.from_urdf_file(path, base_elements=[chain.base], active_links_mask=mask, name=chain.name)
+                self._chain: Any = IkpyChain.from_urdf_file(
+                    path, base_elements=[chain.base], active_links_mask=mask, name=chain.name
+                )
         finally:
             os.unlink(path)
         names = [link.name for link in self._chain.links]
         if len(names) != len(mask) or [n for n, m in zip(names, mask) if m] != chain.joint_names:
-            raise ArmtoolError(f"ikpy reads the joints of '{chain.base}' → '{chain.tip}' as {names[1:]}", hint=f"expected {chain.joint_names}")
+            raise ArmtoolError(
+                f"ikpy reads the joints of '{chain.base}' → '{chain.tip}' as {names[1:]}",
+                hint=f"expected {chain.joint_names}",
+            )
         self._mask = np.array(mask)
         self._full = np.zeros(len(mask))
 
@@ -64,4 +69,6 @@ class IkPy(Solver):
         full = self._full.copy()
         full[self._mask] = seed
         out = self._chain.inverse_kinematics_frame(target, initial_position=full, orientation_mode="all")
-        return self._result(np.asarray(out, dtype=float)[self._mask], target, 0, "ikpy's local solve did not reach the target")
+        return self._result(
+            np.asarray(out, dtype=float)[self._mask], target, 0, "ikpy's local solve did not reach the target"
+        )

@@ -53,7 +53,9 @@ class PyKdlNrJl(Solver):
         for i in range(chain.n):
             self._q_min[i] = -_FLT_MAX if chain.continuous[i] else chain.lower[i]
             self._q_max[i] = _FLT_MAX if chain.continuous[i] else chain.upper[i]
-        self._ik = kdl.ChainIkSolverPos_NR_JL(kchain, self._q_min, self._q_max, self._fk, self._vel, self.ITERATIONS_PER_CALL, self.tolerance)
+        self._ik = kdl.ChainIkSolverPos_NR_JL(
+            kchain, self._q_min, self._q_max, self._fk, self._vel, self.ITERATIONS_PER_CALL, self.tolerance
+        )
 
         def fk(q: Array) -> Array:
             out = kdl.Frame()

@@ -42,10 +42,14 @@ class PyTracIK(Solver):
         import pytracik
 
         urdf = etree.tostring(path_urdf(root, chain), encoding="unicode")
-        self._solver: Any = pytracik.TRAC_IK(chain.base, chain.tip, urdf, self.timeout, self.tolerance / math.sqrt(3.0), pytracik.SolveType.Speed)
+        self._solver: Any = pytracik.TRAC_IK(
+            chain.base, chain.tip, urdf, self.timeout, self.tolerance / math.sqrt(3.0), pytracik.SolveType.Speed
+        )
         n = pytracik.get_num_joints(self._solver)
         if n != chain.n:
-            raise ArmtoolError(f"TRAC-IK sees {n} moving joints between '{chain.base}' and '{chain.tip}', armtool {chain.n}")
+            raise ArmtoolError(
+                f"TRAC-IK sees {n} moving joints between '{chain.base}' and '{chain.tip}', armtool {chain.n}"
+            )
         lower = np.where(chain.continuous, pytracik.get_joint_lower_bounds(self._solver), chain.lower)
         upper = np.where(chain.continuous, pytracik.get_joint_upper_bounds(self._solver), chain.upper)
         pytracik.set_joint_limits(self._solver, lower.tolist(), upper.tolist())
@@ -54,6 +58,12 @@ class PyTracIK(Solver):
 
     def solve(self, target: Array, seed: Array) -> IKResult:
         x, y, z, w = pin.Quaternion(target[:3, :3]).coeffs()
-        out = np.asarray(self._ik(self._solver, seed, target[0, 3], target[1, 3], target[2, 3], x, y, z, w), dtype=float)
-        reason = f"TRAC-IK found no solution (rc {out[0]:g})" if out[0] < 0 else "TRAC-IK reported a solution that our FK check rejects"
+        out = np.asarray(
+            self._ik(self._solver, seed, target[0, 3], target[1, 3], target[2, 3], x, y, z, w), dtype=float
+        )
+        reason = (
+            f"TRAC-IK found no solution (rc {out[0]:g})"
+            if out[0] < 0
+            else "TRAC-IK reported a solution that our FK check rejects"
+        )
         return self._result(out[1:], target, 0, reason)

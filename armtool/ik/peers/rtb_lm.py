@@ -44,13 +44,17 @@ class RtbLM(Solver):
         links, name, _ = URDF_file(io.StringIO(text))
         self._ets: Any = rtb.Robot(links, name=name).ets(start=chain.base, end=chain.tip)
         if self._ets.n != chain.n:
-            raise ArmtoolError(f"rtb sees {self._ets.n} moving joints between '{chain.base}' and '{chain.tip}', armtool {chain.n}")
+            raise ArmtoolError(
+                f"rtb sees {self._ets.n} moving joints between '{chain.base}' and '{chain.tip}', armtool {chain.n}"
+            )
         self._tol = 0.5 * self.tolerance**2
         check_fk(self.name, chain, lambda q: self._ets.fkine(q).A)
 
     def solve(self, target: Array, seed: Array) -> IKResult:
         sol = self._ets.ik_LM(target, q0=seed, ilimit=self.ILIMIT, slimit=self.SLIMIT, tol=self._tol, joint_limits=True)
         reason = (
-            f"ik_LM found no solution in {sol.searches} searches" if not sol.success else "ik_LM reported a solution that our FK check rejects"
+            f"ik_LM found no solution in {sol.searches} searches"
+            if not sol.success
+            else "ik_LM reported a solution that our FK check rejects"
         )
         return self._result(np.asarray(sol.q, dtype=float), target, int(sol.iterations), reason)

@@ -179,7 +179,12 @@ def _checks(
         off = float(np.linalg.norm(centre - foot))
         wrist.append(("axis 6 through the 4,5 intersection", off < length_tol, f"{off:.3g} m off"))
         dist3 = float(np.linalg.norm(np.cross(centre - lines[2][0], w[2])))
-        first3 = [nonpar(1, 2), par(2, 3), apart(2, 3), ("wrist centre off axis 3", dist3 > length_tol, f"{dist3:.3g} m")]
+        first3 = [
+            nonpar(1, 2),
+            par(2, 3),
+            apart(2, 3),
+            ("wrist centre off axis 3", dist3 > length_tol, f"{dist3:.3g} m"),
+        ]
     else:
         first3 = [nonpar(1, 2), par(2, 3), apart(2, 3)]
     return {"ur": ur, "spherical-wrist": wrist + first3}
@@ -215,7 +220,8 @@ def detect(chain: Chain) -> Geometry:
             if error <= NEAR_MODEL_TOL:
                 return Geometry(kind, joints, base, tool, error, near=True)
     failed = "; ".join(
-        f"{_TITLES[kind]}: " + ", ".join(f"{label}: no ({value})" for label, ok, value in checks[kind] if not ok) for kind in kinds
+        f"{_TITLES[kind]}: " + ", ".join(f"{label}: no ({value})" for label, ok, value in checks[kind] if not ok)
+        for kind in kinds
     )
     raise ArmtoolError(
         f"the chain (6R) has no supported closed form, not even within {NEAR_ANGLE_TOL:g} rad / {NEAR_LENGTH_TOL:g} m; {need}: {failed}",
@@ -297,7 +303,14 @@ def _dh_fk(joints: tuple[DHJoint, ...], base: Array, tool: Array, q: list[float]
     for j, qi in zip(joints, q):
         th = j.sign * qi + j.offset
         ct, st, ca, sa = math.cos(th), math.sin(th), math.cos(j.alpha), math.sin(j.alpha)
-        A: Array = np.array([[ct, -st * ca, st * sa, j.a * ct], [st, ct * ca, -ct * sa, j.a * st], [0.0, sa, ca, j.d], [0.0, 0.0, 0.0, 1.0]])
+        A: Array = np.array(
+            [
+                [ct, -st * ca, st * sa, j.a * ct],
+                [st, ct * ca, -ct * sa, j.a * st],
+                [0.0, sa, ca, j.d],
+                [0.0, 0.0, 0.0, 1.0],
+            ]
+        )
         T = T @ A
     return T @ tool
 
@@ -326,7 +339,9 @@ def _roots_acos(c: float, flat: float = 0.0, over: float = ROOT_TOL) -> tuple[fl
     return (b, -b)
 
 
-def _theta5(h: float, c: float, half_sum: float, half_diff: float, inv45: float, over: float = ROOT_TOL) -> float | None:
+def _theta5(
+    h: float, c: float, half_sum: float, half_diff: float, inv45: float, over: float = ROOT_TOL
+) -> float | None:
     """θ5 ≥ 0 from the angle ψ = atan2(h, c) between axis 6 and axis 4 (h, c: its sine and cosine).
 
     cos ψ = cos α4 cos α5 − sin α4 sin α5 cos θ5. Near a wrist singularity acos(cos θ5) would lose
@@ -362,7 +377,9 @@ class Analytic(Solver):
     options: ClassVar[dict[str, Any]] = {}
     position_only_capable: ClassVar[bool] = False
 
-    def __init__(self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
+    def __init__(
+        self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
+    ) -> None:
         super().__init__(chain, timeout=timeout, tolerance=tolerance, seed=seed, **options)
         self.geometry = detect(chain)
         g = self.geometry
@@ -402,10 +419,15 @@ class Analytic(Solver):
         tp = self._to_dh.dot(t.ravel()).tolist()
         sd = np.asarray(seed, dtype=float).tolist()
         if len(sd) != 6 or not math.isfinite(sum(sd)):
-            raise ArmtoolError(f"seed must be 6 finite joint values, got {sd}", hint="pass a configuration of the chain, e.g. chain.mid()")
+            raise ArmtoolError(
+                f"seed must be 6 finite joint values, got {sd}",
+                hint="pass a configuration of the chain, e.g. chain.mid()",
+            )
         qs = self._candidates_ur(tp, sd) if self.geometry.kind == "ur" else self._candidates_wrist(tp, sd)
         if not qs:
-            return self._result(chain.clamp(np.asarray(seed, dtype=float)), t, 0, "out of reach: the closed form has no real solution")
+            return self._result(
+                chain.clamp(np.asarray(seed, dtype=float)), t, 0, "out of reach: the closed form has no real solution"
+            )
         fk = chain.fk
         tol, rot_tol2, limits = self.tolerance, self._rot_tol2, self._limits
         (lo0, hi0), (lo1, hi1), (lo2, hi2), (lo3, hi3), (lo4, hi4), (lo5, hi5) = limits
@@ -414,10 +436,19 @@ class Analytic(Solver):
         found: list[tuple[float, Array, list[list[float]]]] = []
         in_limits = 0
         if self.geometry.near:  # polish only what may end within the limits
-            qs = self._polish([near for near in (_into_limits(q, self._near_limits) for q in qs) if near is not None], t)
+            qs = self._polish(
+                [near for near in (_into_limits(q, self._near_limits) for q in qs) if near is not None], t
+            )
         for q in qs:
             a, b, c, d, e, f = q
-            if not (lo0 <= a <= hi0 and lo1 <= b <= hi1 and lo2 <= c <= hi2 and lo3 <= d <= hi3 and lo4 <= e <= hi4 and lo5 <= f <= hi5):
+            if not (
+                lo0 <= a <= hi0
+                and lo1 <= b <= hi1
+                and lo2 <= c <= hi2
+                and lo3 <= d <= hi3
+                and lo4 <= e <= hi4
+                and lo5 <= f <= hi5
+            ):
                 fitted = _into_limits(q, limits)
                 if fitted is None:
                     continue
@@ -441,7 +472,11 @@ class Analytic(Solver):
             return self._result(chain.clamp(np.asarray(seed, dtype=float)), t, 0, why)
         found.sort(key=_first)
         if self.geometry.near:  # two model answers may polish into one solution
-            found = [item for k, item in enumerate(found) if all(float(np.abs(item[1] - other[1]).max()) > 1e-7 for other in found[:k])]
+            found = [
+                item
+                for k, item in enumerate(found)
+                if all(float(np.abs(item[1] - other[1]).max()) > 1e-7 for other in found[:k])
+            ]
         _, q_best, H = found[0]
         (m00, m01, m02, x), (m10, m11, m12, y), (m20, m21, m22, z), _ = H
         pos = math.sqrt((tx - x) ** 2 + (ty - y) ** 2 + (tz - z) ** 2)
@@ -454,7 +489,12 @@ class Analytic(Solver):
         """Newton steps on the real chain from a near-closed-form model's answers (Pinocchio's 6×6 Jacobian,
         full steps; one candidate at a time: 2.8× faster than numpy over all of them, measured on Gen3)."""
         pin, model, data, frame = self.chain._model()
-        jacobian, place, log3, world = pin.computeFrameJacobian, pin.updateFramePlacement, pin.log3, pin.LOCAL_WORLD_ALIGNED
+        jacobian, place, log3, world = (
+            pin.computeFrameJacobian,
+            pin.updateFramePlacement,
+            pin.log3,
+            pin.LOCAL_WORLD_ALIGNED,
+        )
         solve, goal = np.linalg.solve, 0.1 * self.tolerance
         R_t, p_t = target[:3, :3], target[:3, 3]
         out = []
@@ -494,7 +534,9 @@ class Analytic(Solver):
     def _candidates_ur(self, tp: list[float], sd: list[float]) -> list[tuple[float, ...]]:
         """Every UR-type solution as q (each angle the 2π-representation nearest the seed's), limits not checked."""
         r00, r01, r02, px, r10, r11, r12, py, r20, r21, r22, pz = tp
-        (sa1, ca1, a1, d1, _, a2, rr, gam, sq, inv2, _, _, a4, d4, sa4, ca4, d5, sa5, ca5, hsum, hdiff, inv45) = self._const
+        (sa1, ca1, a1, d1, _, a2, rr, gam, sq, inv2, _, _, a4, _d4, sa4, ca4, d5, sa5, ca5, hsum, hdiff, inv45) = (
+            self._const
+        )
         (g1, k1), (g2, k2), (g3, k3), (g4, k4), (g5, k5), (g6, k6) = self._gk
         s1_, s2_, s3_, s4_, s5_, s6_ = sd
         out: list[tuple[float, ...]] = []
@@ -521,7 +563,9 @@ class Analytic(Solver):
             for th5 in (b5,) if singular else (b5, -b5):
                 s5 = sin(th5)
                 if singular:
-                    th6 = _ur_free_theta6(g6 * (s6_ - k6), px1, py1, (ax, ay, az), (bx, by, bz), c5, s5, sa5, ca5, d5, a4, a2, rr)
+                    th6 = _ur_free_theta6(
+                        g6 * (s6_ - k6), px1, py1, (ax, ay, az), (bx, by, bz), c5, s5, sa5, ca5, d5, a4, a2, rr
+                    )
                 else:
                     th6 = atan2(ca5 * c5 * sa4 + sa5 * ca4, s5 * sa4) - atw
                 q5 = s5_ - rem(s5_ - g5 * th5 - k5, TAU)
@@ -552,7 +596,9 @@ class Analytic(Solver):
     def _candidates_wrist(self, tp: list[float], sd: list[float]) -> list[tuple[float, ...]]:
         """Every spherical-wrist solution as q (each angle the 2π-representation nearest the seed's), limits not checked."""
         r00, r01, r02, px, r10, r11, r12, py, r20, r21, r22, pz = tp
-        (sa1, ca1, a1, d1, _, a2, rr, gam, sq, inv2, sa3, ca3, _, _, sa4, ca4, _, sa5, ca5, hsum, hdiff, inv45) = self._const
+        (sa1, ca1, a1, d1, _, a2, rr, gam, sq, inv2, sa3, ca3, _, _, sa4, ca4, _, sa5, ca5, hsum, hdiff, inv45) = (
+            self._const
+        )
         (g1, k1), (g2, k2), (g3, k3), (g4, k4), (g5, k5), (g6, k6) = self._gk
         s1_, s2_, s3_, s4_, s5_, s6_ = sd
         out: list[tuple[float, ...]] = []
@@ -611,7 +657,9 @@ class Analytic(Solver):
         return out
 
 
-def _wrist_theta6(th4: float, th5: float, m00: float, m10: float, m20: float, sa4: float, ca4: float, sa5: float, ca5: float) -> float:
+def _wrist_theta6(
+    th4: float, th5: float, m00: float, m10: float, m20: float, sa4: float, ca4: float, sa5: float, ca5: float
+) -> float:
     """θ6 from the first column of Rz(θ6) = Rx(−α5)·Rz(−θ5)·Rx(−α4)·Rz(−θ4)·M, given θ4 and θ5 (near a wrist singularity)."""
     c, s = math.cos(th4), math.sin(th4)
     x, y, z = c * m00 + s * m10, -s * m00 + c * m10, m20
@@ -635,8 +683,16 @@ def _ur_free_theta6(
     ax, ay, az = ax_
     bx, by, bz = bx_
     f, h2 = -ca5 * s5, sa5 * s5
-    x0, xc, xs = px1 - d5 * az * ca5 - a4 * az * h2, -d5 * ay * sa5 - a4 * (ax * c5 + ay * f), -d5 * ax * sa5 - a4 * (ax * f - ay * c5)
-    y0, yc, ys = py1 - d5 * bz * ca5 - a4 * bz * h2, -d5 * by * sa5 - a4 * (bx * c5 + by * f), -d5 * bx * sa5 - a4 * (bx * f - by * c5)
+    x0, xc, xs = (
+        px1 - d5 * az * ca5 - a4 * az * h2,
+        -d5 * ay * sa5 - a4 * (ax * c5 + ay * f),
+        -d5 * ax * sa5 - a4 * (ax * f - ay * c5),
+    )
+    y0, yc, ys = (
+        py1 - d5 * bz * ca5 - a4 * bz * h2,
+        -d5 * by * sa5 - a4 * (bx * c5 + by * f),
+        -d5 * bx * sa5 - a4 * (bx * f - by * c5),
+    )
     A = x0 * x0 + y0 * y0 + (xc * xc + yc * yc + xs * xs + ys * ys) / 2.0
     P, Q = 2.0 * (x0 * xc + y0 * yc), 2.0 * (x0 * xs + y0 * ys)
     R, beta = math.hypot(P, Q), math.atan2(Q, P)

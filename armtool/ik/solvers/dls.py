@@ -64,12 +64,17 @@ class DampedLeastSquares(Solver):
         "max_step": 0.5,  # largest joint motion per step, rad or m
     }
 
-    def __init__(self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
+    def __init__(
+        self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
+    ) -> None:
         super().__init__(chain, timeout, tolerance, seed, **options)
         for key in self.options:
             value = self.opts[key]
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
-                raise ArmtoolError(f"solver 'dls' option {key} must be a number ≥ 0, got {value!r}", hint=f"default: {self.options[key]}")
+                raise ArmtoolError(
+                    f"solver 'dls' option {key} must be a number ≥ 0, got {value!r}",
+                    hint=f"default: {self.options[key]}",
+                )
         if not self.opts["max_step"] > 0:
             raise ArmtoolError("solver 'dls' option max_step must be > 0", hint=f"default: {self.options['max_step']}")
 

@@ -63,11 +63,16 @@ class KdlLevenbergMarquardt(Solver):
         "eps": None,  # KDL's eps on the weighted error norm; None: the tolerance (KDL's default 1e-5 = ours)
     }
 
-    def __init__(self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
+    def __init__(
+        self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
+    ) -> None:
         super().__init__(chain, timeout, tolerance, seed, **options)
         weights = np.asarray(self.opts["weights"], dtype=float)
         if weights.shape != (6,) or not np.all(weights >= 0) or not np.any(weights > 0):
-            raise ArmtoolError(f"weights must be 6 non-negative numbers (x, y, z, rx, ry, rz), got {self.opts['weights']!r}", hint="KDL's default: 1 1 1 0.01 0.01 0.01")
+            raise ArmtoolError(
+                f"weights must be 6 non-negative numbers (x, y, z, rx, ry, rz), got {self.opts['weights']!r}",
+                hint="KDL's default: 1 1 1 0.01 0.01 0.01",
+            )
         self._weights = weights
 
     def solve(self, target: Array, seed: Array) -> IKResult:

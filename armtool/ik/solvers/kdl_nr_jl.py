@@ -101,4 +101,3 @@ class KdlNewtonRaphsonJL(Solver):
                 return self._result(q, target, iterations, "timeout")
             if iterations >= max_calls:
                 return self._result(q, target, iterations, f"no convergence in {iterations} calls (max_calls)")
-

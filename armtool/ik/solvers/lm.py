@@ -21,6 +21,7 @@ crossed one. An answer is accepted once its position and orientation error norms
 loop's own twist, are each within 0.99·tolerance (so is every component of the twist error,
 which is what the protocol asks).
 """
+
 from __future__ import annotations
 
 import math
@@ -61,7 +62,9 @@ class LevenbergMarquardt(Solver):
     _tree: Any = None  # k-d tree over the table's pose features
     _scores: Array  # (FIRST_TABLE, 16): see _build_table
 
-    def __init__(self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
+    def __init__(
+        self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
+    ) -> None:
         super().__init__(chain, timeout, tolerance, seed, **options)
         import pinocchio as pin
         from scipy.linalg import blas, lapack
@@ -71,8 +74,10 @@ class LevenbergMarquardt(Solver):
         # Per-solve constants, computed once: every microsecond counts at ~10 µs per iteration.
         frame_jacobian = pin.getFrameJacobian
         if chain.n == 1:  # eigenpy hands a 6x1 matrix back as a flat (6,) array; the steps need (6, 1)
+
             def frame_jacobian(*args: Any) -> Any:
                 return pin.getFrameJacobian(*args).reshape(6, 1)
+
         self._pin_calls = (pin.computeJointJacobians, pin.updateFramePlacement, frame_jacobian, pin.log6, pin.LOCAL)
         cont = chain.continuous
         self._k = float(self.opts["error_damping"])
@@ -93,7 +98,9 @@ class LevenbergMarquardt(Solver):
         each target, nearest first."""
         assert self._table is not None
         _, F, F2 = (a[: self.BATCH_TABLE_SIZE] for a in self._table)
-        d = F2[None, :] - 2.0 * (_pose_features(targets) @ F.T)  # squared distance up to |f|², which does not change the order
+        d = F2[None, :] - 2.0 * (
+            _pose_features(targets) @ F.T
+        )  # squared distance up to |f|², which does not change the order
         order = np.argpartition(d, self.BATCH_TABLE_SEEDS, axis=1)[:, : self.BATCH_TABLE_SEEDS]
         return np.take_along_axis(order, np.argsort(np.take_along_axis(d, order, axis=1), axis=1), axis=1)
 
@@ -239,7 +246,9 @@ class LevenbergMarquardt(Solver):
             if ql_next != ql_raw:  # the step crossed a limit
                 # Joints held at a limit (the step pushes them further out) leave the step, and
                 # the others re-plan without them; the rest of the step is clamped.
-                blocked = [i for i, (before, after, raw) in enumerate(zip(ql, ql_next, ql_raw)) if before == after != raw]
+                blocked = [
+                    i for i, (before, after, raw) in enumerate(zip(ql, ql_next, ql_raw)) if before == after != raw
+                ]
                 if blocked:
                     A[blocked, :] = 0.0
                     A[:, blocked] = 0.0
@@ -314,7 +323,9 @@ class LevenbergMarquardt(Solver):
         d2_table = np.einsum("ij,ij->i", p, p) + 0.12 - 2.0 * scores[np.arange(N), best]
         T, _ = self.chain.fk_jacobian_batch(Q, jacobian=False)
         diff = targets[:, :3, :] - T[:, :3, :]
-        d2_seed = np.einsum("ij,ij->i", diff[:, :, 3], diff[:, :, 3]) + 0.04 * np.einsum("ijk,ijk->i", diff[:, :, :3], diff[:, :, :3])
+        d2_seed = np.einsum("ij,ij->i", diff[:, :, 3], diff[:, :, 3]) + 0.04 * np.einsum(
+            "ijk,ijk->i", diff[:, :, :3], diff[:, :, :3]
+        )
         use = d2_table < d2_seed
         Q[use] = np.minimum(np.maximum(self._table[0][best[use]], self._lower), self._upper)
         return np.asarray(use, dtype=np.intp)
@@ -359,7 +370,10 @@ class LevenbergMarquardt(Solver):
             close = np.flatnonzero(err < near)
             if close.size:
                 ec = e[:, close]
-                done = close[(np.einsum("im,im->m", ec[:3], ec[:3]) <= accept) & (np.einsum("im,im->m", ec[3:], ec[3:]) <= accept)]
+                done = close[
+                    (np.einsum("im,im->m", ec[:3], ec[:3]) <= accept)
+                    & (np.einsum("im,im->m", ec[3:], ec[3:]) <= accept)
+                ]
                 if done.size:
                     Q[idx[done]] = Qa[done]
                     keep = np.ones(idx.size, dtype=bool)
@@ -388,7 +402,9 @@ class LevenbergMarquardt(Solver):
                 A_b = A[rows] * (free[:, :, None] & free[:, None, :]) + b[:, :, None] * eye
                 dq[rows] = np.linalg.solve(A_b, (g[rows] * free)[..., None])[..., 0]
             Qa = np.minimum(np.maximum(Qa + dq, lower), upper)
-            restart = np.flatnonzero((since >= np.where(restarts[idx] > 0, self.STALL, self.FIRST_STALL)) | (tries >= per_try))
+            restart = np.flatnonzero(
+                (since >= np.where(restarts[idx] > 0, self.STALL, self.FIRST_STALL)) | (tries >= per_try)
+            )
             if restart.size:
                 r = idx[restart]
                 first = r[restarts[r] == 0]
@@ -408,7 +424,9 @@ class LevenbergMarquardt(Solver):
             # timeouts each: one unreachable target must not hold up the whole batch.
             for j, i in enumerate(idx):
                 left = (deadline - self.clock()) / (idx.size - j)
-                res = self._solve(targets[i], Q[i], min(self.TAIL_TIMEOUTS * self.timeout, max(left, 0.0)), from_seed=False)
+                res = self._solve(
+                    targets[i], Q[i], min(self.TAIL_TIMEOUTS * self.timeout, max(left, 0.0)), from_seed=False
+                )
                 Q[i] = res.q
                 iterations[i] += res.iterations
         Q = self._wrap(Q)

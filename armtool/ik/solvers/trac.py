@@ -124,7 +124,9 @@ def manipulability(chain: Chain, q: Array, kind: SolveType) -> float:
 
 class TracIK(Solver):
     name = "trac"
-    summary = "TRAC-IK's design: KDL Newton with random restarts and a bounded SLSQP, interleaved in one budget; solve types"
+    summary = (
+        "TRAC-IK's design: KDL Newton with random restarts and a bounded SLSQP, interleaved in one budget; solve types"
+    )
     options: ClassVar[dict[str, Any]] = {
         "solve_type": "speed",  # speed | distance | manip1 | manip2
         "nr_slice": 50,  # Newton steps per turn (~1 ms)
@@ -133,7 +135,9 @@ class TracIK(Solver):
         "sqp_max_iterations": 60,  # SLSQP iterations per run before a random restart
     }
 
-    def __init__(self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any) -> None:
+    def __init__(
+        self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
+    ) -> None:
         super().__init__(chain, timeout, tolerance, seed, **options)
         kind = self.opts["solve_type"]
         valid = ", ".join(t.value for t in SolveType)
@@ -144,7 +148,10 @@ class TracIK(Solver):
         for key in ("nr_slice", "sqp_slice", "nr_patience", "sqp_max_iterations"):
             value = self.opts[key]
             if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value) or value < 1:
-                raise ArmtoolError(f"solver 'trac' option {key} must be an integer ≥ 1, got {value!r}", hint=f"default: {self.options[key]}")
+                raise ArmtoolError(
+                    f"solver 'trac' option {key} must be an integer ≥ 1, got {value!r}",
+                    hint=f"default: {self.options[key]}",
+                )
         from scipy.optimize import Bounds, minimize  # here, not inside the first timed solve
 
         self._minimize = minimize
@@ -277,8 +284,12 @@ class _Search:
         # falls back to mid-range there), and its bounds: the limits narrowed to start ± 2π (start ± 2π
         # for continuous joints).
         x0 = solver.into_limits(self.seed)
-        lo = np.where(chain.continuous, x0 - TWO_PI, np.where(chain.revolute, np.maximum(chain.lower, x0 - TWO_PI), chain.lower))
-        hi = np.where(chain.continuous, x0 + TWO_PI, np.where(chain.revolute, np.minimum(chain.upper, x0 + TWO_PI), chain.upper))
+        lo = np.where(
+            chain.continuous, x0 - TWO_PI, np.where(chain.revolute, np.maximum(chain.lower, x0 - TWO_PI), chain.lower)
+        )
+        hi = np.where(
+            chain.continuous, x0 + TWO_PI, np.where(chain.revolute, np.minimum(chain.upper, x0 + TWO_PI), chain.upper)
+        )
         bounds = solver._bounds_type(lo, hi)
         options = {"maxiter": int(solver.opts["sqp_max_iterations"]), "ftol": 1e-20}
         sqp_slice = int(solver.opts["sqp_slice"])

@@ -48,6 +48,7 @@ class KinematicsUnknownGroup(Rule):
                 self,
                 group.line,
                 group.column,
-                f"group '{group.name}' is not defined in {srdf_name}" + (f" (did you mean '{match}'?)" if match else ""),
+                f"group '{group.name}' is not defined in {srdf_name}"
+                + (f" (did you mean '{match}'?)" if match else ""),
                 hint=hint,
             )

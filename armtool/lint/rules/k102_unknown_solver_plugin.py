@@ -106,7 +106,8 @@ class UnknownSolverPlugin(Rule):
                 item.column,
                 f"group '{group.name}': kinematics_solver '{text}' is not a known IK plugin"
                 + (f" (did you mean '{match}'?)" if match else ""),
-                hint=f"kinematics_solver: {match}" if match else
-                "use pluginlib's package/Class name, e.g. kdl_kinematics_plugin/KDLKinematicsPlugin; for a custom "
+                hint=f"kinematics_solver: {match}"
+                if match
+                else "use pluginlib's package/Class name, e.g. kdl_kinematics_plugin/KDLKinematicsPlugin; for a custom "
                 "plugin, silence this line with `# armtool: ignore[K102]`",
             )

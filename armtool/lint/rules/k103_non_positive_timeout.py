@@ -7,7 +7,6 @@ from armtool.lint.kinematics_context import KinematicsContext, not_positive
 from armtool.lint.rule import Rule, Target
 
 
-
 class NonPositiveTimeout(Rule):
     """
     What it does:

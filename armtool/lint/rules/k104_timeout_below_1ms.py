@@ -7,7 +7,6 @@ from armtool.lint.kinematics_context import KinematicsContext, as_number
 from armtool.lint.numbers import fmt
 from armtool.lint.rule import Rule, Target
 
-
 ONE_MS = 0.001
 
 

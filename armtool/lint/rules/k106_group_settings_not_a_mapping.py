@@ -32,8 +32,11 @@ class GroupSettingsNotAMapping(Rule):
     def check(self, ctx: KinematicsContext) -> Iterator[Finding]:
         for group in ctx.groups:
             if group.not_a_mapping is not None:
-                what = "has no settings" if group.not_a_mapping == "nothing" else \
-                    f"is {group.not_a_mapping}, not a mapping of settings"
+                what = (
+                    "has no settings"
+                    if group.not_a_mapping == "nothing"
+                    else f"is {group.not_a_mapping}, not a mapping of settings"
+                )
                 yield ctx.finding_at(
                     self,
                     group.line,

@@ -60,8 +60,10 @@ class SrdfUnknownJoint(Rule):
             if kind:
                 roots = ctx.urdf.root_links()
                 child = roots[0] if len(roots) == 1 else "ROOT_LINK"
-                hint = (f"its value looks like a {kind} base pose: declare it, e.g. <virtual_joint name=\"{name}\" "
-                        f"type=\"{kind}\" parent_frame=\"world\" child_link=\"{child}\"/>")
+                hint = (
+                    f'its value looks like a {kind} base pose: declare it, e.g. <virtual_joint name="{name}" '
+                    f'type="{kind}" parent_frame="world" child_link="{child}"/>'
+                )
             elif match:
                 hint = f'use an existing joint name, e.g. name="{match}"'
             else:

@@ -77,5 +77,5 @@ def _hint(ctx: SrdfContext, tip: str | None, attr: str, known: set[str]) -> str:
     if attr == "child_link":
         roots = ctx.urdf.root_links()
         if roots:
-            return f"the virtual joint attaches the URDF's root link: child_link=\"{roots[0]}\""
+            return f'the virtual joint attaches the URDF\'s root link: child_link="{roots[0]}"'
     return "fix the name, or add the link to the URDF"

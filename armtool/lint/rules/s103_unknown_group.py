@@ -57,7 +57,7 @@ class UnknownGroup(Rule):
             elif known:
                 hint = "groups defined here: " + ", ".join(sorted(known))
             else:
-                hint = "define the group with <group name=\"...\">"
+                hint = 'define the group with <group name="...">'
             yield ctx.finding(
                 self,
                 el,

@@ -43,8 +43,11 @@ class ChainTipNotBelowBase(Rule):
                 owner = f"group '{group.get('name')}'"
                 if base == tip:
                     yield ctx.finding(
-                        self, el, f"{owner}: chain base_link and tip_link are both '{tip}': the chain has no joints",
-                        attr="tip_link", hint="set tip_link to the tool or flange link below the base",
+                        self,
+                        el,
+                        f"{owner}: chain base_link and tip_link are both '{tip}': the chain has no joints",
+                        attr="tip_link",
+                        hint="set tip_link to the tool or flange link below the base",
                     )
                     continue
                 if ctx.chain_links(base, tip) is not None:

@@ -37,8 +37,12 @@ class EndEffectorParentLink(Rule):
             owner = f"end_effector '{el.get('name')}'"
             link = el.get("parent_link")
             if link is None:
-                yield ctx.finding(self, el, f"{owner} has no parent_link",
-                                  hint="add parent_link=\"...\": the arm link the end effector is mounted on")
+                yield ctx.finding(
+                    self,
+                    el,
+                    f"{owner} has no parent_link",
+                    hint='add parent_link="...": the arm link the end effector is mounted on',
+                )
                 continue
             if link not in urdf.link_names:
                 joint = urdf.joint(link)

@@ -50,14 +50,19 @@ class GroupStateOutOfLimits(Rule):
                 raw = el.get("value")
                 values = parse_floats(raw)
                 one_dof = joint.type in ONE_DOF
-                if values is None or not values or (one_dof and len(values) != 1) or not all(map(math.isfinite, values)):
+                if (
+                    values is None
+                    or not values
+                    or (one_dof and len(values) != 1)
+                    or not all(map(math.isfinite, values))
+                ):
                     shown = "no value" if raw is None else f"value '{raw}'"
                     yield ctx.finding(
                         self,
                         el,
                         f"{owner}: joint '{name}' has {shown}, not a number",
                         attr="value" if raw is not None else "name",
-                        hint="write one number, e.g. value=\"0.0\"" if one_dof else "write the joint's values as numbers",
+                        hint='write one number, e.g. value="0.0"' if one_dof else "write the joint's values as numbers",
                     )
                     continue
                 if not one_dof:

@@ -55,13 +55,14 @@ class GroupStateMissingJoint(Rule):
                 missing.append(name)
             if not missing:
                 continue
-            shown = ", ".join(f"'{m}'" for m in missing[:SHOWN]) + (f" and {len(missing) - SHOWN} more" if len(missing) > SHOWN else "")
+            shown = ", ".join(f"'{m}'" for m in missing[:SHOWN]) + (
+                f" and {len(missing) - SHOWN} more" if len(missing) > SHOWN else ""
+            )
             noun = "joint" if len(missing) == 1 else f"{len(missing)} joints"
             yield ctx.finding(
                 self,
                 state,
                 f"group_state '{state.get('name')}' gives no value for {noun} of group '{group}': {shown}",
                 attr="name",
-                hint="add <joint name=\"...\" value=\"...\"/> for each, e.g. "
-                f"<joint name=\"{missing[0]}\" value=\"...\"/>",
+                hint=f'add <joint name="..." value="..."/> for each, e.g. <joint name="{missing[0]}" value="..."/>',
             )

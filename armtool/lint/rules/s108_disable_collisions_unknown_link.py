@@ -46,6 +46,7 @@ class DisableCollisionsUnknownLink(Rule):
                         f"{tag} {attr} '{name}' is not in {urdf.path.name}"
                         + (f" (did you mean '{match}'?)" if match else ""),
                         attr=attr,
-                        hint=f'use the existing link: {attr}="{match}"' if match else
-                        "remove the entry, or regenerate the collision matrix (MoveIt Setup Assistant)",
+                        hint=f'use the existing link: {attr}="{match}"'
+                        if match
+                        else "remove the entry, or regenerate the collision matrix (MoveIt Setup Assistant)",
                     )

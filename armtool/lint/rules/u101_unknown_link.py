@@ -41,5 +41,5 @@ class UnknownLink(Rule):
                     f"joint '{joint.name}': {role} link '{name}' does not exist"
                     + (f" (did you mean '{match}'?)" if match else ""),
                     attr="link",
-                    hint=f"use an existing link name, e.g. link=\"{match}\"" if match else "add the link or fix the name",
+                    hint=f'use an existing link name, e.g. link="{match}"' if match else "add the link or fix the name",
                 )

@@ -48,5 +48,5 @@ class MultipleRoots(Rule):
                 el,
                 f"link '{name}' is a second root (the first is '{roots[0]}'): no joint attaches it",
                 attr="name",
-                hint=f"add a joint with <child link=\"{name}\"/>, or check for a misspelled child link name",
+                hint=f'add a joint with <child link="{name}"/>, or check for a misspelled child link name',
             )

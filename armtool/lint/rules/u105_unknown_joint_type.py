@@ -31,7 +31,12 @@ class UnknownJointType(Rule):
             if joint.type in JOINT_TYPES:
                 continue
             if joint.type is None:
-                yield ctx.finding(self, joint.el, f"joint '{joint.name}' has no type", hint="add type=\"revolute\" (or another joint type)")
+                yield ctx.finding(
+                    self,
+                    joint.el,
+                    f"joint '{joint.name}' has no type",
+                    hint='add type="revolute" (or another joint type)',
+                )
                 continue
             yield ctx.finding(
                 self,

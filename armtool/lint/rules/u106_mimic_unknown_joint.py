@@ -33,9 +33,16 @@ class MimicUnknownJoint(Rule):
                 continue
             target = mimic.get("joint")
             if target is None:
-                yield ctx.finding(self, mimic, f"joint '{joint.name}': <mimic> has no joint attribute", hint="name the joint to follow")
+                yield ctx.finding(
+                    self,
+                    mimic,
+                    f"joint '{joint.name}': <mimic> has no joint attribute",
+                    hint="name the joint to follow",
+                )
             elif target == joint.name:
-                yield ctx.finding(self, mimic, f"joint '{joint.name}' mimics itself", attr="joint", hint="name another joint")
+                yield ctx.finding(
+                    self, mimic, f"joint '{joint.name}' mimics itself", attr="joint", hint="name another joint"
+                )
             elif target not in ctx.joint_names:
                 yield ctx.finding(
                     self,

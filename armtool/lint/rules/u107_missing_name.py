@@ -26,13 +26,15 @@ class MissingRequired(Rule):
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         if not ctx.root.get("name"):
-            yield ctx.finding(self, ctx.root, "<robot> has no name (urdfdom rejects it)", hint='add name="..." to <robot>')
+            yield ctx.finding(
+                self, ctx.root, "<robot> has no name (urdfdom rejects it)", hint='add name="..." to <robot>'
+            )
         for link, name in ctx.link_name.items():
             if not name:
-                yield ctx.finding(self, link, "<link> has no name", hint="add name=\"...\"")
+                yield ctx.finding(self, link, "<link> has no name", hint='add name="..."')
         for joint in ctx.joints:
             if not joint.name:
-                yield ctx.finding(self, joint.el, "<joint> has no name", hint="add name=\"...\"")
+                yield ctx.finding(self, joint.el, "<joint> has no name", hint='add name="..."')
             if joint.parent and joint.child:
                 continue  # both named (joint.parent is <parent link>, read once per file)
             for role in ("parent", "child"):
@@ -42,5 +44,5 @@ class MissingRequired(Rule):
                         self,
                         joint.el if el is None else el,
                         f"joint '{joint.name}' has no <{role} link=\"...\"/>",
-                        hint=f"add <{role} link=\"LINK\"/>",
+                        hint=f'add <{role} link="LINK"/>',
                     )

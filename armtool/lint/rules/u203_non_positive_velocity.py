@@ -38,5 +38,5 @@ class NonPositiveVelocity(Rule):
                     limit,
                     f"joint '{joint.name}': velocity limit is {joint.limits.get('velocity')}",
                     attr="velocity",
-                    hint="set the joint's real maximum speed (rad/s or m/s), e.g. velocity=\"2.0\"",
+                    hint='set the joint\'s real maximum speed (rad/s or m/s), e.g. velocity="2.0"',
                 )

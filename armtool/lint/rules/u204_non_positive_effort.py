@@ -46,5 +46,5 @@ class NonPositiveEffort(Rule):
                     limit,
                     f"joint '{joint.name}': effort limit is {joint.limits.get('effort')}",
                     attr="effort",
-                    hint="set the actuator's rated torque (N·m) or force (N), e.g. effort=\"30\"",
+                    hint='set the actuator\'s rated torque (N·m) or force (N), e.g. effort="30"',
                 )

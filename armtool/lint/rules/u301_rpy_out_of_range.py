@@ -90,9 +90,9 @@ class RpyOutOfRange(Rule):
         owner = f"{top.tag} '{top.get('name')}'"
         if looks_like_degrees(values):
             radians = " ".join(fmt(math.radians(v)) for v in values)
-            message = f"{owner}: rpy=\"{raw}\" is outside [-π, π] and looks like degrees"
-            hint = f"URDF angles are radians: rpy=\"{radians}\" if degrees were meant"
+            message = f'{owner}: rpy="{raw}" is outside [-π, π] and looks like degrees'
+            hint = f'URDF angles are radians: rpy="{radians}" if degrees were meant'
         else:
-            message = f"{owner}: rpy=\"{raw}\" is outside [-π, π]"
-            hint = f"write the same rotation as rpy=\"{' '.join(wrapped)}\""
+            message = f'{owner}: rpy="{raw}" is outside [-π, π]'
+            hint = f'write the same rotation as rpy="{" ".join(wrapped)}"'
         yield ctx.finding(self, origin, message, attr="rpy", hint=hint, fix_value=" ".join(wrapped))

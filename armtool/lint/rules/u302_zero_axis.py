@@ -39,5 +39,5 @@ class ZeroAxis(Rule):
                     axis,
                     f"joint '{joint.name}': axis xyz=\"{axis.get('xyz')}\" has zero length",
                     attr="xyz",
-                    hint="give the unit direction of motion in the joint frame, e.g. xyz=\"0 0 1\"",
+                    hint='give the unit direction of motion in the joint frame, e.g. xyz="0 0 1"',
                 )

@@ -50,6 +50,6 @@ class NonUnitAxis(Rule):
                 axis,
                 f"joint '{joint.name}': axis xyz=\"{axis.get('xyz')}\" has length {fmt(norm)}, not 1",
                 attr="xyz",
-                hint=f"use xyz=\"{unit}\"",
+                hint=f'use xyz="{unit}"',
                 fix_value=unit,
             )

@@ -47,7 +47,7 @@ class NonFiniteNumber(Rule):
                 yield ctx.finding(
                     self,
                     el,
-                    f"{owner(el)}<{local_tag(el)} {attr}=\"{raw}\"> contains a non-finite number",
+                    f'{owner(el)}<{local_tag(el)} {attr}="{raw}"> contains a non-finite number',
                     attr=attr,
                     hint="write a finite value",
                 )

@@ -49,7 +49,7 @@ class MalformedNumber(Rule):
             yield ctx.finding(
                 self,
                 el,
-                f"{owner(el)}<{local_tag(el)} {attr}=\"{raw}\"> {problem}",
+                f'{owner(el)}<{local_tag(el)} {attr}="{raw}"> {problem}',
                 attr=attr,
                 hint=f"write {count} decimal number{'s' if count > 1 else ''} separated by spaces",
             )

@@ -47,7 +47,13 @@ class NonPositiveMass(Rule):
                 continue
             name = link.get("name")
             if value[0] < 0:
-                yield ctx.finding(self, mass, f"link '{name}' has negative mass {mass.get('value')}", attr="value", hint="masses are positive, in kg")
+                yield ctx.finding(
+                    self,
+                    mass,
+                    f"link '{name}' has negative mass {mass.get('value')}",
+                    attr="value",
+                    hint="masses are positive, in kg",
+                )
             elif value[0] == 0 and name is not None and ctx.is_moved(name):
                 yield ctx.finding(
                     self,

@@ -6,7 +6,6 @@ from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.rule import Rule, Target
 
-
 _INCOMPLETE = (
     "*[local-name()='link']/inertial"
     "[not(mass[1]/@value) or not(inertia[1][@ixx and @ixy and @ixz and @iyy and @iyz and @izz])]"

@@ -30,11 +30,20 @@ class UnresolvedMesh(Rule):
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         for mesh, uri, path, missing_package in ctx.meshes():
-            if uri and missing_package != "" and (path is None or missing_package is not None or ctx.resolver.is_file(path)):
+            if (
+                uri
+                and missing_package != ""
+                and (path is None or missing_package is not None or ctx.resolver.is_file(path))
+            ):
                 continue  # found, or its package is U502's (most meshes): nothing to say
             link = ctx.mesh_link(mesh)
             if not uri:
-                yield ctx.finding(self, mesh, f"link '{link.get('name')}': <mesh> has no filename", hint="add filename=\"package://...\"")
+                yield ctx.finding(
+                    self,
+                    mesh,
+                    f"link '{link.get('name')}': <mesh> has no filename",
+                    hint='add filename="package://..."',
+                )
                 continue
             if missing_package == "":
                 yield ctx.finding(

@@ -11,6 +11,25 @@ from armtool.servo.limits.document import LIMITS_VERSION, SCHEMA, convert, dump_
 from armtool.servo.limits.manual import ManualRecorder
 from armtool.servo.limits.urdf import UrdfJoint, check_urdf_names, patch_urdf, urdf_joints
 
-__all__ = ["ArmFile", "AutoParams", "Joint", "JointRange", "LIMITS_VERSION", "ManualRecorder", "Progress",
-           "RANGE_END", "SCHEMA", "UrdfJoint", "check_urdf_names", "convert", "dump_yaml", "limits_document",
-           "load_arm", "parse_ids", "patch_urdf", "seek_joint", "urdf_joints", "write_atomic"]
+__all__ = [
+    "LIMITS_VERSION",
+    "RANGE_END",
+    "SCHEMA",
+    "ArmFile",
+    "AutoParams",
+    "Joint",
+    "JointRange",
+    "ManualRecorder",
+    "Progress",
+    "UrdfJoint",
+    "check_urdf_names",
+    "convert",
+    "dump_yaml",
+    "limits_document",
+    "load_arm",
+    "parse_ids",
+    "patch_urdf",
+    "seek_joint",
+    "urdf_joints",
+    "write_atomic",
+]

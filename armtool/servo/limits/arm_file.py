@@ -34,8 +34,11 @@ def load_arm(path: Path) -> ArmFile:
 
     data = read_yaml(path, "arm")
     if not isinstance(data, dict) or not isinstance(data.get("joints"), list) or not data["joints"]:
-        raise ArmtoolError("arm file needs a 'joints' list", str(path),
-                           hint="joints: [{name: shoulder, id: 1, model: AX-12A, zero_ticks: 512, direction: 1}]")
+        raise ArmtoolError(
+            "arm file needs a 'joints' list",
+            str(path),
+            hint="joints: [{name: shoulder, id: 1, model: AX-12A, zero_ticks: 512, direction: 1}]",
+        )
     # cast: YAML is untyped data; the isinstance on the same line checks it (mypy cannot connect the two .get calls)
     bus = cast("dict[str, Any]", data.get("bus")) if isinstance(data.get("bus"), dict) else data
     joints: list[Joint] = []

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
 
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
@@ -42,14 +42,18 @@ Progress = Callable[[Joint, str, int, float], None]
 RANGE_END = "servo range end"
 
 
-def seek_joint(bus: ServoBus, guard: TorqueGuard, joint: Joint, p: AutoParams, progress: Progress | None = None) -> JointRange:
+def seek_joint(
+    bus: ServoBus, guard: TorqueGuard, joint: Joint, p: AutoParams, progress: Progress | None = None
+) -> JointRange:
     """Find both mechanical stops of one joint; leaves it holding just inside the last stop."""
     sid = joint.id
     model = bus.model(sid)
     mode = transport_class(model.protocol).position_mode
     if model.has("operating_mode") and mode is not None and bus.read(sid, "operating_mode") != mode:
-        raise ArmtoolError(f"ID {sid} is not in position control mode (Operating Mode {mode})",
-                           hint=f"set Operating Mode to {mode} (e.g. in Dynamixel Wizard) before `armtool limits --mode auto`")
+        raise ArmtoolError(
+            f"ID {sid} is not in position control mode (Operating Mode {mode})",
+            hint=f"set Operating Mode to {mode} (e.g. in Dynamixel Wizard) before `armtool limits --mode auto`",
+        )
     cap = max(1, round(p.torque_limit * _full_torque(model)))
     speed = model.speed_register(p.speed_deg_s)
     guard.set_ram(sid, "torque_limit", cap)
@@ -75,8 +79,10 @@ def seek_joint(bus: ServoBus, guard: TorqueGuard, joint: Joint, p: AutoParams, p
             now = time.monotonic()
             if now - start > max_seek:
                 guard.hold_here(sid)
-                raise ArmtoolError(f"joint '{joint.name}' (ID {sid}): no stop found toward {label} within {max_seek:.1f} s",
-                                   hint="raise --max-seek or --speed, or check that the joint can move")
+                raise ArmtoolError(
+                    f"joint '{joint.name}' (ID {sid}): no stop found toward {label} within {max_seek:.1f} s",
+                    hint="raise --max-seek or --speed, or check that the joint can move",
+                )
             vals = bus.read_many(sid, ["present_position", "present_load"])
             pos, load = vals["present_position"], vals["present_load"]
             load_frac = load_fraction(model, load, cap / _full_torque(model))
@@ -108,11 +114,24 @@ def seek_joint(bus: ServoBus, guard: TorqueGuard, joint: Joint, p: AutoParams, p
     (lo, rlo), (hi, rhi) = ends[-1], ends[1]
     # the servo's own range end is not a mechanical stop (no stop, or the seam): never confirmed,
     # so --write-eeprom refuses it (SO-101 wrist_roll recorded 0..604 with 0 being the seam)
-    return JointRange(joint, model, lo, hi, "auto", {
-        "confirmed_min": not rlo.startswith(RANGE_END), "confirmed_max": not rhi.startswith(RANGE_END),
-        "reason_min": rlo, "reason_max": rhi, "torque_limit": cap, "torque_limit_percent": round(100 * p.torque_limit, 1),
-        "speed": speed, "speed_deg_s": p.speed_deg_s,
-        "max_load_fraction_of_limit": round(max_load, 3)})
+    return JointRange(
+        joint,
+        model,
+        lo,
+        hi,
+        "auto",
+        {
+            "confirmed_min": not rlo.startswith(RANGE_END),
+            "confirmed_max": not rhi.startswith(RANGE_END),
+            "reason_min": rlo,
+            "reason_max": rhi,
+            "torque_limit": cap,
+            "torque_limit_percent": round(100 * p.torque_limit, 1),
+            "speed": speed,
+            "speed_deg_s": p.speed_deg_s,
+            "max_load_fraction_of_limit": round(max_load, 3),
+        },
+    )
 
 
 def _rearm(bus: ServoBus, sid: int, model: ServoModel, cap: int) -> None:
@@ -120,5 +139,7 @@ def _rearm(bus: ServoBus, sid: int, model: ServoModel, cap: int) -> None:
     if rearm is not None:
         bus.write(sid, rearm, cap if rearm == "torque_limit" else 1, retry=True)
     else:
-        raise ArmtoolError(f"ID {sid} reports an overload hardware error and turned its torque off",
-                           hint="lower --torque-limit; reboot the servo (power cycle) to clear the error")
+        raise ArmtoolError(
+            f"ID {sid} reports an overload hardware error and turned its torque off",
+            hint="lower --torque-limit; reboot the servo (power cycle) to clear the error",
+        )

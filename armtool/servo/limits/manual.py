@@ -14,8 +14,14 @@ from armtool.servo.limits.arm_file import Joint, JointRange
 class ManualRecorder:
     """Samples present positions with torque off; unwraps 4096-tick seam crossings."""
 
-    def __init__(self, bus: ServoBus, joints: list[Joint], settle_ticks: int = 2, min_dwell_s: float = 0.3,
-                 max_silence_s: float = 1.0) -> None:
+    def __init__(
+        self,
+        bus: ServoBus,
+        joints: list[Joint],
+        settle_ticks: int = 2,
+        min_dwell_s: float = 0.3,
+        max_silence_s: float = 1.0,
+    ) -> None:
         self.bus = bus
         self.joints = joints
         self.settle_ticks = settle_ticks
@@ -41,8 +47,10 @@ class ManualRecorder:
                 self.missed[j.id] += 1
                 silent = t - self._last_reply[j.id]
                 if silent > self.max_silence_s:
-                    raise ArmtoolError(f"ID {j.id} ('{j.name}') has not answered for {silent:.1f} s: {exc.what}",
-                                       hint="check the cable and power of that servo") from None
+                    raise ArmtoolError(
+                        f"ID {j.id} ('{j.name}') has not answered for {silent:.1f} s: {exc.what}",
+                        hint="check the cable and power of that servo",
+                    ) from None
                 continue
             self._last_reply[j.id] = t
             model = self.bus.model(j.id)
@@ -85,13 +93,28 @@ class ManualRecorder:
                 raise ArmtoolError(f"joint '{j.name}' (ID {j.id}): no samples were recorded")
             lo, hi = self.extent(j.id)  # type: ignore[misc]
             if lo == hi:
-                raise ArmtoolError(f"joint '{j.name}' (ID {j.id}) did not move (always {lo} ticks)",
-                                   hint="move every joint to both ends before pressing Enter")
+                raise ArmtoolError(
+                    f"joint '{j.name}' (ID {j.id}) did not move (always {lo} ticks)",
+                    hint="move every joint to both ends before pressing Enter",
+                )
             shift = 0
             if model.wraps and lo < 0:
                 shift = model.ticks * math.ceil(-lo / model.ticks)
             dmin, dmax = self._dwell(trace, lo), self._dwell(trace, hi)
-            out.append(JointRange(j, model, lo + shift, hi + shift, "manual", {
-                "confirmed_min": dmin >= self.min_dwell_s, "confirmed_max": dmax >= self.min_dwell_s,
-                "dwell_min_s": round(dmin, 3), "dwell_max_s": round(dmax, 3), "samples": len(trace)}))
+            out.append(
+                JointRange(
+                    j,
+                    model,
+                    lo + shift,
+                    hi + shift,
+                    "manual",
+                    {
+                        "confirmed_min": dmin >= self.min_dwell_s,
+                        "confirmed_max": dmax >= self.min_dwell_s,
+                        "dwell_min_s": round(dmin, 3),
+                        "dwell_max_s": round(dmax, 3),
+                        "samples": len(trace),
+                    },
+                )
+            )
         return out

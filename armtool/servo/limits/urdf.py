@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass
 
 from armtool.errors import ArmtoolError
-
 
 _JOINT_RE = re.compile(r"<joint\b[^>]*/>|<joint\b[^>]*>.*?</joint\s*>", re.S)
 _NAME_RE = re.compile(r"""\bname\s*=\s*(["'])(.*?)\1""")
@@ -51,8 +49,11 @@ def _urdf_float(value: str, attr: str, joint: str, text: str, offset: int, sourc
         return float(value)
     except ValueError:
         line = text.count("\n", 0, offset) + 1
-        raise ArmtoolError(f"joint '{joint}': <limit {attr}=\"{value}\"> is not a number", f"{source}:{line}",
-                           hint="run xacro first (xacro arm.urdf.xacro > arm.urdf) and pass the URDF it writes") from None
+        raise ArmtoolError(
+            f"joint '{joint}': <limit {attr}=\"{value}\"> is not a number",
+            f"{source}:{line}",
+            hint="run xacro first (xacro arm.urdf.xacro > arm.urdf) and pass the URDF it writes",
+        ) from None
 
 
 def _blank_comments(text: str) -> str:
@@ -66,25 +67,36 @@ def check_urdf_names(text: str, names: list[str], source: str) -> dict[str, Urdf
     joints = urdf_joints(text, source)
     missing = [n for n in names if n not in joints]
     if missing:
-        raise ArmtoolError(f"joint(s) {', '.join(missing)} not in {source}",
-                           hint="available: " + ", ".join(sorted(joints)) + "; the arm file's joint names must match the URDF")
+        raise ArmtoolError(
+            f"joint(s) {', '.join(missing)} not in {source}",
+            hint="available: " + ", ".join(sorted(joints)) + "; the arm file's joint names must match the URDF",
+        )
     bad = [n for n in names if joints[n].type not in ("revolute", "prismatic")]
     if bad:
-        raise ArmtoolError(f"joint(s) {', '.join(bad)} in {source} are not revolute (continuous/fixed joints have no limits)")
+        raise ArmtoolError(
+            f"joint(s) {', '.join(bad)} in {source} are not revolute (continuous/fixed joints have no limits)"
+        )
     return joints
 
 
-def patch_urdf(text: str, limits: dict[str, tuple[float, float]], allow_widen: bool = False, source: str = "URDF") -> str:
+def patch_urdf(
+    text: str, limits: dict[str, tuple[float, float]], allow_widen: bool = False, source: str = "URDF"
+) -> str:
     """New URDF text with `<limit lower upper>` set per joint; everything else kept byte for byte."""
     existing = check_urdf_names(text, list(limits), source)
     if not allow_widen:
-        wider = [f"{n}: measured {lo:.4f}..{hi:.4f}, URDF {existing[n].lower:.4f}..{existing[n].upper:.4f}"
-                 for n, (lo, hi) in limits.items()
-                 if existing[n].lower is not None and existing[n].upper is not None
-                 and (lo < existing[n].lower - 1e-6 or hi > existing[n].upper + 1e-6)]  # type: ignore[operator]
+        wider = [
+            f"{n}: measured {lo:.4f}..{hi:.4f}, URDF {existing[n].lower:.4f}..{existing[n].upper:.4f}"
+            for n, (lo, hi) in limits.items()
+            if existing[n].lower is not None
+            and existing[n].upper is not None
+            and (lo < existing[n].lower - 1e-6 or hi > existing[n].upper + 1e-6)  # type: ignore[operator]
+        ]
         if wider:
-            raise ArmtoolError("measured limits lie outside the URDF's: " + "; ".join(wider),
-                               hint="check zero_ticks/direction in the arm file, or pass --allow-widen to write them anyway")
+            raise ArmtoolError(
+                "measured limits lie outside the URDF's: " + "; ".join(wider),
+                hint="check zero_ticks/direction in the arm file, or pass --allow-widen to write them anyway",
+            )
     blanked = _blank_comments(text)
     edits: list[tuple[int, int, str]] = []
     for m in _JOINT_RE.finditer(blanked):
@@ -95,7 +107,7 @@ def patch_urdf(text: str, limits: dict[str, tuple[float, float]], allow_widen: b
         lo, hi = limits[name.group(2)]
         lim = _LIMIT_RE.search(m.group(0))
         if lim:
-            tag = text[m.start() + lim.start(): m.start() + lim.end()]
+            tag = text[m.start() + lim.start() : m.start() + lim.end()]
             for attr, value in (("lower", lo), ("upper", hi)):
                 pattern = re.compile(_ATTR_RE.format(attr))
                 if pattern.search(tag):

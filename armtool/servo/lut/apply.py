@@ -12,8 +12,8 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 
@@ -42,8 +42,11 @@ def _commands(table: LutTable, servo_deg: np.ndarray, clip: bool, where: Sequenc
     outside = (servo_deg < lo - 1e-9) | (servo_deg > hi + 1e-9)
     if outside.any() and not clip:
         i = int(np.argmax(outside))
-        raise ArmtoolError(f"servo angle {servo_deg[i]:.3f}° is outside the table's range {lo:.2f}..{hi:.2f}°",
-                           where[i], hint="pass --clip to clamp to the measured range, or measure a wider range")
+        raise ArmtoolError(
+            f"servo angle {servo_deg[i]:.3f}° is outside the table's range {lo:.2f}..{hi:.2f}°",
+            where[i],
+            hint="pass --clip to clamp to the measured range, or measure a wider range",
+        )
     return table.command_ticks(np.clip(servo_deg, lo, hi)), int(outside.sum())
 
 
@@ -52,14 +55,22 @@ def apply_list(table: LutTable, angles_deg: Sequence[float], clip: bool = False)
     for i, v in enumerate(angles_deg):
         if not math.isfinite(v):
             raise ArmtoolError(f"angle {v} is not a finite number", f"value {i + 1}")
-    ticks, clipped = _commands(table, np.asarray(angles_deg, dtype=np.float64), clip,
-                               [f"value {i + 1}" for i in range(len(angles_deg))])
+    ticks, clipped = _commands(
+        table, np.asarray(angles_deg, dtype=np.float64), clip, [f"value {i + 1}" for i in range(len(angles_deg))]
+    )
     lines = ["angle_deg,command_ticks"] + [f"{a:g},{t}" for a, t in zip(angles_deg, ticks)]
     return Applied("\n".join(lines) + "\n", len(angles_deg), clipped)
 
 
-def apply_csv(table: LutTable, text: str, source: str, column: str | None = None, zero_deg: float | None = None,
-              direction: int = 1, clip: bool = False) -> Applied:
+def apply_csv(
+    table: LutTable,
+    text: str,
+    source: str,
+    column: str | None = None,
+    zero_deg: float | None = None,
+    direction: int = 1,
+    clip: bool = False,
+) -> Applied:
     """The CSV with one more column, `<name>_command_ticks`, for the angles in `column`."""
     lines = text.splitlines()
     first = 0
@@ -76,17 +87,25 @@ def apply_csv(table: LutTable, text: str, source: str, column: str | None = None
         elif len(angle_cols) == 1:
             column = angle_cols[0]
         else:
-            raise ArmtoolError("which column holds the angles?", f"{source}:{first + 1}",
-                               hint=f"pass --column, one of: {', '.join(angle_cols) or '(no *_deg or *_rad column)'}")
+            raise ArmtoolError(
+                "which column holds the angles?",
+                f"{source}:{first + 1}",
+                hint=f"pass --column, one of: {', '.join(angle_cols) or '(no *_deg or *_rad column)'}",
+            )
     if column not in header:
         raise ArmtoolError(f"no column '{column}'", f"{source}:{first + 1}", hint="columns: " + ", ".join(header))
     base, _, unit = column.rpartition("_")
     if unit not in ("deg", "rad"):
-        raise ArmtoolError(f"column '{column}' does not state its unit", f"{source}:{first + 1}",
-                           hint=f"name it {column}_deg or {column}_rad")
+        raise ArmtoolError(
+            f"column '{column}' does not state its unit",
+            f"{source}:{first + 1}",
+            hint=f"name it {column}_deg or {column}_rad",
+        )
     if unit == "rad" and zero_deg is None:
-        raise ArmtoolError(f"'{column}' is a joint angle in radians: the servo angle at joint zero is needed",
-                           hint="pass --zero-deg (e.g. 150 for an AX-12A centred at tick 512) and --direction 1 or -1")
+        raise ArmtoolError(
+            f"'{column}' is a joint angle in radians: the servo angle at joint zero is needed",
+            hint="pass --zero-deg (e.g. 150 for an AX-12A centred at tick 512) and --direction 1 or -1",
+        )
     col = header.index(column)
     values: list[float] = []
     wheres: list[str] = []

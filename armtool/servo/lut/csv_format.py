@@ -26,29 +26,50 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, Sequence
 
 from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel, by_name
 
 SCHEMA_VERSION = 1
 TITLE = "armtool servo-lut measurements"
-COLUMNS = ("command_ticks", "present_ticks", "reference_deg", "load_pct", "temperature_c", "voltage_v",
-           "approach", "repeat", "settled")
+COLUMNS = (
+    "command_ticks",
+    "present_ticks",
+    "reference_deg",
+    "load_pct",
+    "temperature_c",
+    "voltage_v",
+    "approach",
+    "repeat",
+    "settled",
+)
 APPROACHES = ("up", "down")
 
 # quantity -> units we understand (the first is the one we write)
 _UNITS: dict[str, tuple[str, ...]] = {
-    "command": ("ticks",), "present": ("ticks",), "reference": ("deg", "rad"), "load": ("pct",),
-    "temperature": ("c",), "voltage": ("v",),
+    "command": ("ticks",),
+    "present": ("ticks",),
+    "reference": ("deg", "rad"),
+    "load": ("pct",),
+    "temperature": ("c",),
+    "voltage": ("v",),
 }
 # names people use for those quantities without a unit -> the column we want
-_UNITLESS = {"command": "command_ticks", "goal": "command_ticks", "present": "present_ticks",
-             "position": "present_ticks", "reference": "reference_deg", "angle": "reference_deg",
-             "load": "load_pct", "temperature": "temperature_c", "temp": "temperature_c",
-             "voltage": "voltage_v"}
+_UNITLESS = {
+    "command": "command_ticks",
+    "goal": "command_ticks",
+    "present": "present_ticks",
+    "position": "present_ticks",
+    "reference": "reference_deg",
+    "angle": "reference_deg",
+    "load": "load_pct",
+    "temperature": "temperature_c",
+    "temp": "temperature_c",
+    "voltage": "voltage_v",
+}
 
 
 @dataclass(frozen=True)
@@ -110,8 +131,11 @@ def _check_header(header: Sequence[str], where: str) -> dict[str, int]:
         if name in index:
             raise ArmtoolError(f"column '{name}' appears twice", where)
         if name in _UNITLESS:
-            raise ArmtoolError(f"column '{raw.strip()}' does not state its unit", where,
-                               hint=f"name it {_UNITLESS[name]} (see `armtool servo-lut fit --help` for the format)")
+            raise ArmtoolError(
+                f"column '{raw.strip()}' does not state its unit",
+                where,
+                hint=f"name it {_UNITLESS[name]} (see `armtool servo-lut fit --help` for the format)",
+            )
         base, _, unit = name.rpartition("_")
         if base in _UNITS and unit not in _UNITS[base]:
             wanted = " or ".join(f"{base}_{u}" for u in _UNITS[base])
@@ -122,8 +146,11 @@ def _check_header(header: Sequence[str], where: str) -> dict[str, int]:
         missing.append("reference_deg")
     if missing:
         found = ", ".join(h.strip() for h in header) or "none"
-        raise ArmtoolError(f"missing column{'s' if len(missing) > 1 else ''} {', '.join(missing)}", where,
-                           hint=f"found: {found}; needed: command_ticks and reference_deg (or reference_rad)")
+        raise ArmtoolError(
+            f"missing column{'s' if len(missing) > 1 else ''} {', '.join(missing)}",
+            where,
+            hint=f"found: {found}; needed: command_ticks and reference_deg (or reference_rad)",
+        )
     return index
 
 
@@ -138,14 +165,20 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
             meta[meta_key.strip().lower()] = value.strip()
         first += 1
     if first == len(lines):
-        raise ArmtoolError("no header row", source, hint="the first non-comment line names the columns: "
-                           "command_ticks,reference_deg,...")
+        raise ArmtoolError(
+            "no header row",
+            source,
+            hint="the first non-comment line names the columns: command_ticks,reference_deg,...",
+        )
     rows = list(csv.reader(io.StringIO("\n".join(lines[first:]))))
     index = _check_header(rows[0], f"{source}:{first + 1}")
     model_name = model or meta.get("servo_model")
     if not model_name:
-        raise ArmtoolError("the servo model is not stated", source,
-                           hint="add a line '# servo_model: AX-12A' above the header, or pass --model")
+        raise ArmtoolError(
+            "the servo model is not stated",
+            source,
+            hint="add a line '# servo_model: AX-12A' above the header, or pass --model",
+        )
     servo = model_named(model_name, f"{source}: servo_model")
     to_deg = 1.0 if "reference_deg" in index else 180.0 / math.pi
     ref_col = "reference_deg" if "reference_deg" in index else "reference_rad"
@@ -165,8 +198,11 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
         command = _number(cell("command_ticks"), "command_ticks", where, True)
         assert command is not None
         if command != round(command) or not 0 <= command <= servo.max_tick:
-            raise ArmtoolError(f"command_ticks {cell('command_ticks').strip()} is not a whole tick in "
-                               f"0..{servo.max_tick} ({servo.name})", where)
+            raise ArmtoolError(
+                f"command_ticks {cell('command_ticks').strip()} is not a whole tick in "
+                f"0..{servo.max_tick} ({servo.name})",
+                where,
+            )
         reference = _number(cell(ref_col), ref_col, where, True)
         assert reference is not None
         approach = cell("approach").strip().lower() or meta.get("approach", "up").lower()
@@ -177,20 +213,27 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
         key = (int(command), approach, repeat)
         if key in seen:
             which = f"repeat {repeat}" if repeat is not None else "no repeat number"
-            raise ArmtoolError(f"duplicated command {int(command)} (approach {approach}, {which}); "
-                               f"first at line {seen[key]}", where,
-                               hint="give each reading of a point its own repeat number (a `repeat` column: 0, 1, ...), or drop the copy")
+            raise ArmtoolError(
+                f"duplicated command {int(command)} (approach {approach}, {which}); first at line {seen[key]}",
+                where,
+                hint="give each reading of a point its own repeat number (a `repeat` column: 0, 1, ...), or drop the copy",
+            )
         seen[key] = line
         settled_value = _number(cell("settled"), "settled", where, False)
-        samples.append(Sample(
-            line=line, command_ticks=int(command), reference_deg=reference * to_deg,
-            present_ticks=_number(cell("present_ticks"), "present_ticks", where, False),
-            load_pct=_number(cell("load_pct"), "load_pct", where, False),
-            temperature_c=_number(cell("temperature_c"), "temperature_c", where, False),
-            voltage_v=_number(cell("voltage_v"), "voltage_v", where, False),
-            approach=approach, repeat=repeat,
-            settled=None if settled_value is None else bool(settled_value),
-        ))
+        samples.append(
+            Sample(
+                line=line,
+                command_ticks=int(command),
+                reference_deg=reference * to_deg,
+                present_ticks=_number(cell("present_ticks"), "present_ticks", where, False),
+                load_pct=_number(cell("load_pct"), "load_pct", where, False),
+                temperature_c=_number(cell("temperature_c"), "temperature_c", where, False),
+                voltage_v=_number(cell("voltage_v"), "voltage_v", where, False),
+                approach=approach,
+                repeat=repeat,
+                settled=None if settled_value is None else bool(settled_value),
+            )
+        )
     if not samples:
         raise ArmtoolError("no measurement rows", source, hint="measure with `armtool servo-lut measure`")
     servo_id = None
@@ -201,8 +244,14 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
             raise ArmtoolError(f"servo_id '{meta['servo_id']}' is not a whole number", f"{source}: servo_id") from None
         if not 0 <= servo_id <= 252:
             raise ArmtoolError(f"servo_id {servo_id} is outside 0..252", f"{source}: servo_id")
-    return Measurements(source=source, model=servo, samples=tuple(samples), servo_id=servo_id,
-                        reference=meta.get("reference", "unknown"), meta=meta)
+    return Measurements(
+        source=source,
+        model=servo,
+        samples=tuple(samples),
+        servo_id=servo_id,
+        reference=meta.get("reference", "unknown"),
+        meta=meta,
+    )
 
 
 def read_measurements(path: Path, model: str | None = None) -> Measurements:
@@ -231,8 +280,22 @@ def render_measurements(meta: dict[str, str], samples: Iterable[Sample]) -> str:
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(COLUMNS)
     for s in samples:
-        writer.writerow([_fmt(v) for v in (s.command_ticks, s.present_ticks, s.reference_deg, s.load_pct,
-                                           s.temperature_c, s.voltage_v, s.approach, s.repeat, s.settled)])
+        writer.writerow(
+            [
+                _fmt(v)
+                for v in (
+                    s.command_ticks,
+                    s.present_ticks,
+                    s.reference_deg,
+                    s.load_pct,
+                    s.temperature_c,
+                    s.voltage_v,
+                    s.approach,
+                    s.repeat,
+                    s.settled,
+                )
+            ]
+        )
     return out.getvalue()
 
 
@@ -241,5 +304,3 @@ def write_atomic(path: Path, text: str) -> None:
     from armtool.fileio import write_atomic as write
 
     write(path, text)
-
-

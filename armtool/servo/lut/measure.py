@@ -15,17 +15,18 @@ from __future__ import annotations
 import logging
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.servo.lut.table import LutTable, nominal_command_ticks
-from armtool.servo.lut.csv_format import Sample
 from armtool.servo.bus import ServoBus
 from armtool.servo.guard import TorqueGuard
+from armtool.servo.lut.csv_format import Sample
+from armtool.servo.lut.table import LutTable, nominal_command_ticks
 from armtool.servo.models import ServoModel
 from armtool.servo.motion import StallDetector, load_fraction
 from armtool.servo.reference import Reference
@@ -78,16 +79,19 @@ def read_limits(path: Path, sid: int) -> tuple[int, int, str | None]:
     raise ArmtoolError(f"ID {sid} is not in the limits file", str(path), hint=f"IDs there: {ids}")
 
 
-def plan_commands(lo: int, hi: int, approach: ApproachMode, backoff: int, points: int | None = None,
-                  step: int | None = None) -> list[int]:
+def plan_commands(
+    lo: int, hi: int, approach: ApproachMode, backoff: int, points: int | None = None, step: int | None = None
+) -> list[int]:
     """Commands to measure, inside [lo, hi] with room to approach from the chosen side(s)."""
     if backoff < 0:
         raise ArmtoolError(f"--backoff must be at least 0 ticks, got {backoff}")
     first = lo + (backoff if approach in ("up", "both") else 0)
     last = hi - (backoff if approach in ("down", "both") else 0)
     if last - first < 3:
-        raise ArmtoolError(f"the range {lo}..{hi} ticks leaves no room to measure with a back-off of {backoff} ticks",
-                           hint="widen --min/--max (inside the recorded limits) or lower --backoff")
+        raise ArmtoolError(
+            f"the range {lo}..{hi} ticks leaves no room to measure with a back-off of {backoff} ticks",
+            hint="widen --min/--max (inside the recorded limits) or lower --backoff",
+        )
     if step is not None:
         if step < 1:
             raise ArmtoolError(f"--step must be at least 1 tick, got {step}")
@@ -105,8 +109,10 @@ def assert_in_range(commands: list[int], lo: int, hi: int) -> None:
     """Refuse any command outside the range the user gave (the motion layer's own guard)."""
     outside = [c for c in commands if not lo <= c <= hi]
     if outside:
-        raise ArmtoolError(f"refusing to command {outside[:5]}: outside the range {lo}..{hi} ticks",
-                           hint="check --min/--max and --backoff")
+        raise ArmtoolError(
+            f"refusing to command {outside[:5]}: outside the range {lo}..{hi} ticks",
+            hint="check --min/--max and --backoff",
+        )
 
 
 @dataclass
@@ -144,18 +150,24 @@ class Driver:
             if arrived and previous is not None and abs(here - previous) <= 1:
                 break
             if self.bus.overloaded(self.sid):
-                raise ArmtoolError(f"ID {self.sid} raised its overload alarm going to {goal} (present {here})",
-                                   hint="something blocks the joint inside the range: re-record the limits "
-                                        "(armtool limits) and measure inside them")
+                raise ArmtoolError(
+                    f"ID {self.sid} raised its overload alarm going to {goal} (present {here})",
+                    hint="something blocks the joint inside the range: re-record the limits "
+                    "(armtool limits) and measure inside them",
+                )
             # stall, checked at every poll: no motion over the window, |load| near the torque limit, short of the goal
             still = stall.add(now, here)
             load = load_fraction(model, tel["present_load"], m.torque_cap)
             if still and abs(here - goal) > m.tolerance_ticks and load >= m.stall_load:
-                raise ArmtoolError(f"ID {self.sid} stopped at {here} short of {goal} with {load:.0%} of its torque "
-                                   "limit: pushing against something", hint="measure inside the recorded limits "
-                                   "(--limits limits.yaml) or re-record them")
+                raise ArmtoolError(
+                    f"ID {self.sid} stopped at {here} short of {goal} with {load:.0%} of its torque "
+                    "limit: pushing against something",
+                    hint="measure inside the recorded limits (--limits limits.yaml) or re-record them",
+                )
             if now > deadline:
-                log.warning("ID %d did not settle at %d within %.1f s (present %d)", self.sid, goal, m.settle_timeout_s, here)
+                log.warning(
+                    "ID %d did not settle at %d within %.1f s (present %d)", self.sid, goal, m.settle_timeout_s, here
+                )
                 return False, tel
             previous = here
             self.sleep(m.poll_s)
@@ -194,25 +206,46 @@ def align_reference(driver: Driver, reference: Reference, lo: int, hi: int, side
     a2 = float(raw())
     expected = (c2 - c1) * model.deg_per_tick
     if not 0.5 * expected <= abs(a2 - a1) <= 2.0 * expected:
-        raise ArmtoolError(f"{reference.spec} saw {abs(a2 - a1):.2f}° for a move of about {expected:.2f}°",
-                           hint="is the tag fixed flat on the horn? Without camera intrinsics the camera must look "
-                                "along the servo axis (camera:DEV,intrinsics=cam.yaml relaxes that)")
+        raise ArmtoolError(
+            f"{reference.spec} saw {abs(a2 - a1):.2f}° for a move of about {expected:.2f}°",
+            hint="is the tag fixed flat on the horn? Without camera intrinsics the camera must look "
+            "along the servo axis (camera:DEV,intrinsics=cam.yaml relaxes that)",
+        )
     sign = 1.0 if a2 > a1 else -1.0
     offset = c2 * model.deg_per_tick - sign * a2
     align(sign, offset)
     return f"sign {sign:+.0f}, offset {offset:.3f} deg, datasheet angle at tick {c2}"
 
 
-def _sample(command: int, reading: float, tel: dict[str, int], side: str, repeat: int, settled: bool,
-            load_full: int = 1000) -> Sample:
-    return Sample(line=0, command_ticks=command, reference_deg=reading, present_ticks=float(tel["present_position"]),
-                  load_pct=round(100.0 * tel["present_load"] / load_full, 2), temperature_c=float(tel["present_temperature"]),
-                  voltage_v=tel["present_voltage"] / 10.0, approach=side, repeat=repeat, settled=settled)
+def _sample(
+    command: int, reading: float, tel: dict[str, int], side: str, repeat: int, settled: bool, load_full: int = 1000
+) -> Sample:
+    return Sample(
+        line=0,
+        command_ticks=command,
+        reference_deg=reading,
+        present_ticks=float(tel["present_position"]),
+        load_pct=round(100.0 * tel["present_load"] / load_full, 2),
+        temperature_c=float(tel["present_temperature"]),
+        voltage_v=tel["present_voltage"] / 10.0,
+        approach=side,
+        repeat=repeat,
+        settled=settled,
+    )
 
 
-def measure(driver: Driver, reference: Reference, commands: list[int], approach: ApproachMode, lo: int, hi: int,
-            reads: int = 3, sweeps: int = 1, on_sample: Callable[[Sample], None] | None = None,
-            progress: Callable[[int, int], None] | None = None) -> list[Sample]:
+def measure(
+    driver: Driver,
+    reference: Reference,
+    commands: list[int],
+    approach: ApproachMode,
+    lo: int,
+    hi: int,
+    reads: int = 3,
+    sweeps: int = 1,
+    on_sample: Callable[[Sample], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> list[Sample]:
     """Step through `commands` (sweeps x sides), reading the reference `reads` times per point."""
     sides = ["up", "down"] if approach == "both" else [approach]
     samples: list[Sample] = []
@@ -225,7 +258,9 @@ def measure(driver: Driver, reference: Reference, commands: list[int], approach:
             for command in order:
                 settled, tel = driver.approach(command, side, lo, hi)
                 for r in range(reads):
-                    s = _sample(command, reference.read_deg(driver.sid, command), tel, side, sweep * reads + r, settled, full)
+                    s = _sample(
+                        command, reference.read_deg(driver.sid, command), tel, side, sweep * reads + r, settled, full
+                    )
                     samples.append(s)
                     if on_sample is not None:
                         on_sample(s)
@@ -274,11 +309,23 @@ class CheckResult:
         return self._stats([p.nominal_error_deg for p in self.points])
 
     def to_dict(self) -> dict[str, Any]:
-        return {"schema_version": 1, "nominal": self.nominal, "lut": self.lut,
-                "points": [{"angle_deg": p.angle_deg, "lut_command_ticks": p.lut_command,
-                            "lut_measured_deg": p.lut_measured_deg, "lut_error_deg": p.lut_error_deg,
-                            "nominal_command_ticks": p.nominal_command, "nominal_measured_deg": p.nominal_measured_deg,
-                            "nominal_error_deg": p.nominal_error_deg} for p in self.points]}
+        return {
+            "schema_version": 1,
+            "nominal": self.nominal,
+            "lut": self.lut,
+            "points": [
+                {
+                    "angle_deg": p.angle_deg,
+                    "lut_command_ticks": p.lut_command,
+                    "lut_measured_deg": p.lut_measured_deg,
+                    "lut_error_deg": p.lut_error_deg,
+                    "nominal_command_ticks": p.nominal_command,
+                    "nominal_measured_deg": p.nominal_measured_deg,
+                    "nominal_error_deg": p.nominal_error_deg,
+                }
+                for p in self.points
+            ],
+        }
 
 
 def check_angles(table: LutTable, n: int, seed: int, lo: int, hi: int) -> list[float]:
@@ -301,12 +348,22 @@ def check_angles(table: LutTable, n: int, seed: int, lo: int, hi: int) -> list[f
             chosen.append(round(a, 3))
         if len(chosen) == n:
             return chosen
-    raise ArmtoolError(f"could not place {n} check angles inside {lo}..{hi} ticks away from the table's knots",
-                       hint="check a servo whose limits cover the table's range, or lower --n")
+    raise ArmtoolError(
+        f"could not place {n} check angles inside {lo}..{hi} ticks away from the table's knots",
+        hint="check a servo whose limits cover the table's range, or lower --n",
+    )
 
 
-def check(driver: Driver, reference: Reference, table: LutTable, angles: list[float], lo: int, hi: int,
-          reads: int = 3, progress: Callable[[int, int], None] | None = None) -> CheckResult:
+def check(
+    driver: Driver,
+    reference: Reference,
+    table: LutTable,
+    angles: list[float],
+    lo: int,
+    hi: int,
+    reads: int = 3,
+    progress: Callable[[int, int], None] | None = None,
+) -> CheckResult:
     """Command each angle through the table and through the nominal map; measure both."""
     side = "down" if table.approach == "down" else "up"
     points = []
@@ -337,7 +394,9 @@ def torque_register(model: Any, percent: float) -> int:
     reg = model.reg("torque_limit")
     value = int(round(reg.hi * percent / 100.0))
     if value < 1:
-        raise ArmtoolError(f"--torque-limit {percent:g}% is less than one step of the {model.name}'s torque limit "
-                           f"register (1/{reg.hi} = {100.0 / reg.hi:.3f}%): the servo would not move",
-                           hint="the default is 50%; a few percent is the least that moves a horn")
+        raise ArmtoolError(
+            f"--torque-limit {percent:g}% is less than one step of the {model.name}'s torque limit "
+            f"register (1/{reg.hi} = {100.0 / reg.hi:.3f}%): the servo would not move",
+            hint="the default is 50%; a few percent is the least that moves a horn",
+        )
     return value

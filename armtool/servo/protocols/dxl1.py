@@ -6,13 +6,21 @@ No SYNC_READ in 1.0, and the SDK's GroupBulkRead raises TypeError on 1.0 (resear
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from armtool.servo.packets import PING, encode1
 from armtool.servo.protocols._sdk import SdkTransport
 
 # Status error byte bits (e-manual protocol1)
-ERR_VOLTAGE, ERR_ANGLE, ERR_OVERHEAT, ERR_RANGE, ERR_CHECKSUM, ERR_OVERLOAD, ERR_INSTRUCTION = (1 << i for i in range(7))
-_REJECT = {ERR_ANGLE: "goal outside the angle limits", ERR_RANGE: "value out of range (or EEPROM locked)",
-           ERR_CHECKSUM: "instruction checksum error", ERR_INSTRUCTION: "undefined instruction"}
+ERR_VOLTAGE, ERR_ANGLE, ERR_OVERHEAT, ERR_RANGE, ERR_CHECKSUM, ERR_OVERLOAD, ERR_INSTRUCTION = (
+    1 << i for i in range(7)
+)
+_REJECT = {
+    ERR_ANGLE: "goal outside the angle limits",
+    ERR_RANGE: "value out of range (or EEPROM locked)",
+    ERR_CHECKSUM: "instruction checksum error",
+    ERR_INSTRUCTION: "undefined instruction",
+}
 _ALARM = {ERR_VOLTAGE: "input voltage", ERR_OVERHEAT: "overheating", ERR_OVERLOAD: "overload"}
 
 
@@ -24,8 +32,15 @@ class Dxl1(SdkTransport):
     rearm = "torque_limit"  # alarm shutdown sets Torque Limit to 0; writing it back re-arms
     wheel_mode_when_limits_zero = True  # CW and CCW angle limits both 0
     sync_read = False
-    refusal_bits = {"range": ERR_RANGE, "angle": ERR_ANGLE, "access": ERR_RANGE, "length": ERR_RANGE,
-                    "limit": ERR_ANGLE, "instruction": ERR_INSTRUCTION, "checksum": ERR_CHECKSUM}
+    refusal_bits: Mapping[str, int] = {
+        "range": ERR_RANGE,
+        "angle": ERR_ANGLE,
+        "access": ERR_RANGE,
+        "length": ERR_RANGE,
+        "limit": ERR_ANGLE,
+        "instruction": ERR_INSTRUCTION,
+        "checksum": ERR_CHECKSUM,
+    }
 
     def ping_packet(self, sid: int) -> bytes:
         return encode1(sid, PING)

@@ -6,12 +6,21 @@ is in a hardware-error state (read Hardware Error Status, 70) and has turned its
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from armtool.servo.packets import PING, encode2
 from armtool.servo.protocols._sdk import SdkTransport
 
 ALERT = 0x80
-_REJECT = {1: "result fail", 2: "instruction error", 3: "CRC error", 4: "data range error",
-           5: "data length error", 6: "data limit error", 7: "access error (EEPROM write with torque on, or read-only)"}
+_REJECT = {
+    1: "result fail",
+    2: "instruction error",
+    3: "CRC error",
+    4: "data range error",
+    5: "data length error",
+    6: "data limit error",
+    7: "access error (EEPROM write with torque on, or read-only)",
+}
 
 
 class Dxl2(SdkTransport):
@@ -22,7 +31,15 @@ class Dxl2(SdkTransport):
     rearm = None  # Hardware Error Status latches until REBOOT or a power cycle
     position_mode = 3  # Operating Mode 3 = position control
     framing = 2
-    refusal_bits = {"instruction": 2, "checksum": 3, "range": 4, "length": 5, "angle": 6, "limit": 6, "access": 7}
+    refusal_bits: Mapping[str, int] = {
+        "instruction": 2,
+        "checksum": 3,
+        "range": 4,
+        "length": 5,
+        "angle": 6,
+        "limit": 6,
+        "access": 7,
+    }
 
     def ping_packet(self, sid: int) -> bytes:
         return encode2(sid, PING)

@@ -8,7 +8,7 @@ keeps it at 3, and it has no SYNC_READ for 1.0), so the framing here is our own
 from __future__ import annotations
 
 import time
-from typing import Mapping
+from collections.abc import Mapping
 
 from armtool.servo.bus import CommError, CommErrorKind, Port, Transport
 from armtool.servo.packets import BROADCAST, PING, READ, SYNC_WRITE, WRITE, Corrupt, encode1, parse1
@@ -54,7 +54,9 @@ class Feetech(Transport):
                         return pkt.params, pkt.code
             elif time.monotonic() > deadline:
                 kind: CommErrorKind = "corrupt" if self._buf else "timeout"
-                raise CommError(f"ID {sid}: {what}: " + ("no reply" if kind == "timeout" else "incomplete reply"), kind, sid)
+                raise CommError(
+                    f"ID {sid}: {what}: " + ("no reply" if kind == "timeout" else "incomplete reply"), kind, sid
+                )
             else:
                 time.sleep(0.0002)
 

@@ -23,8 +23,9 @@ import threading
 import time
 import tty
 from collections import deque
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from armtool.errors import ArmtoolError
 from armtool.servo import packets as pk
@@ -35,11 +36,37 @@ from armtool.servo.sim.servo import E_ACCESS, E_ANGLE, E_INSTRUCTION, E_LENGTH, 
 
 STEP_S = 0.002
 # the simulated servo's refusal codes by the names the protocol classes map to error bits
-_REFUSAL = {E_RANGE: "range", E_ANGLE: "angle", E_ACCESS: "access", E_LENGTH: "length", E_LIMIT: "limit",
-            E_INSTRUCTION: "instruction"}
-_BAUDS = {getattr(termios, f"B{b}"): b for b in (9600, 19200, 38400, 57600, 115200, 230400, 460800, 500000, 576000,
-                                                  921600, 1000000, 1152000, 2000000, 2500000, 3000000, 3500000, 4000000)
-          if hasattr(termios, f"B{b}")}
+_REFUSAL = {
+    E_RANGE: "range",
+    E_ANGLE: "angle",
+    E_ACCESS: "access",
+    E_LENGTH: "length",
+    E_LIMIT: "limit",
+    E_INSTRUCTION: "instruction",
+}
+_BAUDS = {
+    getattr(termios, f"B{b}"): b
+    for b in (
+        9600,
+        19200,
+        38400,
+        57600,
+        115200,
+        230400,
+        460800,
+        500000,
+        576000,
+        921600,
+        1000000,
+        1152000,
+        2000000,
+        2500000,
+        3000000,
+        3500000,
+        4000000,
+    )
+    if hasattr(termios, f"B{b}")
+}
 
 
 def _pty() -> tuple[int, int, str]:
@@ -56,9 +83,17 @@ class SimBus:
         self.faults: Faults = copy.deepcopy(config.faults)
         self.rng = random.Random(config.seed)
         self.servos: dict[int, SimServo] = {
-            s.id: SimServo(s, config.overload_time_s, config.return_delay) for s in config.servos}
+            s.id: SimServo(s, config.overload_time_s, config.return_delay) for s in config.servos
+        }
         self.lock = threading.RLock()
-        self.stats = {"rx_packets": 0, "tx_packets": 0, "dropped": 0, "corrupted": 0, "bad_checksum": 0, "wrong_baud": 0}
+        self.stats = {
+            "rx_packets": 0,
+            "tx_packets": 0,
+            "dropped": 0,
+            "corrupted": 0,
+            "bad_checksum": 0,
+            "wrong_baud": 0,
+        }
         self.log: deque[tuple[float, str, bytes]] | None = None
         self._master, self._slave, self.port_path = _pty()
         self._enc_master, self._enc_slave, self.encoder_port_path = _pty()
@@ -130,7 +165,11 @@ class SimBus:
         ArmtoolError if the serving thread failed."""
         self._stop.wait(seconds)
         if self.error is not None:
-            what = self.error.what if isinstance(self.error, ArmtoolError) else f"{type(self.error).__name__}: {self.error}"
+            what = (
+                self.error.what
+                if isinstance(self.error, ArmtoolError)
+                else f"{type(self.error).__name__}: {self.error}"
+            )
             raise ArmtoolError(f"the simulator stopped: {what}", self.config.source)
 
     # -- time and physics
@@ -193,7 +232,7 @@ class SimBus:
         instead of printing a thread traceback."""
         try:
             self._serve_loop()
-        except Exception as exc:  # noqa: BLE001 - reported by wait(), in the main thread
+        except Exception as exc:
             self.error = exc
             self._stop.set()
 
@@ -252,7 +291,7 @@ class SimBus:
             try:
                 with self.lock:
                     self._dispatch(pkt)
-            except Exception as exc:  # noqa: BLE001 - a sim bug must not kill the bus thread silently
+            except Exception as exc:
                 self.stats["internal_errors"] = self.stats.get("internal_errors", 0) + 1
                 self.last_internal_error = f"{type(exc).__name__}: {exc}"
 
@@ -383,7 +422,7 @@ class SimBus:
         for k in range(0, len(body) - n, step):
             s = self._present(body[k])
             if s is not None:
-                s.write(addr, bytes(body[k + 1:k + 1 + n]))
+                s.write(addr, bytes(body[k + 1 : k + 1 + n]))
 
     def _sync_read(self, params: bytes, p2: bool) -> None:
         if p2:

@@ -30,10 +30,18 @@ from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel, by_name
 from armtool.servo.registry import Protocol, check_protocol, transport_class
 
-
 # registers the simulated servo drives (armtool/servo/sim/servo.py): a model without one cannot be simulated
-SIM_REGISTERS = ("torque_enable", "torque_limit", "goal_position", "present_position", "moving_speed",
-                 "min_limit", "max_limit", "return_delay", "status_return_level")
+SIM_REGISTERS = (
+    "torque_enable",
+    "torque_limit",
+    "goal_position",
+    "present_position",
+    "moving_speed",
+    "min_limit",
+    "max_limit",
+    "return_delay",
+    "status_return_level",
+)
 
 
 @dataclass
@@ -91,8 +99,16 @@ def load_sim_config(path: Path) -> SimConfig:
     return sim_config_from_dict(data, source=str(path))
 
 
-def _number(d: dict[str, Any], key: str, default: Any, where: str, kind: type = float,
-            lo: float | None = None, hi: float | None = None, lo_open: bool = False) -> Any:
+def _number(
+    d: dict[str, Any],
+    key: str,
+    default: Any,
+    where: str,
+    kind: type = float,
+    lo: float | None = None,
+    hi: float | None = None,
+    lo_open: bool = False,
+) -> Any:
     """`d[key]` as `kind`, finite and inside lo..hi (lo excluded with lo_open), or an error naming the key."""
 
     value = d.get(key, default)
@@ -104,8 +120,11 @@ def _number(d: dict[str, Any], key: str, default: Any, where: str, kind: type = 
         number = kind(value)
     except (TypeError, ValueError, OverflowError):
         raise ArmtoolError(f"'{key}' must be a number, got {value!r}", where) from None
-    bad = not math.isfinite(number) or (lo is not None and (number <= lo if lo_open else number < lo)) \
+    bad = (
+        not math.isfinite(number)
+        or (lo is not None and (number <= lo if lo_open else number < lo))
         or (hi is not None and number > hi)
+    )
     if bad:
         span = f"{'>' if lo_open else '>='} {lo:g}" if lo is not None else ""
         span += (" and " if span and hi is not None else "") + (f"<= {hi:g}" if hi is not None else "")
@@ -138,8 +157,11 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
             raise ArmtoolError(f"{model.name} speaks {model.protocol}, the bus is {protocol}", where)
         missing = [name for name in SIM_REGISTERS if not model.has(name)]
         if missing:
-            raise ArmtoolError(f"the simulator does not support the {model.name} (it has no {', '.join(missing)} register)",
-                               where, hint="simulate an AX-12A (dxl1), XL430-W250 (dxl2) or STS3215 (feetech)")
+            raise ArmtoolError(
+                f"the simulator does not support the {model.name} (it has no {', '.join(missing)} register)",
+                where,
+                hint="simulate an AX-12A (dxl1), XL430-W250 (dxl2) or STS3215 (feetech)",
+            )
         deg = model.deg_per_tick
         key = "stops_deg" if "stops_deg" in e else "stops" if "stops" in e else None
         if key is not None:
@@ -151,14 +173,19 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
                 if not (math.isfinite(lo) and math.isfinite(hi)):
                     raise ValueError
             except (TypeError, ValueError):
-                raise ArmtoolError(f"'{key}' must be two numbers [low, high], got {pair!r}", where,
-                                   hint=f"e.g. {key}: [92, 914]" if key == "stops" else f"e.g. {key}: [27, 268]") from None
+                raise ArmtoolError(
+                    f"'{key}' must be two numbers [low, high], got {pair!r}",
+                    where,
+                    hint=f"e.g. {key}: [92, 914]" if key == "stops" else f"e.g. {key}: [27, 268]",
+                ) from None
         else:
             lo, hi = 0.0, model.max_tick * deg
         if not lo < hi:
             raise ArmtoolError(f"stops must be [low, high] with low < high, got [{lo}, {hi}]", where)
         if lo < -model.range_deg or hi > 2 * model.range_deg:
-            raise ArmtoolError(f"stops [{lo:g}, {hi:g}]° are far outside the {model.name}'s {model.range_deg:g}° range", where)
+            raise ArmtoolError(
+                f"stops [{lo:g}, {hi:g}]° are far outside the {model.name}'s {model.range_deg:g}° range", where
+            )
         start = _number(e, "start", None, where)
         start_deg = (lo + hi) / 2 if start is None else start * deg
         if not lo <= start_deg <= hi:
@@ -170,7 +197,9 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
         if offset:
             reg = model.reg("homing_offset")
             if not reg.lo <= offset <= reg.hi:
-                raise ArmtoolError(f"'homing_offset' {offset} does not fit the {model.name}'s register ({reg.lo}..{reg.hi})", where)
+                raise ArmtoolError(
+                    f"'homing_offset' {offset} does not fit the {model.name}'s register ({reg.lo}..{reg.hi})", where
+                )
         servos.append(ServoSpec(sid, model, lo, hi, start_deg, nl, e.get("name"), offset))
     faults_d = data.get("faults") or {}
     if not isinstance(faults_d, dict):
@@ -178,16 +207,22 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
     known = {f.name for f in fields(Faults)}
     unknown = set(faults_d) - known
     if unknown:
-        raise ArmtoolError(f"unknown fault(s): {', '.join(sorted(unknown))}", source, hint="faults: " + ", ".join(sorted(known)))
+        raise ArmtoolError(
+            f"unknown fault(s): {', '.join(sorted(unknown))}", source, hint="faults: " + ", ".join(sorted(known))
+        )
     fwhere = f"{source}: faults"
     ids = faults_d.get("missing_ids") or []
     if not isinstance(ids, list) or not all(isinstance(i, int) and not isinstance(i, bool) for i in ids):
         raise ArmtoolError(f"'missing_ids' must be a list of IDs, got {ids!r}", fwhere, hint="missing_ids: [3]")
-    faults = Faults(missing_ids=set(ids), drop_next=_number(faults_d, "drop_next", 0, fwhere, int, 0),
-                    p_drop=_number(faults_d, "p_drop", 0.0, fwhere, lo=0.0, hi=1.0),
-                    corrupt_next=_number(faults_d, "corrupt_next", 0, fwhere, int, 0),
-                    p_corrupt=_number(faults_d, "p_corrupt", 0.0, fwhere, lo=0.0, hi=1.0),
-                    echo=bool(faults_d.get("echo", False)), delay_s=_number(faults_d, "delay_s", 0.0, fwhere, lo=0.0, hi=10.0))
+    faults = Faults(
+        missing_ids=set(ids),
+        drop_next=_number(faults_d, "drop_next", 0, fwhere, int, 0),
+        p_drop=_number(faults_d, "p_drop", 0.0, fwhere, lo=0.0, hi=1.0),
+        corrupt_next=_number(faults_d, "corrupt_next", 0, fwhere, int, 0),
+        p_corrupt=_number(faults_d, "p_corrupt", 0.0, fwhere, lo=0.0, hi=1.0),
+        echo=bool(faults_d.get("echo", False)),
+        delay_s=_number(faults_d, "delay_s", 0.0, fwhere, lo=0.0, hi=10.0),
+    )
     enc = data.get("encoder")
     person_d = data.get("person")
     person = None
@@ -197,23 +232,41 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
         pwhere = f"{source}: person"
         unknown = set(person_d) - {f.name for f in fields(PersonSpec)}
         if unknown:
-            raise ArmtoolError(f"unknown key(s): {', '.join(sorted(map(str, unknown)))}", pwhere,
-                               hint="start_s, speed_deg_s, dwell_s, overshoot_deg, ids")
-        bounds = {"start_s": (0.0, 3600.0, False), "speed_deg_s": (0.0, 100_000.0, True), "dwell_s": (0.0, 3600.0, False),
-                  "overshoot_deg": (0.0, 360.0, False)}
-        person = PersonSpec(**{name: _number(person_d, name, getattr(PersonSpec, name), pwhere, float, lo, hi, lo_open)
-                               for name, (lo, hi, lo_open) in bounds.items() if name in person_d})
+            raise ArmtoolError(
+                f"unknown key(s): {', '.join(sorted(map(str, unknown)))}",
+                pwhere,
+                hint="start_s, speed_deg_s, dwell_s, overshoot_deg, ids",
+            )
+        bounds = {
+            "start_s": (0.0, 3600.0, False),
+            "speed_deg_s": (0.0, 100_000.0, True),
+            "dwell_s": (0.0, 3600.0, False),
+            "overshoot_deg": (0.0, 360.0, False),
+        }
+        person = PersonSpec(
+            **{
+                name: _number(person_d, name, getattr(PersonSpec, name), pwhere, float, lo, hi, lo_open)
+                for name, (lo, hi, lo_open) in bounds.items()
+                if name in person_d
+            }
+        )
         if person_d.get("ids") is not None:
             if not isinstance(person_d["ids"], list):
                 raise ArmtoolError(f"'ids' must be a list of IDs, got {person_d['ids']!r}", pwhere)
             person.ids = [_number({"ids": i}, "ids", None, pwhere, int, 0, 252) for i in person_d["ids"]]
     rdt = data.get("return_delay", 0)
     return SimConfig(
-        protocol=protocol, servos=servos, baud=_number(data, "baud", 1_000_000, source, int, 1, 20_000_000),
+        protocol=protocol,
+        servos=servos,
+        baud=_number(data, "baud", 1_000_000, source, int, 1, 20_000_000),
         # Return Delay Time is one register byte: 0..254 (2 us units, 508 us at most)
         return_delay=None if rdt is None else _number(data, "return_delay", 0, source, int, 0, 254),
         overload_time_s=_number(data, "overload_time_s", 1.0, source, float, 0.0, 3600.0, True),
         seed=_number(data, "seed", 0, source, int),
-        encoder_noise_deg=_number(enc, "noise_deg", 0.0, f"{source}: encoder", float, 0.0, 90.0) if isinstance(enc, dict) else 0.0,
-        faults=faults, person=person, source=source,
+        encoder_noise_deg=_number(enc, "noise_deg", 0.0, f"{source}: encoder", float, 0.0, 90.0)
+        if isinstance(enc, dict)
+        else 0.0,
+        faults=faults,
+        person=person,
+        source=source,
     )

@@ -7,7 +7,8 @@ hand (only while its torque is off) and rests on each stop for about dwell_s + 2
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Callable
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from armtool.servo.sim.config import PersonSpec
 
@@ -33,7 +34,7 @@ class Person:
         self.spec = spec or PersonSpec()
         self.done_at = 0.0  # sim time when every joint is back in the middle
 
-    def start(self) -> "Person":
+    def start(self) -> Person:
         spec = self.spec
         t0 = self.sim.now() + spec.start_s
         ids = spec.ids if spec.ids is not None else sorted(self.sim.servos)

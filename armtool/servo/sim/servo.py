@@ -20,7 +20,7 @@ Joint model (research/servo.md 3.1; behaviours the manuals leave open are ASSUMP
 from __future__ import annotations
 
 import math
-from typing import Callable
+from collections.abc import Callable
 
 from armtool.servo.models import Register, ServoModel, decode, encode
 from armtool.servo.sim.config import ServoSpec
@@ -38,8 +38,13 @@ def _b(x: float) -> float:
 
 
 class SimServo:
-    def __init__(self, spec: ServoSpec, overload_time_s: float = 1.0, return_delay: int | None = None,
-                 goal_enables_torque: bool = True) -> None:
+    def __init__(
+        self,
+        spec: ServoSpec,
+        overload_time_s: float = 1.0,
+        return_delay: int | None = None,
+        goal_enables_torque: bool = True,
+    ) -> None:
         self.spec = spec
         self.id = spec.id
         self.model: ServoModel = spec.model
@@ -71,18 +76,18 @@ class SimServo:
     # -- control table
     def reset_table(self) -> None:
         self.mem[:] = bytes(len(self.mem))
-        for name, reg in self.model.table.items():
+        for _name, reg in self.model.table.items():
             self._put(reg, reg.default)
         self._put(self.model.reg("id"), self.id)
         if self.return_delay_override is not None:
             self._put(self.model.reg("return_delay"), self.return_delay_override)
 
     def _put(self, reg: Register, value: int) -> None:
-        self.mem[reg.addr:reg.addr + reg.size] = encode(reg, value, self.model.big_endian)
+        self.mem[reg.addr : reg.addr + reg.size] = encode(reg, value, self.model.big_endian)
 
     def get(self, name: str) -> int:
         reg = self.model.reg(name)
-        return decode(reg, bytes(self.mem[reg.addr:reg.addr + reg.size]), self.model.big_endian)
+        return decode(reg, bytes(self.mem[reg.addr : reg.addr + reg.size]), self.model.big_endian)
 
     def set(self, name: str, value: int) -> None:
         self._put(self.model.reg(name), value)
@@ -257,7 +262,7 @@ class SimServo:
         if n <= 0 or addr + n > len(self.mem):
             return b"", E_LENGTH
         self._sync_present()
-        return bytes(self.mem[addr:addr + n]), OK
+        return bytes(self.mem[addr : addr + n]), OK
 
     def _registers_in(self, addr: int, n: int) -> list[tuple[str, Register]]:
         return [(name, r) for name, r in self.model.table.items() if r.addr < addr + n and addr < r.addr + r.size]
@@ -269,9 +274,9 @@ class SimServo:
             return E_LENGTH
         regs = self._registers_in(addr, n)
         new = bytearray(self.mem)
-        new[addr:addr + n] = data
+        new[addr : addr + n] = data
         torque = self.get("torque_enable") >= 1
-        for name, r in regs:
+        for _name, r in regs:
             if not r.writable:
                 return E_ACCESS
             if r.eeprom:
@@ -279,25 +284,25 @@ class SimServo:
                     return E_ACCESS
                 if self.family == "ax" and (torque or self.get("lock")):
                     return E_RANGE
-            value = decode(r, bytes(new[r.addr:r.addr + r.size]), self.model.big_endian)
+            value = decode(r, bytes(new[r.addr : r.addr + r.size]), self.model.big_endian)
             if (r.lo, r.hi) != (0, 0) and not r.lo <= value <= r.hi:
                 return E_RANGE
         code = OK
         names = {name for name, _ in regs}
         if "goal_position" in names:
             reg = self.model.reg("goal_position")
-            goal = decode(reg, bytes(new[reg.addr:reg.addr + reg.size]), self.model.big_endian)
+            goal = decode(reg, bytes(new[reg.addr : reg.addr + reg.size]), self.model.big_endian)
             lo, hi = self.get("min_limit"), self.get("max_limit")
             if not (lo == 0 and hi == 0) and not lo <= goal <= hi:
                 if self.family == "x":
                     return E_LIMIT
                 goal = min(max(goal, lo), hi)
-                new[reg.addr:reg.addr + reg.size] = encode(reg, goal, self.model.big_endian)
+                new[reg.addr : reg.addr + reg.size] = encode(reg, goal, self.model.big_endian)
                 code = E_ANGLE if self.family == "ax" else OK
         self.mem[:] = new
-        for name, r in regs:
+        for _name, r in regs:
             if r.eeprom and not (self.family == "sts" and self.get("lock")):
-                self.flash[r.addr:r.addr + r.size] = new[r.addr:r.addr + r.size]
+                self.flash[r.addr : r.addr + r.size] = new[r.addr : r.addr + r.size]
         for name in names:
             self._after_write(name)
         return code
@@ -307,7 +312,7 @@ class SimServo:
         eeprom = [(r.addr, r.size) for r in self.model.table.values() if r.eeprom]
         self.reset_table()
         for addr, size in eeprom:
-            self.mem[addr:addr + size] = self.flash[addr:addr + size]
+            self.mem[addr : addr + size] = self.flash[addr : addr + size]
         self._sync_present()
         self.set("goal_position", self.get("present_position"))
 
