@@ -60,7 +60,7 @@ def run_case(
     from armtool.calib.observations import observe
     from armtool.calib.simulate import SimulationSpec, simulate
     from armtool.calib.truth import load_truth, score
-    from armtool.ik.chain import load_chain
+    from armtool.model.chain import load_chain
 
     rel, base, flange = ROBOTS[robot]
     out = workdir / f"{robot}-{seed}-{bad}-{quality}-{setup}"

@@ -86,7 +86,7 @@ def robot_file(relative: str) -> Path:
 
 def load_robot(name: str, corpus: Path) -> tuple[Any, Any] | None:
     """(URDF root element, chain) of a benchmark arm, or None (with a message) when its files are absent."""
-    from armtool.ik.chain import chain_from_xml
+    from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
     robot = ROBOTS[name]

@@ -39,9 +39,9 @@ from typing import Any
 
 import numpy as np
 
-from armtool.ik.chain import load_chain
 from armtool.ik.registry import make_solver
 from armtool.ik.solver import rotation_error
+from armtool.model.chain import load_chain
 from armtool.traj import cartesian as cart
 from armtool.traj.check import ACC_TOL, VEL_TOL, check, hermite_extremes
 from armtool.traj.limits import JointLimits, load_limits

@@ -13,7 +13,7 @@ import pytest
 from typer.testing import CliRunner
 
 from armtool.cli import app
-from armtool.ik.chain import load_chain
+from armtool.model.chain import load_chain
 
 ROOT = Path(__file__).resolve().parents[1]
 CLEAN_ARM = ROOT / "fixtures" / "robots" / "clean_arm" / "urdf" / "clean_arm.urdf"
@@ -438,7 +438,7 @@ def test_ur_kinematics_on_a_non_ur_arm_is_refused_before_the_work(dataset: Path,
 def test_ur_kinematics_yaml_reproduces_the_fit_through_the_ur_xacro(tmp_path: Path) -> None:
     import yaml
 
-    from armtool.ik.chain import chain_from_xml
+    from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
     ds = tmp_path / "ur"

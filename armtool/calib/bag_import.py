@@ -295,7 +295,7 @@ class _Bag:
 
     def require(self, topic: str, types: Sequence[str], option: str) -> str:
         if topic not in self.topics:
-            from armtool.lint.suggest import did_you_mean
+            from armtool.suggest import did_you_mean
 
             listing = ", ".join(f"{t} ({m})" for t, m in sorted(self.topics.items())) or "none"
             raise ArmtoolError(
@@ -385,7 +385,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
 
     from armtool.calib.apriltag import family_dictionary
     from armtool.calib.urdf_out import expanded_text
-    from armtool.ik.chain import chain_from_xml
+    from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
@@ -566,7 +566,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
 
 
 def _missing_joints(names: list[str], seen: set[str], topic: str, urdf: Path, bag: Path) -> None:
-    from armtool.lint.suggest import did_you_mean
+    from armtool.suggest import did_you_mean
 
     if not seen:
         raise ArmtoolError(f"topic '{topic}' has no JointState messages with names", str(bag))

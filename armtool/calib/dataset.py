@@ -365,7 +365,7 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
                 return
             unknown = [h for h in header if h not in ("id", "image") and h not in names]
             if unknown and chain_joint_names is not None:
-                from armtool.lint.suggest import did_you_mean
+                from armtool.suggest import did_you_mean
 
                 for u in unknown:
                     ds.problems.append(

@@ -20,7 +20,7 @@ import numpy as np
 
 from armtool.calib import se3
 from armtool.calib.se3 import Array
-from armtool.ik.chain import Chain, axis_angle_batch
+from armtool.model.chain import Chain, axis_angle_batch
 
 
 class Setup(str, Enum):

@@ -90,6 +90,6 @@ def rpy_of(R: Array) -> Array:
 
 
 def xyz_rpy(xyz: list[float] | Array, rpy: list[float] | Array) -> Array:
-    from armtool.ik.chain import rpy_matrix
+    from armtool.model.chain import rpy_matrix
 
     return make(rpy_matrix(*[float(v) for v in rpy]), np.asarray(xyz, dtype=float))

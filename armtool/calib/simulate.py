@@ -19,7 +19,7 @@ from armtool.calib.camera import CameraModel
 from armtool.calib.model import CalibModel, Setup
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
+from armtool.model.chain import Chain
 
 QUALITY: dict[str, dict[str, tuple[float, float]]] = {  # research/calibration.md §2 image conditions
     "good": {"blur": (0.5, 0.7), "noise": (1.5 / 255, 1.5 / 255), "black": (0.06, 0.10), "white": (0.85, 0.9)},
@@ -218,7 +218,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
         joint_corrections,
         relocate_meshes,
     )
-    from armtool.ik.chain import chain_from_xml
+    from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
     if spec.quality not in QUALITY:

@@ -88,7 +88,7 @@ def ur_kinematics_yaml(urdf_text: str, joints: dict[str, str], hash_value: str, 
     import yaml
 
     from armtool.calib import se3
-    from armtool.ik.chain import origin_matrix
+    from armtool.model.chain import origin_matrix
     from armtool.model.xmlsource import parse_xml
 
     root = parse_xml(urdf_text.encode("utf-8"))

@@ -20,7 +20,7 @@ from armtool.calib import se3
 from armtool.calib.model import CalibModel
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import axis_angle_batch
+from armtool.model.chain import axis_angle_batch
 from armtool.model.xmlsource import parse_xml
 
 
@@ -111,7 +111,7 @@ def _set_attributes(tag: str, values: dict[str, str]) -> str:
 
 def corrected_text(text: str, corrections: dict[str, Array], source: str = "URDF") -> str:
     """The URDF text with each named joint's <origin> multiplied on the right by its correction."""
-    from armtool.ik.chain import origin_matrix
+    from armtool.model.chain import origin_matrix
 
     root = parse_xml(text.encode("utf-8"))
     elements = root.findall("joint")  # top-level joints only, not <transmission><joint>
@@ -192,7 +192,7 @@ def relocate_meshes(text: str, source_dir: Path, out_dir: Path) -> str:
 
 def check_reproduces(text: str, model: CalibModel, x: Array, source: str) -> None:
     """Refuse to write a URDF whose kinematics differ from the fitted model (gains aside)."""
-    from armtool.ik.chain import chain_from_xml
+    from armtool.model.chain import chain_from_xml
 
     chain = chain_from_xml(parse_xml(text.encode("utf-8")), model.chain.base, model.chain.tip, source=source)
     x = x.copy()

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from armtool.calib.fit import CalibrationResult
     from armtool.calib.model import Family
     from armtool.calib.observations import Observation
-    from armtool.ik.chain import Chain
+    from armtool.model.chain import Chain
 
 app = typer.Typer(
     help="Fit a real arm's kinematic errors from AprilTag images and write a corrected URDF.",
@@ -76,7 +76,7 @@ def _load(
     from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import Problem, load_dataset, read_samples
     from armtool.calib.files import unreadable_reason
-    from armtool.ik.chain import load_chain
+    from armtool.model.chain import load_chain
 
     ds = load_dataset(dataset, with_samples=False)
     ds.xacro_args, ds.package_paths = ds.robot_sources(xacro_args, package_paths)
@@ -603,7 +603,7 @@ def simulate(
     from armtool.calib.simulate import simulate as run
     from armtool.cli.lint import _parse_xacro_args
     from armtool.console import progress_bar, stderr
-    from armtool.ik.chain import chain_from_xml
+    from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
     _check_out_dir(out)

@@ -87,13 +87,13 @@ def ik_bench(
     from armtool.console import say, stderr, write_stdout
     from armtool.fileio import check_output_paths
     from armtool.ik.bench import BenchConfig, NotApplicable, SeedMode, SolverReport, make_targets, run_solver
-    from armtool.ik.chain import chain_from_xml, default_base_tip
     from armtool.ik.group import GroupSettings, group_chain, group_settings
     from armtool.ik.peers import check_peer_name, make_peer, native_stdout_to_stderr, peer_names
     from armtool.ik.registry import solver_class, solver_names
-    from armtool.ik.report import render_csv, render_json, render_table
     from armtool.ik.solver import Solver
+    from armtool.model.chain import chain_from_xml, default_base_tip
     from armtool.model.load import load_robot_xml, load_srdf_xml
+    from armtool.output.ik_bench import render_csv, render_json, render_table
 
     names = _names("--solvers", solvers, solver_names())
     wanted = _names("--peers", peers, peer_names(), everything="all", what="peer") if peers is not None else []

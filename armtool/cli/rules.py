@@ -12,7 +12,7 @@ def rules(
     code: str | None = typer.Argument(None, help="A rule code (U301) or name (rpy-out-of-range)."),
 ) -> None:
     from armtool.lint.registry import RULES, find_rule
-    from armtool.lint.suggest import did_you_mean
+    from armtool.suggest import did_you_mean
 
     if code is None:
         lines = [

@@ -78,7 +78,7 @@ def _solver_name(value: str) -> str:
     """--solver at parse time: one of the registered IK solvers."""
     require("traj")  # the registry imports the chain model (numpy): say which extra is missing first
     from armtool.ik.registry import SOLVERS
-    from armtool.lint.suggest import did_you_mean
+    from armtool.suggest import did_you_mean
 
     if value not in SOLVERS:
         raise typer.BadParameter(
@@ -301,8 +301,8 @@ def cartesian(
     import numpy as np
 
     from armtool.console import stderr
-    from armtool.ik.chain import load_chain
     from armtool.ik.registry import make_solver
+    from armtool.model.chain import load_chain
     from armtool.traj import cartesian as cart
     from armtool.traj.formats import TrajFormat
     from armtool.traj.trajectory import Trajectory
@@ -412,7 +412,7 @@ def _waypoint_segments(path: Path, T0: Any) -> list[Segment]:
     import numpy as np
 
     from armtool.fileio import read_text
-    from armtool.ik.chain import rpy_matrix
+    from armtool.model.chain import rpy_matrix
     from armtool.traj import cartesian as cart
 
     text = read_text(path, "waypoints file", MAX_WAYPOINT_BYTES)
@@ -691,7 +691,7 @@ def plot_cmd(
     limits = _limits(urdf, joint_limits, [], acc)
     chain = None
     if tip is not None:
-        from armtool.ik.chain import load_chain
+        from armtool.model.chain import load_chain
 
         chain = load_chain(urdf, base, tip)
     write_plot(output, traj, limits, chain)

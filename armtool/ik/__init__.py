@@ -23,7 +23,7 @@ MAX_SAMPLES = 100_000
 def __getattr__(name: str) -> Any:
     # Lazy: `import armtool.ik` must not import numpy/pinocchio until used.
     if name == "load_chain":
-        from armtool.ik.chain import load_chain
+        from armtool.model.chain import load_chain
 
         return load_chain
     if name in ("make_solver", "solver_names"):

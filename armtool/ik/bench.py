@@ -15,8 +15,8 @@ from enum import Enum
 
 import numpy as np
 
-from armtool.ik.chain import Chain
 from armtool.ik.solver import Array, IKResult, Solver, verify_batch
+from armtool.model.chain import Chain
 
 
 class SeedMode(str, Enum):

@@ -18,7 +18,7 @@ from pathlib import Path
 from lxml import etree
 
 from armtool.errors import ArmtoolError
-from armtool.lint.suggest import did_you_mean
+from armtool.suggest import did_you_mean
 
 
 @dataclass(frozen=True)

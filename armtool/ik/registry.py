@@ -6,8 +6,8 @@ import importlib
 from typing import Any
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
 from armtool.ik.solver import Solver
+from armtool.model.chain import Chain
 
 SOLVERS: dict[str, str] = {
     "lm": "armtool.ik.solvers.lm:LevenbergMarquardt",
@@ -28,7 +28,7 @@ def solver_names() -> list[str]:
 
 def solver_class(name: str) -> type[Solver]:
     if name not in SOLVERS:
-        from armtool.lint.suggest import did_you_mean
+        from armtool.suggest import did_you_mean
 
         raise ArmtoolError(
             f"unknown solver '{name}'{did_you_mean(name, SOLVERS)}", hint="solvers: " + ", ".join(SOLVERS)

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
+from armtool.model.chain import Chain
 
 Array = NDArray[np.float64]
 

@@ -134,7 +134,7 @@ def check_selector(sel: str, key: str, where: str | None = None) -> str:
     A selector that matches nothing would silently check nothing (a CI that can never fail)."""
     if sel.strip() and _valid_selector(sel):
         return sel
-    from armtool.lint.suggest import did_you_mean
+    from armtool.suggest import did_you_mean
 
     hint = did_you_mean(sel.upper(), list(CODES)) or did_you_mean(sel.lower(), list(NAMES))
     raise ArmtoolError(

@@ -24,8 +24,8 @@ from typing import Literal
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain, axis_angle_batch
 from armtool.ik.solver import Solver, rotation_error
+from armtool.model.chain import Chain, axis_angle_batch
 from armtool.traj.check import jump_steps
 from armtool.traj.trajectory import Array
 

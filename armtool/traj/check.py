@@ -195,7 +195,7 @@ def check(traj: Trajectory, limits: JointLimits, options: CheckOptions = CheckOp
             continue
         seen.add(name)
         if name not in limits.names:
-            from armtool.lint.suggest import did_you_mean
+            from armtool.suggest import did_you_mean
 
             findings.append(
                 _finding(

@@ -122,7 +122,7 @@ def _parse_overrides(values: Sequence[str], names: Sequence[str], option: str) -
             if not eq:
                 out.update({n: number for n in names})
             elif name not in names:
-                from armtool.lint.suggest import did_you_mean
+                from armtool.suggest import did_you_mean
 
                 raise ArmtoolError(
                     f"{option}: no joint '{name}'{did_you_mean(name, list(names))}", hint="joints: " + ", ".join(names)

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
+from armtool.model.chain import Chain
 from armtool.traj.limits import JointLimits
 from armtool.traj.trajectory import Array, Trajectory
 

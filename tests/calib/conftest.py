@@ -9,7 +9,7 @@ import pytest
 
 from armtool.calib.camera import CameraModel
 from armtool.calib.model import CalibModel, Setup
-from armtool.ik.chain import Chain, load_chain
+from armtool.model.chain import Chain, load_chain
 
 ROOT = Path(__file__).resolve().parents[2]
 CLEAN_ARM = ROOT / "fixtures" / "robots" / "clean_arm" / "urdf" / "clean_arm.urdf"

@@ -17,7 +17,7 @@ from armtool.calib.model import CalibModel, Setup
 from armtool.calib.observations import Observation
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_corrections
 from armtool.calib.truth import Truth
-from armtool.ik.chain import Chain
+from armtool.model.chain import Chain
 
 
 @dataclass

@@ -12,7 +12,7 @@ from armtool.calib.model import Family, Setup
 from armtool.calib.observations import Observation
 from armtool.calib.truth import score
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
+from armtool.model.chain import Chain
 from tests.calib.synthetic import make_problem
 
 

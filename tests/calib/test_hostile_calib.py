@@ -66,7 +66,7 @@ def snapshot(root: Path) -> dict[Path, bytes]:
 def _write_dataset(root: Path, n: int = 12, seed: int = 0) -> Path:
     """A corners.csv dataset of the bundled arm: n poses, corners projected from a perturbed robot."""
     from armtool.calib.camera import save_intrinsics
-    from armtool.ik.chain import load_chain
+    from armtool.model.chain import load_chain
     from tests.calib.synthetic import make_problem
 
     chain = load_chain(CLEAN_ARM, "base_link", "tool0")
@@ -619,7 +619,7 @@ def test_broken_truth_is_a_message(dataset: Path) -> None:
     then warns and writes its result), never a KeyError or RecursionError."""
     from armtool.calib.model import CalibModel, Setup
     from armtool.calib.truth import load_truth
-    from armtool.ik.chain import load_chain
+    from armtool.model.chain import load_chain
 
     model = CalibModel(load_chain(CLEAN_ARM, "base_link", "tool0"), Setup.EYE_TO_HAND, np.eye(4), np.eye(4))
     (dataset / "truth").mkdir()

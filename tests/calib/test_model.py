@@ -6,7 +6,7 @@ import numpy as np
 
 from armtool.calib import se3
 from armtool.calib.model import CalibModel, Family, Setup
-from armtool.ik.chain import Chain
+from armtool.model.chain import Chain
 from tests.calib.conftest import nominal_model
 
 

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from armtool.calib import se3
-from armtool.ik.chain import rpy_matrix
+from armtool.model.chain import rpy_matrix
 
 vec = st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3)
 

@@ -13,7 +13,7 @@ from armtool.calib.model import CalibModel, Setup
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera
 from armtool.calib.truth import score
 from armtool.cli import app
-from armtool.ik.chain import load_chain
+from armtool.model.chain import load_chain
 from tests.calib.conftest import CLEAN_ARM
 from tests.calib.synthetic import make_problem
 from tests.ik.robots import erd

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from armtool.calib.urdf_out import check_reproduces, corrected_text, joint_corrections
-from armtool.ik.chain import Chain, chain_from_xml
+from armtool.model.chain import Chain, chain_from_xml
 from armtool.model.xmlsource import parse_xml
 from tests.calib.conftest import CLEAN_ARM, ROOT, nominal_model
 

@@ -12,7 +12,7 @@ import pytest
 from armtool.calib.fit import calibrate
 from armtool.calib.report import calibration_document
 from armtool.calib.truth import score
-from armtool.ik.chain import load_chain
+from armtool.model.chain import load_chain
 from tests.calib.synthetic import make_problem
 from tests.ik.robots import erd
 

@@ -11,8 +11,8 @@ from lxml import etree
 
 from armtool.errors import ArmtoolError
 from armtool.ik import load_chain, make_solver
-from armtool.ik.chain import Chain, chain_from_xml
 from armtool.ik.solver import Array, IKResult, verify
+from armtool.model.chain import Chain, chain_from_xml
 from tests.ik.robots import ARMS, erd
 
 UR = {
@@ -183,7 +183,7 @@ def test_panda_has_no_closed_form() -> None:
 
 def test_gripper_hint_only_for_gripper_joints() -> None:
     """A 6R arm with a finger joint after it: the hint names the finger joint (item 12 of issue 10)."""
-    from armtool.ik.chain import ChainJoint
+    from armtool.model.chain import ChainJoint
 
     chain = dh_chain(UR_LIKE, name="with_finger")
     finger = ChainJoint("finger_joint", "prismatic", np.eye(4), np.array([1.0, 0.0, 0.0]), 0.0, 0.04)
@@ -408,7 +408,7 @@ REALWORLD = Path(__file__).resolve().parents[2] / ".." / "shared" / "realworld"
 
 def test_kinova_gen3_6dof_is_near_closed_form() -> None:
     """ros2_kortex's gen3.xacro with dof:=6 (as its README's launch examples pass it): axis 6 misses the wrist by 0.35 mm."""
-    from armtool.ik.chain import chain_from_xml
+    from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
     xacro = REALWORLD / "ros2_kortex/kortex_description/robots/gen3.xacro"

@@ -60,7 +60,7 @@ def planar(tmp_path: Path, text: str = PLANAR_2R, name: str = "planar.urdf") -> 
 
 
 def test_one_joint_chain_has_a_6x1_jacobian() -> None:
-    from armtool.ik.chain import load_chain
+    from armtool.model.chain import load_chain
 
     chain = load_chain(URDF, "base_link", "link1")
     _T, J = chain.fk_jacobian(chain.mid())
@@ -108,7 +108,7 @@ def test_any_integer_is_a_seed(tmp_path: Path, seed: str) -> None:
 
 
 def test_huge_axis_is_normalised_without_overflow(tmp_path: Path) -> None:
-    from armtool.ik.chain import load_chain
+    from armtool.model.chain import load_chain
 
     path = planar(tmp_path, PLANAR_2R.replace('<axis xyz="0 0 1"/>', '<axis xyz="1e200 1e200 0"/>', 1))
     chain = load_chain(path)
@@ -136,7 +136,7 @@ def test_loop_and_same_base_tip_say_what_is_wrong(tmp_path: Path) -> None:
 
 def test_same_base_and_tip_from_the_api() -> None:
     """calibrate relays chain_from_xml's message for --base/--flange: it must say what is wrong."""
-    from armtool.ik.chain import load_chain
+    from armtool.model.chain import load_chain
 
     with pytest.raises(ArmtoolError, match="base and tip are the same link 'tool0'"):
         load_chain(URDF, "tool0", "tool0")
@@ -145,7 +145,7 @@ def test_same_base_and_tip_from_the_api() -> None:
 def test_several_roots_pick_the_one_with_the_arm(tmp_path: Path) -> None:
     from lxml import etree
 
-    from armtool.ik.chain import default_base_tip
+    from armtool.model.chain import default_base_tip
 
     text = PLANAR_2R.replace('<link name="base"/>', '<link name="marker"/><link name="base"/>')
     assert default_base_tip(etree.fromstring(text)) == ("base", "tool")
@@ -225,8 +225,8 @@ def test_kinematics_yaml_without_the_group_is_not_silently_ignored(tmp_path: Pat
 
 
 def test_solver_api_refuses_an_endless_timeout() -> None:
-    from armtool.ik.chain import load_chain
     from armtool.ik.registry import make_solver
+    from armtool.model.chain import load_chain
 
     chain = load_chain(URDF, "base_link", "tool0")
     for bad in (float("inf"), float("nan")):

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 from lxml import etree
 
-from armtool.ik.chain import Chain, chain_from_xml, load_chain
 from armtool.ik.registry import make_solver
 from armtool.ik.solver import Array, pose_error, verify
+from armtool.model.chain import Chain, chain_from_xml, load_chain
 
 # Planar 3R in the xy plane; joint 1 only reaches [-0.5, 0.5] rad.
 PLANAR_3R = """<robot name="planar3r">

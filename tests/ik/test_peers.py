@@ -17,9 +17,9 @@ import pytest
 from lxml import etree
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain, chain_from_xml
 from armtool.ik.peers import PEERS, make_peer, path_urdf, peer_names
 from armtool.ik.solver import Solver
+from armtool.model.chain import Chain, chain_from_xml
 from armtool.model.load import load_robot_xml
 from tests.ik.robots import ARMS, PLANAR_2R, erd
 

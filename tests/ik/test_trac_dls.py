@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain, load_chain
 from armtool.ik.registry import make_solver
 from armtool.ik.solver import Solver, verify
 from armtool.ik.solvers.dls import damped_step
 from armtool.ik.solvers.trac import SolveType, TracIK, limit_penalty, manipulability, squared_error
+from armtool.model.chain import Chain, load_chain
 from tests.ik.robots import ARMS, erd
 
 # Planar 3R in the xy plane: a pose (x, y, yaw) has two answers (elbow up/down) where both fit the

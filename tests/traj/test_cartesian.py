@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import load_chain
 from armtool.ik.registry import make_solver
 from armtool.ik.solver import rotation_error
+from armtool.model.chain import load_chain
 from armtool.traj import cartesian as cart
 
 from .helpers import CLEAN_URDF, START

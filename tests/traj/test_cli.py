@@ -181,7 +181,7 @@ def test_check_unknown_joint(tmp_path: Path) -> None:
 
 def test_waypoints_and_arc(tmp_path: Path) -> None:
     start = [float(v) for v in START.split(",")]
-    from armtool.ik.chain import load_chain
+    from armtool.model.chain import load_chain
 
     p = load_chain(CLEAN_URDF, "base_link", "tool0").fk(__import__("numpy").array(start))[:3, 3]
     wp = tmp_path / "poses.csv"

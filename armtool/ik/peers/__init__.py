@@ -20,8 +20,8 @@ import numpy as np
 from lxml import etree
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
 from armtool.ik.solver import Array, Solver
+from armtool.model.chain import Chain
 
 # name -> ("module:Class", python module it needs, how to install it)
 PEERS: dict[str, tuple[str, str, str]] = {
@@ -47,7 +47,7 @@ def peer_names() -> list[str]:
 def check_peer_name(name: str) -> None:
     """An ArmtoolError (exit 2) for a name that is not a peer, with the closest one."""
     if name not in PEERS:
-        from armtool.lint.suggest import did_you_mean
+        from armtool.suggest import did_you_mean
 
         raise ArmtoolError(f"unknown peer '{name}'{did_you_mean(name, PEERS)}", hint="peers: " + ", ".join(PEERS))
 

@@ -20,9 +20,9 @@ from typing import Any
 import numpy as np
 from lxml import etree
 
-from armtool.ik.chain import Chain
 from armtool.ik.peers import check_fk
 from armtool.ik.solver import Array, IKResult, Solver
+from armtool.model.chain import Chain
 
 _FLT_MAX = float(np.finfo(np.float32).max)
 

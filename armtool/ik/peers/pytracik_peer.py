@@ -28,9 +28,9 @@ import pinocchio as pin
 from lxml import etree
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
 from armtool.ik.peers import check_fk, path_urdf
 from armtool.ik.solver import Array, IKResult, Solver
+from armtool.model.chain import Chain
 
 
 class PyTracIK(Solver):

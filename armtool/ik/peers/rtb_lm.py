@@ -23,9 +23,9 @@ import numpy as np
 from lxml import etree
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
 from armtool.ik.peers import check_fk, path_urdf
 from armtool.ik.solver import Array, IKResult, Solver
+from armtool.model.chain import Chain
 
 
 class RtbLM(Solver):

@@ -67,8 +67,8 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain, looks_like_gripper_joint
 from armtool.ik.solver import Array, IKResult, Solver
+from armtool.model.chain import Chain, looks_like_gripper_joint
 
 ANGLE_TOL = 1e-6  # rad: axes parallel
 LENGTH_TOL = 1e-6  # m: lines intersect, offsets vanish

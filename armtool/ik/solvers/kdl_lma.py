@@ -46,8 +46,8 @@ import pinocchio as pin
 from scipy.linalg import lapack
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
 from armtool.ik.solver import Array, IKResult, Solver
+from armtool.model.chain import Chain
 
 _SUCCESS, _STALLED, _MAX_ITER, _TIMEOUT = range(4)
 

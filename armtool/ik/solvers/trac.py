@@ -71,8 +71,8 @@ import pinocchio as pin
 from scipy.linalg import lapack
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import Chain
 from armtool.ik.solver import Array, IKResult, Solver
+from armtool.model.chain import Chain
 
 TWO_PI = 2.0 * math.pi
 FLT_EPSILON = float(np.finfo(np.float32).eps)  # KDL-TL's "did not move" threshold

@@ -9,7 +9,7 @@ from armtool.lint.locate import local_tag
 from armtool.lint.numbers import parse_floats
 from armtool.lint.rule import Rule, Target
 from armtool.lint.srdf_context import SrdfContext
-from armtool.lint.suggest import closest
+from armtool.suggest import closest
 
 
 class SrdfUnknownJoint(Rule):

@@ -8,7 +8,7 @@ from armtool.lint.finding import Finding, Severity
 from armtool.lint.locate import local_tag
 from armtool.lint.rule import Rule, Target
 from armtool.lint.srdf_context import SrdfContext
-from armtool.lint.suggest import closest
+from armtool.suggest import closest
 
 
 class UnknownGroup(Rule):

@@ -5,7 +5,7 @@ from collections.abc import Iterator
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.rule import Rule, Target
-from armtool.lint.suggest import closest
+from armtool.suggest import closest
 
 
 class UnknownLink(Rule):

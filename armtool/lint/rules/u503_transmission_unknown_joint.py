@@ -5,7 +5,7 @@ from collections.abc import Iterator
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.rule import Rule, Target
-from armtool.lint.suggest import did_you_mean
+from armtool.suggest import did_you_mean
 
 
 class TransmissionUnknownJoint(Rule):

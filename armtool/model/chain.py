@@ -19,7 +19,7 @@ from lxml import etree
 from numpy.typing import NDArray
 
 from armtool.errors import ArmtoolError
-from armtool.lint.suggest import did_you_mean
+from armtool.suggest import did_you_mean
 
 Array = NDArray[np.float64]
 JointKind = Literal["revolute", "prismatic", "continuous"]

@@ -1,4 +1,5 @@
-"""ik-bench results as a rich table (humans), JSON (scripts, `schema_version`) or CSV (spreadsheets)."""
+"""ik-bench results as a rich table (humans, stdout; its notes on stderr), JSON (scripts, `schema_version`)
+or CSV (spreadsheets)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import math
 from dataclasses import asdict
 
 from armtool.ik.bench import BenchConfig, NotApplicable, SolverReport
-from armtool.ik.chain import Chain
+from armtool.model.chain import Chain
 
 SCHEMA_VERSION = 1
 Row = SolverReport | NotApplicable
@@ -77,7 +78,9 @@ def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
     import sys
 
     Console(highlight=False, width=None if sys.stdout.isatty() else 200).print(table)
-    err = Console(stderr=True, highlight=False)
+    from armtool.console import stderr
+
+    err = stderr()
     for r in reports:
         if isinstance(r, SolverReport) and r.claimed_but_wrong:
             err.print(

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.ik.chain import load_chain, rpy_matrix
+from armtool.model.chain import load_chain, rpy_matrix
 from tests.ik.robots import ARMS, PLANAR_2R, erd
 
 
@@ -124,7 +124,7 @@ def test_default_chain_stops_before_fingers_and_prefers_a_tool_frame() -> None:
     """Franka-like: the longest chain ends at a finger; the default ends at the arm's TCP instead."""
     from lxml import etree
 
-    from armtool.ik.chain import default_base_tip
+    from armtool.model.chain import default_base_tip
     from tests.ik.test_group import ARM
 
     root = etree.fromstring(ARM)
@@ -162,7 +162,7 @@ REALWORLD = Path(__file__).resolve().parents[2] / ".." / "shared" / "realworld"
     ],
 )
 def test_default_chain_on_real_arms(relative: str, args: dict[str, str], tip: str) -> None:
-    from armtool.ik.chain import default_base_tip
+    from armtool.model.chain import default_base_tip
     from armtool.model.load import load_robot_xml
 
     path = REALWORLD / relative
