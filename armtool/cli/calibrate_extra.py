@@ -7,12 +7,12 @@ from __future__ import annotations
 
 import json
 import math
-from enum import Enum
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import typer
 
+from armtool.calib.choices import DistortionModel, ReportFormat, Setup, StillBy
 from armtool.calib.limits import MAX_IMAGES, MAX_TAG_ID, TAG_SIZE_M
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
@@ -29,28 +29,6 @@ BOARD_HELP = (
 )
 
 
-class DistortionOption(str, Enum):
-    NONE = "none"
-    K1K2 = "k1k2"
-    PLUMB_BOB = "plumb_bob"
-    RATIONAL = "rational"
-
-
-class OutputFormat(str, Enum):
-    TEXT = "text"
-    JSON = "json"
-
-
-class StillBy(str, Enum):
-    POSITION = "position"
-    VELOCITY = "velocity"
-
-
-class SetupOption(str, Enum):
-    EYE_TO_HAND = "eye_to_hand"
-    EYE_IN_HAND = "eye_in_hand"
-
-
 def camera(
     images: list[Path] = typer.Argument(..., help="Images of the board (files, or directories of images)."),
     board: str = typer.Option(..., "--board", help=BOARD_HELP),
@@ -60,8 +38,8 @@ def camera(
         "-o",
         help="Intrinsics file to write (OpenCV FileStorage YAML, for dataset.yaml's camera.intrinsics).",
     ),
-    distortion: DistortionOption = typer.Option(
-        DistortionOption.PLUMB_BOB,
+    distortion: DistortionModel = typer.Option(
+        DistortionModel.PLUMB_BOB,
         "--distortion",
         help="Distortion coefficients to fit: none, k1k2 (k1 k2 p1 p2), plumb_bob (+k3), rational (k1..k6 p1 p2).",
     ),
@@ -71,14 +49,14 @@ def camera(
         callback=opt.int_range(3, MAX_IMAGES),
         help=f"Fewest images in which the board must be found (3 to {MAX_IMAGES}).",
     ),
-    output_format: OutputFormat = typer.Option(
-        OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
+    output_format: ReportFormat = typer.Option(
+        ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
 ) -> None:
     """Fit camera intrinsics and lens distortion from images of a ChArUco board or an AprilTag grid."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.boards import parse_board
-    from armtool.calib.intrinsics import DistortionModel, calibrate_images, image_paths, write_intrinsics
+    from armtool.calib.intrinsics import calibrate_images, image_paths, write_intrinsics
     from armtool.console import progress_bar, write_stdout
     from armtool.fileio import check_output_paths
 
@@ -95,50 +73,14 @@ def camera(
         result = calibrate_images(
             paths,
             spec,
-            DistortionModel(distortion.value),
+            distortion,
             min_images,
             progress=lambda done, total: bar.update(task, completed=done),
         )
     write_intrinsics(result, spec, out)
-    if output_format is OutputFormat.JSON:
-        write_stdout(json.dumps(_camera_summary(result, spec, out), indent=2))
+    if output_format is ReportFormat.JSON:
+        write_stdout(json.dumps(result.summary(spec, out), indent=2))
     _print_camera_report(result, spec, out)
-
-
-def _finite(x: float) -> float | None:
-    return None if math.isnan(x) else round(x, 4)
-
-
-def _camera_summary(result: IntrinsicsResult, spec: BoardSpec, out: Path) -> dict[str, object]:
-    K = result.camera.K
-    return {
-        "schema_version": 1,
-        "output": str(out),
-        "board": spec.describe(),
-        "image_width": result.camera.width,
-        "image_height": result.camera.height,
-        "fx_px": float(K[0, 0]),
-        "fy_px": float(K[1, 1]),
-        "cx_px": float(K[0, 2]),
-        "cy_px": float(K[1, 2]),
-        "sigma_px": result.sigma,
-        "distortion_model": result.model.value,
-        "distortion_coefficients": [float(d) for d in result.camera.dist],
-        "rms_px": result.rms_px,
-        "coverage": result.coverage,
-        "images": [
-            {
-                "image": v.name,
-                "points": v.points,
-                "rms_px": _finite(v.rms_px),
-                "tilt_deg": _finite(v.tilt_deg),
-                "used": v.used,
-                "reason": v.reason,
-            }
-            for v in result.views
-        ],
-        "warnings": result.warnings,
-    }
 
 
 def _print_camera_report(result: IntrinsicsResult, spec: BoardSpec, out: Path) -> None:
@@ -209,8 +151,8 @@ def import_bag(
         "--camera-info-topic",
         help="sensor_msgs/CameraInfo topic (default: camera_info beside the image topic, if recorded).",
     ),
-    setup: SetupOption = typer.Option(
-        SetupOption.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."
+    setup: Setup = typer.Option(
+        Setup.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."
     ),
     family: str = typer.Option("tag36h11", "--family", help="AprilTag family."),
     tag_id: int = typer.Option(0, "--tag-id", callback=opt.int_range(0, MAX_TAG_ID), help="AprilTag id."),
@@ -234,19 +176,18 @@ def import_bag(
     min_still: float = typer.Option(
         0.5, "--min-still", callback=opt.seconds(3600.0), help="Shortest settled window, seconds."
     ),
-    output_format: OutputFormat = typer.Option(
-        OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
+    output_format: ReportFormat = typer.Option(
+        ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
 ) -> None:
     """Turn a ROS bag (images + joint states) into a calibration dataset: one sample per settled pose."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.bag_import import ImportOptions
     from armtool.calib.bag_import import import_bag as run
-    from armtool.cli.calibrate import _check_chain_ends, _check_out_dir
     from armtool.console import stderr, write_stdout
 
-    _check_out_dir(out)
-    _check_chain_ends(base, flange, "--base", "--flange")
+    opt.check_out_dir(out)
+    opt.check_chain_ends(base, flange)
     if out.exists() and not out.is_dir():
         raise ArmtoolError("--out exists and is not a directory", str(out), "pass a new directory name")
     options = ImportOptions(
@@ -256,42 +197,20 @@ def import_bag(
         flange=flange,
         intrinsics=intrinsics,
         camera_info_topic=camera_info_topic,
-        setup=setup.value,
+        setup=setup,
         family=family,
         tag_id=tag_id,
         tag_size_m=tag_size,
-        still_by=still_by.value,
+        still_by=still_by,
         tolerance=tolerance,
         max_velocity=max_velocity,
         min_still_s=min_still,
     )
     with stderr().status("reading the bag"):
         result = run(bag, urdf, out, options)
-    if output_format is OutputFormat.JSON:
-        write_stdout(json.dumps(_bag_summary(result), indent=2))
+    if output_format is ReportFormat.JSON:
+        write_stdout(json.dumps(result.summary(), indent=2))
     _print_bag_report(result)
-
-
-def _bag_summary(result: ImportResult) -> dict[str, object]:
-    return {
-        "schema_version": 1,
-        "dataset": str(result.out),
-        "samples": [
-            {
-                "id": s.id,
-                "image": s.image,
-                "window_start_s": s.start_s,
-                "window_end_s": s.end_s,
-                "image_offset_s": s.image_offset_s,
-                "joints": s.q,
-            }
-            for s in result.samples
-        ],
-        "skipped_windows": [{"window_start_s": a, "window_end_s": b, "reason": r} for a, b, r in result.skipped],
-        "intrinsics": result.intrinsics_source,
-        "clock": result.clock,
-        "warnings": result.warnings,
-    }
 
 
 def _print_bag_report(result: ImportResult) -> None:
