@@ -6,7 +6,6 @@ Registered on the `calibrate` Typer app by `register(app)` (see armtool/cli/cali
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -19,9 +18,7 @@ from armtool.errors import ArmtoolError
 from armtool.extras import require
 
 if TYPE_CHECKING:
-    from armtool.calib.bag_import import ImportResult
-    from armtool.calib.boards import BoardSpec
-    from armtool.calib.intrinsics import IntrinsicsResult
+    pass
 
 BOARD_HELP = (
     "The printed board: charuco:COLSxROWS:SQUARE:MARKER[:DICT] (squares, metres; DICT default DICT_6X6_250) "
@@ -59,6 +56,7 @@ def camera(
     from armtool.calib.intrinsics import calibrate_images, image_paths, write_intrinsics
     from armtool.console import progress_bar, write_stdout
     from armtool.fileio import check_output_paths
+    from armtool.output.calibrate import print_camera_report
 
     spec = parse_board(board)
     paths = image_paths(images)
@@ -80,45 +78,7 @@ def camera(
     write_intrinsics(result, spec, out)
     if output_format is ReportFormat.JSON:
         write_stdout(json.dumps(result.summary(spec, out), indent=2))
-    _print_camera_report(result, spec, out)
-
-
-def _print_camera_report(result: IntrinsicsResult, spec: BoardSpec, out: Path) -> None:
-    from rich.markup import escape
-    from rich.table import Table
-
-    from armtool.console import stderr
-
-    con = stderr()
-    table = Table(title=f"board: {escape(spec.describe())}", title_justify="left")
-    for col, justify in (
-        ("image", "left"),
-        ("corners", "right"),
-        ("RMS px", "right"),
-        ("tilt °", "right"),
-        ("", "left"),
-    ):
-        table.add_column(col, justify=justify)  # type: ignore[arg-type]
-    for v in result.views:
-        status = "" if v.used else f"[yellow]{escape(v.reason)}[/yellow]"
-        table.add_row(
-            escape(Path(v.name).name),
-            str(v.points),
-            "" if math.isnan(v.rms_px) else f"{v.rms_px:.3f}",
-            "" if math.isnan(v.tilt_deg) else f"{v.tilt_deg:.0f}",
-            status,
-        )
-    con.print(table)
-    K, s = result.camera.K, result.sigma
-    con.print(
-        f"fx {K[0, 0]:.2f} ± {s['fx']:.2f}  fy {K[1, 1]:.2f} ± {s['fy']:.2f}  cx {K[0, 2]:.2f} ± {s['cx']:.2f}  "
-        f"cy {K[1, 2]:.2f} ± {s['cy']:.2f} px (1σ)"
-    )
-    con.print(f"distortion ({result.model.value}): " + " ".join(f"{d:.5g}" for d in result.camera.dist))
-    con.print(f"reprojection RMS {result.rms_px:.3f} px over {len(result.used)} images; coverage {result.coverage:.0%}")
-    for w in result.warnings:
-        con.print(f"[yellow]warning:[/yellow] {escape(w)}")
-    con.print(f"wrote {escape(str(out))}")
+    print_camera_report(result, spec, out)
 
 
 def import_bag(
@@ -185,6 +145,7 @@ def import_bag(
     from armtool.calib.bag_import import ImportOptions
     from armtool.calib.bag_import import import_bag as run
     from armtool.console import stderr, write_stdout
+    from armtool.output.calibrate import print_bag_report
 
     opt.check_out_dir(out)
     opt.check_chain_ends(base, flange)
@@ -210,23 +171,7 @@ def import_bag(
         result = run(bag, urdf, out, options)
     if output_format is ReportFormat.JSON:
         write_stdout(json.dumps(result.summary(), indent=2))
-    _print_bag_report(result)
-
-
-def _print_bag_report(result: ImportResult) -> None:
-    from rich.markup import escape
-
-    from armtool.console import stderr
-
-    con = stderr()
-    for a, b, reason in result.skipped:
-        con.print(f"[yellow]skipped[/yellow] settled window {a:.2f}-{b:.2f} s: {escape(reason)}")
-    for w in result.warnings:
-        con.print(f"[yellow]warning:[/yellow] {escape(w)}")
-    con.print(
-        f"{len(result.samples)} samples from settled windows ({result.clock}); intrinsics: {escape(result.intrinsics_source)}"
-    )
-    con.print(f"wrote {escape(str(result.out))}; next: armtool calibrate check {escape(str(result.out))}")
+    print_bag_report(result)
 
 
 def register(app: typer.Typer) -> None:
