@@ -20,7 +20,7 @@ import shutil
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -35,6 +35,7 @@ log = logging.getLogger(__name__)
 IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
 JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 CAMERA_INFO_TYPE = "sensor_msgs/msg/CameraInfo"
+Clock = Literal["header stamps", "bag receive time"]  # what images and joint states were matched by
 
 
 @dataclass(frozen=True)
@@ -143,7 +144,7 @@ class ImportResult:
     samples: list[ImportedSample]
     skipped: list[tuple[float, float, str]]  # (start_s, end_s, reason)
     intrinsics_source: str
-    clock: str  # "header stamps" or "bag receive time"
+    clock: Clock
     warnings: list[str] = field(default_factory=list)
 
     def summary(self) -> dict[str, object]:
@@ -441,7 +442,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         if not image_stamps:
             raise ArmtoolError(f"topic '{options.image_topic}' has no messages", str(bag))
         use_headers = bool(np.all(stamps > 0) and np.all(np.array(image_stamps) > 0))
-        clock = "header stamps" if use_headers else "bag receive time"
+        clock: Clock = "header stamps" if use_headers else "bag receive time"
         if not use_headers:
             warnings.append(
                 "some messages have no header stamp: images and joint states were matched by the time the bag received them"

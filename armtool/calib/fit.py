@@ -1,10 +1,16 @@
 """The calibration itself: start with hand-eye only, find what is identifiable, fit, reject outliers.
 
-1. PnP per image and a closed-form AX = XB give the two measurement frames.
-2. Hand-eye-only fit (frames free, nominal robot): the "before" that hand-eye tools give.
-3. Identifiability of every candidate parameter on the fit poses (`identify.analyse`).
-4. Robust fit (soft-L1 on corner reprojection) of the identifiable set; samples whose residual
-   stands out are named and removed; then a plain Levenberg–Marquardt polish on the inliers.
+`calibrate` runs these steps, one function each:
+1. Samples without a usable tag are rejected, the hold-out set is put aside (`_partition`).
+2. PnP per image and a closed-form AX = XB give the two measurement frames (`_start_frames`).
+3. Hand-eye-only fit (frames free, nominal robot): the "before" that hand-eye tools give.
+4. Identifiability of every candidate parameter on the fit poses (`identify.analyse`); a fit
+   that cannot separate the frames, or lacks data, is refused (`_check_identified`, `_check_enough_data`).
+5. Robust fit (soft-L1 on corner reprojection) of the identifiable set; samples whose residual
+   stands out are named and removed (`_robust_fit`); then a plain Levenberg–Marquardt polish on
+   the inliers and the parameters' σ (`_sigma`).
+6. Which zero offsets are physical (`zero_offsets.analyse_offsets`), the held-out samples scored
+   by the same outlier rule (`_score_holdout`), and what the numbers cannot say (`_fit_warnings`).
 Residuals are corner reprojection errors in pixels; the Jacobian is by central differences on
 the model, which is smooth, and costs a few tens of ms.
 """

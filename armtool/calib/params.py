@@ -17,7 +17,8 @@ from typing import ClassVar, Literal, NamedTuple
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 
-ORIGIN_COMPONENTS = ("tx", "ty", "tz", "rx", "ry", "rz")
+Component = Literal["tx", "ty", "tz", "rx", "ry", "rz", "offset", "gain"]
+ORIGIN_COMPONENTS: tuple[Component, ...] = ("tx", "ty", "tz", "rx", "ry", "rz")
 Unit = Literal["m", "rad", "1"]
 
 
@@ -67,7 +68,7 @@ class Parameter:
     name: str  # e.g. "elbow_joint.origin.tz", "camera.rx"
     group: str  # "camera", "tag", or a joint name
     kind: ParamKind
-    component: str  # tx..rz, "offset", "gain"
+    component: Component
     unit: Unit
 
     @property
