@@ -49,25 +49,15 @@ def check(
 ) -> None:
     """Validate a dataset: files, joints, units, images, and the tag in every image."""
     require("calib")  # exit 2 with the install command when the extra is missing
-    from rich.markup import escape
-
     from armtool.calib.inputs import detection_problems, load_inputs
     from armtool.cli.lint import _parse_xacro_args
-    from armtool.console import stderr
+    from armtool.output.calibrate import print_check_report
 
     ds, chain, camera = load_inputs(dataset, _parse_xacro_args(xacro_arg), list(package_path))
     if detect and chain is not None and camera is not None and ds.samples:
         ds.problems += detection_problems(ds, _detect(ds, camera))
-    out = stderr()
-    for p in ds.problems:
-        color = "red" if p.severity == "error" else "yellow"
-        out.print(f"{escape(p.where)}: [{color}]{p.severity}[/{color}]: {escape(p.what)}")
-        if p.hint:
-            out.print(f"  [dim]hint:[/dim] {escape(p.hint)}")
-    errors = len(ds.errors)
-    warnings = len(ds.problems) - errors
-    out.print(f"{len(ds.samples)} samples, {errors} error(s), {warnings} warning(s)")
-    if errors:
+    print_check_report(ds)
+    if ds.errors:
         raise typer.Exit(ExitCode.FINDINGS)
 
 

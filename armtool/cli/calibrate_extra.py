@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import typer
 
@@ -16,9 +15,6 @@ from armtool.calib.limits import MAX_IMAGES, MAX_TAG_ID, TAG_SIZE_M
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
-
-if TYPE_CHECKING:
-    pass
 
 BOARD_HELP = (
     "The printed board: charuco:COLSxROWS:SQUARE:MARKER[:DICT] (squares, metres; DICT default DICT_6X6_250) "

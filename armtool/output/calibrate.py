@@ -1,4 +1,4 @@
-"""The reports of `calibrate fit`, `calibrate camera` and `calibrate import-bag` for people, on
+"""The reports of `calibrate check`, `calibrate fit`, `calibrate camera` and `calibrate import-bag` for people, on
 stderr (the data goes to files and, with --format json, to stdout)."""
 
 from __future__ import annotations
@@ -15,8 +15,22 @@ from armtool.console import stderr
 if TYPE_CHECKING:  # each command imports only what it uses
     from armtool.calib.bag_import import ImportResult
     from armtool.calib.boards import BoardSpec
+    from armtool.calib.dataset import Dataset
     from armtool.calib.fit import CalibrationResult
     from armtool.calib.intrinsics import IntrinsicsResult
+
+
+def print_check_report(ds: Dataset) -> None:
+    """`calibrate check`'s report: every problem with where it is and how to fix it, then the counts."""
+    out = stderr()
+    for p in ds.problems:
+        color = "red" if p.severity == "error" else "yellow"
+        out.print(f"{escape(p.where)}: [{color}]{p.severity}[/{color}]: {escape(p.what)}")
+        if p.hint:
+            out.print(f"  [dim]hint:[/dim] {escape(p.hint)}")
+    errors = len(ds.errors)
+    warnings = len(ds.problems) - errors
+    out.print(f"{len(ds.samples)} samples, {errors} error(s), {warnings} warning(s)")
 
 
 def print_fit_report(result: CalibrationResult, truth: dict[str, Any] | None, out: Path, plot: Path | None) -> None:
