@@ -52,7 +52,7 @@ class ImportOptions:
     tag_size_m: float = 0.08
     still_by: StillBy = StillBy.POSITION
     tolerance: float = 0.002  # rad (or m): largest change of any joint within a window
-    max_velocity: float = 0.01  # rad/s (or m/s), with still_by="velocity"
+    max_velocity: float = 0.01  # rad/s (or m/s), with still_by=StillBy.VELOCITY
     min_still_s: float = 0.5
 
 

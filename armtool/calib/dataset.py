@@ -235,7 +235,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         problems.append(
             Problem(where, f"format is {doc.get('format')!r}, expected '{FORMAT}'", f"add `format: {FORMAT}`")
         )
-    setup_text = doc.get("setup", "eye_to_hand")
+    setup_text = doc.get("setup", Setup.EYE_TO_HAND.value)
     try:
         setup = Setup(setup_text)
     except ValueError:
