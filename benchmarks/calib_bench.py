@@ -53,25 +53,23 @@ def robot_file(relative: str) -> Path:
 def run_case(
     robot: str, seed: int, samples: int, bad: int, workdir: Path, quality: str = "typical", setup: str = "eye_to_hand"
 ) -> dict[str, object]:
-    from armtool.calib.camera import load_intrinsics
-    from armtool.calib.dataset import load_dataset, read_samples, require_ok
+    from armtool.calib.choices import Quality, Setup
+    from armtool.calib.dataset import require_ok
     from armtool.calib.fit import FitOptions, calibrate
-    from armtool.calib.model import CalibModel, Setup
+    from armtool.calib.inputs import load_inputs
+    from armtool.calib.model import CalibModel
     from armtool.calib.observations import observe
     from armtool.calib.simulate import SimulationSpec, simulate
     from armtool.calib.truth import load_truth, score
-    from armtool.model.chain import load_chain
 
     rel, base, flange = ROBOTS[robot]
     out = workdir / f"{robot}-{seed}-{bad}-{quality}-{setup}"
-    spec = SimulationSpec(samples=samples, seed=seed, bad_samples=bad, quality=quality, setup=Setup(setup))
+    spec = SimulationSpec(samples=samples, seed=seed, bad_samples=bad, quality=Quality(quality), setup=Setup(setup))
     simulate(robot_file(rel), out, base, flange, spec)
     t0 = time.perf_counter()
-    ds = load_dataset(out, with_samples=False)
-    chain = load_chain(ds.urdf, ds.base_link, ds.flange_link)
-    read_samples(ds, chain.joint_names)
+    ds, chain, camera = load_inputs(out)
     require_ok(ds)
-    camera = load_intrinsics(ds.intrinsics)
+    assert chain is not None and camera is not None
     obs = observe(ds, camera)
     t1 = time.perf_counter()
     model = CalibModel(chain, ds.setup, np.eye(4), np.eye(4))

@@ -20,12 +20,14 @@ import shutil
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from armtool.calib.camera import Array
+from armtool.calib.choices import Setup, StillBy
+from armtool.calib.dataset import manifest_document
 from armtool.errors import ArmtoolError
 
 log = logging.getLogger(__name__)
@@ -33,6 +35,7 @@ log = logging.getLogger(__name__)
 IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
 JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 CAMERA_INFO_TYPE = "sensor_msgs/msg/CameraInfo"
+Clock = Literal["header stamps", "bag receive time"]  # what images and joint states were matched by
 
 
 @dataclass(frozen=True)
@@ -43,13 +46,13 @@ class ImportOptions:
     flange: str | None = None
     intrinsics: Path | None = None
     camera_info_topic: str | None = None
-    setup: str = "eye_to_hand"
+    setup: Setup = Setup.EYE_TO_HAND
     family: str = "tag36h11"
     tag_id: int = 0
     tag_size_m: float = 0.08
-    still_by: str = "position"  # or "velocity"
+    still_by: StillBy = StillBy.POSITION
     tolerance: float = 0.002  # rad (or m): largest change of any joint within a window
-    max_velocity: float = 0.01  # rad/s (or m/s), with still_by="velocity"
+    max_velocity: float = 0.01  # rad/s (or m/s), with still_by=StillBy.VELOCITY
     min_still_s: float = 0.5
 
 
@@ -141,8 +144,30 @@ class ImportResult:
     samples: list[ImportedSample]
     skipped: list[tuple[float, float, str]]  # (start_s, end_s, reason)
     intrinsics_source: str
-    clock: str  # "header stamps" or "bag receive time"
+    clock: Clock
     warnings: list[str] = field(default_factory=list)
+
+    def summary(self) -> dict[str, object]:
+        """What `calibrate import-bag --format json` prints (`schema_version` 1)."""
+        return {
+            "schema_version": 1,
+            "dataset": str(self.out),
+            "samples": [
+                {
+                    "id": s.id,
+                    "image": s.image,
+                    "window_start_s": s.start_s,
+                    "window_end_s": s.end_s,
+                    "image_offset_s": s.image_offset_s,
+                    "joints": s.q,
+                }
+                for s in self.samples
+            ],
+            "skipped_windows": [{"window_start_s": a, "window_end_s": b, "reason": r} for a, b, r in self.skipped],
+            "intrinsics": self.intrinsics_source,
+            "clock": self.clock,
+            "warnings": self.warnings,
+        }
 
 
 def _bag_path(bag: Path) -> Path:
@@ -417,7 +442,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         if not image_stamps:
             raise ArmtoolError(f"topic '{options.image_topic}' has no messages", str(bag))
         use_headers = bool(np.all(stamps > 0) and np.all(np.array(image_stamps) > 0))
-        clock = "header stamps" if use_headers else "bag receive time"
+        clock: Clock = "header stamps" if use_headers else "bag receive time"
         if not use_headers:
             warnings.append(
                 "some messages have no header stamp: images and joint states were matched by the time the bag received them"
@@ -429,7 +454,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         if velocity is not None:
             velocity = velocity[order]
         t0 = float(jt[0])
-        if options.still_by == "velocity":
+        if options.still_by is StillBy.VELOCITY:
             if velocity is None:
                 raise ArmtoolError(
                     f"the JointState messages on '{options.joints_topic}' carry no velocity for every joint",
@@ -444,7 +469,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         if not windows:
             raise ArmtoolError(
                 f"no settled window: the joints never stayed within {options.tolerance} for {options.min_still_s} s"
-                if options.still_by == "position"
+                if options.still_by is StillBy.POSITION
                 else f"no settled window: the joint velocities never stayed below {options.max_velocity} for {options.min_still_s} s",
                 str(bag),
                 "let the arm stop at each pose for a second, or loosen --tolerance / --max-velocity / --min-still",
@@ -515,34 +540,14 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
                 {n: float(v) for n, v in zip(names, w.q)},
             )
         )
-    manifest = {
-        "format": "armtool-calib-dataset/1",
-        "created_by": f"armtool calibrate import-bag {bag.name}",
-        "setup": options.setup,
-        "robot": {
-            "urdf": "robot.urdf",
-            "base_link": chain.base,
-            "flange_link": chain.tip,
-            "joints": names,
-            "joint_units": "rad",
-        },
-        "camera": {
-            "intrinsics": "camera.yaml",
-            "convention": "opencv (x right, y down, z forward)",
-            "images_rectified": False,
-        },
-        "target": {
-            "type": "apriltag",
-            "family": options.family,
-            "id": options.tag_id,
-            "size_m": options.tag_size_m,
-            "size_definition": "edge of the black border square",
-            "frame": "opencv aruco: origin at centre, x right, y up, z out of the face",
-            "mounted_on": chain.tip if options.setup == "eye_to_hand" else chain.base,
-        },
-        "samples": "samples.csv",
-        "images_dir": "images",
-    }
+    manifest = manifest_document(
+        f"armtool calibrate import-bag {bag.name}",
+        options.setup,
+        chain,
+        options.family,
+        options.tag_id,
+        options.tag_size_m,
+    )
     rows = ["id,image," + ",".join(names)]
     rows += [f"{s.id},{s.image}," + ",".join(f"{s.q[n]:.9f}" for n in names) for s in samples]
     from armtool.fileio import atomic_directory

@@ -12,17 +12,21 @@ import csv
 import io
 import math
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armtool.calib.choices import Setup, Severity
 from armtool.calib.files import unreadable_reason
 from armtool.calib.limits import MAX_CSV_FIELD, MAX_FILE_BYTES, MAX_SAMPLES, MAX_TAG_ID, TAG_SIZE_M
-from armtool.calib.model import Setup
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
+
+if TYPE_CHECKING:
+    from armtool.model.chain import Chain
 
 FORMAT = "armtool-calib-dataset/1"
 CORNER_COLUMNS = ["u0", "v0", "u1", "v1", "u2", "v2", "u3", "v3"]
@@ -34,7 +38,7 @@ class Problem:
     where: str  # file, or file:line
     what: str
     hint: str = ""
-    severity: str = "error"  # or "warning"
+    severity: Severity = "error"
 
 
 @dataclass(frozen=True)
@@ -76,6 +80,41 @@ class Dataset:
     @property
     def errors(self) -> list[Problem]:
         return [p for p in self.problems if p.severity == "error"]
+
+
+def manifest_document(
+    created_by: str, setup: Setup, chain: Chain, family: str, tag_id: int, size_m: float
+) -> dict[str, Any]:
+    """dataset.yaml of a dataset armtool writes (`simulate`, `import-bag`): robot.urdf, camera.yaml,
+    samples.csv and images/ beside it, joints in radians, an AprilTag target."""
+    return {
+        "format": FORMAT,
+        "created_by": created_by,
+        "setup": setup.value,
+        "robot": {
+            "urdf": "robot.urdf",
+            "base_link": chain.base,
+            "flange_link": chain.tip,
+            "joints": list(chain.joint_names),
+            "joint_units": "rad",
+        },
+        "camera": {
+            "intrinsics": "camera.yaml",
+            "convention": "opencv (x right, y down, z forward)",
+            "images_rectified": False,
+        },
+        "target": {
+            "type": "apriltag",
+            "family": family,
+            "id": tag_id,
+            "size_m": size_m,
+            "size_definition": "edge of the black border square",
+            "frame": "opencv aruco: origin at centre, x right, y up, z out of the face",
+            "mounted_on": chain.tip if setup is Setup.EYE_TO_HAND else chain.base,
+        },
+        "samples": "samples.csv",
+        "images_dir": "images",
+    }
 
 
 def _resolve(path: Path) -> Path:
@@ -196,7 +235,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         problems.append(
             Problem(where, f"format is {doc.get('format')!r}, expected '{FORMAT}'", f"add `format: {FORMAT}`")
         )
-    setup_text = doc.get("setup", "eye_to_hand")
+    setup_text = doc.get("setup", Setup.EYE_TO_HAND.value)
     try:
         setup = Setup(setup_text)
     except ValueError:
@@ -328,92 +367,103 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
 
 def read_samples(ds: Dataset, chain_joint_names: list[str] | None = None) -> None:
     """samples.csv (and corners.csv), checked against the chain's joints when they are given."""
-    if ds.samples_file is not None and unreadable_reason(ds.samples_file) is None:
-        _read_samples(ds, ds.samples_file, chain_joint_names)
-    if ds.corners_file is not None and unreadable_reason(ds.corners_file) is None:
-        _read_corners(ds, ds.corners_file)
+    samples, corners = ds.samples_file, ds.corners_file
+    if samples is not None and unreadable_reason(samples) is None:
+        if _read_csv(ds, samples, lambda handle, where: _sample_rows(ds, handle, where, chain_joint_names)):
+            _check_samples(ds, _rel(ds.root, samples))
+    if corners is not None and unreadable_reason(corners) is None:
+        _read_csv(ds, corners, lambda handle, where: _corner_rows(ds, handle, where))
 
 
-def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) -> None:
+def _read_csv(ds: Dataset, path: Path, parse: Callable[[io.StringIO, str], None]) -> bool:
+    """`parse(handle, where)` over the file's text; a read or CSV syntax error becomes a problem
+    with the file (and line). False when the file could not be read at all."""
     where = _rel(ds.root, path)
     text = _text(path, where, ds.problems)
     if text is None:
-        return
+        return False
     try:
         with io.StringIO(text, newline="") as handle:
-            reader = csv.reader(handle)
-            header = next(reader, None)
-            if header is None:
-                ds.problems.append(Problem(where, "samples.csv is empty", "one row per pose: id,image,<joint names>"))
-                return
-            header = [h.strip() for h in header]
-            if "id" not in header:
-                ds.problems.append(
-                    Problem(f"{where}:1", "no 'id' column", "the header must start with id,image,<joint names>")
-                )
-                return
-            names = chain_joint_names if chain_joint_names is not None else ds.joints
-            missing = [n for n in names if n not in header]
-            if missing:
-                ds.problems.append(
-                    Problem(
-                        f"{where}:1",
-                        f"joint column(s) missing: {', '.join(missing)}",
-                        "the header names URDF joints: " + ", ".join(names),
-                    )
-                )
-                return
-            unknown = [h for h in header if h not in ("id", "image") and h not in names]
-            if unknown and chain_joint_names is not None:
-                from armtool.suggest import did_you_mean
-
-                for u in unknown:
-                    ds.problems.append(
-                        Problem(
-                            f"{where}:1",
-                            f"column '{u}' is not a joint of the chain {ds.base_link} → {ds.flange_link}{did_you_mean(u, names)}",
-                            "remove the column, or fix robot.base_link / robot.flange_link",
-                            severity="warning" if u not in ds.joints else "error",
-                        )
-                    )
-            cols = [header.index(n) for n in names]
-            id_col = header.index("id")
-            image_col = header.index("image") if "image" in header else None
-            seen: set[str] = set()
-            for line, row in enumerate(reader, start=2):
-                if not row or all(not c.strip() for c in row):
-                    continue
-                if len(ds.samples) >= MAX_SAMPLES:
-                    ds.problems.append(
-                        Problem(
-                            f"{where}:{line}",
-                            f"more than {MAX_SAMPLES} samples",
-                            "split the dataset: 30-300 well-spread poses are plenty",
-                        )
-                    )
-                    break
-                if len(row) < len(header):
-                    ds.problems.append(Problem(f"{where}:{line}", f"{len(row)} values, header has {len(header)}"))
-                    continue
-                sid = row[id_col].strip()
-                if sid in seen:
-                    ds.problems.append(Problem(f"{where}:{line}", f"duplicate id '{sid}'"))
-                    continue
-                seen.add(sid)
-                try:
-                    q = np.array([float(row[c]) for c in cols])
-                except ValueError:
-                    ds.problems.append(Problem(f"{where}:{line}", "a joint value is not a number"))
-                    continue
-                if not np.isfinite(q).all():
-                    ds.problems.append(Problem(f"{where}:{line}", "a joint value is NaN or infinite"))
-                    continue
-                image = None
-                if image_col is not None and row[image_col].strip():
-                    image = _resolve(ds.root / row[image_col].strip())
-                ds.samples.append(Sample(sid, line, q, image))
+            parse(handle, where)
     except csv.Error as exc:
         ds.problems.append(_csv_problem(exc, where, text))
+    return True
+
+
+def _sample_rows(ds: Dataset, handle: io.StringIO, where: str, chain_joint_names: list[str] | None) -> None:
+    reader = csv.reader(handle)
+    header = next(reader, None)
+    if header is None:
+        ds.problems.append(Problem(where, "samples.csv is empty", "one row per pose: id,image,<joint names>"))
+        return
+    header = [h.strip() for h in header]
+    if "id" not in header:
+        ds.problems.append(Problem(f"{where}:1", "no 'id' column", "the header must start with id,image,<joint names>"))
+        return
+    names = chain_joint_names if chain_joint_names is not None else ds.joints
+    missing = [n for n in names if n not in header]
+    if missing:
+        ds.problems.append(
+            Problem(
+                f"{where}:1",
+                f"joint column(s) missing: {', '.join(missing)}",
+                "the header names URDF joints: " + ", ".join(names),
+            )
+        )
+        return
+    unknown = [h for h in header if h not in ("id", "image") and h not in names]
+    if unknown and chain_joint_names is not None:
+        from armtool.suggest import did_you_mean
+
+        for u in unknown:
+            ds.problems.append(
+                Problem(
+                    f"{where}:1",
+                    f"column '{u}' is not a joint of the chain {ds.base_link} → {ds.flange_link}{did_you_mean(u, names)}",
+                    "remove the column, or fix robot.base_link / robot.flange_link",
+                    severity="warning" if u not in ds.joints else "error",
+                )
+            )
+    cols = [header.index(n) for n in names]
+    id_col = header.index("id")
+    image_col = header.index("image") if "image" in header else None
+    seen: set[str] = set()
+    for line, row in enumerate(reader, start=2):
+        if not row or all(not c.strip() for c in row):
+            continue
+        if len(ds.samples) >= MAX_SAMPLES:
+            ds.problems.append(
+                Problem(
+                    f"{where}:{line}",
+                    f"more than {MAX_SAMPLES} samples",
+                    "split the dataset: 30-300 well-spread poses are plenty",
+                )
+            )
+            break
+        if len(row) < len(header):
+            ds.problems.append(Problem(f"{where}:{line}", f"{len(row)} values, header has {len(header)}"))
+            continue
+        sid = row[id_col].strip()
+        if sid in seen:
+            ds.problems.append(Problem(f"{where}:{line}", f"duplicate id '{sid}'"))
+            continue
+        seen.add(sid)
+        try:
+            q = np.array([float(row[c]) for c in cols])
+        except ValueError:
+            ds.problems.append(Problem(f"{where}:{line}", "a joint value is not a number"))
+            continue
+        if not np.isfinite(q).all():
+            ds.problems.append(Problem(f"{where}:{line}", "a joint value is NaN or infinite"))
+            continue
+        image = None
+        if image_col is not None and row[image_col].strip():
+            image = _resolve(ds.root / row[image_col].strip())
+        ds.samples.append(Sample(sid, line, q, image))
+
+
+def _check_samples(ds: Dataset, where: str) -> None:
+    """Problems of the samples as a whole: none at all, or values that look like degrees."""
     if not ds.samples and not any(p.where.startswith(where) for p in ds.problems):
         ds.problems.append(
             Problem(
@@ -433,58 +483,48 @@ def _read_samples(ds: Dataset, path: Path, chain_joint_names: list[str] | None) 
             )
 
 
-def _read_corners(ds: Dataset, path: Path) -> None:
-    where = _rel(ds.root, path)
-    text = _text(path, where, ds.problems)
-    if text is None:
+def _corner_rows(ds: Dataset, handle: io.StringIO, where: str) -> None:
+    reader = csv.DictReader(handle)
+    fields = [f.strip() for f in (reader.fieldnames or [])]
+    missing = [c for c in ["id", "tag_id", *CORNER_COLUMNS] if c not in fields]
+    if missing:
+        ds.problems.append(
+            Problem(
+                f"{where}:1",
+                f"corners.csv lacks column(s) {', '.join(missing)}",
+                "header: id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3",
+            )
+        )
         return
-    try:
-        with io.StringIO(text, newline="") as handle:
-            reader = csv.DictReader(handle)
-            fields = [f.strip() for f in (reader.fieldnames or [])]
-            missing = [c for c in ["id", "tag_id", *CORNER_COLUMNS] if c not in fields]
-            if missing:
-                ds.problems.append(
-                    Problem(
-                        f"{where}:1",
-                        f"corners.csv lacks column(s) {', '.join(missing)}",
-                        "header: id,tag_id,u0,v0,u1,v1,u2,v2,u3,v3",
-                    )
+    ids = {s.id for s in ds.samples}
+    for line, row in enumerate(reader, start=2):
+        if line > MAX_SAMPLES + 1:
+            ds.problems.append(Problem(f"{where}:{line}", f"more than {MAX_SAMPLES} rows", "one row per sample"))
+            break
+        row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
+        try:
+            if int(row["tag_id"]) != ds.tag_id:
+                continue
+            uv = np.array([float(row[c]) for c in CORNER_COLUMNS]).reshape(4, 2)
+        except ValueError:
+            ds.problems.append(Problem(f"{where}:{line}", "tag_id or a corner coordinate is not a number"))
+            continue
+        if not np.isfinite(uv).all():
+            ds.problems.append(Problem(f"{where}:{line}", "a corner coordinate is NaN or infinite"))
+            continue
+        if float(np.abs(uv).max()) > MAX_CORNER_PX:
+            ds.problems.append(
+                Problem(
+                    f"{where}:{line}",
+                    f"a corner coordinate is beyond ±{MAX_CORNER_PX:g} px",
+                    "corners are pixel coordinates in the image",
                 )
-                return
-            ids = {s.id for s in ds.samples}
-            for line, row in enumerate(reader, start=2):
-                if line > MAX_SAMPLES + 1:
-                    ds.problems.append(
-                        Problem(f"{where}:{line}", f"more than {MAX_SAMPLES} rows", "one row per sample")
-                    )
-                    break
-                row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
-                try:
-                    if int(row["tag_id"]) != ds.tag_id:
-                        continue
-                    uv = np.array([float(row[c]) for c in CORNER_COLUMNS]).reshape(4, 2)
-                except ValueError:
-                    ds.problems.append(Problem(f"{where}:{line}", "tag_id or a corner coordinate is not a number"))
-                    continue
-                if not np.isfinite(uv).all():
-                    ds.problems.append(Problem(f"{where}:{line}", "a corner coordinate is NaN or infinite"))
-                    continue
-                if float(np.abs(uv).max()) > MAX_CORNER_PX:
-                    ds.problems.append(
-                        Problem(
-                            f"{where}:{line}",
-                            f"a corner coordinate is beyond ±{MAX_CORNER_PX:g} px",
-                            "corners are pixel coordinates in the image",
-                        )
-                    )
-                    continue
-                if row["id"] not in ids:
-                    ds.problems.append(Problem(f"{where}:{line}", f"sample id '{row['id']}' is not in samples.csv"))
-                    continue
-                ds.corners[row["id"]] = uv
-    except csv.Error as exc:
-        ds.problems.append(_csv_problem(exc, where, text))
+            )
+            continue
+        if row["id"] not in ids:
+            ds.problems.append(Problem(f"{where}:{line}", f"sample id '{row['id']}' is not in samples.csv"))
+            continue
+        ds.corners[row["id"]] = uv
 
 
 def _csv_problem(exc: csv.Error, where: str, text: str) -> Problem:

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from armtool.calib import se3
-from armtool.calib.model import Setup
+from armtool.calib.choices import Setup
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 

@@ -16,9 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from armtool.calib.model import CalibModel
+from armtool.calib.params import ParamKind
 from armtool.calib.se3 import Array
-
-_PRIORITY = {"frame": 0, "offset": 1, "origin_r": 2, "origin_t": 3, "gain": 4}
 
 
 @dataclass
@@ -31,9 +30,11 @@ class Identifiability:
 
 
 def _priority(model: CalibModel, i: int) -> tuple[int, int]:
+    """Frames first (always needed), then zero offsets, origin rotations, origin translations, gains."""
     p = model.params[i]
-    key = p.kind if p.kind not in ("origin",) else ("origin_r" if p.component[0] == "r" else "origin_t")
-    return _PRIORITY[key], i
+    if p.kind is ParamKind.ORIGIN:
+        return (2 if p.is_rotation else 3), i
+    return {ParamKind.FRAME: 0, ParamKind.OFFSET: 1, ParamKind.GAIN: 4}[p.kind], i
 
 
 def analyse(model: CalibModel, J: Array, candidates: list[int], tolerance: float = 1e-6) -> Identifiability:
@@ -84,7 +85,7 @@ def _explain(
         if abs(coef[t]) < 0.2:
             break
         q = model.params[candidates[kept_cols[t]]]
-        if q.kind == "frame":  # one mention per frame is enough
+        if q.kind is ParamKind.FRAME:  # one mention per frame is enough
             if q.group in frames_seen:
                 continue
             frames_seen.add(q.group)

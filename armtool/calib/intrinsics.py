@@ -13,15 +13,16 @@ FileStorage YAML, the format `armtool.calib.camera.load_intrinsics` reads.
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from enum import Enum
 from pathlib import Path
 
 import numpy as np
 
 from armtool.calib.boards import BoardSpec, BoardView, board_points, find_board
 from armtool.calib.camera import Array, CameraModel
+from armtool.calib.choices import DistortionModel
 from armtool.errors import ArmtoolError
 
 log = logging.getLogger(__name__)
@@ -33,15 +34,6 @@ COVERAGE_GRID = (5, 5)  # image cells (columns, rows) in which the board's corne
 MIN_COVERAGE = 0.8
 MIN_TILT_DEG = 20.0
 _IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm")
-
-
-class DistortionModel(str, Enum):
-    """Which OpenCV distortion coefficients are fitted (the others are held at 0)."""
-
-    NONE = "none"  # already rectified images
-    K1K2 = "k1k2"  # k1, k2, p1, p2: most lenses with up to ~70° field of view
-    PLUMB_BOB = "plumb_bob"  # k1, k2, p1, p2, k3: ROS's default model
-    RATIONAL = "rational"  # k1..k6, p1, p2: wide-angle lenses; needs many well-spread images
 
 
 @dataclass(frozen=True)
@@ -69,6 +61,42 @@ class IntrinsicsResult:
     @property
     def used(self) -> list[ViewResult]:
         return [v for v in self.views if v.used]
+
+    def summary(self, spec: BoardSpec, out: Path) -> dict[str, object]:
+        """What `calibrate camera --format json` prints (`schema_version` 1)."""
+        K = self.camera.K
+        return {
+            "schema_version": 1,
+            "output": str(out),
+            "board": spec.describe(),
+            "image_width": self.camera.width,
+            "image_height": self.camera.height,
+            "fx_px": float(K[0, 0]),
+            "fy_px": float(K[1, 1]),
+            "cx_px": float(K[0, 2]),
+            "cy_px": float(K[1, 2]),
+            "sigma_px": self.sigma,
+            "distortion_model": self.model.value,
+            "distortion_coefficients": [float(d) for d in self.camera.dist],
+            "rms_px": self.rms_px,
+            "coverage": self.coverage,
+            "images": [
+                {
+                    "image": v.name,
+                    "points": v.points,
+                    "rms_px": _finite(v.rms_px),
+                    "tilt_deg": _finite(v.tilt_deg),
+                    "used": v.used,
+                    "reason": v.reason,
+                }
+                for v in self.views
+            ],
+            "warnings": self.warnings,
+        }
+
+
+def _finite(x: float) -> float | None:
+    return None if math.isnan(x) else round(x, 4)
 
 
 def image_paths(inputs: Sequence[Path]) -> list[Path]:

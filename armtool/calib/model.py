@@ -14,50 +14,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from enum import Enum
 
 import numpy as np
 
 from armtool.calib import se3
+from armtool.calib.choices import Setup
+from armtool.calib.params import Family, Parameter, ParamKind, ParamLayout, Split
 from armtool.calib.se3 import Array
 from armtool.model.chain import Chain, axis_angle_batch
-
-
-class Setup(str, Enum):
-    EYE_TO_HAND = "eye_to_hand"
-    EYE_IN_HAND = "eye_in_hand"
-
-
-class Family(str, Enum):
-    """Parameter families the user can free with `--params`."""
-
-    ORIGINS = "origins"  # 6-D origin correction per moving joint
-    OFFSETS = "offsets"  # joint zero offset
-    GAINS = "gains"  # joint gain (transmission ratio error)
-
-
-ORIGIN_COMPONENTS = ("tx", "ty", "tz", "rx", "ry", "rz")
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """One scalar unknown: where it lives and how to name it to a person."""
-
-    name: str  # e.g. "elbow_joint.origin.tz", "camera.rx"
-    group: str  # "camera", "tag", or a joint name
-    kind: str  # "frame", "origin", "offset", "gain"
-    component: str  # tx..rz, "offset", "gain"
-    unit: str  # "m", "rad", "1"
-
-    def describe(self) -> str:
-        if self.kind == "offset":
-            return f"zero offset of joint '{self.group}'"
-        if self.kind == "gain":
-            return f"gain of joint '{self.group}'"
-        what = {"t": "translation", "r": "rotation"}[self.component[0]] + " " + self.component[1]
-        if self.kind == "origin":
-            return f"{what} of joint '{self.group}' origin"
-        return f"{what} of the {self.group} frame"
 
 
 @dataclass
@@ -83,41 +47,38 @@ class CalibModel:
         return "tag" if self.setup is Setup.EYE_TO_HAND else "tag_in_base"
 
     def _layout(self) -> list[Parameter]:
-        out: list[Parameter] = []
-        for frame in (self.left_name, self.right_name):
-            for c in ORIGIN_COMPONENTS:
-                out.append(Parameter(f"{frame}.{c}", frame, "frame", c, "m" if c[0] == "t" else "rad"))
-        for j in self.chain.joints:
-            for c in ORIGIN_COMPONENTS:
-                out.append(Parameter(f"{j.name}.origin.{c}", j.name, "origin", c, "m" if c[0] == "t" else "rad"))
-            out.append(
-                Parameter(f"{j.name}.offset", j.name, "offset", "offset", "rad" if j.kind != "prismatic" else "m")
-            )
-            out.append(Parameter(f"{j.name}.gain", j.name, "gain", "gain", "1"))
-        return out
+        joints = [(j.name, j.kind == "prismatic") for j in self.chain.joints]
+        return self.layout.parameters(self.left_name, self.right_name, joints)
+
+    @property
+    def layout(self) -> ParamLayout:
+        """Where each parameter sits in the vector (the one place that knows the offsets)."""
+        return ParamLayout(self.chain.n)
 
     @property
     def size(self) -> int:
         return len(self.params)
 
+    def split(self, x: Array) -> Split:
+        """`x` by meaning: frames, per-joint origins, offsets, gain errors (views into `x`)."""
+        return self.layout.split(x)
+
     def indices(self, families: Sequence[Family]) -> list[int]:
         """Candidate parameters: both frames always, plus the chosen kinematic families."""
-        kinds = {"frame"} | {
-            {Family.ORIGINS: "origin", Family.OFFSETS: "offset", Family.GAINS: "gain"}[f] for f in families
-        }
+        kinds = {ParamKind.FRAME} | {f.kind for f in families}
         return [i for i, p in enumerate(self.params) if p.kind in kinds]
 
     # -- evaluation ------------------------------------------------------------------------------
 
     def frames(self, x: Array) -> tuple[Array, Array]:
-        return self.L0 @ se3.delta(x[0:6]), self.R0 @ se3.delta(x[6:12])
+        parts = self.split(x)
+        return self.L0 @ se3.delta(parts.left), self.R0 @ se3.delta(parts.right)
 
     def joint_terms(self, x: Array) -> tuple[Array, Array, Array]:
         """Per joint: corrected origins (n,4,4), zero offsets (n,), gains (n,)."""
-        n = self.chain.n
-        k = x[12:].reshape(n, 8)
-        origins = np.stack([j.origin @ se3.delta(k[i, :6]) for i, j in enumerate(self.chain.joints)])
-        return origins, k[:, 6], 1.0 + k[:, 7]
+        parts = self.split(x)
+        origins = np.stack([j.origin @ se3.delta(parts.origin[i]) for i, j in enumerate(self.chain.joints)])
+        return origins, parts.offset, 1.0 + parts.gain_error
 
     def flange(self, x: Array, Q: Array) -> Array:
         """bMf for every row of Q (N,n): (N,4,4)."""

@@ -9,8 +9,8 @@ from typing import Any
 import numpy as np
 
 from armtool.calib import se3
+from armtool.calib.choices import Setup
 from armtool.calib.fit import CalibrationResult
-from armtool.calib.model import Setup
 from armtool.calib.se3 import Array
 
 SCHEMA = "armtool-calibration/1"
@@ -35,23 +35,28 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
     else:
         frames = {"camera_in_flange": _pose(se3.inv(L)), "tag_in_base": _pose(R)}
     offsets = {z.joint: z for z in result.zero_offsets}
+
+    def value(i: int) -> float:
+        return round(float(result.x[i]), 12)
+
+    def sigma_of(i: int) -> float | None:
+        return _num(sigma[i]) if i in free else None
+
     joints: dict[str, Any] = {}
     for j_index, j in enumerate(model.chain.joints):
-        base = 12 + 8 * j_index
+        origin, offset, gain = model.layout.origin(j_index), model.layout.offset(j_index), model.layout.gain(j_index)
         entry: dict[str, Any] = {}
-        for label, lo, hi in (("origin_translation_m", 0, 3), ("origin_rotation_rad", 3, 6)):
-            entry[label] = [round(float(result.x[base + k]), 12) for k in range(lo, hi)]
-            entry[label.replace("origin_", "sigma_")] = [
-                _num(sigma[base + k]) if base + k in free else None for k in range(lo, hi)
-            ]
-        entry["zero_offset"] = round(float(result.x[base + 6]), 12)
-        entry["sigma_zero_offset"] = _num(sigma[base + 6]) if base + 6 in free else None
+        for label, indices in (("origin_translation_m", origin[:3]), ("origin_rotation_rad", origin[3:])):
+            entry[label] = [value(i) for i in indices]
+            entry[label.replace("origin_", "sigma_")] = [sigma_of(i) for i in indices]
+        entry["zero_offset"] = value(offset)
+        entry["sigma_zero_offset"] = sigma_of(offset)
         z = offsets.get(j.name)
         if z is not None:
             entry["zero_offset_physical"] = z.physical
             entry["zero_offset_uncertainty"] = _num(z.uncertainty_rad)
-        entry["gain"] = round(1.0 + float(result.x[base + 7]), 12)
-        entry["sigma_gain"] = _num(sigma[base + 7]) if base + 7 in free else None
+        entry["gain"] = round(1.0 + float(result.x[gain]), 12)
+        entry["sigma_gain"] = sigma_of(gain)
         joints[j.name] = entry
     ident = result.identifiability
     return {
@@ -98,6 +103,19 @@ def calibration_document(result: CalibrationResult, dataset: str, urdf: str) -> 
         ],
         "warnings": list(result.warnings),
     }
+
+
+# What `calibrate fit --format json` prints: the document without the per-joint and per-sample detail.
+SUMMARY_KEYS = ("setup", "frames", "identifiability", "zero_offsets", "metrics", "outliers", "rejected", "warnings")
+
+
+def json_summary(document: dict[str, Any]) -> dict[str, Any]:
+    """The JSON summary of a calibration document (`schema_version` 1)."""
+    summary = {k: document[k] for k in SUMMARY_KEYS}
+    summary["schema_version"] = 1
+    if "against_truth" in document:
+        summary["against_truth"] = document["against_truth"]
+    return summary
 
 
 def zero_offsets_section(result: CalibrationResult) -> dict[str, Any]:

@@ -9,6 +9,7 @@ validation poses, the true URDF) goes to `truth/`, which `armtool calibrate fit`
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -16,19 +17,20 @@ import numpy as np
 
 from armtool.calib import se3
 from armtool.calib.camera import CameraModel
-from armtool.calib.model import CalibModel, Setup
+from armtool.calib.choices import Quality, Setup
+from armtool.calib.dataset import manifest_document
+from armtool.calib.model import CalibModel
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
-from armtool.model.chain import Chain
 
-QUALITY: dict[str, dict[str, tuple[float, float]]] = {  # research/calibration.md §2 image conditions
-    "good": {"blur": (0.5, 0.7), "noise": (1.5 / 255, 1.5 / 255), "black": (0.06, 0.10), "white": (0.85, 0.9)},
-    "typical": {"blur": (0.8, 1.2), "noise": (3 / 255, 3 / 255), "black": (0.08, 0.20), "white": (0.60, 0.90)},
-    "poor": {"blur": (1.4, 2.0), "noise": (6 / 255, 6 / 255), "black": (0.15, 0.30), "white": (0.45, 0.70)},
+QUALITY: dict[Quality, dict[str, tuple[float, float]]] = {  # research/calibration.md §2 image conditions
+    Quality.GOOD: {"blur": (0.5, 0.7), "noise": (1.5 / 255, 1.5 / 255), "black": (0.06, 0.10), "white": (0.85, 0.9)},
+    Quality.TYPICAL: {"blur": (0.8, 1.2), "noise": (3 / 255, 3 / 255), "black": (0.08, 0.20), "white": (0.60, 0.90)},
+    Quality.POOR: {"blur": (1.4, 2.0), "noise": (6 / 255, 6 / 255), "black": (0.15, 0.30), "white": (0.45, 0.70)},
 }
 
 
-DISTANCE_M = {"eye_to_hand": (0.5, 1.3), "eye_in_hand": (0.3, 0.8)}
+DISTANCE_M = {Setup.EYE_TO_HAND: (0.5, 1.3), Setup.EYE_IN_HAND: (0.3, 0.8)}
 
 
 @dataclass(frozen=True)
@@ -37,7 +39,7 @@ class SimulationSpec:
     validation: int = 30  # poses kept in truth/ to check a calibration against the true robot
     setup: Setup = Setup.EYE_TO_HAND
     seed: int = 0
-    quality: str = "typical"
+    quality: Quality = Quality.TYPICAL
     tag_size_m: float = 0.08
     tag_id: int = 0
     family: str = "tag36h11"
@@ -54,7 +56,7 @@ class SimulationSpec:
 
     @property
     def distances(self) -> tuple[float, float]:
-        return self.distance_m or DISTANCE_M[self.setup.value]
+        return self.distance_m or DISTANCE_M[self.setup]
 
 
 def default_camera(distortion: bool = False) -> CameraModel:
@@ -68,14 +70,16 @@ def _random_unit(rng: np.random.Generator) -> Array:
     return v / float(np.linalg.norm(v))
 
 
-def true_corrections(chain: Chain, spec: SimulationSpec, rng: np.random.Generator) -> Array:
-    """Kinematic part of the parameter vector (n×8): origin errors and zero offsets, no gain error."""
-    k = np.zeros((chain.n, 8))
-    for i in range(chain.n):
-        k[i, :3] = _random_unit(rng) * rng.uniform(*spec.origin_error_mm) * 1e-3
-        k[i, 3:6] = _random_unit(rng) * math.radians(rng.uniform(*spec.origin_error_deg))
-        k[i, 6] = rng.choice([-1.0, 1.0]) * math.radians(rng.uniform(*spec.offset_error_deg))
-    return k
+def true_errors(model: CalibModel, spec: SimulationSpec, rng: np.random.Generator) -> Array:
+    """A parameter vector of injected robot errors: origin errors and zero offsets, no gain error,
+    measurement frames left at 0 (the true frames are the model's L0, R0)."""
+    x = np.zeros(model.size)
+    parts = model.split(x)
+    for i in range(model.chain.n):
+        parts.origin[i, :3] = _random_unit(rng) * rng.uniform(*spec.origin_error_mm) * 1e-3
+        parts.origin[i, 3:] = _random_unit(rng) * math.radians(rng.uniform(*spec.origin_error_deg))
+        parts.offset[i] = rng.choice([-1.0, 1.0]) * math.radians(rng.uniform(*spec.offset_error_deg))
+    return x
 
 
 def _look_at(eye: Array, target: Array, up: Array) -> Array:
@@ -203,8 +207,16 @@ def _write_text(path: Path, text: str) -> None:
     write_atomic(path, text)
 
 
-def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec, progress=None) -> dict[str, object]:  # type: ignore[no-untyped-def]
-    """Write a dataset into `out` (must be empty or new); return a summary of what was injected."""
+def simulate(
+    urdf: Path,
+    out: Path,
+    base: str | None,
+    flange: str | None,
+    spec: SimulationSpec,
+    progress: Callable[[int, int], None] | None = None,
+) -> dict[str, object]:
+    """Write a dataset into `out` (must be empty or new); return a summary of what was injected.
+    `base`/`flange` None: the URDF's root, the end of its longest chain."""
     import cv2
     import yaml
 
@@ -221,8 +233,6 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
-    if spec.quality not in QUALITY:
-        raise ArmtoolError(f"unknown image quality '{spec.quality}'", hint="choose good, typical or poor")
     family_dictionary(spec.family)
     if out.exists() and any(out.iterdir()):
         raise ArmtoolError("output directory is not empty", str(out), "choose a new directory, nothing was written")
@@ -231,8 +241,7 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
     camera = default_camera(spec.distortion)
     nominal = CalibModel(chain, spec.setup, np.eye(4), np.eye(4))
     L, R, pool = _place(nominal, spec, rng, camera)
-    x_true = np.zeros(nominal.size)
-    x_true[12:] = true_corrections(chain, spec, rng).ravel()
+    x_true = true_errors(nominal, spec, rng)
     truth_model = nominal.with_frames(L, R)
     visible = _visible(truth_model, x_true, camera, pool, spec)
     need = spec.samples + spec.validation
@@ -294,42 +303,17 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
         hints = {"camera_in_base": se3.inv(L), "tag_in_flange": R}
     else:
         hints = {"camera_in_flange": se3.inv(L), "tag_in_base": R}
-    manifest = {
-        "format": "armtool-calib-dataset/1",
-        "created_by": "armtool calibrate simulate",
-        "setup": spec.setup.value,
-        "robot": {
-            "urdf": "robot.urdf",
-            "base_link": chain.base,
-            "flange_link": chain.tip,
-            "joints": chain.joint_names,
-            "joint_units": "rad",
-        },
-        "camera": {
-            "intrinsics": "camera.yaml",
-            "convention": "opencv (x right, y down, z forward)",
-            "images_rectified": False,
-        },
-        "target": {
-            "type": "apriltag",
-            "family": spec.family,
-            "id": spec.tag_id,
-            "size_m": spec.tag_size_m,
-            "size_definition": "edge of the black border square",
-            "frame": "opencv aruco: origin at centre, x right, y up, z out of the face",
-            "mounted_on": chain.tip if spec.setup is Setup.EYE_TO_HAND else chain.base,
-        },
-        "samples": "samples.csv",
-        "images_dir": "images",
-        "hints": {k: _rough(v, rng) for k, v in hints.items()},
-    }
+    manifest = manifest_document(
+        "armtool calibrate simulate", spec.setup, chain, spec.family, spec.tag_id, spec.tag_size_m
+    )
+    manifest["hints"] = {k: _rough(v, rng) for k, v in hints.items()}
     _write_text(out / "dataset.yaml", yaml.safe_dump(manifest, sort_keys=False))
     # The truth, kept apart.
     corrections = joint_corrections(truth_model, x_true)
     true_text = corrected_text(text, corrections, "robot.urdf")
     check_reproduces(true_text, truth_model, x_true, "truth/robot_true.urdf")
     _write_text(out / "truth" / "robot_true.urdf", relocate_meshes(true_text, out, out / "truth"))
-    true_k = x_true[12:].reshape(chain.n, 8)
+    true_k = truth_model.split(x_true)
     truth = {
         "note": "ground truth of this synthetic dataset; armtool calibrate fit never reads it",
         "setup": spec.setup.value,
@@ -337,14 +321,19 @@ def simulate(urdf: Path, out: Path, base: str, flange: str, spec: SimulationSpec
         "right_frame": _pose_dict(R),
         "joints": {
             name: {
-                "origin_t_m": true_k[i, :3].tolist(),
-                "origin_r_rad": true_k[i, 3:6].tolist(),
-                "offset_rad": float(true_k[i, 6]),
+                "origin_t_m": true_k.origin[i, :3].tolist(),
+                "origin_r_rad": true_k.origin[i, 3:].tolist(),
+                "offset_rad": float(true_k.offset[i]),
             }
             for i, name in enumerate(chain.joint_names)
         },
         "bad_samples": bad,
-        "spec": {"quality": spec.quality, "seed": spec.seed, "samples": spec.samples, "tag_size_m": spec.tag_size_m},
+        "spec": {
+            "quality": spec.quality.value,
+            "seed": spec.seed,
+            "samples": spec.samples,
+            "tag_size_m": spec.tag_size_m,
+        },
     }
     _write_text(out / "truth" / "truth.yaml", yaml.safe_dump(truth, sort_keys=False))
     val_rows = [",".join(chain.joint_names)] + [",".join(f"{v:.9f}" for v in q) for q in Q_val]

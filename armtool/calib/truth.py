@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -19,6 +20,9 @@ from armtool.calib import se3
 from armtool.calib.model import CalibModel
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
+
+if TYPE_CHECKING:
+    from armtool.calib.fit import CalibrationResult
 
 
 @dataclass(frozen=True)
@@ -48,12 +52,12 @@ def load_truth(dataset: Path, model: CalibModel) -> Truth:
     try:
         doc = yaml.safe_load(path.read_text(encoding="utf-8"))
         x = np.zeros(model.size)
-        k = x[12:].reshape(model.chain.n, 8)
+        parts = model.split(x)
         for i, name in enumerate(model.chain.joint_names):
             j = doc["joints"][name]
-            k[i, :3] = j["origin_t_m"]
-            k[i, 3:6] = j["origin_r_rad"]
-            k[i, 6] = j["offset_rad"]
+            parts.origin[i, :3] = j["origin_t_m"]
+            parts.origin[i, 3:] = j["origin_r_rad"]
+            parts.offset[i] = j["offset_rad"]
         rows = (dataset / "truth" / "validation.csv").read_text(encoding="utf-8").strip().splitlines()
         header = rows[0].split(",")
         order = [header.index(n) for n in model.chain.joint_names]
@@ -101,3 +105,24 @@ def registered_errors(F_est: Array, F_true: Array) -> PoseErrors:
 
 def score(model: CalibModel, x: Array, truth: Truth) -> PoseErrors:
     return registered_errors(model.flange(x, truth.validation), model.flange(truth.x, truth.validation))
+
+
+def has_truth(dataset: Path) -> bool:
+    """Only datasets made by `calibrate simulate` have a truth to score against."""
+    return (dataset / "truth" / "truth.yaml").is_file()
+
+
+def truth_scores(dataset: Path, result: CalibrationResult) -> dict[str, Any]:
+    """calibration.yaml's `against_truth`: errors of the hand-eye-only and the calibrated robot
+    against the known true robot on its validation poses, and which injected bad samples the fit
+    named. ArmtoolError when the truth files are missing or not as written."""
+    truth = load_truth(dataset, result.model)
+    before, after = score(result.model, result.x_handeye, truth), score(result.model, result.x, truth)
+    return {
+        "validation_poses": int(len(truth.validation)),
+        "hand_eye_only": before.__dict__,
+        "calibrated": after.__dict__,
+        "improvement": before.position_rms_mm / after.position_rms_mm if after.position_rms_mm > 0 else math.inf,
+        "bad_samples": truth.bad_samples,
+        "bad_samples_named": sorted(set(truth.bad_samples) & set(result.outliers)),
+    }

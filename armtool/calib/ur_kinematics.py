@@ -12,9 +12,15 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from armtool.errors import ArmtoolError
+
+if TYPE_CHECKING:
+    from armtool.calib.dataset import Dataset
+    from armtool.model.chain import Chain
 
 # yaml key -> joint name (after an optional tf_prefix), in chain order
 UR_JOINTS = {
@@ -25,6 +31,41 @@ UR_JOINTS = {
     "wrist_2": "wrist_2_joint",
     "wrist_3": "wrist_3_joint",
 }
+
+
+@dataclass(frozen=True)
+class UrTarget:
+    """What `--ur-kinematics` needs, found before the fit: the arm's joints and the hash to keep."""
+
+    joints: dict[str, str]  # yaml key -> chain joint name
+    hash: str
+    source: Path  # the robot's current kinematics file (an input: never overwritten)
+
+
+def ur_target(ds: Dataset, chain: Chain, out: Path | None, given: Path | None) -> UrTarget | None:
+    """For --ur-kinematics OUT, checked before the fit: the chain is a UR arm's, and the hash to keep
+    (from --ur-kinematics-in, or the file the dataset's kinematics_params xacro argument names)."""
+    if out is None:
+        if given is not None:
+            raise ArmtoolError(
+                "--ur-kinematics-in needs --ur-kinematics", hint="add --ur-kinematics FILE for the calibrated file"
+            )
+        return None
+    if out.parent != Path("") and not out.parent.is_dir():
+        raise ArmtoolError(
+            "--ur-kinematics's directory does not exist", str(out), "create it, or write the file elsewhere"
+        )
+    joints = ur_joint_names(chain.joint_names, str(ds.urdf))
+    if given is None:
+        value = ds.xacro_args.get("kinematics_params")
+        if value is None:
+            raise ArmtoolError(
+                "--ur-kinematics needs the robot's current kinematics file, to keep its hash",
+                hint="pass --ur-kinematics-in FILE (the robot's default_kinematics.yaml, or ur_calibration's output), "
+                "or --xacro-arg kinematics_params:=FILE",
+            )
+        given = kinematics_params_path(value, ds.root, ds.package_paths)
+    return UrTarget(joints, read_hash(given), given)
 
 
 def ur_joint_names(chain_joints: list[str], source: str) -> dict[str, str]:

@@ -25,11 +25,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
 from armtool.calib.identify import Identifiability
 from armtool.calib.model import CalibModel
+from armtool.calib.params import ParamKind
 from armtool.calib.se3 import Array
 
 # A policy, not a measurement: an encoder re-zero that may be wrong by more than 1° can leave the
@@ -37,13 +39,14 @@ from armtool.calib.se3 import Array
 # far less), so twice the uncertainty must stay within it.
 PHYSICAL_LIMIT_RAD = math.radians(1.0)
 _MIN_COEFFICIENT = 1e-3  # partners whose coefficient is below this (per unit) are not named
+OriginUnit = Literal["m", "rad"]  # of an origin component: translation or rotation
 
 
 @dataclass(frozen=True)
 class Partner:
     parameter: str  # e.g. "elbow_flex.origin.ty"
     coefficient: float  # rad of offset per m (translation) or per rad (rotation) of the partner
-    unit: str  # "m" or "rad"
+    unit: OriginUnit
 
     def describe(self) -> str:
         if self.unit == "m":
@@ -79,14 +82,15 @@ def analyse_offsets(
     dropped = [candidates.index(i) for i in ident.dropped]
     C = np.linalg.lstsq(J[:, kept], J[:, dropped], rcond=None)[0] if kept and dropped else np.zeros((len(kept), 0))
     params = model.params
-    origin_t = np.array([x[i] for i in ident.kept if params[i].kind == "origin" and params[i].component[0] == "t"])
-    origin_r = np.array([x[i] for i in ident.kept if params[i].kind == "origin" and params[i].component[0] == "r"])
+    origins = [i for i in ident.kept if params[i].kind is ParamKind.ORIGIN]
+    origin_t = np.array([x[i] for i in origins if params[i].is_translation])
+    origin_r = np.array([x[i] for i in origins if params[i].is_rotation])
     scale = {"m": _rms(origin_t), "rad": _rms(origin_r)}
     out: list[ZeroOffset] = []
     for j_index, joint in enumerate(model.chain.joints):
         if joint.kind == "prismatic":
             continue
-        index = 12 + 8 * j_index + 6
+        index = model.layout.offset(j_index)
         if index not in candidates:
             continue
         value = float(x[index])
@@ -108,7 +112,7 @@ def analyse_offsets(
         coefficients = {candidates[dropped[k]]: float(row[k]) for k in range(len(dropped))}
         # The joint's own origin rotation about its axis is the same thing as its zero offset
         # (a link turned on its shaft is fixed by re-zeroing too): it is not a partner.
-        own = [12 + 8 * j_index + 3 + c for c in range(3)]
+        own = model.layout.origin_rotation(j_index)
         c3 = np.array([coefficients.get(i, 0.0) for i in own])
         c3 = c3 - (c3 @ joint.axis) * joint.axis
         for axis_index, i in enumerate(own):
@@ -118,9 +122,9 @@ def analyse_offsets(
         spread2 = 0.0
         for i, c in coefficients.items():
             p = params[i]
-            if p.kind != "origin" or abs(c) < _MIN_COEFFICIENT:
+            if p.kind is not ParamKind.ORIGIN or abs(c) < _MIN_COEFFICIENT:
                 continue
-            unit = "m" if p.component[0] == "t" else "rad"
+            unit: OriginUnit = "m" if p.is_translation else "rad"
             partners.append(Partner(p.name, c, unit))
             spread2 += (c * scale[unit]) ** 2
         partners.sort(key=lambda q: -abs(q.coefficient) * (1e-3 if q.unit == "m" else math.radians(0.1)))

@@ -6,49 +6,20 @@ Registered on the `calibrate` Typer app by `register(app)` (see armtool/cli/cali
 from __future__ import annotations
 
 import json
-import math
-from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import typer
 
+from armtool.calib.choices import DistortionModel, ReportFormat, Setup, StillBy
 from armtool.calib.limits import MAX_IMAGES, MAX_TAG_ID, TAG_SIZE_M
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
 
-if TYPE_CHECKING:
-    from armtool.calib.bag_import import ImportResult
-    from armtool.calib.boards import BoardSpec
-    from armtool.calib.intrinsics import IntrinsicsResult
-
 BOARD_HELP = (
     "The printed board: charuco:COLSxROWS:SQUARE:MARKER[:DICT] (squares, metres; DICT default DICT_6X6_250) "
     "or aprilgrid:COLSxROWS:TAG:GAP[:FAMILY] (tags, metres; FAMILY default tag36h11)."
 )
-
-
-class DistortionOption(str, Enum):
-    NONE = "none"
-    K1K2 = "k1k2"
-    PLUMB_BOB = "plumb_bob"
-    RATIONAL = "rational"
-
-
-class OutputFormat(str, Enum):
-    TEXT = "text"
-    JSON = "json"
-
-
-class StillBy(str, Enum):
-    POSITION = "position"
-    VELOCITY = "velocity"
-
-
-class SetupOption(str, Enum):
-    EYE_TO_HAND = "eye_to_hand"
-    EYE_IN_HAND = "eye_in_hand"
 
 
 def camera(
@@ -60,8 +31,8 @@ def camera(
         "-o",
         help="Intrinsics file to write (OpenCV FileStorage YAML, for dataset.yaml's camera.intrinsics).",
     ),
-    distortion: DistortionOption = typer.Option(
-        DistortionOption.PLUMB_BOB,
+    distortion: DistortionModel = typer.Option(
+        DistortionModel.PLUMB_BOB,
         "--distortion",
         help="Distortion coefficients to fit: none, k1k2 (k1 k2 p1 p2), plumb_bob (+k3), rational (k1..k6 p1 p2).",
     ),
@@ -71,16 +42,17 @@ def camera(
         callback=opt.int_range(3, MAX_IMAGES),
         help=f"Fewest images in which the board must be found (3 to {MAX_IMAGES}).",
     ),
-    output_format: OutputFormat = typer.Option(
-        OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
+    output_format: ReportFormat = typer.Option(
+        ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
 ) -> None:
     """Fit camera intrinsics and lens distortion from images of a ChArUco board or an AprilTag grid."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.boards import parse_board
-    from armtool.calib.intrinsics import DistortionModel, calibrate_images, image_paths, write_intrinsics
+    from armtool.calib.intrinsics import calibrate_images, image_paths, write_intrinsics
     from armtool.console import progress_bar, write_stdout
     from armtool.fileio import check_output_paths
+    from armtool.output.calibrate import print_camera_report
 
     spec = parse_board(board)
     paths = image_paths(images)
@@ -95,88 +67,14 @@ def camera(
         result = calibrate_images(
             paths,
             spec,
-            DistortionModel(distortion.value),
+            distortion,
             min_images,
             progress=lambda done, total: bar.update(task, completed=done),
         )
     write_intrinsics(result, spec, out)
-    if output_format is OutputFormat.JSON:
-        write_stdout(json.dumps(_camera_summary(result, spec, out), indent=2))
-    _print_camera_report(result, spec, out)
-
-
-def _finite(x: float) -> float | None:
-    return None if math.isnan(x) else round(x, 4)
-
-
-def _camera_summary(result: IntrinsicsResult, spec: BoardSpec, out: Path) -> dict[str, object]:
-    K = result.camera.K
-    return {
-        "schema_version": 1,
-        "output": str(out),
-        "board": spec.describe(),
-        "image_width": result.camera.width,
-        "image_height": result.camera.height,
-        "fx_px": float(K[0, 0]),
-        "fy_px": float(K[1, 1]),
-        "cx_px": float(K[0, 2]),
-        "cy_px": float(K[1, 2]),
-        "sigma_px": result.sigma,
-        "distortion_model": result.model.value,
-        "distortion_coefficients": [float(d) for d in result.camera.dist],
-        "rms_px": result.rms_px,
-        "coverage": result.coverage,
-        "images": [
-            {
-                "image": v.name,
-                "points": v.points,
-                "rms_px": _finite(v.rms_px),
-                "tilt_deg": _finite(v.tilt_deg),
-                "used": v.used,
-                "reason": v.reason,
-            }
-            for v in result.views
-        ],
-        "warnings": result.warnings,
-    }
-
-
-def _print_camera_report(result: IntrinsicsResult, spec: BoardSpec, out: Path) -> None:
-    from rich.markup import escape
-    from rich.table import Table
-
-    from armtool.console import stderr
-
-    con = stderr()
-    table = Table(title=f"board: {escape(spec.describe())}", title_justify="left")
-    for col, justify in (
-        ("image", "left"),
-        ("corners", "right"),
-        ("RMS px", "right"),
-        ("tilt °", "right"),
-        ("", "left"),
-    ):
-        table.add_column(col, justify=justify)  # type: ignore[arg-type]
-    for v in result.views:
-        status = "" if v.used else f"[yellow]{escape(v.reason)}[/yellow]"
-        table.add_row(
-            escape(Path(v.name).name),
-            str(v.points),
-            "" if math.isnan(v.rms_px) else f"{v.rms_px:.3f}",
-            "" if math.isnan(v.tilt_deg) else f"{v.tilt_deg:.0f}",
-            status,
-        )
-    con.print(table)
-    K, s = result.camera.K, result.sigma
-    con.print(
-        f"fx {K[0, 0]:.2f} ± {s['fx']:.2f}  fy {K[1, 1]:.2f} ± {s['fy']:.2f}  cx {K[0, 2]:.2f} ± {s['cx']:.2f}  "
-        f"cy {K[1, 2]:.2f} ± {s['cy']:.2f} px (1σ)"
-    )
-    con.print(f"distortion ({result.model.value}): " + " ".join(f"{d:.5g}" for d in result.camera.dist))
-    con.print(f"reprojection RMS {result.rms_px:.3f} px over {len(result.used)} images; coverage {result.coverage:.0%}")
-    for w in result.warnings:
-        con.print(f"[yellow]warning:[/yellow] {escape(w)}")
-    con.print(f"wrote {escape(str(out))}")
+    if output_format is ReportFormat.JSON:
+        write_stdout(json.dumps(result.summary(spec, out), indent=2))
+    print_camera_report(result, spec, out)
 
 
 def import_bag(
@@ -209,8 +107,8 @@ def import_bag(
         "--camera-info-topic",
         help="sensor_msgs/CameraInfo topic (default: camera_info beside the image topic, if recorded).",
     ),
-    setup: SetupOption = typer.Option(
-        SetupOption.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."
+    setup: Setup = typer.Option(
+        Setup.EYE_TO_HAND, "--setup", help="Camera fixed (eye_to_hand) or on the flange (eye_in_hand)."
     ),
     family: str = typer.Option("tag36h11", "--family", help="AprilTag family."),
     tag_id: int = typer.Option(0, "--tag-id", callback=opt.int_range(0, MAX_TAG_ID), help="AprilTag id."),
@@ -234,19 +132,19 @@ def import_bag(
     min_still: float = typer.Option(
         0.5, "--min-still", callback=opt.seconds(3600.0), help="Shortest settled window, seconds."
     ),
-    output_format: OutputFormat = typer.Option(
-        OutputFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
+    output_format: ReportFormat = typer.Option(
+        ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
 ) -> None:
     """Turn a ROS bag (images + joint states) into a calibration dataset: one sample per settled pose."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.bag_import import ImportOptions
     from armtool.calib.bag_import import import_bag as run
-    from armtool.cli.calibrate import _check_chain_ends, _check_out_dir
     from armtool.console import stderr, write_stdout
+    from armtool.output.calibrate import print_bag_report
 
-    _check_out_dir(out)
-    _check_chain_ends(base, flange, "--base", "--flange")
+    opt.check_out_dir(out)
+    opt.check_chain_ends(base, flange)
     if out.exists() and not out.is_dir():
         raise ArmtoolError("--out exists and is not a directory", str(out), "pass a new directory name")
     options = ImportOptions(
@@ -256,58 +154,20 @@ def import_bag(
         flange=flange,
         intrinsics=intrinsics,
         camera_info_topic=camera_info_topic,
-        setup=setup.value,
+        setup=setup,
         family=family,
         tag_id=tag_id,
         tag_size_m=tag_size,
-        still_by=still_by.value,
+        still_by=still_by,
         tolerance=tolerance,
         max_velocity=max_velocity,
         min_still_s=min_still,
     )
     with stderr().status("reading the bag"):
         result = run(bag, urdf, out, options)
-    if output_format is OutputFormat.JSON:
-        write_stdout(json.dumps(_bag_summary(result), indent=2))
-    _print_bag_report(result)
-
-
-def _bag_summary(result: ImportResult) -> dict[str, object]:
-    return {
-        "schema_version": 1,
-        "dataset": str(result.out),
-        "samples": [
-            {
-                "id": s.id,
-                "image": s.image,
-                "window_start_s": s.start_s,
-                "window_end_s": s.end_s,
-                "image_offset_s": s.image_offset_s,
-                "joints": s.q,
-            }
-            for s in result.samples
-        ],
-        "skipped_windows": [{"window_start_s": a, "window_end_s": b, "reason": r} for a, b, r in result.skipped],
-        "intrinsics": result.intrinsics_source,
-        "clock": result.clock,
-        "warnings": result.warnings,
-    }
-
-
-def _print_bag_report(result: ImportResult) -> None:
-    from rich.markup import escape
-
-    from armtool.console import stderr
-
-    con = stderr()
-    for a, b, reason in result.skipped:
-        con.print(f"[yellow]skipped[/yellow] settled window {a:.2f}-{b:.2f} s: {escape(reason)}")
-    for w in result.warnings:
-        con.print(f"[yellow]warning:[/yellow] {escape(w)}")
-    con.print(
-        f"{len(result.samples)} samples from settled windows ({result.clock}); intrinsics: {escape(result.intrinsics_source)}"
-    )
-    con.print(f"wrote {escape(str(result.out))}; next: armtool calibrate check {escape(str(result.out))}")
+    if output_format is ReportFormat.JSON:
+        write_stdout(json.dumps(result.summary(), indent=2))
+    print_bag_report(result)
 
 
 def register(app: typer.Typer) -> None:

@@ -32,7 +32,9 @@ This module imports nothing heavy (no numpy): `armtool lint --help` stays fast.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable
+from pathlib import Path
 from typing import TypeVar
 
 import typer
@@ -208,3 +210,34 @@ def id_list(lo: int = 0, hi: int = 252) -> Callable[[typer.CallbackParam, str | 
         return text
 
     return _optional(check)
+
+
+# --------------------------------------------------------------------------------------------
+# checks of paths and option pairs, called by a command before any work
+
+
+def check_out_dir(out: Path, flag: str = "--out") -> None:
+    """`out` is a directory we may write into, or can be created (its nearest existing ancestor
+    is a writable directory): checked before any work, not after a long fit."""
+    for p in (out, *out.absolute().parents):
+        if not p.exists():
+            continue
+        if not p.is_dir():
+            what = "is a file" if p.is_file() else "is not a directory"
+            raise ArmtoolError(f"{flag} cannot be a directory: {p} {what}", str(out), "pass a directory path")
+        if not os.access(p, os.W_OK | os.X_OK):
+            raise ArmtoolError(
+                f"{flag}: directory {p} is not writable", str(out), "check its permissions, or write somewhere else"
+            )
+        return
+
+
+def check_chain_ends(base: str | None, tip: str | None, base_flag: str = "--base", tip_flag: str = "--flange") -> None:
+    """Base and tip must be two links: the same name twice is a chain of no joints, reported
+    here instead of as "no moving joint between 'r' and 'r'"."""
+    if base is not None and base == tip:
+        raise ArmtoolError(
+            f"{base_flag} and {tip_flag} are the same link '{base}': the chain between them has no joints",
+            None,
+            f"{tip_flag} names the link the tag (or camera) is mounted on, {base_flag} the robot's fixed base",
+        )

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from armtool.calib.boards import parse_board
 from armtool.calib.camera import CameraModel
-from armtool.calib.render_board import render_board, spread_board_poses
+from tests.calib.render_board import render_board, spread_board_poses
 
 TRUE_CAMERA = CameraModel(
     np.array([[600.0, 0, 322.4], [0, 600.0, 236.8], [0, 0, 1]]), np.array([-0.12, 0.08, 4e-4, -3e-4, 0.0]), 640, 480

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from armtool.calib.camera import CameraModel
-from armtool.calib.model import CalibModel, Setup
+from armtool.calib.choices import Setup
+from armtool.calib.model import CalibModel
 from armtool.model.chain import Chain, load_chain
 
 ROOT = Path(__file__).resolve().parents[2]

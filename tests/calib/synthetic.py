@@ -12,10 +12,11 @@ import numpy as np
 
 from armtool.calib.apriltag import tag_object_points
 from armtool.calib.camera import CameraModel
+from armtool.calib.choices import Setup
 from armtool.calib.dataset import Sample
-from armtool.calib.model import CalibModel, Setup
+from armtool.calib.model import CalibModel
 from armtool.calib.observations import Observation
-from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_corrections
+from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
 from armtool.calib.truth import Truth
 from armtool.model.chain import Chain
 
@@ -45,8 +46,7 @@ def make_problem(
     L, R, pool = _place(nominal, spec, rng, camera)
     if freeze_joint is not None:
         pool[:, freeze_joint] = 0.3
-    x_true = np.zeros(nominal.size)
-    x_true[12:] = true_corrections(chain, spec, rng).ravel()
+    x_true = true_errors(nominal, spec, rng)
     true_model = nominal.with_frames(L, R)
     visible = _visible(true_model, x_true, camera, pool[:8000], spec)
     chosen = rng.choice(visible, size=n + 20, replace=False)

@@ -7,9 +7,10 @@ from dataclasses import replace
 
 import pytest
 
+from armtool.calib.choices import Setup
 from armtool.calib.fit import FitOptions, calibrate
-from armtool.calib.model import Family, Setup
 from armtool.calib.observations import Observation
+from armtool.calib.params import Family
 from armtool.calib.truth import score
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain

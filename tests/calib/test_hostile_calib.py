@@ -617,7 +617,8 @@ def test_mutated_dataset_files(
 def test_broken_truth_is_a_message(dataset: Path) -> None:
     """truth/ is only for scoring a simulated dataset: a broken one is an ArmtoolError (the fit
     then warns and writes its result), never a KeyError or RecursionError."""
-    from armtool.calib.model import CalibModel, Setup
+    from armtool.calib.choices import Setup
+    from armtool.calib.model import CalibModel
     from armtool.calib.truth import load_truth
     from armtool.model.chain import load_chain
 

@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from armtool.calib import se3
-from armtool.calib.model import CalibModel, Family, Setup
+from armtool.calib.choices import Setup
+from armtool.calib.model import CalibModel
+from armtool.calib.params import Family
 from armtool.model.chain import Chain
 from tests.calib.conftest import nominal_model
 

@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from armtool.calib.choices import Setup
 from armtool.calib.fit import calibrate
-from armtool.calib.model import CalibModel, Setup
+from armtool.calib.model import CalibModel
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera
 from armtool.calib.truth import score
 from armtool.cli import app

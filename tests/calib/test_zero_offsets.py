@@ -21,8 +21,8 @@ def _true_zero(p, joint: str) -> float:  # type: ignore[no-untyped-def]
     """The encoder zero error as the data can see it: zero offset + origin rotation about the axis."""
     chain = p.model.chain
     i = chain.joint_names.index(joint)
-    k = p.truth.x[12 + 8 * i : 12 + 8 * i + 8]
-    return float(k[6] + chain.joints[i].axis @ k[3:6])
+    k = p.model.split(p.truth.x)
+    return float(k.offset[i] + chain.joints[i].axis @ k.origin[i, 3:])
 
 
 def test_so101_offsets_that_trade_with_origin_errors_are_not_presented_as_physical() -> None:

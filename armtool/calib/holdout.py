@@ -1,0 +1,100 @@
+"""What is kept out of a fit to validate it: a random share of the samples, a second dataset of
+the same setup, or both.
+
+Why: the fit residuals always look good (the fit minimised them); only samples the fit never saw
+say whether the calibrated robot is right. A validation dataset must share the robot chain,
+setup, camera and tag, or its residuals mean nothing.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from armtool.calib.camera import CameraModel
+from armtool.calib.dataset import Dataset, Sample
+from armtool.calib.observations import Observation
+from armtool.errors import ArmtoolError
+from armtool.model.chain import Chain
+
+VALIDATION_PREFIX = "validation:"  # sample ids of a validation dataset, apart from the dataset's own
+
+
+def split_holdout(ids: list[str], fraction: float, seed: int) -> set[str]:
+    """A reproducible random `fraction` of `ids` (rounded to whole samples)."""
+    if fraction <= 0:
+        return set()
+    if not fraction < 1:
+        raise ArmtoolError(f"--holdout {fraction} leaves nothing to fit", hint="use a fraction such as 0.3")
+    rng = np.random.default_rng(seed)
+    count = int(round(fraction * len(ids)))
+    return set(rng.choice(ids, size=count, replace=False).tolist()) if count else set()
+
+
+def check_same_setup(
+    ds: Dataset,
+    chain: Chain,
+    camera: CameraModel,
+    vds: Dataset,
+    vchain: Chain | None,
+    vcamera: CameraModel | None,
+    where: Path,
+) -> None:
+    """A validation dataset must share the robot chain, setup, camera and tag, or its residuals mean nothing."""
+    differences = []
+    if vchain is None or vchain.joint_names != chain.joint_names:
+        differences.append("robot chain (joints)")
+    if vds.setup != ds.setup:
+        differences.append(f"setup ({vds.setup.value} vs {ds.setup.value})")
+    if (
+        vcamera is None
+        or (vcamera.width, vcamera.height) != (camera.width, camera.height)
+        or not np.allclose(vcamera.K, camera.K)
+        or not np.allclose(np.resize(vcamera.dist, 5), np.resize(camera.dist, 5))
+    ):
+        differences.append("camera intrinsics")
+    if (vds.family, vds.tag_id, vds.size_m) != (ds.family, ds.tag_id, ds.size_m):
+        differences.append("target (family, id or size)")
+    if differences:
+        raise ArmtoolError(
+            "the validation dataset differs from the dataset in: " + ", ".join(differences),
+            str(where),
+            "validate with poses of the same robot, camera and tag (a second session of the same setup)",
+        )
+
+
+def with_validation(
+    samples: list[Sample],
+    observations: dict[str, Observation],
+    validation: list[Sample],
+    validation_observations: dict[str, Observation],
+) -> tuple[list[Sample], dict[str, Observation], set[str]]:
+    """The samples and observations of both datasets, the validation ones renamed
+    `validation:<id>` so that ids cannot collide; and the set of those new ids."""
+    merged, seen = list(samples), dict(observations)
+    ids: set[str] = set()
+    for s in validation:
+        sid = f"{VALIDATION_PREFIX}{s.id}"
+        merged.append(replace(s, id=sid))
+        o = validation_observations[s.id]
+        seen[sid] = Observation(sid, o.corners_px, o.reason)
+        ids.add(sid)
+    return merged, seen, ids
+
+
+def holdout_ids(
+    samples: list[Sample],
+    observations: dict[str, Observation],
+    fraction: float,
+    seed: int,
+    validation: set[str] | None = None,
+) -> set[str] | None:
+    """The samples kept out of the fit: the validation dataset's, plus a random `fraction` of the
+    others that have a tag detection. None when nothing is held out."""
+    if not fraction:
+        return validation
+    already = validation or set()
+    usable = [s.id for s in samples if observations[s.id].corners_px is not None and s.id not in already]
+    return already | split_holdout(usable, fraction, seed)

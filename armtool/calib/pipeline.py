@@ -1,0 +1,200 @@
+"""`armtool calibrate fit` end to end, without the terminal: the command only parses its options,
+shows progress and prints.
+
+The order is the promise made to the user: every input and output is checked before any work
+(`prepare_fit`), the slow detection and fit run next (`observe_samples`, `run_fit`), every output
+is computed and checked before the first is written (`fit_files`), then each file is written
+atomically (`write_files`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from armtool.calib.camera import CameraModel
+from armtool.calib.dataset import Dataset, Sample, require_ok
+from armtool.calib.fit import CalibrationResult, FitOptions, calibrate
+from armtool.calib.holdout import check_same_setup, holdout_ids, with_validation
+from armtool.calib.inputs import Inputs, input_files, load_inputs
+from armtool.calib.model import CalibModel
+from armtool.calib.observations import Observation
+from armtool.calib.params import Family
+from armtool.calib.ur_kinematics import UrTarget, ur_target
+from armtool.errors import ArmtoolError
+from armtool.model.chain import Chain
+
+Detect = Callable[[Dataset, CameraModel], dict[str, Observation]]  # tag corners of every sample
+
+
+@dataclass(frozen=True)
+class FitRequest:
+    """What the user asked `calibrate fit` for (the options, parsed)."""
+
+    dataset: Path
+    out: Path
+    families: tuple[Family, ...]
+    families_explicit: bool  # named with --params: a family of which nothing is identifiable is an error
+    holdout: float = 0.0
+    seed: int = 0
+    validation: Path | None = None
+    plot: Path | None = None
+    xacro_args: dict[str, str] = field(default_factory=dict)
+    package_paths: list[Path] = field(default_factory=list)
+    ur_kinematics: Path | None = None
+    ur_kinematics_in: Path | None = None
+
+
+@dataclass(frozen=True)
+class FitJob:
+    """A request whose inputs are loaded and whose outputs are known to be writable."""
+
+    request: FitRequest
+    dataset: Dataset
+    chain: Chain
+    camera: CameraModel
+    validation: Inputs | None
+    ur: UrTarget | None
+
+
+@dataclass(frozen=True)
+class Observed:
+    samples: list[Sample]  # the dataset's, then the validation dataset's (ids `validation:<id>`)
+    observations: dict[str, Observation]
+    holdout_ids: set[str] | None
+
+
+@dataclass(frozen=True)
+class FitFiles:
+    files: dict[Path, str | bytes]  # path -> content, written by `write_files`
+    document: dict[str, Any]  # calibration.yaml as data
+    truth_warning: str | None  # why a simulated dataset could not be scored against its truth
+
+
+def prepare_fit(request: FitRequest) -> FitJob:
+    """Load and check everything the fit reads and writes, before the slow work starts."""
+    plot = request.plot
+    if plot is not None and not plot.parent.is_dir():  # at once; the full check follows the dataset's
+        raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
+    ds, chain, camera = load_inputs(request.dataset, request.xacro_args, request.package_paths)
+    require_ok(ds)
+    assert chain is not None and camera is not None  # require_ok refused a dataset without them
+    validation = None
+    if request.validation is not None:
+        validation = load_inputs(request.validation, request.xacro_args, request.package_paths)
+    ur = ur_target(ds, chain, request.ur_kinematics, request.ur_kinematics_in)
+    inputs = input_files(ds, validation.dataset if validation else None) + ([ur.source] if ur else [])
+    _check_outputs(request, inputs)
+    return FitJob(request, ds, chain, camera, validation, ur)
+
+
+def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
+    """Every file fit writes, checked against the run's inputs before the work starts."""
+    from armtool.fileio import check_output_paths
+
+    out = request.out
+    outputs: dict[str, Path | None] = {"--plot": request.plot, "--ur-kinematics": request.ur_kinematics}
+    if out.is_dir():  # else created by the fit: nothing in it can be an input
+        outputs = {
+            "--out (calibrated.urdf)": out / "calibrated.urdf",
+            "--out (calibration.yaml)": out / "calibration.yaml",
+            **outputs,
+        }
+    check_output_paths(outputs, inputs)
+
+
+def observe_samples(job: FitJob, detect: Detect) -> Observed:
+    """Tag corners of the dataset's samples and of the validation dataset's (which must be of the
+    same setup), and which samples are held out of the fit."""
+    request = job.request
+    observations = detect(job.dataset, job.camera)
+    samples = list(job.dataset.samples)
+    validation_ids = None
+    if job.validation is not None and request.validation is not None:
+        vds, vchain, vcamera = job.validation
+        require_ok(vds)
+        check_same_setup(job.dataset, job.chain, job.camera, vds, vchain, vcamera, request.validation)
+        vobs = detect(vds, vcamera or job.camera)  # check_same_setup refused a missing or different camera
+        samples, observations, validation_ids = with_validation(samples, observations, vds.samples, vobs)
+    held = holdout_ids(samples, observations, request.holdout, request.seed, validation_ids)
+    return Observed(samples, observations, held)
+
+
+def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | None = None) -> CalibrationResult:
+    request, ds = job.request, job.dataset
+    options = FitOptions(
+        families=request.families,
+        families_explicit=request.families_explicit,
+        holdout=request.holdout,
+        seed=request.seed,
+    )
+    model = CalibModel(job.chain, ds.setup, np.eye(4), np.eye(4))
+    return calibrate(
+        model,
+        job.camera,
+        observed.samples,
+        observed.observations,
+        ds.size_m,
+        options,
+        ds.hints,
+        holdout_ids=observed.holdout_ids,
+        progress=progress,
+    )
+
+
+def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
+    """calibrated.urdf (checked to reproduce the fitted kinematics), calibration.yaml, and the
+    plot and UR kinematics file when asked for; nothing is written yet."""
+    import yaml
+
+    from armtool.calib.report import calibration_document, residual_plot_png
+    from armtool.calib.truth import has_truth, truth_scores
+    from armtool.calib.urdf_out import (
+        check_reproduces,
+        corrected_text,
+        expanded_text,
+        joint_corrections,
+        relocate_meshes,
+    )
+
+    request, ds = job.request, job.dataset
+    text = expanded_text(ds.urdf, ds.xacro_args, ds.package_paths)
+    corrected = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)
+    new_urdf = relocate_meshes(corrected, ds.urdf.parent, request.out)
+    check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)
+    document = calibration_document(result, str(request.dataset), ds.urdf.name)
+    warning = None
+    if has_truth(request.dataset):
+        try:
+            document["against_truth"] = truth_scores(request.dataset, result)
+        except ArmtoolError as exc:  # only a score: never lose the fit for it
+            warning = f"not scored against the truth: {exc}"
+    files: dict[Path, str | bytes] = {
+        request.out / "calibrated.urdf": new_urdf,
+        request.out / "calibration.yaml": yaml.safe_dump(document, sort_keys=False, allow_unicode=True),
+    }
+    if request.plot is not None:
+        files[request.plot] = residual_plot_png(result)
+    if request.ur_kinematics is not None and job.ur is not None:
+        from armtool.calib.ur_kinematics import ur_kinematics_yaml
+
+        files[request.ur_kinematics] = ur_kinematics_yaml(new_urdf, job.ur.joints, job.ur.hash, "calibrated.urdf")
+    return FitFiles(files, document, warning)
+
+
+def write_files(files: dict[Path, str | bytes], out: Path) -> None:
+    """Create `out` and write each file atomically."""
+    from armtool.fileio import write_atomic
+
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ArmtoolError(
+            f"cannot create --out: {exc.strerror or exc}", str(out), "check the path and its permissions"
+        ) from None
+    for path, data in files.items():
+        write_atomic(path, data)

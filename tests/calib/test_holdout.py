@@ -1,0 +1,46 @@
+"""What is held out of a fit: a random share, a validation dataset, or both."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from armtool.calib.dataset import Sample
+from armtool.calib.holdout import holdout_ids, split_holdout, with_validation
+from armtool.calib.observations import Observation
+from armtool.errors import ArmtoolError
+
+CORNERS = np.zeros((4, 2))
+
+
+def _samples(ids: list[str]) -> list[Sample]:
+    return [Sample(i, k + 2, np.zeros(2), None) for k, i in enumerate(ids)]
+
+
+def _seen(ids: list[str], missing: tuple[str, ...] = ()) -> dict[str, Observation]:
+    return {i: Observation(i, None if i in missing else CORNERS, "no tag" if i in missing else "") for i in ids}
+
+
+def test_split_is_reproducible_and_refuses_to_hold_out_everything() -> None:
+    ids = [str(i) for i in range(20)]
+    assert split_holdout(ids, 0.25, 7) == split_holdout(ids, 0.25, 7)
+    assert len(split_holdout(ids, 0.25, 7)) == 5 and split_holdout(ids, 0.0, 7) == set()
+    with pytest.raises(ArmtoolError, match="leaves nothing to fit"):
+        split_holdout(ids, 1.0, 0)
+
+
+def test_validation_samples_are_renamed_so_ids_cannot_collide() -> None:
+    samples, seen, ids = with_validation(_samples(["0", "1"]), _seen(["0", "1"]), _samples(["0"]), _seen(["0"], ("0",)))
+    assert [s.id for s in samples] == ["0", "1", "validation:0"] and ids == {"validation:0"}
+    assert seen["validation:0"].corners_px is None and seen["validation:0"].reason == "no tag"
+    assert seen["0"].corners_px is not None
+
+
+def test_holdout_takes_the_validation_set_plus_a_share_of_the_detected_others() -> None:
+    ids = [str(i) for i in range(10)]
+    samples, seen = _samples(ids + ["validation:a"]), _seen(ids + ["validation:a"], missing=("3",))
+    assert holdout_ids(samples, seen, 0.0, 0) is None
+    assert holdout_ids(samples, seen, 0.0, 0, {"validation:a"}) == {"validation:a"}
+    held = holdout_ids(samples, seen, 0.5, 1, {"validation:a"})
+    assert held is not None and "validation:a" in held and "3" not in held
+    assert len(held) == 1 + round(0.5 * 9)  # the share is of the 9 detected dataset samples
