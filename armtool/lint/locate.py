@@ -107,16 +107,19 @@ class Locator:
         if self.origins is None:  # `el` is in the tree lxml built from this file's bytes
             path = self.path
             source = self._source(path, el.getroottree().getroot())
-            written: etree._Element | None = el
+            candidates = [el]
         else:
             origin = self._origin(el)
             if origin is None or origin.calls or origin.source is None:
                 return None  # produced by a macro: the literal is not in one place
             path = origin.source.path
             source = self._source(path, None)
-            written = source.element_at(origin.source.line, local_tag(el)) if source is not None else None
-        if source is None or written is None or (written.get(attr) or "").strip() != current.strip():
+            candidates = source.elements_at(origin.source.line, local_tag(el)) if source is not None else []
+        # The value must be written literally (not `${...}`), and on one element only of that line.
+        literal = [c for c in candidates if (c.get(attr) or "").strip() == current.strip()]
+        if source is None or len(literal) != 1:
             return None
+        written = literal[0]
         (edit,) = source.set_attributes(written, {attr: new_value})
         start, end = source.char_offset(edit.start), source.char_offset(edit.end)
         return Edit(path, start, end, edit.replacement.decode(source.encoding))

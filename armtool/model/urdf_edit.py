@@ -14,6 +14,7 @@ Used by `lint --fix` (through `lint.locate.Locator`), `calibrate` (corrected `<o
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Mapping
 from typing import NamedTuple
 
@@ -61,6 +62,8 @@ def escape_attribute(value: str, quote: str = '"') -> str:
 
 
 _SPACE = b" \t\r\n"
+# One start tag: its name, then anything up to the '>' outside quotes (possessive: no backtracking).
+_START_TAG = re.compile(rb"""<([^\s/>]*+)(?:[^"'>]++|"[^"]*+"|'[^']*+')*+>""")
 _NAME_END = b" \t\r\n/>="
 
 
@@ -78,7 +81,7 @@ def _scan(data: bytes) -> tuple[list[tuple[bytes, int, int, bool]], dict[int, in
     starts: list[tuple[bytes, int, int, bool]] = []
     closes: dict[int, int] = {}
     open_: list[int] = []
-    find, n, i = data.find, len(data), 0
+    find, i = data.find, 0
 
     def past(marker: bytes, at: int) -> int:
         k = find(marker, at)
@@ -90,36 +93,33 @@ def _scan(data: bytes) -> tuple[list[tuple[bytes, int, int, bool]], dict[int, in
         i = find(b"<", i)
         if i < 0:
             break
-        if data.startswith(b"<!--", i):
-            i = past(b"-->", i + 4)
-        elif data.startswith(b"<![CDATA[", i):
-            i = past(b"]]>", i + 9)
-        elif data.startswith(b"<?", i):
+        kind = data[i + 1 : i + 2]
+        if kind == b"!":
+            if data.startswith(b"<!--", i):
+                i = past(b"-->", i + 4)
+            elif data.startswith(b"<![CDATA[", i):
+                i = past(b"]]>", i + 9)
+            else:  # DOCTYPE, with or without an internal subset
+                bracket, gt = find(b"[", i), find(b">", i)
+                i = past(b"]", bracket) if 0 <= bracket < gt else i
+                i = past(b">", i)
+        elif kind == b"?":
             i = past(b"?>", i + 2)
-        elif data.startswith(b"<!", i):  # DOCTYPE, with or without an internal subset
-            bracket, gt = find(b"[", i), find(b">", i)
-            i = past(b"]", bracket) if 0 <= bracket < gt else i
-            i = past(b">", i)
-        elif data.startswith(b"</", i):
+        elif kind == b"/":
             if not open_:
                 raise UneditableXml("end tag without a start tag")
             closes[open_.pop()] = i
             i = past(b">", i)
         else:
-            j = i + 1
-            while True:  # to the '>' outside quotes
-                while j < n and data[j] not in b"\"'>":
-                    j += 1
-                if j >= n:
-                    raise UneditableXml("unterminated start tag")
-                if data[j] == 62:  # '>'
-                    break
-                j = past(data[j : j + 1], j + 1)
-            closing = data[j - 1] == 47  # '/'
-            starts.append((_tag_name(data, i + 1), i, j + 1, closing))
+            tag = _START_TAG.match(data, i)
+            if tag is None:
+                raise UneditableXml("unterminated start tag")
+            end = tag.end()
+            closing = data[end - 2] == 47  # '/'
+            starts.append((tag.group(1), i, end, closing))
             if not closing:
                 open_.append(len(starts) - 1)
-            i = j + 1
+            i = end
     if open_:
         raise UneditableXml("start tag without an end tag")
     return starts, closes
@@ -128,8 +128,9 @@ def _scan(data: bytes) -> tuple[list[tuple[bytes, int, int, bool]], dict[int, in
 class XmlSource:
     """A document's bytes, its lxml tree, and where each element's tags are in the bytes."""
 
-    def __init__(self, data: bytes, root: etree._Element | None = None) -> None:
-        """`root`: the tree lxml already built from exactly these bytes (saves parsing again)."""
+    def __init__(self, data: bytes, root: etree._Element | None = None, encoding: str | None = None) -> None:
+        """`root`: the tree lxml already built from exactly these bytes (saves parsing again).
+        `encoding`: the bytes' real encoding, when it is not the one they declare."""
         if root is None:
             try:
                 root = parse_xml(data)
@@ -137,7 +138,7 @@ class XmlSource:
                 raise UneditableXml(exc.message, exc.line) from None
         self.data = data
         self.root = root
-        self.encoding = root.getroottree().docinfo.encoding or "UTF-8"
+        self.encoding = encoding or root.getroottree().docinfo.encoding or "UTF-8"
         try:
             ascii_compatible = "<a/>".encode(self.encoding) == b"<a/>"
         except LookupError:
@@ -150,24 +151,27 @@ class XmlSource:
         elements = list(root.iter(etree.Element))
         if len(elements) != len(starts):
             raise UneditableXml(f"found {len(starts)} start tags in the text, lxml {len(elements)} elements")
-        self._tags: dict[etree._Element, Tag] = {}
-        for k, (el, (name, start, end, closing)) in enumerate(zip(elements, starts)):
-            if name.rpartition(b":")[2].decode(self.encoding, "replace") != etree.QName(el).localname:
+        encoding = self.encoding
+        for el, (name, start, _end, _closing) in zip(elements, starts):
+            if name.rpartition(b":")[2].decode(encoding, "replace") != el.tag.rpartition("}")[2]:
                 line = data.count(b"\n", 0, start) + 1
                 raise UneditableXml(
                     f"the text's <{name.decode(errors='replace')}> is lxml's <{etree.QName(el).localname}>", line
                 )
-            self._tags[el] = Tag(start, end, closes.get(k, end), closing)
+        self._starts, self._closes = starts, closes
+        self._index = {el: k for k, el in enumerate(elements)}
 
     @classmethod
     def from_text(cls, text: str) -> XmlSource:
-        """For callers that hold the document as a str: its UTF-8 bytes."""
-        return cls(text.encode("utf-8"))
+        """For callers that hold the document as a str: its UTF-8 bytes, whatever it declares."""
+        return cls(text.encode("utf-8"), encoding="UTF-8")
 
     # --- finding places -------------------------------------------------------------------
 
     def tag(self, el: etree._Element) -> Tag:
-        return self._tags[el]
+        k = self._index[el]
+        _name, start, end, closing = self._starts[k]
+        return Tag(start, end, self._closes.get(k, end), closing)
 
     def line_of(self, offset: int) -> int:
         return self.data.count(b"\n", 0, offset) + 1
@@ -176,17 +180,15 @@ class XmlSource:
         """The offset in characters of the decoded text (lint's edits are in characters)."""
         return len(self.data[:offset].decode(self.encoding, errors="replace"))
 
-    def element_at(self, line: int, tag: str) -> etree._Element | None:
-        """The one `<tag>` element lxml numbers `line` (libxml2 counts the line where its start tag
-        ends); None when there is none, or more than one and they cannot be told apart."""
-        found = [
-            el for el in self.root.iter(etree.Element) if el.sourceline == line and etree.QName(el).localname == tag
+    def elements_at(self, line: int, tag: str) -> list[etree._Element]:
+        """The `<tag>` elements lxml numbers `line` (libxml2 counts the line where a start tag ends)."""
+        return [
+            el for el in self.root.iter(etree.Element) if el.sourceline == line and el.tag.rpartition("}")[2] == tag
         ]
-        return found[0] if len(found) == 1 else None
 
     def attributes(self, el: etree._Element) -> list[Attribute]:
         """The attributes as written in `el`'s start tag, in order."""
-        data, tag = self.data, self._tags[el]
+        data, tag = self.data, self.tag(el)
         i = tag.start + 1 + len(_tag_name(data, tag.start + 1))
         out: list[Attribute] = []
         while True:
@@ -207,7 +209,7 @@ class XmlSource:
         attrs = self.attributes(el)
         if attrs:
             return attrs[-1].value_end + 1
-        tag = self._tags[el]
+        tag = self.tag(el)
         return tag.start + 1 + len(_tag_name(self.data, tag.start + 1))
 
     def _indent(self, offset: int) -> bytes:
@@ -226,10 +228,10 @@ class XmlSource:
         """The indentation of `parent`'s children: that of the first child written on its own
         line, else the parent's plus one step (a tab if the parent is indented with tabs)."""
         for child in parent.iterchildren(etree.Element):
-            start = self._tags[child].start
+            start = self.tag(child).start
             if self._starts_line(start):
                 return self._indent(start)
-        own = self._indent(self._tags[parent].start)
+        own = self._indent(self.tag(parent).start)
         return own + (b"\t" if own.endswith(b"\t") else b"  ")
 
     # --- edits -------------------------------------------------------------------------------
@@ -263,7 +265,7 @@ class XmlSource:
     ) -> ByteEdit:
         """An edit that adds `<tag values/>` as `parent`'s first (or last) child, on a line of its
         own, indented like its siblings. `parent` must not be self-closing."""
-        where = self._tags[parent]
+        where = self.tag(parent)
         if where.self_closing:
             raise ValueError(f"<{etree.QName(parent).localname}> is an empty element")
         element = self.element_text(tag, values)

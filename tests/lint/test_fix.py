@@ -102,3 +102,21 @@ def test_fix_keeps_crlf_and_single_quotes(tmp_path: Path) -> None:
     CliRunner().invoke(app, ["lint", "--fix", str(path)])
     fixed = path.read_bytes().decode()
     assert fixed == text.replace('rpy="0 0 -270"', 'rpy="0 0 0.1769682087"').replace("'0 0 2'", "'0 0 1'")
+
+
+def test_fix_in_a_xacro_finds_its_element_among_others_on_the_line(tmp_path: Path) -> None:
+    xacro = (
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:property name="m" value="1"/>\n  <link name="base"/>\n  '
+        + LINK.format("l1").replace('value="1"', 'value="${m}"')
+        + "\n  "
+        + LINK.format("l2")
+        + "\n  "
+        + _joint("j1", "l1", "0 0 1")
+        + _joint("j2", "l2", "0 2 0")
+        + "\n</robot>\n"
+    )
+    path = tmp_path / "r.urdf.xacro"
+    path.write_text(xacro)
+    result = CliRunner().invoke(app, ["lint", "--fix", str(path)])
+    assert path.read_text() == xacro.replace('xyz="0 2 0"', 'xyz="0 1 0"'), result.stdout

@@ -79,11 +79,11 @@ def test_insert_child_on_one_line() -> None:
         doc.insert_child(joint.find("child"), "x", {})
 
 
-def test_element_at_a_line_is_unique_or_none() -> None:
-    doc = XmlSource(b'<r>\n<a n="1"/><a n="2"/>\n<a n="3"\n/>\n</r>')
-    assert doc.element_at(2, "a") is None  # two <a> on line 2: not told apart
-    assert doc.element_at(4, "a").get("n") == "3"  # libxml2 counts the line where the tag ends
-    assert doc.element_at(3, "a") is None
+def test_elements_at_a_line_as_lxml_numbers_them() -> None:
+    doc = XmlSource(b'<r>\n<a n="1"/><a n="2"/>\n<a n="3"\n/><!-- <a n="4"/> -->\n</r>')
+    assert [a.get("n") for a in doc.elements_at(2, "a")] == ["1", "2"]
+    assert [a.get("n") for a in doc.elements_at(4, "a")] == ["3"]  # libxml2 counts the line where the tag ends
+    assert doc.elements_at(3, "a") == []
 
 
 def test_edits_keep_the_encoding_and_character_offsets() -> None:
