@@ -9,8 +9,7 @@ Joint gains have no place in a URDF: they are reported in calibration.yaml for t
 
 from __future__ import annotations
 
-import re
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +20,7 @@ from armtool.calib.model import CalibModel
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 from armtool.model.chain import axis_angle_batch
+from armtool.model.urdf_edit import ByteEdit, UneditableXml, XmlSource, urdf_joints
 from armtool.model.xmlsource import parse_xml
 
 
@@ -48,117 +48,43 @@ def joint_corrections(model: CalibModel, x: Array) -> dict[str, Array]:
     return out
 
 
-def _start_tags(text: str) -> Iterator[tuple[str, int, int, int, bool]]:
-    """(name, start, end, depth, self_closing) of every start tag in document order.
-
-    A small scanner rather than lxml's line numbers: an expanded xacro can hold many elements on
-    one line, and an edit must land on exactly its element. Comments, CDATA, processing
-    instructions and the DOCTYPE are skipped; quotes are honoured inside tags.
-    """
-    i, depth, n = 0, 0, len(text)
-
-    def skip(after: str, start: int) -> int:
-        k = text.find(after, start)
-        return n if k < 0 else k + len(after)
-
-    while True:
-        i = text.find("<", i)
-        if i < 0:
-            return
-        if text.startswith("<!--", i):
-            i = skip("-->", i + 4)
-        elif text.startswith("<![CDATA[", i):
-            i = skip("]]>", i + 9)
-        elif text.startswith("<?", i):
-            i = skip("?>", i + 2)
-        elif text.startswith("<!", i):
-            bracket, close = text.find("[", i), text.find(">", i)
-            i = skip("]>", bracket) if 0 <= bracket < close else skip(">", i)
-        elif text.startswith("</", i):
-            depth -= 1
-            i = skip(">", i)
-        else:
-            j, quote = i + 1, ""
-            while j < n:
-                ch = text[j]
-                if quote:
-                    if ch == quote:
-                        quote = ""
-                elif ch in "\"'":
-                    quote = ch
-                elif ch == ">":
-                    break
-                j += 1
-            name = re.match(r"[^\s/>]*", text[i + 1 :]).group(0)  # type: ignore[union-attr]
-            closing = text[j - 1] == "/"
-            yield name, i, j + 1, depth, closing
-            if not closing:
-                depth += 1
-            i = j + 1
-
-
-def _set_attributes(tag: str, values: dict[str, str]) -> str:
-    closing = "/>" if tag.rstrip().endswith("/>") else ">"
-    body = tag[: len(tag.rstrip()) - len(closing)]
-    for attr, value in values.items():
-        pattern = re.compile(r"(\s" + attr + r"\s*=\s*)(\"[^\"]*\"|'[^']*')")
-        if pattern.search(body):
-            body = pattern.sub(lambda m: f'{m.group(1)}"{value}"', body, count=1)  # noqa: B023 (used at once)
-        else:
-            body = body.rstrip() + f' {attr}="{value}"'
-    return body + closing
+def _editable(text: str, source: str) -> XmlSource:
+    try:
+        return XmlSource.from_text(text)
+    except UneditableXml as exc:
+        raise ArmtoolError(
+            f"cannot edit {source} in place: {exc.message}", f"{source}:{exc.line}", "report this with the file"
+        ) from None
 
 
 def corrected_text(text: str, corrections: dict[str, Array], source: str = "URDF") -> str:
     """The URDF text with each named joint's <origin> multiplied on the right by its correction."""
     from armtool.model.chain import origin_matrix
 
-    root = parse_xml(text.encode("utf-8"))
-    elements = root.findall("joint")  # top-level joints only, not <transmission><joint>
-    # Top-level <joint> start tags in the text, in document order, each with its <origin> child.
-    spans: list[tuple[int, int, bool, tuple[int, int] | None]] = []
-    inside = False
-    for name, start, end, depth, closing in _start_tags(text):
-        if depth <= 1:
-            inside = name == "joint" and depth == 1
-            if inside:
-                spans.append((start, end, closing, None))
-        elif inside and depth == 2 and name == "origin" and spans[-1][3] is None:
-            spans[-1] = (*spans[-1][:3], (start, end))
-    if len(spans) != len(elements):
-        raise ArmtoolError(
-            f"could not match the <joint> elements of {source} in its text", hint="report this with the file"
-        )
-    by_name = {el.get("name"): k for k, el in enumerate(elements)}
-    edits: list[tuple[int, int, str]] = []
+    doc = _editable(text, source)
+    joints = urdf_joints(doc.root)  # top-level joints only, not <transmission><joint>
+    edits: list[ByteEdit] = []
     for name, C in corrections.items():
-        k = by_name.get(name)
-        if k is None:
+        el = joints.get(name)
+        if el is None:
             raise ArmtoolError(
                 f"joint '{name}' is not in {source}", hint="the dataset's URDF and the one being written must match"
             )
-        el = elements[k]
-        start, end, closing, origin_span = spans[k]
-        new = origin_matrix(el.find("origin")) @ C
+        origin = el.find("origin")
+        new = origin_matrix(origin) @ C
         values = {
             "xyz": " ".join(_fmt(v) for v in new[:3, 3]),
             "rpy": " ".join(_fmt(v) for v in se3.rpy_of(new[:3, :3])),
         }
-        if origin_span is not None:
-            edits.append(
-                (origin_span[0], origin_span[1], _set_attributes(text[origin_span[0] : origin_span[1]], values))
-            )
-        elif closing:
+        if origin is not None:
+            edits += doc.set_attributes(origin, values)
+        elif doc.tag(el).self_closing:
             raise ArmtoolError(
                 f"joint '{name}' is an empty element", f"{source}:{el.sourceline}", "a joint needs <parent> and <child>"
             )
         else:
-            line_start = text.rfind("\n", 0, start) + 1
-            indent = re.match(r"[ \t]*", text[line_start:start]).group(0)  # type: ignore[union-attr]
-            edits.append((end, end, f'\n{indent}  <origin xyz="{values["xyz"]}" rpy="{values["rpy"]}"/>'))
-    for start, end, replacement in sorted(edits, reverse=True):
-        text = text[:start] + replacement + text[end:]
-    return text
+            edits.append(doc.insert_child(el, "origin", values, first=True))
+    return doc.apply(edits).decode("utf-8")
 
 
 def relocate_meshes(text: str, source_dir: Path, out_dir: Path) -> str:
@@ -170,24 +96,17 @@ def relocate_meshes(text: str, source_dir: Path, out_dir: Path) -> str:
     """
     import os
 
-    edits: list[tuple[int, int, str]] = []
-    for name, start, end, _depth, _closing in _start_tags(text):
-        if name not in ("mesh", "texture"):
-            continue
-        tag = text[start:end]
-        m = re.search(r"\sfilename\s*=\s*(\"[^\"]*\"|'[^']*')", tag)
-        if m is None:
-            continue
-        value = m.group(1)[1:-1]
+    doc = _editable(text, "the URDF")
+    edits: list[ByteEdit] = []
+    for el in doc.root.iter("mesh", "texture"):
+        value = el.get("filename")
         if not value or "://" in value or os.path.isabs(value):
             continue
         target = os.path.normpath(os.path.join(os.path.abspath(source_dir), value))
         new = os.path.relpath(target, os.path.abspath(out_dir)).replace(os.sep, "/")
         if new != value:
-            edits.append((start, end, _set_attributes(tag, {"filename": new})))
-    for start, end, replacement in sorted(edits, reverse=True):
-        text = text[:start] + replacement + text[end:]
-    return text
+            edits += doc.set_attributes(el, {"filename": new})
+    return doc.apply(edits).decode("utf-8") if edits else text
 
 
 def check_reproduces(text: str, model: CalibModel, x: Array, source: str) -> None:

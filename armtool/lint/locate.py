@@ -2,26 +2,25 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
 from lxml import etree
 
 from armtool.lint.finding import Edit
+from armtool.model.display import display_path
 from armtool.model.xmlsource import SourceText
 
 if TYPE_CHECKING:  # the origin types are only named here; importing them costs lint start-up
     from armtool.model.origin import Origin, SourceLine
+    from armtool.model.urdf_edit import XmlSource
 
 
-def display_path(path: Path) -> str:
-    """Paths relative to the working directory when below it, as users typed them."""
-    try:
-        rel = os.path.relpath(path)
-    except ValueError:
-        return str(path)
-    return str(path) if rel.startswith("..") else rel
+def local_tag(el: etree._Element) -> str:
+    tag = el.tag
+    if not isinstance(tag, str):
+        return ""
+    return tag if tag[:1] != "{" else tag.rsplit("}", 1)[-1]
 
 
 class Place(NamedTuple):
@@ -30,18 +29,6 @@ class Place(NamedTuple):
     column: int
     note: str | None  # e.g. "expanded from a macro written at macros.xacro:12"
     related: tuple[SourceLine, ...]
-
-
-def escape(text: str) -> str:
-    """XML attribute escaping (xml.sax.saxutils would pull urllib into `lint`'s start-up)."""
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
-
-
-def local_tag(el: etree._Element) -> str:
-    tag = el.tag
-    if not isinstance(tag, str):
-        return ""
-    return tag if tag[:1] != "{" else tag.rsplit("}", 1)[-1]
 
 
 class Locator:
@@ -54,6 +41,7 @@ class Locator:
         self._data = data
         self._texts: dict[Path, SourceText] = {}
         self._shown: dict[Path, str] = {}
+        self._sources: dict[Path, XmlSource | None] = {}
 
     def text(self, path: Path) -> SourceText:
         text = self._texts.get(path)
@@ -99,23 +87,42 @@ class Locator:
         line, col = self.text(origin.source.path).locate(origin.source.line, local_tag(el), attr)
         return Place(origin.source.path, line, col, None, (origin.source,))
 
+    def _source(self, path: Path, root: etree._Element | None) -> XmlSource | None:
+        """The file as `urdf_edit` edits it, once per file; None when it cannot be edited in place."""
+        if path not in self._sources:
+            from armtool.model.urdf_edit import UneditableXml, XmlSource  # only when a fix is offered
+
+            try:
+                data = self._data if path is self.path and self._data is not None else path.read_bytes()
+                self._sources[path] = XmlSource(data, root)
+            except (OSError, UneditableXml):
+                self._sources[path] = None
+        return self._sources[path]
+
     def edit(self, el: etree._Element, attr: str, new_value: str) -> Edit | None:
-        """A text edit replacing the attribute's literal value, if the value is written literally."""
+        """A text edit replacing the attribute's value, if the value is written literally."""
         current = el.get(attr)
         if current is None:
             return None
-        if self.origins is None:
-            path, line = self.path, el.sourceline or 1
+        if self.origins is None:  # `el` is in the tree lxml built from this file's bytes
+            path = self.path
+            source = self._source(path, el.getroottree().getroot())
+            candidates = [el]
         else:
             origin = self._origin(el)
             if origin is None or origin.calls or origin.source is None:
                 return None  # produced by a macro: the literal is not in one place
-            path, line = origin.source.path, origin.source.line
-        text = self.text(path)
-        span = text.attr_value_span(line, local_tag(el), attr)
-        if span is None:
+            path = origin.source.path
+            source = self._source(path, None)
+            candidates = source.elements_at(origin.source.line, local_tag(el)) if source is not None else []
+        # The value must be written literally (not `${...}`), and on one element only of that line.
+        literal = [c for c in candidates if (c.get(attr) or "").strip() == current.strip()]
+        if source is None or len(literal) != 1:
             return None
-        written = text.text[span[0] : span[1]]
-        if written.strip() != escape(current).strip() and written.strip() != current.strip():
-            return None
-        return Edit(path, span[0], span[1], escape(new_value))
+        written = literal[0]
+        (edit,) = source.set_attributes(written, {attr: new_value})
+        start, end = source.char_offset(edit.start), source.char_offset(edit.end)
+        return Edit(path, start, end, edit.replacement.decode(source.encoding))
+
+
+__all__ = ["Locator", "Place", "display_path", "local_tag"]

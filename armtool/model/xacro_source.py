@@ -28,6 +28,7 @@ from typing import Any
 from lxml import etree
 
 from armtool.fileio import NotRegularFile, read_regular
+from armtool.model.display import display_path
 from armtool.model.origin import Origin, SourceLine
 from armtool.model.packages import PackageResolver
 from armtool.model.xmlsource import MAX_FILE_BYTES, XmlSyntaxProblem, declares_entities, parse_xml
@@ -300,7 +301,7 @@ def _failure(exc: BaseException, top: Path, files: list[Path]) -> XacroFailure:
     in_top = [loc for loc in trail if loc.path == top]
     line = in_top[-1].line if in_top else 1
     if inner is not None:
-        message += f" (at {_shown(inner.path)}:{inner.line})"
+        message += f" (at {display_path(inner.path)}:{inner.line})"
     package = _cause(exc, _MissingPackage)
     arg = _cause(exc, ArgException)
     return XacroFailure(
@@ -311,16 +312,6 @@ def _failure(exc: BaseException, top: Path, files: list[Path]) -> XacroFailure:
         missing_package=package.name if isinstance(package, _MissingPackage) else None,
         missing_arg=str(arg) if arg is not None else None,
     )
-
-
-def _shown(path: Path) -> str:
-    import os
-
-    try:
-        rel = os.path.relpath(path)
-    except ValueError:
-        return str(path)
-    return str(path) if rel.startswith("..") else rel
 
 
 def _expand_text(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> tuple[str, list[Path]]:

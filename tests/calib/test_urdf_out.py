@@ -119,3 +119,35 @@ def test_relocate_meshes_keeps_relative_paths_resolving(tmp_path) -> None:  # ty
         and 'filename="file:///abs/c.stl"' in new
     )
     assert relocate_meshes(text, src, src) == text
+
+
+def _one_joint(text: str) -> str:
+    """The text corrected by a shift of tz=0.001 and a zero offset of 0.01 rad on joint 'j'."""
+    chain = chain_from_xml(parse_xml(text.encode()), "a", "b")
+    model = nominal_model(chain)
+    x = np.zeros(model.size)
+    x[12 + 2] = 0.001
+    x[12 + 6] = 0.01
+    return corrected_text(text, joint_corrections(model, x), "r.urdf")
+
+
+def test_origin_edit_keeps_the_authors_quotes_and_spacing() -> None:
+    text = (
+        "<robot name='r'>\n  <link name='a'/><link name='b'/>\n  <joint name='j' type='revolute'>\n"
+        "    <parent link='a'/><child link='b'/><origin xyz='0 0 0' />\n    <axis xyz='0 0 1'/>\n"
+        "    <limit lower='-1' upper='1' effort='1' velocity='1'/>\n  </joint>\n</robot>\n"
+    )
+    new = _one_joint(text)
+    assert new == text.replace("<origin xyz='0 0 0' />", "<origin xyz='0 0 0.001' rpy=\"0 0 0.01\" />")
+
+
+def test_inserted_origin_follows_the_files_indent_and_line_endings() -> None:
+    text = (
+        '<robot name="r">\r\n    <link name="a"/><link name="b"/>\r\n    <joint name="j" type="revolute">\r\n'
+        '        <parent link="a"/><child link="b"/>\r\n        <axis xyz="0 0 1"/>\r\n'
+        '        <limit lower="-1" upper="1" effort="1" velocity="1"/>\r\n    </joint>\r\n</robot>\r\n'
+    )
+    new = _one_joint(text)
+    assert new == text.replace(
+        'type="revolute">\r\n', 'type="revolute">\r\n        <origin xyz="0 0 0.001" rpy="0 0 0.01"/>\r\n'
+    )

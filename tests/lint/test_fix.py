@@ -53,3 +53,70 @@ def test_fix_keeps_file_mode(tmp_path: Path) -> None:
     CliRunner().invoke(app, ["lint", "--fix", str(path)])
     assert path.stat().st_mode & 0o777 == 0o640
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
+
+
+def _joint(name: str, child: str, axis: str) -> str:
+    return (
+        f'<joint name="{name}" type="revolute"><parent link="base"/><child link="{child}"/>'
+        f'<axis xyz="{axis}"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+    )
+
+
+LINK = '<link name="{}"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>'
+
+
+def test_fix_lands_on_its_own_element_when_many_share_a_line(tmp_path: Path) -> None:
+    # A generated URDF on one line, two joints with the same non-unit axis: both get fixed (the
+    # line-based search found the first <axis> of the line twice).
+    one_line = (
+        '<robot name="r"><link name="base"/>'
+        + LINK.format("l1")
+        + LINK.format("l2")
+        + _joint("j1", "l1", "0 0 2")
+        + _joint("j2", "l2", "0 0 2")
+        + "</robot>\n"
+    )
+    path = tmp_path / "r.urdf"
+    path.write_text(one_line)
+    result = CliRunner().invoke(app, ["lint", "--fix", str(path)])
+    assert path.read_text() == one_line.replace('xyz="0 0 2"', 'xyz="0 0 1"'), result.stdout
+
+
+def test_fix_never_edits_a_comment(tmp_path: Path) -> None:
+    text = (
+        '<robot name="r"><link name="base"/>'
+        + LINK.format("l1")
+        + _joint("j1", "l1", "0 0 2").replace("<axis", '<!-- was: <axis xyz="0 0 2"/> --><axis')
+        + "</robot>\n"
+    )
+    path = tmp_path / "r.urdf"
+    path.write_text(text)
+    CliRunner().invoke(app, ["lint", "--fix", str(path)])
+    assert path.read_text() == text.replace('--><axis xyz="0 0 2"/>', '--><axis xyz="0 0 1"/>')
+
+
+def test_fix_keeps_crlf_and_single_quotes(tmp_path: Path) -> None:
+    text = BROKEN.replace('<axis xyz="0 0 2"/>', "<axis xyz='0 0 2'/>").replace("\n", "\r\n")
+    path = tmp_path / "r.urdf"
+    path.write_bytes(text.encode())
+    CliRunner().invoke(app, ["lint", "--fix", str(path)])
+    fixed = path.read_bytes().decode()
+    assert fixed == text.replace('rpy="0 0 -270"', 'rpy="0 0 0.1769682087"').replace("'0 0 2'", "'0 0 1'")
+
+
+def test_fix_in_a_xacro_finds_its_element_among_others_on_the_line(tmp_path: Path) -> None:
+    xacro = (
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:property name="m" value="1"/>\n  <link name="base"/>\n  '
+        + LINK.format("l1").replace('value="1"', 'value="${m}"')
+        + "\n  "
+        + LINK.format("l2")
+        + "\n  "
+        + _joint("j1", "l1", "0 0 1")
+        + _joint("j2", "l2", "0 2 0")
+        + "\n</robot>\n"
+    )
+    path = tmp_path / "r.urdf.xacro"
+    path.write_text(xacro)
+    result = CliRunner().invoke(app, ["lint", "--fix", str(path)])
+    assert path.read_text() == xacro.replace('xyz="0 2 0"', 'xyz="0 1 0"'), result.stdout

@@ -1,17 +1,14 @@
-"""Writing recorded limits into a URDF's text, keeping every other byte."""
+"""Writing recorded limits into a URDF's text, keeping every other byte (`model.urdf_edit`)."""
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
-from armtool.errors import ArmtoolError
+from lxml import etree
 
-_JOINT_RE = re.compile(r"<joint\b[^>]*/>|<joint\b[^>]*>.*?</joint\s*>", re.S)
-_NAME_RE = re.compile(r"""\bname\s*=\s*(["'])(.*?)\1""")
-_TYPE_RE = re.compile(r"""\btype\s*=\s*(["'])(.*?)\1""")
-_LIMIT_RE = re.compile(r"<limit\b[^>]*?/?>", re.S)
-_ATTR_RE = r"""(\b{}\s*=\s*)(["'])(.*?)\2"""
+from armtool.errors import ArmtoolError
+from armtool.model.urdf_edit import ByteEdit, UneditableXml, XmlSource
+from armtool.model.urdf_edit import urdf_joints as joint_elements
 
 
 @dataclass
@@ -22,33 +19,44 @@ class UrdfJoint:
     upper: float | None
 
 
-def urdf_joints(text: str, source: str = "URDF") -> dict[str, UrdfJoint]:
-    out: dict[str, UrdfJoint] = {}
-    for m in _JOINT_RE.finditer(_blank_comments(text)):
-        block = m.group(0)
-        head = block[: block.index(">")]
-        name, jtype = _NAME_RE.search(head), _TYPE_RE.search(head)
-        if not name or not jtype:  # a URDF joint always has a type; a reference to one does not
+def _source(text: str, source: str) -> XmlSource:
+    try:
+        return XmlSource.from_text(text)
+    except UneditableXml as exc:
+        raise ArmtoolError(
+            f"{source} is not a URDF armtool can edit: {exc.message}",
+            f"{source}:{exc.line}",
+            "pass the URDF file itself (for a xacro: xacro arm.urdf.xacro > arm.urdf)",
+        ) from None
+
+
+def _joints(doc: XmlSource, source: str) -> dict[str, tuple[UrdfJoint, etree._Element]]:
+    """Joints with a type (a URDF joint always has one), each with its element."""
+    out: dict[str, tuple[UrdfJoint, etree._Element]] = {}
+    for name, el in joint_elements(doc.root).items():
+        jtype = el.get("type")
+        if jtype is None:
             continue
-        lim = _LIMIT_RE.search(block)
+        lim = el.find("limit")
         lower = upper = None
-        if lim:
-            lo = re.search(_ATTR_RE.format("lower"), lim.group(0))
-            hi = re.search(_ATTR_RE.format("upper"), lim.group(0))
-            lower = _urdf_float(lo.group(3), "lower", name.group(2), text, m.start(), source) if lo else None
-            upper = _urdf_float(hi.group(3), "upper", name.group(2), text, m.start(), source) if hi else None
-        out[name.group(2)] = UrdfJoint(name.group(2), jtype.group(2) if jtype else "", lower, upper)
+        if lim is not None:
+            line = doc.line_of(doc.tag(el).start)
+            lower = _urdf_float(lim.get("lower"), "lower", name, line, source)
+            upper = _urdf_float(lim.get("upper"), "upper", name, line, source)
+        out[name] = (UrdfJoint(name, jtype, lower, upper), el)
     return out
 
 
-_NOT_JOINTS_RE = re.compile(r"<!--.*?-->|<(transmission|ros2_control|gazebo)\b.*?</\1\s*>", re.S)
+def urdf_joints(text: str, source: str = "URDF") -> dict[str, UrdfJoint]:
+    return {name: joint for name, (joint, _el) in _joints(_source(text, source), source).items()}
 
 
-def _urdf_float(value: str, attr: str, joint: str, text: str, offset: int, source: str) -> float:
+def _urdf_float(value: str | None, attr: str, joint: str, line: int, source: str) -> float | None:
+    if value is None:
+        return None
     try:
         return float(value)
     except ValueError:
-        line = text.count("\n", 0, offset) + 1
         raise ArmtoolError(
             f"joint '{joint}': <limit {attr}=\"{value}\"> is not a number",
             f"{source}:{line}",
@@ -56,15 +64,7 @@ def _urdf_float(value: str, attr: str, joint: str, text: str, offset: int, sourc
         ) from None
 
 
-def _blank_comments(text: str) -> str:
-    """Comments, and the blocks whose <joint name> only refers to a joint (<transmission>,
-    <ros2_control>, <gazebo>), replaced by spaces of the same length, so offsets stay valid."""
-    text = re.sub(r"<!--.*?-->", lambda m: " " * len(m.group(0)), text, flags=re.S)
-    return _NOT_JOINTS_RE.sub(lambda m: " " * len(m.group(0)), text)
-
-
-def check_urdf_names(text: str, names: list[str], source: str) -> dict[str, UrdfJoint]:
-    joints = urdf_joints(text, source)
+def _check_names(joints: dict[str, UrdfJoint], names: list[str], source: str) -> None:
     missing = [n for n in names if n not in joints]
     if missing:
         raise ArmtoolError(
@@ -76,6 +76,11 @@ def check_urdf_names(text: str, names: list[str], source: str) -> dict[str, Urdf
         raise ArmtoolError(
             f"joint(s) {', '.join(bad)} in {source} are not revolute (continuous/fixed joints have no limits)"
         )
+
+
+def check_urdf_names(text: str, names: list[str], source: str) -> dict[str, UrdfJoint]:
+    joints = urdf_joints(text, source)
+    _check_names(joints, names, source)
     return joints
 
 
@@ -83,7 +88,10 @@ def patch_urdf(
     text: str, limits: dict[str, tuple[float, float]], allow_widen: bool = False, source: str = "URDF"
 ) -> str:
     """New URDF text with `<limit lower upper>` set per joint; everything else kept byte for byte."""
-    existing = check_urdf_names(text, list(limits), source)
+    doc = _source(text, source)
+    found = _joints(doc, source)
+    existing = {name: joint for name, (joint, _el) in found.items()}
+    _check_names(existing, list(limits), source)
     if not allow_widen:
         wider = [
             f"{n}: measured {lo:.4f}..{hi:.4f}, URDF {existing[n].lower:.4f}..{existing[n].upper:.4f}"
@@ -97,35 +105,18 @@ def patch_urdf(
                 "measured limits lie outside the URDF's: " + "; ".join(wider),
                 hint="check zero_ticks/direction in the arm file, or pass --allow-widen to write them anyway",
             )
-    blanked = _blank_comments(text)
-    edits: list[tuple[int, int, str]] = []
-    for m in _JOINT_RE.finditer(blanked):
-        head = m.group(0)[: m.group(0).index(">")]
-        name = _NAME_RE.search(head)
-        if not name or not _TYPE_RE.search(head) or name.group(2) not in limits:
-            continue
-        lo, hi = limits[name.group(2)]
-        lim = _LIMIT_RE.search(m.group(0))
-        if lim:
-            tag = text[m.start() + lim.start() : m.start() + lim.end()]
-            for attr, value in (("lower", lo), ("upper", hi)):
-                pattern = re.compile(_ATTR_RE.format(attr))
-                if pattern.search(tag):
-                    tag = pattern.sub(lambda mm: f"{mm.group(1)}{mm.group(2)}{value:.6g}{mm.group(2)}", tag, count=1)  # noqa: B023 (runs at once)
-                else:
-                    tag = re.sub(r"<limit\b", f'<limit {attr}="{value:.6g}"', tag, count=1)
-            for attr, default in (("effort", "1.0"), ("velocity", "1.0")):
-                if not re.search(_ATTR_RE.format(attr), tag):
-                    tag = re.sub(r"\s*/?>$", lambda mm: f' {attr}="{default}"{mm.group(0)}', tag, count=1)  # noqa: B023 (runs at once)
-            edits.append((m.start() + lim.start(), m.start() + lim.end(), tag))
+    edits: list[ByteEdit] = []
+    for name, (lo, hi) in limits.items():
+        el = found[name][1]
+        values = {"lower": f"{lo:.6g}", "upper": f"{hi:.6g}"}
+        lim = el.find("limit")
+        if lim is not None:
+            for attr in ("effort", "velocity"):  # required by the URDF spec; kept when written
+                if lim.get(attr) is None:
+                    values[attr] = "1.0"
+            edits += doc.set_attributes(lim, values)
+        elif doc.tag(el).self_closing:
+            raise ArmtoolError(f"joint '{name}' in {source} is an empty element; cannot add a <limit>")
         else:
-            close = m.group(0).rfind("</joint")
-            if close < 0:
-                raise ArmtoolError(f"joint '{name.group(2)}' in {source} is an empty element; cannot add a <limit>")
-            line_start = text.rfind("\n", 0, m.start() + close) + 1
-            indent = re.match(r"[ \t]*", text[line_start:]).group(0)  # type: ignore[union-attr]
-            new = f'  <limit lower="{lo:.6g}" upper="{hi:.6g}" effort="1.0" velocity="1.0"/>\n{indent}'
-            edits.append((m.start() + close, m.start() + close, new))
-    for start, end, new in sorted(edits, reverse=True):
-        text = text[:start] + new + text[end:]
-    return text
+            edits.append(doc.insert_child(el, "limit", {**values, "effort": "1.0", "velocity": "1.0"}))
+    return doc.apply(edits).decode("utf-8")
