@@ -33,12 +33,11 @@ def _fmt(v: float) -> str:
 
 def joint_corrections(model: CalibModel, x: Array) -> dict[str, Array]:
     """joint name -> the 4×4 transform to right-multiply onto its URDF <origin>."""
-    n = model.chain.n
-    k = x[12:].reshape(n, 8)
+    parts = model.split(x)
     out: dict[str, Array] = {}
     for i, j in enumerate(model.chain.joints):
-        D = se3.delta(k[i, :6])
-        offset = float(k[i, 6])
+        D = se3.delta(parts.origin[i])
+        offset = float(parts.offset[i])
         M = np.eye(4)
         if j.kind == "prismatic":
             M[:3, 3] = offset * j.axis
@@ -115,7 +114,7 @@ def check_reproduces(text: str, model: CalibModel, x: Array, source: str) -> Non
 
     chain = chain_from_xml(parse_xml(text.encode("utf-8")), model.chain.base, model.chain.tip, source=source)
     x = x.copy()
-    x[12:].reshape(model.chain.n, 8)[:, 7] = 0.0  # a URDF has no gains; they are reported apart
+    model.split(x).gain_error[:] = 0.0  # a URDF has no gains; they are reported apart
     Q = model.chain.random(np.random.default_rng(0), 8)
     F = model.flange(x, Q)
     worst = max(float(np.abs(chain.fk(q) - T).max()) for q, T in zip(Q, F))

@@ -14,10 +14,10 @@ def test_written_urdf_has_the_fitted_kinematics(clean_chain: Chain) -> None:
     model = nominal_model(clean_chain)
     rng = np.random.default_rng(0)
     x = np.zeros(model.size)
-    k = x[12:].reshape(clean_chain.n, 8)
-    k[:, :3] = rng.normal(scale=0.002, size=(clean_chain.n, 3))
-    k[:, 3:6] = rng.normal(scale=0.003, size=(clean_chain.n, 3))
-    k[:, 6] = rng.normal(scale=0.005, size=clean_chain.n)
+    parts = model.split(x)
+    parts.origin[:, :3] = rng.normal(scale=0.002, size=(clean_chain.n, 3))
+    parts.origin[:, 3:] = rng.normal(scale=0.003, size=(clean_chain.n, 3))
+    parts.offset[:] = rng.normal(scale=0.005, size=clean_chain.n)
     text = CLEAN_ARM.read_text()
     new = corrected_text(text, joint_corrections(model, x), "clean_arm.urdf")
     chain2 = chain_from_xml(parse_xml(new.encode()), "base_link", "tool0")
@@ -55,10 +55,10 @@ def test_joint_without_origin_gets_one(clean_chain: Chain) -> None:
 def _random_corrections(model, seed: int = 0) -> np.ndarray:  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(seed)
     x = np.zeros(model.size)
-    k = x[12:].reshape(model.chain.n, 8)
-    k[:, :3] = rng.normal(scale=0.002, size=(model.chain.n, 3))
-    k[:, 3:6] = rng.normal(scale=0.003, size=(model.chain.n, 3))
-    k[:, 6] = rng.normal(scale=0.005, size=model.chain.n)
+    parts = model.split(x)
+    parts.origin[:, :3] = rng.normal(scale=0.002, size=(model.chain.n, 3))
+    parts.origin[:, 3:] = rng.normal(scale=0.003, size=(model.chain.n, 3))
+    parts.offset[:] = rng.normal(scale=0.005, size=model.chain.n)
     return x
 
 
