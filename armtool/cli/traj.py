@@ -301,9 +301,9 @@ def cartesian(
     import numpy as np
 
     from armtool.console import stderr
-    from armtool.ik.registry import make_solver
     from armtool.model.chain import load_chain
     from armtool.traj import cartesian as cart
+    from armtool.traj.path_ik import PathIK
     from armtool.traj.formats import TrajFormat
     from armtool.traj.trajectory import Trajectory
 
@@ -358,7 +358,7 @@ def cartesian(
     else:
         assert waypoints is not None
         segments = _waypoint_segments(waypoints, T0)
-    ik = make_solver(solver, chain)
+    ik = PathIK(chain, solver)
     opts = cart.CartesianOptions(
         eef_step,
         eef_step_rad,
