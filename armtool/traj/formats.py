@@ -24,7 +24,6 @@ from armtool.errors import ArmtoolError
 from armtool.traj.choices import TrajFormat
 from armtool.traj.trajectory import Array, Trajectory
 
-
 SCHEMA_VERSION = 1
 _SUFFIXES = (
     ("_rad_s2", "acc", False),

@@ -25,6 +25,7 @@ with the jerk limits, or it is an error.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
 from armtool.errors import ArmtoolError
 from armtool.traj.check import ACC_TOL, JERK_TOL, VEL_TOL, hermite_extremes
@@ -39,7 +40,7 @@ _MIN_SAMPLES = 200
 _MAX_SAMPLES = 20000  # 16 samples per window, at most this many
 
 
-def _stage(p: Profile, t: Array) -> tuple[Array, Array]:
+def _stage(p: Profile, t: Array) -> tuple[NDArray[np.intp], Array]:
     """Each time's stage index and its time into the stage (clipped to the profile)."""
     i = np.clip(np.searchsorted(p.t, t, side="right") - 1, 0, len(p.u) - 1)
     return i, np.clip(t, p.t[0], p.t[-1]) - p.t[i]

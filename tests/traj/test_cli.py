@@ -280,19 +280,27 @@ def test_retime_over_the_limits_with_urdf_writes_nothing(tmp_path: Path) -> None
     assert code == 1 and "T301" in text
 
 
-def test_time_with_jerk_limits_writes_and_says_jerk_is_not_planned(tmp_path: Path) -> None:
+def test_time_with_jerk_limits_plans_them_and_passes_check_with_them(tmp_path: Path) -> None:
     jl = tmp_path / "jl.yaml"
     jl.write_text(
         CLEAN_LIMITS.read_text().replace(
             "has_acceleration_limits: true", "has_jerk_limits: true, max_jerk: 50, has_acceleration_limits: true"
         )
     )
-    out = tmp_path / "t.csv"
-    result = runner.invoke(
-        app, ["traj", "time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(jl), "-o", str(out)]
-    )
-    assert result.exit_code == 0, result.output
-    assert "not planned for" in result.stderr and out.exists()
+    path = circle(tmp_path)
+    plain, jerky = tmp_path / "plain.csv", tmp_path / "jerky.csv"
+    assert invoke("time", str(path), "--urdf", U, "--joint-limits", JL, "-o", str(plain))[0] == 0
+    code, _, err = invoke("time", str(path), "--urdf", U, "--joint-limits", str(jl), "-o", str(jerky))
+    assert code == 0 and "jerk-limited" in err, err
+    # The time-optimal timing breaks the jerk limit; the jerk-limited one passes check with it.
+    code, out, _ = invoke("check", str(plain), "--urdf", U, "--joint-limits", str(jl))
+    assert code == 1 and "T303" in out
+    code, out, err = invoke("check", str(jerky), "--urdf", U, "--joint-limits", str(jl))
+    assert code == 0, out + err
+    # The same from --jerk-limit on the command line.
+    code, _, err = invoke("time", str(path), "--urdf", U, "--joint-limits", JL, "--jerk-limit", "50", "-o", str(jerky))
+    assert code == 0 and "jerk-limited" in err
+    assert invoke("check", str(jerky), "--urdf", U, "--joint-limits", str(jl))[0] == 0
 
 
 def test_output_that_is_an_input_is_refused_and_the_input_kept(tmp_path: Path) -> None:
