@@ -16,6 +16,7 @@ from .helpers import CLEAN_LIMITS, CLEAN_URDF, START
 
 runner = CliRunner()
 U, JL = str(CLEAN_URDF), str(CLEAN_LIMITS)
+CART = ("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START)  # the clean arm from START
 
 
 def invoke(*args: str, stdin: str | None = None) -> tuple[int, str, str]:
@@ -35,14 +36,7 @@ def passes_check(path: Path) -> None:
 def circle(tmp_path: Path, *extra: str) -> Path:
     out = tmp_path / "circle.csv"
     code, _, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--center-offset",
         "0,-0.1,0",
         "--normal",
@@ -121,12 +115,12 @@ def test_pipe_through_stdin(tmp_path: Path) -> None:
     "args, what",
     [
         (
-            ["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--center-offset", "0,0,0"],
+            [*CART, "--center-offset", "0,0,0"],
             "radius",
         ),
-        (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--radius", "0"], "radius"),
+        ([*CART, "--radius", "0"], "radius"),
         (
-            ["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--line", "3,0,0"],
+            [*CART, "--line", "3,0,0"],
             "nothing written",
         ),
         (["retime", "PATH", "--scale", "0"], "--scale must be > 0"),
@@ -189,14 +183,7 @@ def test_waypoints_and_arc(tmp_path: Path) -> None:
     out = tmp_path / "wp.csv"
     png = tmp_path / "wp.png"
     code, _, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--waypoints",
         str(wp),
         "-o",
@@ -209,14 +196,7 @@ def test_waypoints_and_arc(tmp_path: Path) -> None:
     assert len(out.read_text().splitlines()) >= 11
     arc = tmp_path / "arc.json"
     code, _, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--arc-via",
         f"{p[0]},{p[1] - 0.05},{p[2] + 0.05}",
         "--arc-to",
@@ -229,14 +209,7 @@ def test_waypoints_and_arc(tmp_path: Path) -> None:
     bad = tmp_path / "bad_poses.csv"
     bad.write_text("x_m,y_m,z_m\n0.1,nan,0.2\n")
     code, _, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--waypoints",
         str(bad),
         "-o",
@@ -341,14 +314,7 @@ def test_output_that_is_an_input_is_refused_and_the_input_kept(tmp_path: Path) -
 def test_bad_output_path_is_refused_before_the_work(tmp_path: Path) -> None:
     out = tmp_path / "path.csv"
     code, stdout, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--center-offset",
         "0,-0.1,0",
         "-o",
@@ -381,9 +347,7 @@ def test_fifo_inputs_are_refused_without_blocking(tmp_path: Path) -> None:
     os.mkfifo(fifo)
     code, _, err = _finishes("check", str(fifo), "--urdf", U)
     assert code == 2 and "not a regular file" in err and "fifo.csv" in err
-    code, _, err = _finishes(
-        "cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(fifo)
-    )
+    code, _, err = _finishes(*CART, "--waypoints", str(fifo))
     assert code == 2 and "not a regular file" in err
     code, _, err = _finishes("check", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(fifo))
     assert code == 2 and "not a regular file" in err
@@ -392,9 +356,7 @@ def test_fifo_inputs_are_refused_without_blocking(tmp_path: Path) -> None:
 def test_waypoints_that_are_not_utf8_are_an_input_error(tmp_path: Path) -> None:
     wp = tmp_path / "latin1.csv"
     wp.write_bytes("# posé\nx_m,y_m,z_m\n0.1,0.2,0.3\n".encode("latin-1"))
-    code, _, err = invoke(
-        "cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp)
-    )
+    code, _, err = invoke(*CART, "--waypoints", str(wp))
     assert code == 2 and "UTF-8" in err and "latin1.csv" in err
 
 
