@@ -45,6 +45,11 @@ def test_every_sample_lies_on_the_path_in_order() -> None:
     gap = max(float(np.abs(dense[k] - q).max()) for k, q in zip(nearest, timed.positions))
     assert gap < 1e-4  # on the spline, to the resolution of the dense sampling
     assert np.all(np.diff(nearest) >= 0)  # forward along it, never back
+    # Between samples: the cubic Hermite a controller runs, at each segment's middle, stays on it too.
+    T = np.diff(timed.times)[:, None]
+    q, v = timed.positions, timed.velocities
+    middles = (q[:-1] + q[1:]) / 2 + T * (v[:-1] - v[1:]) / 8
+    assert max(float(np.abs(dense - m).max(axis=1).min()) for m in middles) < 1e-4
     assert np.allclose(timed.positions[[0, -1]], path.positions[[0, -1]], atol=1e-12)
 
 
