@@ -34,9 +34,10 @@ class PathIK:
 
         self.chain, self.solver_name, self.tolerance = chain, solver, tolerance
         self._make: Callable[[], Solver] = lambda: make_solver(solver, chain, tolerance=tolerance)
-        self._solver: Solver | None = None
         self.fallbacks = 0  # targets the first try did not solve (the real solver was asked)
         self._lm: _FirstTry | None = _FirstTry(chain, tolerance) if solver == "lm" else None
+        # Any other solver now: one that does not apply to this arm (analytic) fails before the path.
+        self._solver: Solver | None = None if self._lm is not None else self._make()
 
     @property
     def solver(self) -> Solver:

@@ -63,3 +63,14 @@ def test_cartesian_circle_imports_no_scipy(tmp_path: object) -> None:
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_a_solver_that_does_not_apply_fails_before_the_path() -> None:
+    import pytest
+
+    from armtool.errors import ArmtoolError
+    from tests.ik.robots import erd
+
+    panda = load_chain(erd("panda_description/urdf/panda.urdf"), "panda_link0", "panda_link8")
+    with pytest.raises(ArmtoolError, match="closed form"):
+        PathIK(panda, "analytic")
