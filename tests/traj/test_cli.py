@@ -398,3 +398,14 @@ def test_cartesian_numbers_and_solver_checked_at_parse_time(option: str, value: 
     text = (str(result.exception) if isinstance(result.exception, ArmtoolError) else "") + result.output
     assert result.exit_code == 2 or isinstance(result.exception, ArmtoolError)
     assert what in text and option in text and "non-zero" not in text
+
+
+def test_help_shows_brackets_and_solver_choices() -> None:
+    # The options are typer Annotated declarations (cli/traj/common.py): their help must still show
+    # the brackets rich could take for markup, and --solver lists the solvers.
+    wide = {"COLUMNS": "250"}
+    time_help = runner.invoke(app, ["traj", "time", "--help"], env=wide).stdout
+    assert "JOINT=VALUE[,..]" in time_help and "--jerk-limit" in time_help
+    cart_help = runner.invoke(app, ["traj", "cartesian", "--help"], env=wide).stdout
+    assert "x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad]" in cart_help
+    assert "lm|dls|kdl-nr-jl|kdl-lma|trac|analytic" in cart_help
