@@ -19,12 +19,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, Protocol
 
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.ik.solver import Solver, rotation_error
+from armtool.ik.solver import IKResult, rotation_error
 from armtool.model.chain import Chain, axis_angle_batch
 from armtool.traj.check import jump_steps
 from armtool.traj.trajectory import Array
@@ -32,6 +32,12 @@ from armtool.traj.trajectory import Array
 PoseFn = Callable[[float], Array]  # λ in [0, 1] -> 4x4 pose
 StopReason = Literal["", "unreachable", "joint limit", "singularity", "jump"]
 SINGULAR_SIGMA = 1e-3
+
+
+class PoseSolver(Protocol):
+    """What the path needs of IK: an `armtool.ik` solver, or `armtool.traj.path_ik.PathIK`."""
+
+    def solve(self, target: Array, seed: Array) -> IKResult: ...
 
 
 @dataclass(frozen=True)
@@ -119,10 +125,11 @@ def circle_segment(start: Array, center: Array, normal: Array, angle_rad: float)
     if not (math.isfinite(angle_rad) and angle_rad != 0):
         raise ArmtoolError(f"the arc angle must be non-zero, got {angle_rad}")
     K = np.array([[0, -n[2], n[1]], [n[2], 0, -n[0]], [-n[1], n[0], 0]])
+    eye, KK = np.eye(3), K @ K  # once, not per pose: a path samples thousands of poses
 
     def pose(lam: float) -> Array:
         th = lam * angle_rad
-        Rn = np.eye(3) + math.sin(th) * K + (1 - math.cos(th)) * (K @ K)
+        Rn = eye + math.sin(th) * K + (1 - math.cos(th)) * KK
         T: Array = start.copy()
         T[:3, 3] = center + Rn @ r_vec
         return T
@@ -175,7 +182,7 @@ def arc_through(start: Array, via: Array, end: Array) -> Segment:
 
 
 class _Stepper:
-    def __init__(self, chain: Chain, solver: Solver, options: CartesianOptions) -> None:
+    def __init__(self, chain: Chain, solver: PoseSolver, options: CartesianOptions) -> None:
         self.chain, self.solver, self.o = chain, solver, options
         self.inserted = 0
         self.dev_m = 0.0
@@ -238,7 +245,7 @@ def _why(chain: Chain, q: Array, target: Array, reason: str) -> tuple[StopReason
 
 
 def compute_cartesian(
-    chain: Chain, solver: Solver, start_q: Array, segments: list[Segment], options: CartesianOptions
+    chain: Chain, solver: PoseSolver, start_q: Array, segments: list[Segment], options: CartesianOptions
 ) -> CartesianResult:
     """Follow `segments` from the configuration `start_q` (their first pose must be FK(start_q))."""
     o = options

@@ -15,23 +15,14 @@ import csv
 import io
 import json
 import math
-from enum import Enum
 from pathlib import Path
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from armtool.errors import ArmtoolError
+from armtool.traj.choices import TrajFormat
 from armtool.traj.trajectory import Array, Trajectory
-
-
-class TrajFormat(str, Enum):
-    CSV = "csv"
-    ROS2 = "ros2"
-    ROS1 = "ros1"
-    MOVEIT = "moveit"
-    JSON = "json"
-
 
 SCHEMA_VERSION = 1
 _SUFFIXES = (

@@ -70,6 +70,9 @@ class JointLimits:
                 hint=f"set <limit velocity> in the URDF, max_velocity in joint_limits.yaml, or --vel-limit {missing[0]}=VALUE",
             )
 
+    def has_jerk_limits(self) -> bool:
+        return bool(np.any(np.isfinite(self.jerk) & (self.jerk > 0)))
+
     def scaled(self) -> tuple[Array, Array]:
         """Velocity and acceleration limits times their scaling factors (for timing)."""
         return self.velocity * self.velocity_scaling, self.acceleration * self.acceleration_scaling

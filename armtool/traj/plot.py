@@ -66,9 +66,6 @@ def _panel(
 
 
 def write_plot(path: Path, traj: Trajectory, limits: JointLimits, chain: Chain | None = None) -> None:
-    import cv2
-
-    from armtool.fileio import write_atomic
 
     if path.suffix.lower() != ".png":
         raise ArmtoolError("the plot is a PNG", str(path), "name the output *.png")
@@ -116,20 +113,7 @@ def write_plot(path: Path, traj: Trajectory, limits: JointLimits, chain: Chain |
             x0 = left + c * (pw + 70)
             side = min(pw, ph)
             _xy(img, (x0, y0, x0 + side, y0 + side), P[:, i], P[:, k], label)
-    cv2.putText(
-        img,
-        f"{traj.source}: {traj.n_points} points, x = {xlabel}; red = limits",
-        (left, 18),
-        cv2.FONT_HERSHEY_SIMPLEX,
-        0.45,
-        _BLACK,
-        1,
-        cv2.LINE_AA,
-    )
-    ok, buf = cv2.imencode(".png", img)
-    if not ok:
-        raise ArmtoolError("could not encode the PNG", str(path))
-    write_atomic(path, buf.tobytes())
+    _save(img, f"{traj.source}: {traj.n_points} points, x = {xlabel}; red = limits", left, path)
 
 
 def _xy(img: np.ndarray, box: tuple[int, int, int, int], a: Array, b: Array, title: str) -> None:
@@ -155,9 +139,6 @@ def write_cartesian_plot(
 ) -> None:
     """The tool path of a Cartesian joint path (three projections) and, per step, how far the tool at
     the joint midpoint lies from the ideal path (the precision check's measure), with the bound."""
-    import cv2
-
-    from armtool.fileio import write_atomic
 
     if path.suffix.lower() != ".png":
         raise ArmtoolError("the plot is a PNG", str(path), "name the output *.png")
@@ -174,16 +155,16 @@ def write_cartesian_plot(
     r = dev_rad if len(dev_rad) > 1 else np.zeros(2)
     _panel(img, (70, 350, 520, 520), steps, m, (0.0, precision_m * 1000), "midpoint deviation (mm) per step")
     _panel(img, (600, 350, 1050, 520), steps, r, (0.0, precision_rad), "midpoint deviation (rad) per step")
-    cv2.putText(
-        img,
-        f"{chain.base} -> {chain.tip}: {len(q)} points; red = --precision bounds",
-        (70, 18),
-        cv2.FONT_HERSHEY_SIMPLEX,
-        0.45,
-        _BLACK,
-        1,
-        cv2.LINE_AA,
-    )
+    _save(img, f"{chain.base} -> {chain.tip}: {len(q)} points; red = --precision bounds", 70, path)
+
+
+def _save(img: np.ndarray, title: str, left: int, path: Path) -> None:
+    """Title the image and write it as a PNG (atomically)."""
+    import cv2
+
+    from armtool.fileio import write_atomic
+
+    cv2.putText(img, title, (left, 18), cv2.FONT_HERSHEY_SIMPLEX, 0.45, _BLACK, 1, cv2.LINE_AA)
     ok, buf = cv2.imencode(".png", img)
     if not ok:
         raise ArmtoolError("could not encode the PNG", str(path))

@@ -1,4 +1,5 @@
-"""`traj time`: the time-optimal rest-to-rest timing of a joint path, sampled on the TOPP-RA grid.
+"""`traj time`: the time-optimal rest-to-rest timing of a joint path, sampled on the TOPP-RA grid
+(with jerk limits: smoothed, `armtool.traj.smooth`).
 
 The written samples (t, q, q̇, q̈) are checked with `armtool.traj.check` itself (cubic Hermite
 between samples, exactly); if rounding between grid points puts a segment over a limit, the
@@ -21,7 +22,8 @@ _MARGIN = 1e-4  # plan this far inside the limits: the grid is exact only at its
 
 
 def time_optimal(traj: Trajectory, limits: JointLimits, min_stages: int = 400) -> Trajectory:
-    """`traj`'s positions as a path, timed time-optimally under `limits` (joints matched by name)."""
+    """`traj`'s positions as a path, timed time-optimally under `limits` (joints matched by name).
+    With a jerk limit on any joint, the jerk-limited timing of `armtool.traj.smooth` instead."""
     from armtool.traj.topp import grid
 
     missing = [n for n in traj.joint_names if n not in limits.names]
@@ -37,6 +39,10 @@ def time_optimal(traj: Trajectory, limits: JointLimits, min_stages: int = 400) -
     path = joint_path(traj.positions, traj.source)
     s_grid = grid(path, min_stages)
     _within_position_limits(path, lim, traj)
+    if lim.has_jerk_limits():
+        from armtool.traj.smooth import jerk_limited
+
+        return jerk_limited(traj, lim, path, s_grid, vel, acc)
     v_plan, a_plan = vel * (1 - _MARGIN), acc * (1 - _MARGIN)
     for _ in range(8):
         profile = parameterize(path, v_plan, a_plan, s_grid)

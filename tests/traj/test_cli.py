@@ -16,6 +16,7 @@ from .helpers import CLEAN_LIMITS, CLEAN_URDF, START
 
 runner = CliRunner()
 U, JL = str(CLEAN_URDF), str(CLEAN_LIMITS)
+CART = ("cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START)  # the clean arm from START
 
 
 def invoke(*args: str, stdin: str | None = None) -> tuple[int, str, str]:
@@ -35,14 +36,7 @@ def passes_check(path: Path) -> None:
 def circle(tmp_path: Path, *extra: str) -> Path:
     out = tmp_path / "circle.csv"
     code, _, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--center-offset",
         "0,-0.1,0",
         "--normal",
@@ -121,12 +115,12 @@ def test_pipe_through_stdin(tmp_path: Path) -> None:
     "args, what",
     [
         (
-            ["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--center-offset", "0,0,0"],
+            [*CART, "--center-offset", "0,0,0"],
             "radius",
         ),
-        (["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--radius", "0"], "radius"),
+        ([*CART, "--radius", "0"], "radius"),
         (
-            ["cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--line", "3,0,0"],
+            [*CART, "--line", "3,0,0"],
             "nothing written",
         ),
         (["retime", "PATH", "--scale", "0"], "--scale must be > 0"),
@@ -189,14 +183,7 @@ def test_waypoints_and_arc(tmp_path: Path) -> None:
     out = tmp_path / "wp.csv"
     png = tmp_path / "wp.png"
     code, _, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--waypoints",
         str(wp),
         "-o",
@@ -209,14 +196,7 @@ def test_waypoints_and_arc(tmp_path: Path) -> None:
     assert len(out.read_text().splitlines()) >= 11
     arc = tmp_path / "arc.json"
     code, _, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--arc-via",
         f"{p[0]},{p[1] - 0.05},{p[2] + 0.05}",
         "--arc-to",
@@ -229,14 +209,7 @@ def test_waypoints_and_arc(tmp_path: Path) -> None:
     bad = tmp_path / "bad_poses.csv"
     bad.write_text("x_m,y_m,z_m\n0.1,nan,0.2\n")
     code, _, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--waypoints",
         str(bad),
         "-o",
@@ -280,19 +253,27 @@ def test_retime_over_the_limits_with_urdf_writes_nothing(tmp_path: Path) -> None
     assert code == 1 and "T301" in text
 
 
-def test_time_with_jerk_limits_writes_and_says_jerk_is_not_planned(tmp_path: Path) -> None:
+def test_time_with_jerk_limits_plans_them_and_passes_check_with_them(tmp_path: Path) -> None:
     jl = tmp_path / "jl.yaml"
     jl.write_text(
         CLEAN_LIMITS.read_text().replace(
             "has_acceleration_limits: true", "has_jerk_limits: true, max_jerk: 50, has_acceleration_limits: true"
         )
     )
-    out = tmp_path / "t.csv"
-    result = runner.invoke(
-        app, ["traj", "time", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(jl), "-o", str(out)]
-    )
-    assert result.exit_code == 0, result.output
-    assert "not planned for" in result.stderr and out.exists()
+    path = circle(tmp_path)
+    plain, jerky = tmp_path / "plain.csv", tmp_path / "jerky.csv"
+    assert invoke("time", str(path), "--urdf", U, "--joint-limits", JL, "-o", str(plain))[0] == 0
+    code, _, err = invoke("time", str(path), "--urdf", U, "--joint-limits", str(jl), "-o", str(jerky))
+    assert code == 0 and "jerk-limited" in err, err
+    # The time-optimal timing breaks the jerk limit; the jerk-limited one passes check with it.
+    code, out, _ = invoke("check", str(plain), "--urdf", U, "--joint-limits", str(jl))
+    assert code == 1 and "T303" in out
+    code, out, err = invoke("check", str(jerky), "--urdf", U, "--joint-limits", str(jl))
+    assert code == 0, out + err
+    # The same from --jerk-limit on the command line.
+    code, _, err = invoke("time", str(path), "--urdf", U, "--joint-limits", JL, "--jerk-limit", "50", "-o", str(jerky))
+    assert code == 0 and "jerk-limited" in err
+    assert invoke("check", str(jerky), "--urdf", U, "--joint-limits", str(jl))[0] == 0
 
 
 def test_output_that_is_an_input_is_refused_and_the_input_kept(tmp_path: Path) -> None:
@@ -333,14 +314,7 @@ def test_output_that_is_an_input_is_refused_and_the_input_kept(tmp_path: Path) -
 def test_bad_output_path_is_refused_before_the_work(tmp_path: Path) -> None:
     out = tmp_path / "path.csv"
     code, stdout, err = invoke(
-        "cartesian",
-        U,
-        "--base",
-        "base_link",
-        "--tip",
-        "tool0",
-        "--start",
-        START,
+        *CART,
         "--center-offset",
         "0,-0.1,0",
         "-o",
@@ -373,9 +347,7 @@ def test_fifo_inputs_are_refused_without_blocking(tmp_path: Path) -> None:
     os.mkfifo(fifo)
     code, _, err = _finishes("check", str(fifo), "--urdf", U)
     assert code == 2 and "not a regular file" in err and "fifo.csv" in err
-    code, _, err = _finishes(
-        "cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(fifo)
-    )
+    code, _, err = _finishes(*CART, "--waypoints", str(fifo))
     assert code == 2 and "not a regular file" in err
     code, _, err = _finishes("check", str(circle(tmp_path)), "--urdf", U, "--joint-limits", str(fifo))
     assert code == 2 and "not a regular file" in err
@@ -384,9 +356,7 @@ def test_fifo_inputs_are_refused_without_blocking(tmp_path: Path) -> None:
 def test_waypoints_that_are_not_utf8_are_an_input_error(tmp_path: Path) -> None:
     wp = tmp_path / "latin1.csv"
     wp.write_bytes("# posé\nx_m,y_m,z_m\n0.1,0.2,0.3\n".encode("latin-1"))
-    code, _, err = invoke(
-        "cartesian", U, "--base", "base_link", "--tip", "tool0", "--start", START, "--waypoints", str(wp)
-    )
+    code, _, err = invoke(*CART, "--waypoints", str(wp))
     assert code == 2 and "UTF-8" in err and "latin1.csv" in err
 
 
@@ -428,3 +398,14 @@ def test_cartesian_numbers_and_solver_checked_at_parse_time(option: str, value: 
     text = (str(result.exception) if isinstance(result.exception, ArmtoolError) else "") + result.output
     assert result.exit_code == 2 or isinstance(result.exception, ArmtoolError)
     assert what in text and option in text and "non-zero" not in text
+
+
+def test_help_shows_brackets_and_solver_choices() -> None:
+    # The options are typer Annotated declarations (cli/traj/common.py): their help must still show
+    # the brackets rich could take for markup, and --solver lists the solvers.
+    wide = {"COLUMNS": "250"}
+    time_help = runner.invoke(app, ["traj", "time", "--help"], env=wide).stdout
+    assert "JOINT=VALUE[,..]" in time_help and "--jerk-limit" in time_help
+    cart_help = runner.invoke(app, ["traj", "cartesian", "--help"], env=wide).stdout
+    assert "x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad]" in cart_help
+    assert "lm|dls|kdl-nr-jl|kdl-lma|trac|analytic" in cart_help

@@ -1,0 +1,144 @@
+"""`armtool traj cartesian`: options in, `armtool.traj.plan` out."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from armtool.cli.options import finite_float, positive_float
+from armtool.cli.traj.common import Base, To, emit, start
+from armtool.traj.choices import PathSolver, TrajFormat
+
+
+def cartesian(
+    urdf: Annotated[Path, typer.Argument(help="URDF or xacro of the arm.")],
+    base: Base = None,
+    tip: Annotated[str | None, typer.Option(help="Tool link (default: the end of the longest chain).")] = None,
+    start_q: Annotated[
+        str | None,
+        typer.Option("--start", help="Start configuration, comma-separated joint values (default: mid-range)."),
+    ] = None,
+    line: Annotated[
+        str | None, typer.Option(help="Straight line to X,Y,Z (m, base frame), keeping the orientation.")
+    ] = None,
+    relative: Annotated[bool, typer.Option(help="--line X,Y,Z is an offset from the start position.")] = False,
+    center_offset: Annotated[
+        str | None,
+        typer.Option(help="Circle through the start: its centre as DX,DY,DZ from the start position (m, base frame)."),
+    ] = None,
+    center: Annotated[
+        str | None, typer.Option(help="Circle through the start: its centre X,Y,Z (m, base frame).")
+    ] = None,
+    radius: Annotated[
+        float | None,
+        typer.Option(
+            callback=positive_float(unit="m"),
+            help="Circle of this radius (m) about --center/--center-offset (default: the start position), "
+            "reached by a straight line first: the lecture's circle.",
+        ),
+    ] = None,
+    normal: Annotated[
+        str, typer.Option(help="Circle: plane normal (base frame); the tool turns right-handed about it.")
+    ] = "1,0,0",
+    angle: Annotated[
+        float, typer.Option(callback=finite_float(), help="Circle: angle to turn (rad; default a full circle).")
+    ] = 2 * math.pi,
+    arc_via: Annotated[
+        str | None, typer.Option(help="Arc through three points: the interim point X,Y,Z (with --arc-to).")
+    ] = None,
+    arc_to: Annotated[str | None, typer.Option(help="Arc through three points: the end point X,Y,Z.")] = None,
+    waypoints: Annotated[
+        Path | None, typer.Option(help="CSV of poses: x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad] (base frame).")
+    ] = None,
+    eef_step: Annotated[
+        float,
+        typer.Option(callback=positive_float(unit="m"), help="Largest tool step between path points (m)."),
+    ] = 0.01,
+    eef_step_rad: Annotated[
+        float,
+        typer.Option(callback=positive_float(unit="rad"), help="Largest tool rotation between path points (rad)."),
+    ] = 0.05,
+    precision: Annotated[
+        float,
+        typer.Option(
+            callback=positive_float(unit="m"),
+            help="Largest deviation of a joint midpoint from the path (m); points are inserted until met.",
+        ),
+    ] = 1e-3,
+    precision_rad: Annotated[
+        float,
+        typer.Option(
+            callback=positive_float(unit="rad"), help="Largest orientation deviation of a joint midpoint (rad)."
+        ),
+    ] = 0.01,
+    jump_factor: Annotated[
+        float,
+        typer.Option(
+            callback=finite_float(0.0), help="Relative jump rule: a step over FACTOR × the mean step (0: off)."
+        ),
+    ] = 10.0,
+    max_step: Annotated[
+        float,
+        typer.Option(
+            callback=finite_float(0.0, unit="rad"), help="Absolute jump rule: largest joint step (rad; 0: off)."
+        ),
+    ] = 0.5,
+    max_step_m: Annotated[
+        float,
+        typer.Option(callback=finite_float(0.0, unit="m"), help="Absolute jump rule for prismatic joints (m; 0: off)."),
+    ] = 0.1,
+    solver: Annotated[
+        PathSolver,
+        typer.Option(
+            help="IK solver from `armtool ik-bench` (lm; analytic picks the solution nearest the previous point)."
+        ),
+    ] = PathSolver.LM,
+    min_fraction: Annotated[
+        float,
+        typer.Option(
+            callback=finite_float(0.0, 1.0),
+            help="Below this fraction achieved: write nothing, exit 2 (0: write what was achieved).",
+        ),
+    ] = 1.0,
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write the joint path here (default: stdout, CSV).")
+    ] = None,
+    to: To = None,
+    plot: Annotated[
+        Path | None,
+        typer.Option(help="Also draw the tool path and each step's midpoint deviation from the path (PNG)."),
+    ] = None,
+) -> None:
+    start({"-o": output, "--plot": plot}, [urdf, waypoints])
+    from rich.markup import escape
+
+    from armtool.console import stderr
+    from armtool.traj import plan
+    from armtool.traj.cartesian import CartesianOptions
+
+    spec = plan.PathSpec(line, relative, center, center_offset, radius, normal, angle, arc_via, arc_to, waypoints)
+    steps = CartesianOptions(
+        eef_step,
+        eef_step_rad,
+        precision,
+        precision_rad,
+        jump_factor=jump_factor or None,
+        max_step_rad=max_step or None,
+        max_step_m=max_step_m or None,
+    )
+    done = plan.plan_cartesian(urdf, base, tip, start_q, spec, steps, solver.value)
+    for text in plan.report_lines(done.result):
+        stderr().print(escape(text))
+    plan.require_fraction(done.result, min_fraction)
+    emit(done.trajectory, output, to, TrajFormat.CSV, None)
+    if plot is not None:
+        from armtool.traj.plot import write_cartesian_plot
+
+        r = done.result
+        write_cartesian_plot(
+            plot, done.chain, r.q, r.midpoint_deviation_m, r.midpoint_deviation_rad, precision, precision_rad
+        )
+        stderr().print(f"wrote {plot}")

@@ -1,0 +1,191 @@
+"""`traj cartesian` from its options to a joint path: the start configuration, the segments the
+tool must follow (a line, a circle or arc, or waypoint poses), IK along them, and the report lines.
+The CLI parses flags into a `PathSpec` and prints; everything here raises ArmtoolError on bad input."""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from armtool.errors import ArmtoolError
+from armtool.model.chain import Chain, load_chain, rpy_matrix
+from armtool.traj import cartesian as cart
+from armtool.traj.trajectory import Array, Trajectory
+
+MAX_WAYPOINT_BYTES = 16 * 1024 * 1024  # ~300 000 poses: far more than a taught path holds
+
+
+@dataclass(frozen=True)
+class PathSpec:
+    """The tool path as given on the command line (exactly one of line, circle, arc, waypoints)."""
+
+    line: str | None = None  # X,Y,Z (m, base frame)
+    relative: bool = False  # --line is an offset from the start position
+    center: str | None = None
+    center_offset: str | None = None
+    radius: float | None = None
+    normal: str = "1,0,0"
+    angle: float = 2 * math.pi
+    arc_via: str | None = None
+    arc_to: str | None = None
+    waypoints: Path | None = None
+
+    @property
+    def circle(self) -> bool:
+        return self.center is not None or self.center_offset is not None or self.radius is not None
+
+    def check(self) -> None:
+        if self.center is not None and self.center_offset is not None:
+            raise ArmtoolError("give --center or --center-offset, not both")
+        chosen = [x for x in (self.line, self.circle or None, self.arc_to, self.waypoints) if x is not None]
+        if len(chosen) != 1:
+            raise ArmtoolError(
+                "give exactly one path: --line, a circle (--center/--center-offset, or --radius), --arc-via/--arc-to, or --waypoints",
+                hint="e.g. --center-offset 0,-0.1,0 --normal 1,0,0 for the lecture's circle of radius 0.1 m",
+            )
+        if (self.arc_via is None) != (self.arc_to is None):
+            raise ArmtoolError("an arc needs both --arc-via and --arc-to")
+
+
+@dataclass(frozen=True)
+class CartesianPlan:
+    chain: Chain
+    result: cart.CartesianResult
+    trajectory: Trajectory  # the achieved joint path (untimed)
+
+
+def floats(text: str, n: int, option: str) -> list[float]:
+    """`text` as n finite comma-separated numbers, else an error naming `option`."""
+    try:
+        values = [float(v) for v in text.replace(" ", "").split(",") if v != ""]
+    except ValueError:
+        raise ArmtoolError(f"{option} {text!r}: not {n} comma-separated numbers") from None
+    if len(values) != n or not all(math.isfinite(v) for v in values):
+        raise ArmtoolError(f"{option} {text!r}: expected {n} finite comma-separated numbers")
+    return values
+
+
+def start_configuration(chain: Chain, start: str | None) -> Array:
+    q0 = np.asarray(floats(start, chain.n, "--start"), dtype=np.float64) if start is not None else chain.mid()
+    if not chain.within_limits(q0):
+        raise ArmtoolError(
+            "--start is outside the joint limits",
+            hint="limits: "
+            + ", ".join(f"{n} [{lo:.3g}, {hi:.3g}]" for n, lo, hi in zip(chain.joint_names, chain.lower, chain.upper)),
+        )
+    return q0
+
+
+def segments(spec: PathSpec, T0: Array) -> list[cart.Segment]:
+    """The segments of `spec`, starting at the tool pose T0."""
+    if spec.line is not None:
+        T1 = T0.copy()
+        p = np.asarray(floats(spec.line, 3, "--line"))
+        T1[:3, 3] = T0[:3, 3] + p if spec.relative else p
+        if np.linalg.norm(T1[:3, 3] - T0[:3, 3]) < 1e-9:
+            raise ArmtoolError("the line ends where it starts", hint="give another end point")
+        return [cart.line_segment(T0, T1)]
+    if spec.circle:
+        c = T0[:3, 3].copy()
+        if spec.center_offset is not None:
+            c = c + np.asarray(floats(spec.center_offset, 3, "--center-offset"))
+        elif spec.center is not None:
+            c = np.asarray(floats(spec.center, 3, "--center"))
+        axis = np.asarray(floats(spec.normal, 3, "--normal"))
+        if spec.radius is None:
+            return [cart.circle_segment(T0, c, axis, spec.angle)]
+        return cart.circle_about(T0, c, spec.radius, axis, spec.angle)
+    if spec.arc_to is not None and spec.arc_via is not None:
+        via, to = floats(spec.arc_via, 3, "--arc-via"), floats(spec.arc_to, 3, "--arc-to")
+        return [cart.arc_through(T0, np.asarray(via), np.asarray(to))]
+    assert spec.waypoints is not None
+    return waypoint_segments(spec.waypoints, T0)
+
+
+def waypoint_segments(path: Path, T0: Array) -> list[cart.Segment]:
+    """Straight segments through the poses of a CSV (x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad])."""
+    from armtool.fileio import read_text
+
+    text = read_text(path, "waypoints file", MAX_WAYPOINT_BYTES)
+    rows = [(i + 1, r) for i, r in enumerate(csv.reader(text.splitlines())) if r and not r[0].lstrip().startswith("#")]
+    if not rows:
+        raise ArmtoolError("no waypoints", str(path))
+    header = [h.strip() for h in rows[0][1]]
+    if header[:3] != ["x_m", "y_m", "z_m"] or header[3:] not in ([], ["roll_rad", "pitch_rad", "yaw_rad"]):
+        raise ArmtoolError("waypoint header must be x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad]", f"{path}:{rows[0][0]}")
+    poses = [np.asarray(T0)]
+    for line_no, row in rows[1:]:
+        where = f"{path}:{line_no}"
+        if len(row) != len(header):
+            raise ArmtoolError(f"row has {len(row)} fields, the header has {len(header)}", where)
+        try:
+            v = [float(c) for c in row]
+        except ValueError:
+            raise ArmtoolError("not a number in the row", where) from None
+        if not all(math.isfinite(x) for x in v):
+            raise ArmtoolError("the row holds a NaN or infinity", where)
+        T = poses[-1].copy()
+        T[:3, 3] = v[:3]
+        if len(v) == 6:
+            T[:3, :3] = rpy_matrix(*v[3:])
+        poses.append(T)
+    segs = [cart.line_segment(a, b) for a, b in zip(poses, poses[1:]) if np.abs(a - b).max() > 1e-12]
+    if not segs:
+        raise ArmtoolError("the waypoints do not move the tool", str(path))
+    return segs
+
+
+def plan_cartesian(
+    urdf: Path,
+    base: str | None,
+    tip: str | None,
+    start: str | None,
+    spec: PathSpec,
+    options: cart.CartesianOptions,
+    solver: str,
+) -> CartesianPlan:
+    """The joint path along `spec` from `start`, as far as it could be followed."""
+    from armtool.traj.path_ik import PathIK
+
+    if not urdf.is_file():
+        raise ArmtoolError("URDF not found", str(urdf))
+    spec.check()
+    chain = load_chain(urdf, base, tip)
+    q0 = start_configuration(chain, start)
+    segs = segments(spec, chain.fk(q0))
+    result = cart.compute_cartesian(chain, PathIK(chain, solver), q0, segs, options)
+    prismatic = tuple(not r for r in chain.revolute)
+    return CartesianPlan(
+        chain, result, Trajectory(tuple(chain.joint_names), result.q, source=str(urdf), prismatic=prismatic)
+    )
+
+
+def require_fraction(result: cart.CartesianResult, min_fraction: float) -> None:
+    """Below `min_fraction` of the path (or a single point) there is nothing to write: an error."""
+    if len(result.q) < 2 or result.fraction < min_fraction:
+        raise ArmtoolError(
+            f"only {result.fraction:.4f} of the path achieved: stopped after point {len(result.q) - 1} "
+            f"({result.reason}: {result.detail}); nothing written",
+            hint="check that the path is reachable from --start (another --start, --solver analytic), "
+            "or pass --min-fraction 0 to write the part achieved",
+        )
+
+
+def report_lines(result: cart.CartesianResult) -> list[str]:
+    """What `traj cartesian` tells on stderr: fraction, precision, jumps, and where it stopped (plain text)."""
+    rel = ", ".join(map(str, result.relative_jumps)) or "none"
+    ab = ", ".join(map(str, result.absolute_jumps)) or "none"
+    lines = [
+        f"fraction {result.fraction:.4f}: {len(result.q)} points ({result.inserted} inserted by the precision check), "
+        f"worst deviation {result.max_deviation_m * 1000:.3f} mm / {result.max_deviation_rad:.4f} rad",
+        f"jumps (step k: point k → k+1): relative rule {rel}; absolute rule {ab}",
+    ]
+    if result.reason:
+        lines.append(
+            f"stopped at point {len(result.q) - 1} (fraction {result.fraction:.4f}): {result.reason}: {result.detail}"
+        )
+    return lines
