@@ -121,7 +121,10 @@ class Locator:
             return None
         written = literal[0]
         (edit,) = source.set_attributes(written, {attr: new_value})
-        start, end = source.char_offset(edit.start), source.char_offset(edit.end)
+        try:
+            start, end = source.char_offset(edit.start), source.char_offset(edit.end)
+        except UnicodeDecodeError:
+            return None  # `--fix` edits UTF-8 text only; a file in another encoding keeps its finding unfixed
         return Edit(path, start, end, edit.replacement.decode(source.encoding))
 
 

@@ -177,8 +177,10 @@ class XmlSource:
         return self.data.count(b"\n", 0, offset) + 1
 
     def char_offset(self, offset: int) -> int:
-        """The offset in characters of the decoded text (lint's edits are in characters)."""
-        return len(self.data[:offset].decode(self.encoding, errors="replace"))
+        """The offset in characters of the text as UTF-8, which is how `lint --fix` reads a file
+        (whatever encoding it declares: a file that declares ISO-8859-1 but is saved as UTF-8 is
+        common). Raises UnicodeDecodeError when the bytes before `offset` are not UTF-8."""
+        return len(self.data[:offset].decode("utf-8"))
 
     def elements_at(self, line: int, tag: str) -> list[etree._Element]:
         """The `<tag>` elements lxml numbers `line` (libxml2 counts the line where a start tag ends)."""

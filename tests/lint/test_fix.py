@@ -120,3 +120,29 @@ def test_fix_in_a_xacro_finds_its_element_among_others_on_the_line(tmp_path: Pat
     path.write_text(xacro)
     result = CliRunner().invoke(app, ["lint", "--fix", str(path)])
     assert path.read_text() == xacro.replace('xyz="0 2 0"', 'xyz="0 1 0"'), result.stdout
+
+
+def test_fix_counts_characters_as_utf8_when_the_declaration_says_otherwise(tmp_path: Path) -> None:
+    # A common mislabel: the declaration says ISO-8859-1, the editor saved UTF-8. --fix reads UTF-8,
+    # so its offsets must count UTF-8 characters (counting in the declared encoding shifted the edit).
+    text = BROKEN.replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="ISO-8859-1"?>').replace(
+        "keep this comment", "Müller, Größe, café"
+    )
+    path = tmp_path / "r.urdf"
+    path.write_bytes(text.encode("utf-8"))
+    result = CliRunner().invoke(app, ["lint", "--fix", str(path)])
+    assert result.exit_code == 0, result.stdout
+    expected = text.replace('rpy="0 0 -270"', 'rpy="0 0 0.1769682087"').replace('xyz="0 0 2"', 'xyz="0 0 1"')
+    assert path.read_bytes() == expected.encode("utf-8")
+
+
+def test_fix_leaves_a_file_that_is_not_utf8_unchanged(tmp_path: Path) -> None:
+    text = BROKEN.replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="ISO-8859-1"?>').replace(
+        "keep this comment", "Größe"
+    )
+    path = tmp_path / "r.urdf"
+    path.write_bytes(text.encode("latin-1"))
+    result = CliRunner().invoke(app, ["lint", "--fix", str(path)])
+    assert result.exit_code == 0  # warnings only
+    assert "U303" in result.stdout and "U301" in result.stdout  # reported, not fixed
+    assert path.read_bytes() == text.encode("latin-1")
