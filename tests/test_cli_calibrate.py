@@ -208,6 +208,26 @@ def test_validation_dataset_of_another_setup_is_refused(dataset: Path, tmp_path:
     assert r.exit_code == 0, r.output
     fit = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--validation", str(other))
     assert fit.returncode == 2 and "setup (eye_in_hand vs eye_to_hand)" in fit.stderr
+    # ... refused while the inputs are checked, before any tag detection on the main dataset
+    from armtool.calib.params import parse_families
+    from armtool.calib.pipeline import FitRequest, prepare_fit
+    from armtool.errors import ArmtoolError
+
+    request = FitRequest(dataset, tmp_path / "o", parse_families("origins"), False, validation=other)
+    with pytest.raises(ArmtoolError, match="setup"):
+        prepare_fit(request)
+
+
+def test_empty_params_is_refused(dataset: Path, tmp_path: Path) -> None:
+    result = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--params", "")
+    assert result.returncode == 2 and "--params is empty" in result.stderr
+
+
+def test_output_paths_with_brackets_are_printed_as_they_are(dataset: Path, tmp_path: Path) -> None:
+    out = tmp_path / "run[/b]"
+    result = armtool("calibrate", "fit", str(dataset), "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    assert f"wrote {out / 'calibrated.urdf'}" in " ".join(result.stderr.split())
 
 
 def test_unknown_params_family(dataset: Path, tmp_path: Path) -> None:

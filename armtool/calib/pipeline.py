@@ -86,6 +86,9 @@ def prepare_fit(request: FitRequest) -> FitJob:
     validation = None
     if request.validation is not None:
         validation = load_inputs(request.validation, request.xacro_args, request.package_paths)
+        vds, vchain, vcamera = validation
+        require_ok(vds)
+        check_same_setup(ds, chain, camera, vds, vchain, vcamera, request.validation)
     ur = ur_target(ds, chain, request.ur_kinematics, request.ur_kinematics_in)
     inputs = input_files(ds, validation.dataset if validation else None) + ([ur.source] if ur else [])
     _check_outputs(request, inputs)
@@ -108,17 +111,15 @@ def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
 
 
 def observe_samples(job: FitJob, detect: Detect) -> Observed:
-    """Tag corners of the dataset's samples and of the validation dataset's (which must be of the
-    same setup), and which samples are held out of the fit."""
+    """Tag corners of the dataset's samples and of the validation dataset's (prepare_fit checked it
+    is of the same setup), and which samples are held out of the fit."""
     request = job.request
     observations = detect(job.dataset, job.camera)
     samples = list(job.dataset.samples)
     validation_ids = None
     if job.validation is not None and request.validation is not None:
-        vds, vchain, vcamera = job.validation
-        require_ok(vds)
-        check_same_setup(job.dataset, job.chain, job.camera, vds, vchain, vcamera, request.validation)
-        vobs = detect(vds, vcamera or job.camera)  # check_same_setup refused a missing or different camera
+        vds, _vchain, vcamera = job.validation
+        vobs = detect(vds, vcamera or job.camera)  # prepare_fit refused a missing or different camera
         samples, observations, validation_ids = with_validation(samples, observations, vds.samples, vobs)
     held = holdout_ids(samples, observations, request.holdout, request.seed, validation_ids)
     return Observed(samples, observations, held)

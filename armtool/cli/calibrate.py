@@ -107,10 +107,10 @@ def fit(
     from armtool.calib.pipeline import FitRequest, fit_files, observe_samples, prepare_fit, run_fit, write_files
     from armtool.calib.report import json_summary
     from armtool.cli.lint import _parse_xacro_args
-    from armtool.console import stderr, write_stdout
+    from armtool.console import say, stderr, write_stdout
     from armtool.output.calibrate import print_fit_report
 
-    families = parse_families(params or "origins,offsets")
+    families = parse_families("origins,offsets" if params is None else params)
     opt.check_out_dir(out)
     request = FitRequest(
         dataset,
@@ -139,7 +139,7 @@ def fit(
         write_stdout(json.dumps(json_summary(written.document), indent=2))
     print_fit_report(result, written.document.get("against_truth"), out, plot)
     if ur_kinematics is not None:
-        stderr().print(f"wrote {ur_kinematics}: pass it to the UR description as kinematics_params:={ur_kinematics}")
+        say(f"wrote {ur_kinematics}: pass it to the UR description as kinematics_params:={ur_kinematics}")
 
 
 @app.command("simulate")
@@ -187,7 +187,7 @@ def simulate(
     from armtool.calib.simulate import SimulationSpec
     from armtool.calib.simulate import simulate as run
     from armtool.cli.lint import _parse_xacro_args
-    from armtool.console import progress_bar, stderr
+    from armtool.console import progress_bar, say
 
     opt.check_out_dir(out)
     opt.check_chain_ends(base, flange)
@@ -207,9 +207,9 @@ def simulate(
     with progress_bar() as bar:
         task = bar.add_task("rendering", total=samples)
         summary = run(urdf, out, base, flange, spec, progress=lambda done, total: bar.update(task, completed=done))
-    stderr().print(f"wrote {samples} images and dataset.yaml to {out}; ground truth in {out / 'truth'}")
+    say(f"wrote {samples} images and dataset.yaml to {out}; ground truth in {out / 'truth'}")
     if summary["bad_samples"]:
-        stderr().print(f"bad samples mixed in: {summary['bad_samples']}")
+        say(f"bad samples mixed in: {summary['bad_samples']}")
 
 
 from armtool.cli import calibrate_extra  # noqa: E402  (`calibrate camera` and `calibrate import-bag`)

@@ -60,7 +60,9 @@ def print_fit_report(result: CalibrationResult, truth: dict[str, Any] | None, ou
         con.print(f"[yellow]rejected[/yellow] sample {escape(sid)}: {escape(why)}")
     for w in result.warnings:
         con.print(f"[yellow]warning:[/yellow] {escape(w)}")
-    con.print(f"wrote {out / 'calibrated.urdf'} and {out / 'calibration.yaml'}" + (f" and {plot}" if plot else ""))
+    con.print(
+        escape(f"wrote {out / 'calibrated.urdf'} and {out / 'calibration.yaml'}" + (f" and {plot}" if plot else ""))
+    )
 
 
 def _residual_table(result: CalibrationResult, truth: dict[str, Any] | None) -> Table:
