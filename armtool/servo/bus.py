@@ -480,6 +480,12 @@ class ServoBus:
             )
         return self.transport.overload(self.last_error.get(sid, 0))
 
+    def overload_alarm(self, sid: int) -> bool:
+        """`overloaded`, asked only when the last reply's error byte carries an alarm (every
+        protocol flags one there), so a poll loop pays no extra read for it."""
+        error = self.last_error.get(sid, 0)
+        return bool(self.transport.overload(error) or self.transport.alarms(error)) and self.overloaded(sid)
+
 
 def _ranges(ids: Iterable[int]) -> str:
     ids = sorted(set(ids))

@@ -28,7 +28,7 @@ from armtool.servo.guard import TorqueGuard
 from armtool.servo.lut.csv_format import Sample
 from armtool.servo.lut.table import LutTable, nominal_command_ticks
 from armtool.servo.models import ServoModel
-from armtool.servo.motion import StallDetector, load_fraction
+from armtool.servo.motion import Arrival, Outcome, Settle, move_and_settle
 from armtool.servo.reference import Reference
 
 log = logging.getLogger(__name__)
@@ -50,6 +50,21 @@ class Motion:
     stall_load: float = 0.7  # |load| at this fraction of the torque limit ...
     stall_window_s: float = 0.15  # ... with no motion over this window, short of the goal = pushing something
     stall_ticks: int = 1
+
+    def settle(self) -> Settle:
+        """A point is reached when Moving = 0 and the position holds, within `tolerance_ticks`."""
+        return Settle(
+            timeout_s=self.settle_timeout_s,
+            tolerance_ticks=self.tolerance_ticks,
+            arrival=Arrival.STOPPED,
+            poll_s=self.poll_s,
+            torque_cap=self.torque_cap,
+            stall_load=self.stall_load,
+            stall_window_s=self.stall_window_s,
+            stall_ticks=self.stall_ticks,
+            window_from_command=True,
+            telemetry=TELEMETRY,
+        )
 
 
 def read_limits(path: Path, sid: int) -> tuple[int, int, str | None]:
@@ -135,47 +150,30 @@ class Driver:
         m = self.motion
         if self.bounds is not None:
             assert_in_range([int(goal)], *self.bounds)
-        self.bus.write(self.sid, "goal_position", int(goal), retry=True)
         self.last_goal = int(goal)
-        start = time.monotonic()
-        deadline = start + m.settle_timeout_s
-        previous: int | None = None
-        stall = StallDetector(m.stall_window_s, m.stall_ticks, start=start)
-        model = self.bus.model(self.sid)
-        tel = self._telemetry()
-        while True:
-            now = time.monotonic()
-            here = tel["present_position"]
-            arrived = abs(here - goal) <= m.tolerance_ticks and tel["moving"] == 0
-            if arrived and previous is not None and abs(here - previous) <= 1:
-                break
-            if self.bus.overloaded(self.sid):
-                raise ArmtoolError(
-                    f"ID {self.sid} raised its overload alarm going to {goal} (present {here})",
-                    hint="something blocks the joint inside the range: re-record the limits "
-                    "(armtool limits) and measure inside them",
-                )
-            # stall, checked at every poll: no motion over the window, |load| near the torque limit, short of the goal
-            still = stall.add(now, here)
-            load = load_fraction(model, tel["present_load"], m.torque_cap)
-            if still and abs(here - goal) > m.tolerance_ticks and load >= m.stall_load:
-                raise ArmtoolError(
-                    f"ID {self.sid} stopped at {here} short of {goal} with {load:.0%} of its torque "
-                    "limit: pushing against something",
-                    hint="measure inside the recorded limits (--limits limits.yaml) or re-record them",
-                )
-            if now > deadline:
-                log.warning(
-                    "ID %d did not settle at %d within %.1f s (present %d)", self.sid, goal, m.settle_timeout_s, here
-                )
-                return False, tel
-            previous = here
-            self.sleep(m.poll_s)
-            tel = self._telemetry()
+        moved = move_and_settle(self.bus, self.sid, goal, m.settle(), sleep=self.sleep)
+        here = moved.position
+        if moved.outcome is Outcome.OVERLOAD:
+            raise ArmtoolError(
+                f"ID {self.sid} raised its overload alarm going to {goal} (present {here})",
+                hint="something blocks the joint inside the range: re-record the limits "
+                "(armtool limits) and measure inside them",
+            )
+        if moved.outcome is Outcome.STALLED:
+            raise ArmtoolError(
+                f"ID {self.sid} stopped at {here} short of {goal} with {moved.load:.0%} of its torque "
+                "limit: pushing against something",
+                hint="measure inside the recorded limits (--limits limits.yaml) or re-record them",
+            )
+        if moved.outcome is Outcome.TIMEOUT:
+            log.warning(
+                "ID %d did not settle at %d within %.1f s (present %d)", self.sid, goal, m.settle_timeout_s, here
+            )
+            return False, dict(moved.telemetry)
         if m.dwell_s > 0:
             self.sleep(m.dwell_s)
-            tel = self._telemetry()
-        return True, tel
+            return True, self._telemetry()
+        return True, dict(moved.telemetry)
 
     def approach(self, goal: int, side: str, lo: int, hi: int) -> tuple[bool, dict[str, int]]:
         """Reach `goal` moving up (`side` = "up") or down, backing off first when needed."""
