@@ -34,3 +34,10 @@ class MeasureApproach(str, Enum):
     UP = "up"
     DOWN = "down"
     BOTH = "both"
+
+
+class ReportFormat(str, Enum):
+    """What `check` prints on stdout."""
+
+    TEXT = "text"
+    JSON = "json"

@@ -25,6 +25,7 @@ import numpy as np
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
 from armtool.servo.guard import TorqueGuard
+from armtool.servo.lut.choices import MeasureApproach
 from armtool.servo.lut.csv_format import Sample
 from armtool.servo.lut.table import LutTable, nominal_command_ticks
 from armtool.servo.models import ServoModel
@@ -33,7 +34,7 @@ from armtool.servo.reference import Reference
 
 log = logging.getLogger(__name__)
 
-ApproachMode = Literal["up", "down", "both"]
+ApproachMode = MeasureApproach | Literal["up", "down", "both"]  # the enum, or its value
 TELEMETRY = ("present_position", "present_load", "present_voltage", "present_temperature", "moving")
 
 
@@ -245,7 +246,7 @@ def measure(
     progress: Callable[[int, int], None] | None = None,
 ) -> list[Sample]:
     """Step through `commands` (sweeps x sides), reading the reference `reads` times per point."""
-    sides = ["up", "down"] if approach == "both" else [approach]
+    sides = ["up", "down"] if approach == "both" else [MeasureApproach(approach).value]
     samples: list[Sample] = []
     total = len(commands) * len(sides) * sweeps
     done = 0
@@ -324,6 +325,18 @@ class CheckResult:
                 for p in self.points
             ],
         }
+
+    def text(self) -> str:
+        """The plain-text report: RMS and largest error through the nominal map and the table."""
+        nominal, lut = self.nominal, self.lut
+        return "\n".join(
+            [
+                f"{'':8} {'RMS (°)':>8} {'max (°)':>8}",
+                f"{'nominal':8} {nominal['rms_deg']:8.3f} {nominal['max_deg']:8.3f}",
+                f"{'table':8} {lut['rms_deg']:8.3f} {lut['max_deg']:8.3f}",
+                f"({len(self.points)} random angles, not knots; error = measured - wanted)",
+            ]
+        )
 
 
 def check_angles(table: LutTable, n: int, seed: int, lo: int, hi: int) -> list[float]:
