@@ -16,6 +16,8 @@ from armtool.extras import require
 from armtool.servo.lut.choices import Approach, ExportFormat, Method
 
 if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
+    from rich.table import Table
+
     from armtool.servo.summary import Summary
 
 HELP = "Build, export and check compensation tables for a servo's non-linear response."
@@ -53,8 +55,8 @@ def _write(text: str, output: Path | None, what: str, rescue: str | None = None)
     stderr().print(f"wrote {what} {output}")
 
 
-def print_summary(summary: Summary) -> None:
-    """A core-built table (and its notes) on stderr."""
+def summary_table(summary: Summary) -> Table:
+    """A core-built table as rich draws it."""
     from rich.table import Table
     from rich.text import Text
 
@@ -63,7 +65,12 @@ def print_summary(summary: Summary) -> None:
         table.add_column(col, justify="left" if col in summary.left else "right", no_wrap=col in summary.no_wrap)
     for row in summary.rows:
         table.add_row(*(Text(cell) if isinstance(cell, str) else Text.assemble(*cell) for cell in row))
-    stderr().print(table)
+    return table
+
+
+def print_summary(summary: Summary) -> None:
+    """A core-built table, and its notes, on stderr."""
+    stderr().print(summary_table(summary))
     for note in summary.notes:
         stderr().print(escape(note))
 

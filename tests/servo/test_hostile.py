@@ -304,7 +304,7 @@ def test_manual_reference_without_a_terminal_says_so() -> None:
 
 
 def test_limits_margin_wider_than_the_servo_range_is_refused() -> None:
-    from armtool.cli.limits import _check_motion_options
+    from armtool.servo.limits.request import check_motion_options as _check_motion_options
     from armtool.servo.limits import Joint
     from armtool.servo.models import by_name
 
