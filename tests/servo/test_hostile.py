@@ -304,14 +304,14 @@ def test_manual_reference_without_a_terminal_says_so() -> None:
 
 
 def test_limits_margin_wider_than_the_servo_range_is_refused() -> None:
-    from armtool.servo.limits.request import check_motion_options as _check_motion_options
     from armtool.servo.limits import Joint
+    from armtool.servo.limits.request import check_motion_options
     from armtool.servo.models import by_name
 
     with pytest.raises(ArmtoolError, match="--margin"):
-        _check_motion_options(Joint("j", 1, by_name("AX-12A")), 150, 3)
+        check_motion_options(Joint("j", 1, by_name("AX-12A")), 150, 3)
     with pytest.raises(ArmtoolError, match="--back-off"):
-        _check_motion_options(Joint("j", 1, by_name("AX-12A")), 2, 150)
+        check_motion_options(Joint("j", 1, by_name("AX-12A")), 2, 150)
 
 
 # ---------------------------------------------------------------- 3. corrupt output
