@@ -13,6 +13,7 @@ import time
 from collections.abc import Callable
 from contextlib import AbstractContextManager
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from armtool.errors import ArmtoolError
@@ -187,7 +188,7 @@ def _report_ends(ranges: list[JointRange], unconfirmed: list[str], min_dwell: fl
         )
 
 
-def _write_lerobot(path: Any, text: str, hooks: Hooks) -> None:
+def _write_lerobot(path: Path, text: str, hooks: Hooks) -> None:
     from armtool.fileio import rescue_write
 
     try:

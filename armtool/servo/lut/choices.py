@@ -5,6 +5,10 @@ Numpy-free on purpose: the command module imports it at start-up to build its op
 from __future__ import annotations
 
 from enum import Enum
+from typing import Literal
+
+Side = Literal["up", "down"]  # the direction one reading's point was approached from
+SIDES: tuple[Side, ...] = ("up", "down")
 
 
 class Method(str, Enum):

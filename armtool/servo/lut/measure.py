@@ -25,7 +25,7 @@ import numpy as np
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
 from armtool.servo.guard import TorqueGuard
-from armtool.servo.lut.choices import MeasureApproach
+from armtool.servo.lut.choices import MeasureApproach, Side
 from armtool.servo.lut.csv_format import Sample
 from armtool.servo.lut.table import LutTable, nominal_command_ticks
 from armtool.servo.models import ServoModel
@@ -176,7 +176,7 @@ class Driver:
             return True, self._telemetry()
         return True, dict(moved.telemetry)
 
-    def approach(self, goal: int, side: str, lo: int, hi: int) -> tuple[bool, dict[str, int]]:
+    def approach(self, goal: int, side: Side, lo: int, hi: int) -> tuple[bool, dict[str, int]]:
         """Reach `goal` moving up (`side` = "up") or down, backing off first when needed."""
         b = self.motion.backoff_ticks
         last = self.last_goal
@@ -187,7 +187,7 @@ class Driver:
         return self.goto(goal)
 
 
-def align_reference(driver: Driver, reference: Reference, lo: int, hi: int, side: str) -> str | None:
+def align_reference(driver: Driver, reference: Reference, lo: int, hi: int, side: Side) -> str | None:
     """Put a frame-less reference (a camera) into the servo's frame: read it at two commands
     either side of the middle of the range; the sense of turning gives the sign, the second
     reading is set to the datasheet angle there (the middle is where a potentiometer is most
@@ -217,7 +217,7 @@ def align_reference(driver: Driver, reference: Reference, lo: int, hi: int, side
 
 
 def _sample(
-    command: int, reading: float, tel: dict[str, int], side: str, repeat: int, settled: bool, load_full: int = 1000
+    command: int, reading: float, tel: dict[str, int], side: Side, repeat: int, settled: bool, load_full: int = 1000
 ) -> Sample:
     return Sample(
         line=0,
@@ -246,7 +246,7 @@ def measure(
     progress: Callable[[int, int], None] | None = None,
 ) -> list[Sample]:
     """Step through `commands` (sweeps x sides), reading the reference `reads` times per point."""
-    sides = ["up", "down"] if approach == "both" else [MeasureApproach(approach).value]
+    sides: list[Side] = ["up", "down"] if approach == "both" else ["down" if approach == "down" else "up"]
     samples: list[Sample] = []
     total = len(commands) * len(sides) * sweeps
     done = 0
@@ -376,7 +376,7 @@ def check(
     progress: Callable[[int, int], None] | None = None,
 ) -> CheckResult:
     """Command each angle through the table and through the nominal map; measure both."""
-    side = "down" if table.approach == "down" else "up"
+    side: Side = "down" if table.approach == "down" else "up"
     points = []
     # in travel order: short moves, and every point still approached from `side` (back-off)
     for k, angle in enumerate(sorted(angles, reverse=side == "down")):
@@ -398,7 +398,7 @@ def speed_register(model: ServoModel, deg_per_s: float) -> int:
     return model.speed_register(deg_per_s)
 
 
-def torque_register(model: Any, percent: float) -> int:
+def torque_register(model: ServoModel, percent: float) -> int:
     """The RAM torque-limit register value for `percent` of the maximum."""
     if not 0 < percent <= 100:
         raise ArmtoolError(f"--torque-limit must be in (0, 100] percent, got {percent:g}")
