@@ -36,7 +36,7 @@ with units in the column names: command_ticks,present_ticks,reference_deg,load_p
 command_ticks and reference_deg (or reference_rad, servo frame: 0° at tick 0) are required."""
 
 
-def _write(text: str, output: Path | None, what: str, rescue: str | None = None) -> None:
+def write_output(text: str, output: Path | None, what: str, rescue: str | None = None) -> None:
     """To -o or stdout. With `rescue` (the servo has moved), a failed write keeps the text in a spare file."""
     from armtool.console import write_stdout
     from armtool.fileio import rescue_write
@@ -124,7 +124,7 @@ def fit(
     text = table_json(table, grid_step)
     assert table.report is not None  # a fitted table has its report
     print_summary(table.report.summary(table))
-    _write(text, output, "table")
+    write_output(text, output, "table")
 
 
 @app.command("export", help="Write the table as a C header (uint16_t on a uniform angle grid), CSV, JSON or YAML.")
@@ -147,7 +147,7 @@ def export(
 
     check_output_paths({"-o": output}, inputs=[table_path])
     table = read_table(table_path)
-    _write(render(table, output_format, step_deg=step, name=name), output, output_format.value)
+    write_output(render(table, output_format, step_deg=step, name=name), output, output_format.value)
 
 
 @app.command("apply", help="Turn wanted servo angles (a list, or a CSV column) into compensated commands.")
@@ -196,7 +196,7 @@ def apply(
         result = apply_list(table, values, clip=clip)
     if result.clipped:
         stderr().print(f"[yellow]{result.clipped} of {result.rows} angle(s) clamped to the measured range[/yellow]")
-    _write(result.text, output, "commands")
+    write_output(result.text, output, "commands")
 
 
 from armtool.cli import servo_lut_move  # noqa: E402, F401  (registers `measure` and `check` on `app`)

@@ -15,7 +15,7 @@ import typer
 from rich.markup import escape
 
 from armtool.cli import options as opt
-from armtool.cli.servo_lut import _write, app
+from armtool.cli.servo_lut import app, write_output
 from armtool.console import stderr
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.extras import require
@@ -127,7 +127,7 @@ def measure(
     check_output_paths(partial, inputs=[limits, reference_file(reference)])
     setup = S.Setup(port, protocol.value, baud, sid, speed, torque_limit, dwell, settle_timeout)
     req = S.MeasureRequest(reference, model, limits, lo, hi, approach, backoff, points, step, reads, sweeps, output)
-    _write(S.run_measure(setup, req, _hooks(yes)), output, "measurements", rescue="armtool-measure")
+    write_output(S.run_measure(setup, req, _hooks(yes)), output, "measurements", rescue="armtool-measure")
     if output is not None:
         stderr().print(f"next: armtool servo-lut fit {output} -o lut.json")
 
