@@ -35,7 +35,7 @@ import math
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import typer
 
@@ -241,3 +241,46 @@ def check_chain_ends(base: str | None, tip: str | None, base_flag: str = "--base
             None,
             f"{tip_flag} names the link the tag (or camera) is mounted on, {base_flag} the robot's fixed base",
         )
+
+
+# ---- option declarations the servo commands share (the help text stays each command's own)
+
+
+def servo_port(help_text: str, required: bool = True) -> Any:
+    """--port: the serial port of the servo bus."""
+    return typer.Option(... if required else None, "--port", help=help_text)
+
+
+def servo_id() -> Any:
+    """--id: one servo ID."""
+    return typer.Option(..., "--id", min=0, max=252, help="Servo ID (0..252).")
+
+
+def servo_protocol(default: object, help_text: str) -> Any:
+    """--protocol: dxl1, dxl2 or feetech (the `Protocol` enum of the annotation)."""
+    return typer.Option(default, "--protocol", help=help_text)
+
+
+def bus_baud(default: int | None, help_text: str = "Bus baud rate.") -> Any:
+    """--baud: a whole number > 0."""
+    return typer.Option(default, "--baud", callback=baud(), help=help_text)
+
+
+def speed_deg_s(default: float, help_text: str) -> Any:
+    """--speed in degrees per second."""
+    return typer.Option(default, "--speed", callback=positive_float(10_000, "degrees per second"), help=help_text)
+
+
+def torque_percent(default: float, help_text: str) -> Any:
+    """--torque-limit in percent of full torque."""
+    return typer.Option(default, "--torque-limit", callback=percent(), help=help_text)
+
+
+def tick_bound(flag: str, help_text: str) -> Any:
+    """--min or --max: a command in ticks."""
+    return typer.Option(None, flag, callback=ticks(), help=help_text)
+
+
+def yes(help_text: str) -> Any:
+    """--yes/-y: answer the safety prompts with yes."""
+    return typer.Option(False, "--yes", "-y", help=help_text)

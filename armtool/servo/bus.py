@@ -95,6 +95,17 @@ class Transport:
     # why a servo refused an instruction -> the status error byte it answers with (no key: no bit;
     # no "checksum" key: a packet with a bad checksum gets no reply). The simulator answers so.
     refusal_bits: Mapping[str, int] = {}
+    # -- how the servo behaves, as the simulator plays it (research/servo.md 3.1)
+    alarm_register: str | None = None  # register holding the alarm bits (None: only the error byte carries them)
+    alert_bit: int | None = None  # the error byte flags a non-zero alarm register with this bit (None: its bits)
+    alarm_needs_shutdown = False  # the alarm register latches only when Alarm Shutdown selects the alarm
+    status_read_level = 1  # Status Return Level from which READ is answered (PING always is)
+    status_all_level = 2  # ... from which every instruction is
+    eeprom_needs_torque_off = False  # EEPROM writes are refused while torque is on
+    goal_outside_limits: Literal["clamp", "refuse"] = "clamp"  # a goal outside the angle limits
+    goal_torque_on_bit: tuple[str, int] | None = None  # a goal write turns torque on only with this register bit
+    torque_enable_calibrate: int | None = None  # Torque Enable value that calibrates the midpoint instead
+    position_mode_offset_limit: int | None = None  # |Homing Offset| above this is ignored in position mode
 
     def __init__(self, port: Port) -> None:
         self.port = port
@@ -479,6 +490,12 @@ class ServoBus:
                 self.last_error.get(sid, 0)
             )
         return self.transport.overload(self.last_error.get(sid, 0))
+
+    def overload_alarm(self, sid: int) -> bool:
+        """`overloaded`, asked only when the last reply's error byte carries an alarm (every
+        protocol flags one there), so a poll loop pays no extra read for it."""
+        error = self.last_error.get(sid, 0)
+        return bool(self.transport.overload(error) or self.transport.alarms(error)) and self.overloaded(sid)
 
 
 def _ranges(ids: Iterable[int]) -> str:

@@ -22,11 +22,14 @@ import logging
 import signal
 import threading
 import time
+from collections.abc import Callable
 from types import FrameType, TracebackType
 from typing import Any
 
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
+
+Handler = Callable[[int, FrameType | None], Any] | int | None  # what signal.getsignal returns
 
 log = logging.getLogger(__name__)
 
@@ -73,8 +76,8 @@ class TorqueGuard:
         self.touched: set[int] = set()
         self.saved: dict[tuple[int, str], int] = {}
         self.failed_off: list[int] = []
-        self._old_term: Any = None
-        self._old_int: Any = None
+        self._old_term: Handler = None
+        self._old_int: Handler = None
         self._late: BaseException | None = None
         self._in_main = False
         self._deferred: list[int] = []

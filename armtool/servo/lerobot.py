@@ -25,11 +25,14 @@ import json
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel
 from armtool.servo.registry import transport_class
+
+if TYPE_CHECKING:
+    from armtool.servo.limits.arm_file import Joint
 
 HALF_TURN = 2047  # what LeRobot makes the middle of a range read (int(4095 / 2))
 KEYS = ("id", "drive_mode", "homing_offset", "range_min", "range_max")
@@ -229,10 +232,10 @@ def read_calibration(path: Path) -> dict[str, MotorCalibration]:
 
 
 def check_against_arm(
-    calibration: dict[str, MotorCalibration], joints: list[Any], path: Path, rules: dict[str, OffsetRule]
+    calibration: dict[str, MotorCalibration], joints: list[Joint], path: Path, rules: dict[str, OffsetRule]
 ) -> None:
     """The file names exactly the arm's joints, with the arm's IDs, and offsets its registers accept.
-    `joints` are armtool.servo.limits.Joint; `rules` maps joint name -> OffsetRule."""
+    `rules` maps joint name -> OffsetRule."""
     from armtool.fileio import read_text
 
     text = read_text(path, "LeRobot calibration file", 1024 * 1024)  # for line numbers in messages

@@ -30,6 +30,14 @@ class Register:
     hi: int = 0  # 0 with lo 0 = the full width of the register
     enc: Encoding = "u"
 
+    @property
+    def magnitude_max(self) -> int:
+        """The largest |value| the encoding holds (a sign-magnitude N-bit field: 2^N - 1)."""
+        if self.enc.startswith("sm"):
+            return (1 << int(self.enc[2:])) - 1
+        bits = 8 * self.size
+        return (1 << (bits - 1)) - 1 if self.enc == "s" else (1 << bits) - 1
+
 
 @dataclass(frozen=True)
 class ServoModel:
@@ -48,6 +56,9 @@ class ServoModel:
     speed_rpm: float | None = None  # one moving/present-speed unit in rpm; None: ticks per second (Feetech)
     load_full_scale: int = 1000  # Present Load (or Present Current) at full output
     settle_ticks: int = 2  # present within this of the goal counts as arrived (about 0.5 deg on every model)
+    # how fast it turns with moving_speed 0 ("no limit") and at most; None: at its velocity_limit register
+    free_speed_deg_s: float | None = None
+    top_speed_deg_s: float | None = None
 
     @property
     def speed_unit_deg_s(self) -> float:
@@ -297,6 +308,8 @@ MODELS: tuple[ServoModel, ...] = (
         aliases=("ax12a", "ax12", "ax-12", "ax-12a"),
         speed_rpm=0.111,
         load_full_scale=1023,
+        free_speed_deg_s=6.0 * 59,  # 59 rpm no-load
+        top_speed_deg_s=6.0 * 114,
     ),
     _model(
         "AX-18A",
@@ -307,6 +320,8 @@ MODELS: tuple[ServoModel, ...] = (
         aliases=("ax18a", "ax18", "ax-18", "ax-18a"),
         speed_rpm=0.111,
         load_full_scale=1023,
+        free_speed_deg_s=6.0 * 59,  # 59 rpm no-load
+        top_speed_deg_s=6.0 * 114,
     ),
     _model(
         "MX-28",
@@ -317,6 +332,8 @@ MODELS: tuple[ServoModel, ...] = (
         aliases=("mx28", "mx-28", "mx-28t", "mx-28ar"),
         speed_rpm=0.114,
         load_full_scale=1023,
+        free_speed_deg_s=6.0 * 55,  # 55 rpm no-load
+        top_speed_deg_s=6.0 * 114,
     ),
     _model(
         "XL430-W250",
@@ -330,8 +347,27 @@ MODELS: tuple[ServoModel, ...] = (
     _model(
         "XM430-W350", "dxl2", 1020, 4096, _x_table(1020, current=True), aliases=("xm430", "xm430-w350"), speed_rpm=0.229
     ),
-    _model("STS3215", "feetech", 777, 4096, _sts_table(777), aliases=("sts3215",)),
-    _model("SCS0009", "feetech", 1284, 1024, _scs_table(1284), big_endian=True, aliases=("scs0009",)),
+    _model(  # Goal_Velocity 0 runs at about 3000 ticks/s, and no faster than 3400 (sim ASSUMPTION)
+        "STS3215",
+        "feetech",
+        777,
+        4096,
+        _sts_table(777),
+        aliases=("sts3215",),
+        free_speed_deg_s=3000 * 360.0 / 4096,
+        top_speed_deg_s=3400 * 360.0 / 4096,
+    ),
+    _model(
+        "SCS0009",
+        "feetech",
+        1284,
+        1024,
+        _scs_table(1284),
+        big_endian=True,
+        aliases=("scs0009",),
+        free_speed_deg_s=3000 * 300.0 / 1023,
+        top_speed_deg_s=3400 * 300.0 / 1023,
+    ),
 )
 
 

@@ -325,3 +325,29 @@ def open_reference(spec: str, ask: Callable[[str], str] | None = None) -> Refere
             )
         return _camera_reference(arg)
     raise ArmtoolError(f"unknown reference '{spec}'", hint="encoder:PORT, manual, csv:FILE or camera:DEVICE")
+
+
+def reference_file(spec: str) -> Path | None:
+    """The file a `csv:FILE` reference reads (an input the outputs must not overwrite), else None."""
+    kind, _, arg = spec.partition(":")
+    return Path(arg) if kind.strip().lower() == "csv" and arg else None
+
+
+def check_reference_spec(spec: str, bus_port: str, interactive: bool) -> None:
+    """Before anything opens: the reference is not the servo bus, and a typed one has a typist."""
+    import os
+
+    kind, _, arg = spec.partition(":")
+    kind = kind.strip().lower()
+    if kind == "encoder" and arg:
+        enc_port = arg.partition("@")[0]
+        if os.path.realpath(enc_port) == os.path.realpath(bus_port):
+            raise ArmtoolError(
+                f"--reference encoder:{enc_port} is the servo bus (--port {bus_port})",
+                hint="the encoder is a separate device on its own port, e.g. encoder:/dev/ttyACM1",
+            )
+    if kind == "manual" and not interactive:
+        raise ArmtoolError(
+            "--reference manual asks you to type each angle, but stdin is not a terminal",
+            hint="run it in a terminal, or use encoder:PORT or csv:FILE",
+        )

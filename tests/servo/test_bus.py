@@ -147,3 +147,18 @@ def test_ftdi_latency_timer_warning(tmp_path: Path, monkeypatch: pytest.MonkeyPa
         (tmp_path / name / "latency_timer").write_text("1\n")
         with open_bus(sim.port_path, "dxl1", 1000000) as bus:
             assert bus.warnings == []
+
+
+@pytest.mark.parametrize("protocol", ["dxl1", "dxl2", "feetech"])
+def test_overload_alarm_is_seen_through_the_error_byte_of_every_protocol(protocol: str) -> None:
+    """move_and_settle polls `overload_alarm`: it must see the alarm wherever the protocol keeps it."""
+    with SimBus.start(sim_config(protocol, (1,))) as sim, open_bus(sim.port_path, protocol, 1000000) as bus:
+        bus.identify([1])
+        bus.read(1, "present_position")
+        assert not bus.overload_alarm(1)
+        with sim.lock:
+            servo = sim.servo(1)
+            servo.set("alarm_shutdown", servo.get("alarm_shutdown") | servo.model.overload_bit)
+            servo._trip()
+        bus.read_many(1, ["present_position", "present_load"])  # the poll's read carries the error byte
+        assert bus.overload_alarm(1) and bus.overloaded(1)

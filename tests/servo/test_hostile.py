@@ -304,14 +304,14 @@ def test_manual_reference_without_a_terminal_says_so() -> None:
 
 
 def test_limits_margin_wider_than_the_servo_range_is_refused() -> None:
-    from armtool.cli.limits import _check_motion_options
     from armtool.servo.limits import Joint
+    from armtool.servo.limits.request import check_motion_options
     from armtool.servo.models import by_name
 
     with pytest.raises(ArmtoolError, match="--margin"):
-        _check_motion_options(Joint("j", 1, by_name("AX-12A")), 150, 3)
+        check_motion_options(Joint("j", 1, by_name("AX-12A")), 150, 3)
     with pytest.raises(ArmtoolError, match="--back-off"):
-        _check_motion_options(Joint("j", 1, by_name("AX-12A")), 2, 150)
+        check_motion_options(Joint("j", 1, by_name("AX-12A")), 2, 150)
 
 
 # ---------------------------------------------------------------- 3. corrupt output
@@ -484,17 +484,17 @@ def test_outputs_are_checked_before_the_bus_is_opened(tmp_path: Path) -> None:
 
 
 def test_failed_final_write_keeps_the_readings(sim: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    import armtool.cli.servo_lut as cli
+    import armtool.servo.lut.csv_format as csv_format
 
     out = tmp_path / "m.csv"
-    real = cli._write
+    real = csv_format.write_atomic
 
-    def failing(text: str, output: Path | None, what: str) -> None:
-        if output == out:
-            raise ArmtoolError("cannot write: disk full", str(output))
-        real(text, output, what)
+    def failing(path: Path, text: str) -> None:
+        if path == out:
+            raise ArmtoolError("cannot write: disk full", str(path))
+        real(path, text)
 
-    monkeypatch.setattr(cli, "_write", failing)
+    monkeypatch.setattr(csv_format, "write_atomic", failing)
     code, _, err = run(
         *measure_args(sim, "--min", "300", "--max", "700", "--points", "5", "--reads", "1", "-o", str(out))
     )

@@ -26,6 +26,10 @@ class FakeProtocol(Transport):
     eeprom_lock = True
     homing_sign = -1
     position_mode = 7
+    alarm_register = "status"
+    alert_bit = 0x40  # STS carries the Status bits themselves, X uses 0x80
+    goal_outside_limits = "refuse"  # STS clamps
+    status_read_level, status_all_level = 0, 3
 
 
 FAKE_MODEL = dataclasses.replace(by_name("STS3215"), name="FAKE-1", protocol="fake")
@@ -75,3 +79,25 @@ def test_a_registered_fake_protocol_drives_limits_eeprom_and_lerobot(fake: None,
     bus.values["operating_mode"] = 3
     with pytest.raises(ArmtoolError, match="Operating Mode 7"):
         L.seek_joint(bus, None, L.Joint("a", 1), L.AutoParams())  # type: ignore[arg-type]
+
+
+def test_the_simulator_plays_a_registered_fake_protocol_from_its_facts(fake: None) -> None:
+    from armtool.servo.models import encode
+    from armtool.servo.sim.config import ServoSpec
+    from armtool.servo.sim.servo import E_LIMIT, OK, SimServo
+
+    servo = SimServo(ServoSpec(1, FAKE_MODEL, 10.0, 350.0, 180.0))  # no table of families to extend
+    assert servo.proto is FakeProtocol
+    servo.set("homing_offset", 100)
+    assert servo.offset_shift() == -100  # the fake's homing sign
+    servo.set("alarm_shutdown", 0x20)
+    servo._trip()
+    assert servo.error_bits() == 0x40 and servo.get("torque_enable") == 0  # its alert bit, its cut
+    limits = (FAKE_MODEL.reg("min_limit"), FAKE_MODEL.reg("max_limit"))
+    servo.mem[limits[0].addr : limits[0].addr + 2] = encode(limits[0], 1000)
+    servo.mem[limits[1].addr : limits[1].addr + 2] = encode(limits[1], 3000)
+    goal = FAKE_MODEL.reg("goal_position")
+    assert servo.write(goal.addr, encode(goal, 500)) == E_LIMIT  # refused, not clamped as on an STS
+    assert servo.write(goal.addr, encode(goal, 2000)) == OK
+    servo.set("status_return_level", 2)
+    assert servo.answers(True, False) and not servo.answers(False, False)  # levels 0 (read) and 3 (all)

@@ -1,6 +1,8 @@
-"""Record each joint's real range (`armtool limits`): `arm_file` (the arm description and
+"""Record each joint's real range (`armtool limits`): `request` (the options checked before the
+bus opens), `record` (the run, from bus to written files), `arm_file` (the arm description and
 `JointRange`), `manual` (by hand, torque off), `auto` (a torque-limited seek to each stop),
-`document` (ticks to radians, the limits YAML) and `urdf` (recorded limits into a URDF's text).
+`document` (ticks to radians, the limits YAML), `lerobot_files` (LeRobot calibration files),
+`urdf` (recorded limits into a URDF's text) and `choices` (`Mode`, numpy-free).
 The command and the tests use the names below; each lives in one of those modules."""
 
 from __future__ import annotations

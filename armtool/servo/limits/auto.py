@@ -8,16 +8,16 @@ alone is not used (it stays 1 while pushing a stop), nor load alone (STS load is
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
 from armtool.servo.guard import TorqueGuard
 from armtool.servo.limits.arm_file import Joint, JointRange
 from armtool.servo.models import ServoModel
-from armtool.servo.motion import StallDetector, load_fraction
+from armtool.servo.motion import Arrival, MoveResult, Outcome, Settle, move_and_settle
 from armtool.servo.registry import transport_class
 
 
@@ -65,52 +65,38 @@ def seek_joint(
     span_deg = (hi_lim - lo_lim) * model.deg_per_tick
     max_seek = p.max_seek_s or span_deg / p.speed_deg_s * 1.5 + 2.0
     back_off = max(2, math.ceil(p.back_off_deg / model.deg_per_tick))
+    seek = Settle(
+        timeout_s=max_seek,
+        tolerance_ticks=model.settle_ticks,
+        arrival=Arrival.STILL,  # Moving stays 1 while pushing a stop: only the window tells
+        torque_cap=cap / _full_torque(model),
+        stall_load=p.stall_load,
+        stall_window_s=p.stall_window_s,
+        stall_ticks=p.stall_ticks,
+        window_from_command=False,
+    )
+    back = Settle(timeout_s=2.0, tolerance_ticks=model.settle_ticks, arrival=Arrival.NEAR, poll_s=0.01, stall_load=None)
     ends: dict[int, tuple[int, str]] = {}
     max_load = 0.0
     for direction in (p.first_dir, -p.first_dir):
         label = "min" if direction < 0 else "max"
         target = lo_lim if direction < 0 else hi_lim
-        bus.write(sid, "goal_position", target, retry=True)
-        start = time.monotonic()
-        stall = StallDetector(p.stall_window_s, p.stall_ticks)
-        reason = ""
-        pos = target
-        while True:
-            now = time.monotonic()
-            if now - start > max_seek:
-                guard.hold_here(sid)
-                raise ArmtoolError(
-                    f"joint '{joint.name}' (ID {sid}): no stop found toward {label} within {max_seek:.1f} s",
-                    hint="raise --max-seek or --speed, or check that the joint can move",
-                )
-            vals = bus.read_many(sid, ["present_position", "present_load"])
-            pos, load = vals["present_position"], vals["present_load"]
-            load_frac = load_fraction(model, load, cap / _full_torque(model))
-            max_load = max(max_load, load_frac)
-            if progress is not None:
-                progress(joint, label, pos, load_frac)
-            if bus.transport.overload(bus.last_error.get(sid, 0)) or bus.transport.alarms(bus.last_error.get(sid, 0)):
-                if bus.overloaded(sid):
-                    reason = "overload alarm"
-                    break
-            if stall.add(now, pos):
-                if load_frac >= p.stall_load:
-                    reason = f"stall (|load| {load_frac:.0%} of limit)"
-                    break
-                if abs(pos - target) <= model.settle_ticks:
-                    reason = f"{RANGE_END} (no stop before it)"
-                    break
-            time.sleep(0.005)
-        ends[direction] = (pos, reason)
+        on_poll = None if progress is None else partial(progress, joint, label)
+        moved = move_and_settle(bus, sid, target, seek, on_poll)
+        max_load = max(max_load, moved.max_load)
+        if moved.outcome is Outcome.TIMEOUT:
+            guard.hold_here(sid)
+            raise ArmtoolError(
+                f"joint '{joint.name}' (ID {sid}): no stop found toward {label} within {max_seek:.1f} s",
+                hint="raise --max-seek or --speed, or check that the joint can move",
+            )
+        ends[direction] = (moved.position, _reason(moved, p.stall_load))
         held = guard.hold_here(sid)  # stop pushing at once
-        if reason == "overload alarm":
+        if moved.outcome is Outcome.OVERLOAD:
             _rearm(bus, sid, model, cap)
         goal = held - direction * back_off
         goal = min(max(goal, lo_lim), hi_lim)
-        bus.write(sid, "goal_position", goal, retry=True)
-        deadline = time.monotonic() + 2.0
-        while time.monotonic() < deadline and abs(bus.read(sid, "present_position") - goal) > model.settle_ticks:
-            time.sleep(0.01)
+        move_and_settle(bus, sid, goal, back)  # best effort: the next seek starts from wherever it is
     (lo, rlo), (hi, rhi) = ends[-1], ends[1]
     # the servo's own range end is not a mechanical stop (no stop, or the seam): never confirmed,
     # so --write-eeprom refuses it (SO-101 wrist_roll recorded 0..604 with 0 being the seam)
@@ -132,6 +118,15 @@ def seek_joint(
             "max_load_fraction_of_limit": round(max_load, 3),
         },
     )
+
+
+def _reason(moved: MoveResult, stall_load: float) -> str:
+    """Why the seek ended: a stall (also one right at the servo's range end), the alarm, or the end."""
+    if moved.outcome is Outcome.OVERLOAD:
+        return "overload alarm"
+    if moved.load >= stall_load:  # STALLED, or SETTLED at the range end while pushing a stop there
+        return f"stall (|load| {moved.load:.0%} of limit)"
+    return f"{RANGE_END} (no stop before it)"
 
 
 def _rearm(bus: ServoBus, sid: int, model: ServoModel, cap: int) -> None:

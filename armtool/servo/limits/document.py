@@ -1,13 +1,16 @@
-"""Ticks to radians with a safety margin, and the limits YAML document."""
+"""Ticks to radians with a safety margin, the limits YAML document, its summary table and the
+writing of the YAML and the edited URDF."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from armtool.errors import ArmtoolError
 from armtool.servo.limits.arm_file import JointRange
+from armtool.servo.summary import Cell, Summary
 
 SCHEMA = "armtool.limits/1"
 LIMITS_VERSION = 1
@@ -80,3 +83,65 @@ def write_atomic(path: Path, text: str) -> None:
     from armtool.fileio import write_atomic as write
 
     write(path, text)
+
+
+def summary(rows: list[dict[str, Any]], ranges: list[JointRange]) -> Summary:
+    """The recorded limits as a table for the terminal: raw and safe ticks, degrees, how found."""
+    table = Summary(
+        "limits",
+        ("joint", "id", "raw ticks", "safe ticks", "lower°", "upper°", "how"),
+        left=("joint", "how"),
+        no_wrap=("joint", "id", "raw ticks", "safe ticks", "lower°", "upper°"),
+    )
+    for row, r in zip(rows, ranges):
+        how = (
+            r.method
+            if r.method != "auto"
+            else "auto: " + "/".join(str(r.evidence[k]).split(" (")[0] for k in ("reason_min", "reason_max"))
+        )
+        how_cell: Cell = how if r.confirmed else ((how, ""), (" (unconfirmed)", "yellow"))
+        table.rows.append(
+            (
+                row["name"],
+                str(row["id"]),
+                f"{row['raw_min_ticks']}..{row['raw_max_ticks']}",
+                f"{row['safe_min_ticks']}..{row['safe_max_ticks']}",
+                f"{math.degrees(row['lower_rad']):.1f}",
+                f"{math.degrees(row['upper_rad']):.1f}",
+                how_cell,
+            )
+        )
+    return table
+
+
+def write_outputs(
+    doc_text: str,
+    output: Path | None,
+    urdf: Path | None,
+    urdf_text: str | None,
+    new_urdf: str | None,
+    urdf_out: Path | None,
+    in_place: bool,
+    note: Callable[[str], None],
+    stdout: Callable[[str], None],
+) -> None:
+    """The limits YAML (to -o, else to `stdout`) and the URDF with the new limits. A failed -o
+    keeps the limits in a .partial file: a recording must not be repeated for a write."""
+    from armtool.fileio import rescue_write, write_with_backup
+
+    if output is not None:
+        try:
+            write_atomic(output, doc_text)
+        except ArmtoolError as exc:
+            saved = rescue_write(output, doc_text, "armtool-limits")
+            raise ArmtoolError(f"{exc.what}; the limits were saved to {saved}", exc.where, exc.hint) from None
+        note(f"wrote {output}")
+    else:
+        stdout(doc_text)
+    if new_urdf is not None and urdf is not None:
+        if in_place:
+            backup = write_with_backup(urdf, new_urdf, urdf_text or "")
+            note(f"wrote {urdf} (previous version in {backup.name})")
+        elif urdf_out is not None:
+            write_atomic(urdf_out, new_urdf)
+            note(f"wrote {urdf_out}")

@@ -14,6 +14,7 @@ import io
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -141,3 +142,17 @@ def apply_csv(
     for row, tick in zip(data_rows, ticks):
         writer.writerow([*row, int(tick)])
     return Applied(out.getvalue(), len(values), clipped)
+
+
+def read_input(path: Path) -> tuple[str, str]:
+    """(text, source name) of the CSV to convert; `-` is stdin."""
+    import sys
+
+    if str(path) == "-":
+        return sys.stdin.read(), "<stdin>"
+    try:
+        return path.read_text(encoding="utf-8-sig"), str(path)
+    except FileNotFoundError:
+        raise ArmtoolError(f"no such file: {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ArmtoolError(f"cannot read {path}: {exc}") from None

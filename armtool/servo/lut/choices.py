@@ -5,6 +5,10 @@ Numpy-free on purpose: the command module imports it at start-up to build its op
 from __future__ import annotations
 
 from enum import Enum
+from typing import Literal
+
+Side = Literal["up", "down"]  # the direction one reading's point was approached from
+SIDES: tuple[Side, ...] = ("up", "down")
 
 
 class Method(str, Enum):
@@ -34,3 +38,10 @@ class MeasureApproach(str, Enum):
     UP = "up"
     DOWN = "down"
     BOTH = "both"
+
+
+class ReportFormat(str, Enum):
+    """What `check` prints on stdout."""
+
+    TEXT = "text"
+    JSON = "json"

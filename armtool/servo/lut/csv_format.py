@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from armtool.errors import ArmtoolError
+from armtool.servo.lut.choices import SIDES, Side
 from armtool.servo.models import ServoModel, by_name
 
 SCHEMA_VERSION = 1
@@ -46,7 +47,6 @@ COLUMNS = (
     "repeat",
     "settled",
 )
-APPROACHES = ("up", "down")
 
 # quantity -> units we understand (the first is the one we write)
 _UNITS: dict[str, tuple[str, ...]] = {
@@ -83,7 +83,7 @@ class Sample:
     load_pct: float | None = None
     temperature_c: float | None = None
     voltage_v: float | None = None
-    approach: str = "up"
+    approach: Side = "up"
     repeat: int | None = None
     settled: bool | None = None
 
@@ -205,9 +205,10 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
             )
         reference = _number(cell(ref_col), ref_col, where, True)
         assert reference is not None
-        approach = cell("approach").strip().lower() or meta.get("approach", "up").lower()
-        if approach not in APPROACHES:
-            raise ArmtoolError(f"approach '{approach}' is neither 'up' nor 'down'", where)
+        text = cell("approach").strip().lower() or meta.get("approach", "up").lower()
+        approach = next((side for side in SIDES if side == text), None)
+        if approach is None:
+            raise ArmtoolError(f"approach '{text}' is neither 'up' nor 'down'", where)
         repeat_value = _number(cell("repeat"), "repeat", where, False)
         repeat = None if repeat_value is None else int(repeat_value)
         key = (int(command), approach, repeat)

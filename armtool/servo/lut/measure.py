@@ -25,15 +25,16 @@ import numpy as np
 from armtool.errors import ArmtoolError
 from armtool.servo.bus import ServoBus
 from armtool.servo.guard import TorqueGuard
+from armtool.servo.lut.choices import MeasureApproach, Side
 from armtool.servo.lut.csv_format import Sample
 from armtool.servo.lut.table import LutTable, nominal_command_ticks
 from armtool.servo.models import ServoModel
-from armtool.servo.motion import StallDetector, load_fraction
+from armtool.servo.motion import Arrival, Outcome, Settle, move_and_settle
 from armtool.servo.reference import Reference
 
 log = logging.getLogger(__name__)
 
-ApproachMode = Literal["up", "down", "both"]
+ApproachMode = MeasureApproach | Literal["up", "down", "both"]  # the enum, or its value
 TELEMETRY = ("present_position", "present_load", "present_voltage", "present_temperature", "moving")
 
 
@@ -50,6 +51,21 @@ class Motion:
     stall_load: float = 0.7  # |load| at this fraction of the torque limit ...
     stall_window_s: float = 0.15  # ... with no motion over this window, short of the goal = pushing something
     stall_ticks: int = 1
+
+    def settle(self) -> Settle:
+        """A point is reached when Moving = 0 and the position holds, within `tolerance_ticks`."""
+        return Settle(
+            timeout_s=self.settle_timeout_s,
+            tolerance_ticks=self.tolerance_ticks,
+            arrival=Arrival.STOPPED,
+            poll_s=self.poll_s,
+            torque_cap=self.torque_cap,
+            stall_load=self.stall_load,
+            stall_window_s=self.stall_window_s,
+            stall_ticks=self.stall_ticks,
+            window_from_command=True,
+            telemetry=TELEMETRY,
+        )
 
 
 def read_limits(path: Path, sid: int) -> tuple[int, int, str | None]:
@@ -135,49 +151,32 @@ class Driver:
         m = self.motion
         if self.bounds is not None:
             assert_in_range([int(goal)], *self.bounds)
-        self.bus.write(self.sid, "goal_position", int(goal), retry=True)
         self.last_goal = int(goal)
-        start = time.monotonic()
-        deadline = start + m.settle_timeout_s
-        previous: int | None = None
-        stall = StallDetector(m.stall_window_s, m.stall_ticks, start=start)
-        model = self.bus.model(self.sid)
-        tel = self._telemetry()
-        while True:
-            now = time.monotonic()
-            here = tel["present_position"]
-            arrived = abs(here - goal) <= m.tolerance_ticks and tel["moving"] == 0
-            if arrived and previous is not None and abs(here - previous) <= 1:
-                break
-            if self.bus.overloaded(self.sid):
-                raise ArmtoolError(
-                    f"ID {self.sid} raised its overload alarm going to {goal} (present {here})",
-                    hint="something blocks the joint inside the range: re-record the limits "
-                    "(armtool limits) and measure inside them",
-                )
-            # stall, checked at every poll: no motion over the window, |load| near the torque limit, short of the goal
-            still = stall.add(now, here)
-            load = load_fraction(model, tel["present_load"], m.torque_cap)
-            if still and abs(here - goal) > m.tolerance_ticks and load >= m.stall_load:
-                raise ArmtoolError(
-                    f"ID {self.sid} stopped at {here} short of {goal} with {load:.0%} of its torque "
-                    "limit: pushing against something",
-                    hint="measure inside the recorded limits (--limits limits.yaml) or re-record them",
-                )
-            if now > deadline:
-                log.warning(
-                    "ID %d did not settle at %d within %.1f s (present %d)", self.sid, goal, m.settle_timeout_s, here
-                )
-                return False, tel
-            previous = here
-            self.sleep(m.poll_s)
-            tel = self._telemetry()
+        moved = move_and_settle(self.bus, self.sid, goal, m.settle(), sleep=self.sleep)
+        here = moved.position
+        if moved.outcome is Outcome.OVERLOAD:
+            raise ArmtoolError(
+                f"ID {self.sid} raised its overload alarm going to {goal} (present {here})",
+                hint="something blocks the joint inside the range: re-record the limits "
+                "(armtool limits) and measure inside them",
+            )
+        if moved.outcome is Outcome.STALLED:
+            raise ArmtoolError(
+                f"ID {self.sid} stopped at {here} short of {goal} with {moved.load:.0%} of its torque "
+                "limit: pushing against something",
+                hint="measure inside the recorded limits (--limits limits.yaml) or re-record them",
+            )
+        if moved.outcome is Outcome.TIMEOUT:
+            log.warning(
+                "ID %d did not settle at %d within %.1f s (present %d)", self.sid, goal, m.settle_timeout_s, here
+            )
+            return False, dict(moved.telemetry)
         if m.dwell_s > 0:
             self.sleep(m.dwell_s)
-            tel = self._telemetry()
-        return True, tel
+            return True, self._telemetry()
+        return True, dict(moved.telemetry)
 
-    def approach(self, goal: int, side: str, lo: int, hi: int) -> tuple[bool, dict[str, int]]:
+    def approach(self, goal: int, side: Side, lo: int, hi: int) -> tuple[bool, dict[str, int]]:
         """Reach `goal` moving up (`side` = "up") or down, backing off first when needed."""
         b = self.motion.backoff_ticks
         last = self.last_goal
@@ -188,7 +187,7 @@ class Driver:
         return self.goto(goal)
 
 
-def align_reference(driver: Driver, reference: Reference, lo: int, hi: int, side: str) -> str | None:
+def align_reference(driver: Driver, reference: Reference, lo: int, hi: int, side: Side) -> str | None:
     """Put a frame-less reference (a camera) into the servo's frame: read it at two commands
     either side of the middle of the range; the sense of turning gives the sign, the second
     reading is set to the datasheet angle there (the middle is where a potentiometer is most
@@ -218,7 +217,7 @@ def align_reference(driver: Driver, reference: Reference, lo: int, hi: int, side
 
 
 def _sample(
-    command: int, reading: float, tel: dict[str, int], side: str, repeat: int, settled: bool, load_full: int = 1000
+    command: int, reading: float, tel: dict[str, int], side: Side, repeat: int, settled: bool, load_full: int = 1000
 ) -> Sample:
     return Sample(
         line=0,
@@ -247,7 +246,7 @@ def measure(
     progress: Callable[[int, int], None] | None = None,
 ) -> list[Sample]:
     """Step through `commands` (sweeps x sides), reading the reference `reads` times per point."""
-    sides = ["up", "down"] if approach == "both" else [approach]
+    sides: list[Side] = ["up", "down"] if approach == "both" else ["down" if approach == "down" else "up"]
     samples: list[Sample] = []
     total = len(commands) * len(sides) * sweeps
     done = 0
@@ -327,6 +326,18 @@ class CheckResult:
             ],
         }
 
+    def text(self) -> str:
+        """The plain-text report: RMS and largest error through the nominal map and the table."""
+        nominal, lut = self.nominal, self.lut
+        return "\n".join(
+            [
+                f"{'':8} {'RMS (°)':>8} {'max (°)':>8}",
+                f"{'nominal':8} {nominal['rms_deg']:8.3f} {nominal['max_deg']:8.3f}",
+                f"{'table':8} {lut['rms_deg']:8.3f} {lut['max_deg']:8.3f}",
+                f"({len(self.points)} random angles, not knots; error = measured - wanted)",
+            ]
+        )
+
 
 def check_angles(table: LutTable, n: int, seed: int, lo: int, hi: int) -> list[float]:
     """`n` random angles inside the table's range whose table and nominal commands both lie in
@@ -365,7 +376,7 @@ def check(
     progress: Callable[[int, int], None] | None = None,
 ) -> CheckResult:
     """Command each angle through the table and through the nominal map; measure both."""
-    side = "down" if table.approach == "down" else "up"
+    side: Side = "down" if table.approach == "down" else "up"
     points = []
     # in travel order: short moves, and every point still approached from `side` (back-off)
     for k, angle in enumerate(sorted(angles, reverse=side == "down")):
@@ -387,7 +398,7 @@ def speed_register(model: ServoModel, deg_per_s: float) -> int:
     return model.speed_register(deg_per_s)
 
 
-def torque_register(model: Any, percent: float) -> int:
+def torque_register(model: ServoModel, percent: float) -> int:
     """The RAM torque-limit register value for `percent` of the maximum."""
     if not 0 < percent <= 100:
         raise ArmtoolError(f"--torque-limit must be in (0, 100] percent, got {percent:g}")

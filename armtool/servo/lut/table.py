@@ -29,6 +29,7 @@ from armtool.errors import ArmtoolError
 from armtool.servo.lut.choices import Approach, Method
 from armtool.servo.lut.csv_format import Measurements, Sample, model_named
 from armtool.servo.models import ServoModel
+from armtool.servo.summary import Summary
 
 SCHEMA_VERSION = 1
 KIND = "armtool-servo-lut"
@@ -61,6 +62,10 @@ class ErrorStats:
             return ErrorStats(float("nan"), float("nan"), 0)
         return ErrorStats(float(np.sqrt(np.mean(errors**2))), float(np.max(np.abs(errors))), int(errors.size))
 
+    def cell(self) -> str:
+        """`rms / max` in degrees for a report table, `-` when there were no points."""
+        return "-" if self.n == 0 else f"{self.rms_deg:.3f} / {self.max_deg:.3f}"
+
 
 @dataclass(frozen=True)
 class FitReport:
@@ -81,6 +86,32 @@ class FitReport:
     line_deg_per_tick: float  # slope of that line (the datasheet's is ServoModel.deg_per_tick)
     hysteresis_max_deg: float | None  # largest |up - down| where both were measured
     holdout_commands: tuple[float, ...] = ()
+
+    def summary(self, table: LutTable) -> Summary:
+        """Before/after errors on the train and held-out points, and what the raw data showed."""
+        model, (lo, hi) = table.model, table.valid_range_deg
+        hyst = "" if self.hysteresis_max_deg is None else f", hysteresis up/down up to {self.hysteresis_max_deg:.2f}°"
+        notes = [
+            f"raw data: {self.samples} readings at {self.points} commands, off the datasheet map by up to "
+            f"{self.nominal_max_deg:.2f}°, non-linearity (deviation from the best straight line) "
+            f"{self.nonlinearity_deg:.2f}°, slope {self.line_deg_per_tick:.4f}°/tick "
+            f"(datasheet {model.deg_per_tick:.4f}){hyst}"
+        ]
+        if self.pooled:
+            notes.append(
+                f"{self.pooled} point(s) pooled with a neighbour: readings stepped back by less than "
+                f"{self.monotone_tol_deg:.3f}° (noise)"
+            )
+        return Summary(
+            f"servo-lut fit: {model.name}, method {table.method.value}, approach {table.approach}, {lo:.2f}..{hi:.2f}°",
+            ("points", "n", "nominal map RMS / max (°)", "with table RMS / max (°)"),
+            [
+                ("train (knots)", str(self.train), self.train_nominal.cell(), self.train_lut.cell()),
+                ("held out", str(self.holdout), self.holdout_nominal.cell(), self.holdout_lut.cell()),
+            ],
+            left=("points",),
+            notes=notes,
+        )
 
 
 @dataclass(frozen=True)
@@ -610,6 +641,13 @@ def check_table_document(doc: dict[str, Any], source: str) -> LutTable:
             hint="this is a bug if the options were valid: report it",
         )
     return table_from_dict(doc, source)
+
+
+def table_json(table: LutTable, grid_step_deg: float) -> str:
+    """The table document as `fit` writes it, checked to read back first (never a table that would not)."""
+    doc = table.to_dict(grid_step_deg=grid_step_deg, flag="--grid-step")
+    check_table_document(doc, "the fitted table")
+    return json.dumps(doc, indent=2, allow_nan=False) + "\n"
 
 
 def _non_finite(value: Any, path: str = "") -> str | None:

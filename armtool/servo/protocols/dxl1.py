@@ -32,6 +32,7 @@ class Dxl1(SdkTransport):
     rearm = "torque_limit"  # alarm shutdown sets Torque Limit to 0; writing it back re-arms
     wheel_mode_when_limits_zero = True  # CW and CCW angle limits both 0
     sync_read = False
+    eeprom_needs_torque_off = True  # and while Lock = 1 (no eeprom_lock: Lock refuses, it does not hold)
     refusal_bits: Mapping[str, int] = {
         "range": ERR_RANGE,
         "angle": ERR_ANGLE,

@@ -31,6 +31,13 @@ class Dxl2(SdkTransport):
     rearm = None  # Hardware Error Status latches until REBOOT or a power cycle
     position_mode = 3  # Operating Mode 3 = position control
     framing = 2
+    alarm_register = "hardware_error"  # Hardware Error Status (70); the error byte only says Alert
+    alert_bit = ALERT
+    alarm_needs_shutdown = True
+    eeprom_needs_torque_off = True
+    goal_outside_limits = "refuse"  # data limit error
+    goal_torque_on_bit = ("drive_mode", 8)  # Drive Mode bit 3: torque on by goal update
+    position_mode_offset_limit = 1024  # e-manual: Homing Offset in Position Control Mode
     refusal_bits: Mapping[str, int] = {
         "instruction": 2,
         "checksum": 3,

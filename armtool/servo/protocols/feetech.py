@@ -24,6 +24,10 @@ class Feetech(Transport):
     rearm = "torque_enable"  # overload turns torque off; torque on re-arms
     eeprom_lock = True  # EEPROM writes need Lock = 0 first
     homing_sign = -1  # present = encoder - Homing Offset (feetech-cli measured)
+    alarm_register = "status"  # the error byte carries the Status register's bits
+    status_read_level = 0  # level 0 still answers READ and PING, level 1 everything
+    status_all_level = 1
+    torque_enable_calibrate = 128  # writes the present position as the midpoint (2048)
 
     def __init__(self, port: Port) -> None:
         super().__init__(port)

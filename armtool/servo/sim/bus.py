@@ -25,7 +25,7 @@ import tty
 from collections import deque
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from armtool.errors import ArmtoolError
 from armtool.servo import packets as pk
@@ -33,6 +33,9 @@ from armtool.servo.models import encode
 from armtool.servo.registry import transport_class
 from armtool.servo.sim.config import Faults, SimConfig, load_sim_config, sim_config_from_dict
 from armtool.servo.sim.servo import E_ACCESS, E_ANGLE, E_INSTRUCTION, E_LENGTH, E_LIMIT, E_RANGE, OK, SimServo
+
+if TYPE_CHECKING:
+    from armtool.servo.sim.person import Person
 
 STEP_S = 0.002
 # the simulated servo's refusal codes by the names the protocol classes map to error bits
@@ -106,7 +109,7 @@ class SimBus:
         self._baud_ok = True
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._serve, name="servo-sim", daemon=True)
-        self.person: Any = None
+        self.person: Person | None = None
         self.error: Exception | None = None  # set when the serving thread failed
         self.last_internal_error: str | None = None
 

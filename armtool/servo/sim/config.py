@@ -28,7 +28,7 @@ from typing import Any
 
 from armtool.errors import ArmtoolError
 from armtool.servo.models import ServoModel, by_name
-from armtool.servo.registry import Protocol, check_protocol, transport_class
+from armtool.servo.registry import Protocol, check_protocol, protocol_names, transport_class
 
 # registers the simulated servo drives (armtool/servo/sim/servo.py): a model without one cannot be simulated
 SIM_REGISTERS = (
@@ -132,6 +132,12 @@ def _number(
     return number
 
 
+def _default_models() -> str:
+    """ "AX-12A (dxl1), XL430-W250 (dxl2) or STS3215 (feetech)": each protocol's default model."""
+    names = [f"{transport_class(p).default_model} ({p})" for p in protocol_names()]
+    return ", ".join(names[:-1]) + " or " + names[-1] if len(names) > 1 else names[0]
+
+
 def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
     if not isinstance(data, dict):
         raise ArmtoolError("simulator config must be a mapping with 'protocol' and 'joints'", source)
@@ -160,7 +166,7 @@ def sim_config_from_dict(data: Any, source: str = "<config>") -> SimConfig:
             raise ArmtoolError(
                 f"the simulator does not support the {model.name} (it has no {', '.join(missing)} register)",
                 where,
-                hint="simulate an AX-12A (dxl1), XL430-W250 (dxl2) or STS3215 (feetech)",
+                hint=f"simulate {_default_models()}",
             )
         deg = model.deg_per_tick
         key = "stops_deg" if "stops_deg" in e else "stops" if "stops" in e else None

@@ -23,6 +23,7 @@ import math
 from collections.abc import Callable
 
 from armtool.servo.models import Register, ServoModel, decode, encode
+from armtool.servo.registry import transport_class
 from armtool.servo.sim.config import ServoSpec
 
 LOAD_TAU_S = 0.04
@@ -48,7 +49,7 @@ class SimServo:
         self.spec = spec
         self.id = spec.id
         self.model: ServoModel = spec.model
-        self.family = {"dxl1": "ax", "dxl2": "x", "feetech": "sts"}[self.model.protocol]
+        self.proto = transport_class(self.model.protocol)  # the protocol's behaviour, as data
         self.overload_time_s = overload_time_s
         self.return_delay_override = return_delay
         self.goal_enables_torque = goal_enables_torque
@@ -124,12 +125,11 @@ class SimServo:
         """Ticks the homing offset adds to the encoder reading: present = encoder + shift."""
         if not self.model.has("homing_offset"):
             return 0
-        offset = self.get("homing_offset")
-        if self.family == "sts":
-            return -offset
-        if self.get("operating_mode") == 3 and not -1024 <= offset <= 1024:
+        offset, p = self.get("homing_offset"), self.proto
+        limit, mode = p.position_mode_offset_limit, p.position_mode
+        if limit is not None and mode is not None and self.get("operating_mode") == mode and abs(offset) > limit:
             return 0  # ignored in Position Control Mode
-        return offset
+        return p.homing_sign * offset
 
     def reported_ticks(self, theta: float | None = None) -> int:
         t = int(round(self.ticks_of(self.theta if theta is None else theta)))
@@ -156,32 +156,33 @@ class SimServo:
         return self.get("torque_enable") >= 1 and self.torque_cap() > 0
 
     def speed_deg_s(self) -> float:
-        v = self.get("moving_speed")
-        unit = self.model.speed_unit_deg_s
-        if self.family == "ax":
-            vmax = 59.0 if self.model.ticks == 1024 else 55.0  # no-load rpm
-            return 6.0 * vmax if v == 0 else min(v * unit, 6.0 * 114.0)
-        if self.family == "x":
+        v, unit, m = self.get("moving_speed"), self.model.speed_unit_deg_s, self.model
+        if m.free_speed_deg_s is None or m.top_speed_deg_s is None:  # 0 = up to the Velocity Limit register
             limit = self.get("velocity_limit")
             return unit * (limit if v == 0 else min(v, limit))
-        return unit * (3000 if v == 0 else min(v, 3400))
+        return m.free_speed_deg_s if v == 0 else min(v * unit, m.top_speed_deg_s)
 
     def return_delay_s(self) -> float:
         return 2e-6 * self.get("return_delay")
 
     def error_bits(self) -> int:
         """Alarm bits carried by every status packet (the protocol's own encoding)."""
-        if self.family == "ax":
-            return 0x20 if self.overload else 0
-        if self.family == "x":
-            return 0x80 if self.get("hardware_error") else 0
-        return self.get("status")
+        p = self.proto
+        if p.alarm_register is None:
+            return self.model.overload_bit if self.overload else 0
+        alarms = self.get(p.alarm_register)
+        if p.alert_bit is not None:
+            return p.alert_bit if alarms else 0
+        return alarms
+
+    def _alarm_latched(self) -> bool:
+        """An alarm that only a reboot clears (no re-arm): the servo refuses torque meanwhile."""
+        p = self.proto
+        return p.rearm is None and p.alarm_register is not None and bool(self.get(p.alarm_register))
 
     def answers(self, is_read_or_ping: bool, is_ping: bool) -> bool:
-        level = self.get("status_return_level")
-        if self.family == "sts":
-            return level >= 1 or is_read_or_ping
-        return level >= 2 or (level == 1 and is_read_or_ping) or is_ping
+        level, p = self.get("status_return_level"), self.proto
+        return is_ping or level >= p.status_all_level or (is_read_or_ping and level >= p.status_read_level)
 
     # -- physics
     def step(self, dt: float, t: float) -> None:
@@ -226,28 +227,20 @@ class SimServo:
     def _trip(self) -> None:
         self.overload_trips += 1
         self.at_cap_s = 0.0
-        shutdown = self.get("alarm_shutdown") & 0x20
+        p, bit = self.proto, self.model.overload_bit
+        shutdown = self.get("alarm_shutdown") & bit
         self.overload = True
-        if self.family == "ax":
-            if shutdown:
-                self.set("torque_limit", 0)
-        elif self.family == "x":
-            if shutdown:
-                self.set("hardware_error", self.get("hardware_error") | 0x20)
-                self.set("torque_enable", 0)
-        else:
-            self.set("status", self.get("status") | 0x20)
-            if shutdown:
-                self.set("torque_enable", 0)
+        if p.alarm_register is not None and (shutdown or not p.alarm_needs_shutdown):
+            self.set(p.alarm_register, self.get(p.alarm_register) | bit)
+        if shutdown:  # the output is cut where the re-arm write restores it
+            self.set("torque_limit" if p.rearm == "torque_limit" else "torque_enable", 0)
 
     def _sync_present(self) -> None:
         d = self.model.deg_per_tick
         self.set("present_position", self.reported_ticks())
         speed = self.vel / self.model.speed_unit_deg_s
-        if self.family == "ax":
-            speed = max(-1023, min(1023, speed))
-        elif self.family == "sts":
-            speed = max(-32767, min(32767, speed))
+        top = self.model.reg("present_speed").magnitude_max
+        speed = max(-top, min(top, speed))
         full = self.model.load_full_scale
         self.set("present_speed", int(round(speed)))
         self.set("present_load", int(round(max(-full, min(full, self.load * full)))))
@@ -279,11 +272,8 @@ class SimServo:
         for _name, r in regs:
             if not r.writable:
                 return E_ACCESS
-            if r.eeprom:
-                if self.family == "x" and torque:
-                    return E_ACCESS
-                if self.family == "ax" and (torque or self.get("lock")):
-                    return E_RANGE
+            if r.eeprom and self.proto.eeprom_needs_torque_off and (torque or self._locked()):
+                return E_ACCESS
             value = decode(r, bytes(new[r.addr : r.addr + r.size]), self.model.big_endian)
             if (r.lo, r.hi) != (0, 0) and not r.lo <= value <= r.hi:
                 return E_RANGE
@@ -294,14 +284,14 @@ class SimServo:
             goal = decode(reg, bytes(new[reg.addr : reg.addr + reg.size]), self.model.big_endian)
             lo, hi = self.get("min_limit"), self.get("max_limit")
             if not (lo == 0 and hi == 0) and not lo <= goal <= hi:
-                if self.family == "x":
+                if self.proto.goal_outside_limits == "refuse":
                     return E_LIMIT
                 goal = min(max(goal, lo), hi)
                 new[reg.addr : reg.addr + reg.size] = encode(reg, goal, self.model.big_endian)
-                code = E_ANGLE if self.family == "ax" else OK
+                code = E_ANGLE  # an error bit only where the protocol has one (refusal_bits)
         self.mem[:] = new
         for _name, r in regs:
-            if r.eeprom and not (self.family == "sts" and self.get("lock")):
+            if r.eeprom and not (self.proto.eeprom_lock and self._locked()):
                 self.flash[r.addr : r.addr + r.size] = new[r.addr : r.addr + r.size]
         for name in names:
             self._after_write(name)
@@ -319,26 +309,28 @@ class SimServo:
     def _after_write(self, name: str) -> None:
         if name == "goal_position":
             self.theta_goal = self._goal_theta(self.get("goal_position"))
-            if self.family == "x":
-                enables = bool(self.get("drive_mode") & 8)
-            else:
-                enables = self.goal_enables_torque if self.family == "ax" else True
-            if enables and self.get("torque_enable") == 0 and not (self.family == "x" and self.get("hardware_error")):
+            bit = self.proto.goal_torque_on_bit
+            enables = bool(self.get(bit[0]) & bit[1]) if bit is not None else self.goal_enables_torque
+            if enables and self.get("torque_enable") == 0 and not self._alarm_latched():
                 self.set("torque_enable", 1)
-        elif name == "torque_limit" and self.family == "ax":
+        elif name == "torque_limit" and self.proto.rearm == "torque_limit":
             if self.get("torque_limit") > 0:
                 self.overload = False  # re-armed by writing a non-zero Torque Limit
         elif name == "torque_enable":
-            te = self.get("torque_enable")
-            if self.family == "x" and self.get("hardware_error") and te:
+            te, p = self.get("torque_enable"), self.proto
+            if self._alarm_latched() and te:
                 self.set("torque_enable", 0)  # refuses until REBOOT
-            elif self.family == "sts" and te == 128:
+            elif p.torque_enable_calibrate is not None and te == p.torque_enable_calibrate:
                 self.set("torque_enable", 0)  # midpoint calibration: not modelled beyond not energising
-            elif te and self.family == "sts":
-                self.set("status", self.get("status") & ~0x20)
+            elif te and p.rearm == "torque_enable":
+                if p.alarm_register is not None:
+                    self.set(p.alarm_register, self.get(p.alarm_register) & ~self.model.overload_bit)
                 self.overload = False
             if te == 1:
                 self.theta_goal = self._goal_theta(self.get("goal_position"))
+
+    def _locked(self) -> bool:
+        return self.model.has("lock") and bool(self.get("lock"))
 
     def reboot(self) -> None:
         if self.model.has("hardware_error"):
