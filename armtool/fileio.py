@@ -328,9 +328,10 @@ def read_regular(path: Path | str, limit: int | None = None) -> bytes:
 MAX_TEXT_BYTES = 256 * 1024 * 1024
 
 
-def read_text(path: Path | str, what: str, limit: int = MAX_TEXT_BYTES) -> str:
+def read_text(path: Path | str, what: str, limit: int = MAX_TEXT_BYTES, keep_bom: bool = False) -> str:
     """A regular UTF-8 file's text, or an ArmtoolError naming `what` and the file. A FIFO or device
-    is refused without blocking (read_regular); a file over `limit` bytes is refused."""
+    is refused without blocking (read_regular); a file over `limit` bytes is refused. Line endings
+    stay as they are; `keep_bom` keeps a byte-order mark for text that is written back whole."""
     source = str(path)
     try:
         data = read_regular(path, limit + 1)
@@ -343,7 +344,7 @@ def read_text(path: Path | str, what: str, limit: int = MAX_TEXT_BYTES) -> str:
     if len(data) > limit:
         raise ArmtoolError(f"{what} is larger than {limit / (1024 * 1024):g} MB", source) from None
     try:
-        return data.decode("utf-8-sig")
+        return data.decode("utf-8" if keep_bom else "utf-8-sig")
     except UnicodeDecodeError as exc:
         raise ArmtoolError(f"{what} is not UTF-8 text (byte {exc.start})", source, "save it as UTF-8") from None
 

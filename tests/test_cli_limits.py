@@ -677,3 +677,37 @@ def test_from_lerobot_offset_ignored_in_position_mode_is_refused_before_recordin
             r.stderr
         )
         assert sim.peek(11, "goal_position") == goal and all_off(sim)
+
+
+def test_in_place_urdf_keeps_crlf_and_its_backup_is_the_original_bytes(tmp_path: Path) -> None:
+    arm = sub_arm(tmp_path, [5])
+    urdf = tmp_path / "crlf.urdf"
+    original = "\ufeff".encode() + (FIXTURES / "ax12_arm.urdf").read_bytes().replace(b"\r\n", b"\n").replace(
+        b"\n", b"\r\n"
+    )
+    urdf.write_bytes(original)
+    with SimBus.start(AX_ARM) as sim:
+        r = armtool(
+            "limits",
+            "--port",
+            sim.port_path,
+            "--arm",
+            str(arm),
+            "--mode",
+            "auto",
+            "--yes",
+            "--speed",
+            "300",
+            "-o",
+            str(tmp_path / "limits.yaml"),
+            "--urdf",
+            str(urdf),
+            "--in-place",
+            "--allow-widen",
+        )
+        assert r.returncode == 0, r.stderr
+        assert all_off(sim)
+    assert (tmp_path / "crlf.urdf.bak").read_bytes() == original
+    new = urdf.read_bytes()
+    assert new != original and new.startswith("\ufeff".encode())
+    assert new.count(b"\n") == new.count(b"\r\n") == original.count(b"\r\n")

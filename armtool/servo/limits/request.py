@@ -159,10 +159,11 @@ def read_urdf(r: Request, joints: list[Joint]) -> str | None:
     """The URDF's text when --urdf is given, its joint names checked against the arm's."""
     if r.urdf is None:
         return None
-    try:
-        text = r.urdf.read_text()
-    except OSError as exc:
-        raise ArmtoolError(f"cannot read {r.urdf}: {exc.strerror}") from None
+    from armtool.fileio import read_text
+
+    # Decoded from the bytes as they are: line endings and a byte-order mark stay (Path.read_text
+    # turned CRLF into LF, so the patched URDF and the --in-place backup were not the user's file).
+    text = read_text(r.urdf, "--urdf", keep_bom=True)
     check_urdf_names(text, [j.name for j in joints], str(r.urdf))
     return text
 
