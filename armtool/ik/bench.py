@@ -11,18 +11,12 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from enum import Enum
 
 import numpy as np
 
+from armtool.ik.modes import SeedMode
 from armtool.ik.solver import Array, IKResult, Solver, verify_batch
 from armtool.model.chain import Chain
-
-
-class SeedMode(str, Enum):
-    MID = "mid"
-    RANDOM = "random"
-    NEAR = "near"
 
 
 @dataclass(frozen=True)
