@@ -128,7 +128,7 @@ def test_far_seed_starts_from_the_nearest_table_pose() -> None:
     chain = load_chain(erd(relative), base, tip)
     solver = make_solver("lm", chain, timeout=0.05)
     table = solver._table[0]  # type: ignore[attr-defined]
-    for i in (0, 17, solver.TABLE_SIZE - 1):  # type: ignore[attr-defined]
+    for i in (0, 17, solver.FIRST_TABLE - 1):  # type: ignore[attr-defined]
         target = chain.fk(table[i])
         r = solver.solve(target, chain.mid())
         assert r.success and r.iterations == 0

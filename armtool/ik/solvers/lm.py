@@ -10,8 +10,8 @@ joints held at a limit taken out of the step; continuous joints move freely and 
 
 Where tries start: a table of random configurations and their tip poses, with a k-d tree over
 the poses, is built once per solver. The first try starts from the caller's seed, or from the
-table pose nearest the target (an approximate k-d query) when it is nearer than the seed's pose;
-the seed is then the second try. A try whose best error has not fallen by 30 % in STALL
+nearest of the table's first 1024 poses (one matrix-vector product) when it is nearer the target
+than the seed's pose; the seed is then the second try. A try whose best error has not fallen by 30 % in STALL
 iterations ends, and the solver restarts until the time budget is spent: from the 16 table poses
 nearest the target (skipping the first try's), then uniform random ones.
 
@@ -59,9 +59,8 @@ class LevenbergMarquardt(Solver):
     FAR = 1e-3  # ‖e‖² from the seed above which the nearest table pose may be nearer
     _table: tuple[Array, Array, Array] | None = None  # configurations, pose features, their squared norms
     _tree: Any = None  # k-d tree over the table's pose features
-    # The pose features of a 4×4 target, read off its flattened entries: position, then rotation × 0.2.
-    _FEATURE_INDEX = np.array([3, 7, 11, 0, 1, 2, 4, 5, 6, 8, 9, 10])
-    _FEATURE_SCALE = np.array([1.0] * 3 + [0.2] * 9)
+    FIRST_TABLE = 1024  # table poses searched (brute force) for the first try
+    _scores: Array  # (FIRST_TABLE, 16): see _build_table
 
     def __init__(
         self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
@@ -109,7 +108,8 @@ class LevenbergMarquardt(Solver):
 
     def _build_table(self) -> None:
         """TABLE_SIZE random configurations and their tip poses (self.rng: independent of any target
-        stream), and a k-d tree over their pose features for first tries and restarts."""
+        stream), a k-d tree over their pose features for restarts, and the matrix that scores the
+        first FIRST_TABLE of them against a target for the first try."""
         from scipy.spatial import cKDTree
 
         Q = self.chain.random(self.rng, self.TABLE_SIZE)
@@ -118,16 +118,28 @@ class LevenbergMarquardt(Solver):
         F2 = np.einsum("ij,ij->i", F, F)
         self._table = (Q, F, F2)
         self._tree = cKDTree(F)
+        # score_i = f·F_i − |F_i|²/2 is largest for the table pose nearest the target (|f − F_i|² =
+        # |f|² − 2·score_i), and f·F_i is one product with the target's 4×4 entries in row order:
+        # positions weigh 1, rotation entries 0.2² (features scale them by 0.2), entry [3, 3] = 1
+        # carries −|F_i|²/2. One matrix-vector product per lookup, no work on the target.
+        m = self.FIRST_TABLE
+        G = np.zeros((m, 4, 4))
+        G[:, :3, :3] = 0.04 * T[:m, :3, :3]
+        G[:, :3, 3] = T[:m, :3, 3]
+        G[:, 3, 3] = -0.5 * F2[:m]
+        self._scores = G.reshape(m, 16)
 
     def _nearest(self, target: Array) -> tuple[Array, float]:
-        """The table configuration whose pose is nearest the target (the approximate k-d query over
-        the whole table), and the squared feature distance of its pose to the target's.
+        """The configuration of the first FIRST_TABLE table poses nearest the target, and the squared
+        feature distance of its pose to the target's (one 1024×16 product: 128 KB, a few µs).
 
-        One query costs less than the brute-force product with 1024 poses it replaced (whose 16k
-        multiply-adds also woke a second OpenBLAS thread on every solve), and its start is 32×
-        denser: median iterations from the mid-range seed fell from 5-6 to 4 on every arm."""
-        d, i = self._tree.query(target.take(self._FEATURE_INDEX) * self._FEATURE_SCALE, 1, self.TREE_EPS)
-        return self._table[0][i], float(d) ** 2  # type: ignore[index]
+        Not the k-d tree: its query gives a 32× denser start (median iterations 5-6 -> 4) but
+        costs ~60 µs of wall time per call (scipy's per-call overhead, whatever the table's size),
+        more than the iterations it saves: the median solve took 1.13-1.38× as long."""
+        scores = self._scores.dot(target.reshape(16))
+        i = int(scores.argmax())
+        p = target[:3, 3]
+        return self._table[0][i], float(p.dot(p)) + 0.12 - 2.0 * float(scores[i])  # type: ignore[index]
 
     def _restart_seeds(self, target: Array) -> list[Array]:
         """The TABLE_SEEDS configurations whose tip poses are nearest the target (position, plus 0.2 m
@@ -135,7 +147,7 @@ class LevenbergMarquardt(Solver):
         Restarts are where the hard targets are: a brute-force search over 4096 poses cost a
         third of the query's time but left 1 in 1000 xArm6 targets unsolved in 50 ms."""
         assert self._table is not None
-        f = target.take(self._FEATURE_INDEX) * self._FEATURE_SCALE
+        f = np.concatenate((target[:3, 3], 0.2 * target[:3, :3].reshape(9)))
         _, nearest = self._tree.query(f, k=self.TABLE_SEEDS, eps=self.TREE_EPS)
         return list(self._table[0][nearest])
 
@@ -146,10 +158,10 @@ class LevenbergMarquardt(Solver):
         """solve() with its own budget; from_seed=False skips the try from the seed (the batch's tail:
         its seeds are where a batch try just stalled) and starts from the nearest table pose.
 
-        The first try starts from the seed or, when the table pose nearest the target is nearer than
-        the seed's pose, from that table pose, and then the seed is the second try (from the
-        mid-range seed, a random target's median iterations fall from 7-9 to 4); the restarts from
-        the table then skip that pose.
+        The first try starts from the seed or, when the nearest of FIRST_TABLE table poses is nearer
+        the target than the seed's pose, from that table pose, and then the seed is the second try
+        (from the mid-range seed, a random target's median iterations fall from 7-9 to 5-6); the
+        restarts from the table then skip that pose.
         """
         clock = self.clock
         deadline = clock() + timeout
@@ -317,7 +329,7 @@ class LevenbergMarquardt(Solver):
         return _THREADPOOLS
 
     def _start_from_table(self, targets: Array, Q: Array) -> NDArray[np.intp]:
-        """Replace, in place, the rows of Q whose nearest table pose (the k-d query, as in _nearest) is
+        """Replace, in place, the rows of Q whose nearest table pose (one k-d query for all of them) is
         nearer their target than their own pose; 1 for those rows whose start is also among the
         first BATCH_TABLE_SIZE table poses (so their restarts skip it), else 0."""
         assert self._table is not None
