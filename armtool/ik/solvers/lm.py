@@ -329,12 +329,14 @@ class LevenbergMarquardt(Solver):
         return _THREADPOOLS
 
     def _start_from_table(self, targets: Array, Q: Array) -> NDArray[np.intp]:
-        """Replace, in place, the rows of Q whose nearest table pose (one k-d query for all of them) is
-        nearer their target than their own pose; 1 for those rows whose start is also among the
-        first BATCH_TABLE_SIZE table poses (so their restarts skip it), else 0."""
+        """Replace, in place, the rows of Q whose nearest table pose (of the first FIRST_TABLE) is nearer
+        their target than their own pose; 1 for those rows, else 0."""
         assert self._table is not None
-        d, best = self._tree.query(_pose_features(targets), 1, self.TREE_EPS)
-        d2_table = d**2
+        N = targets.shape[0]
+        scores = targets.reshape(N, 16) @ self._scores.T  # (N, FIRST_TABLE), as in _nearest
+        best = scores.argmax(axis=1)
+        p = targets[:, :3, 3]
+        d2_table = np.einsum("ij,ij->i", p, p) + 0.12 - 2.0 * scores[np.arange(N), best]
         T, _ = self.chain.fk_jacobian_batch(Q, jacobian=False)
         diff = targets[:, :3, :] - T[:, :3, :]
         d2_seed = np.einsum("ij,ij->i", diff[:, :, 3], diff[:, :, 3]) + 0.04 * np.einsum(
@@ -342,7 +344,7 @@ class LevenbergMarquardt(Solver):
         )
         use = d2_table < d2_seed
         Q[use] = np.minimum(np.maximum(self._table[0][best[use]], self._lower), self._upper)
-        return np.asarray(use & (best < self.BATCH_TABLE_SIZE), dtype=np.intp)
+        return np.asarray(use, dtype=np.intp)
 
     def _solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
         targets = np.asarray(targets, dtype=float)
@@ -366,9 +368,9 @@ class LevenbergMarquardt(Solver):
         # on contiguous rows of length m, and the whole step is one FK + one batched solve.
         idx = np.arange(N)
         Qa = Q.copy()
-        # First tries from the nearest table pose where it is nearer the target than the seed's
-        # pose, as in solve(); their restarts then skip that pose when it is among the poses they
-        # search. The seed's pose distance is the same feature distance as the table's.
+        # First tries from the nearest of FIRST_TABLE table poses where it is nearer the target than
+        # the seed's pose, as in solve(); their restarts then skip that pose (the nearest of the
+        # same rows). The seed's pose distance is the same feature distance as the table's.
         skip = self._start_from_table(targets, Qa)
         Rt = targets[:, :3, :3].transpose(1, 2, 0).copy()
         pt = targets[:, :3, 3].T.copy()
