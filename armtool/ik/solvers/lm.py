@@ -139,7 +139,17 @@ class LevenbergMarquardt(Solver):
         order = np.argsort(cell, kind="stable")
         self._cell_order = order
         self._cell_scores = np.ascontiguousarray(scores[order])
-        self._cell_bounds = np.searchsorted(cell[order], np.arange(m + 1)).tolist()
+        bounds = np.searchsorted(cell[order], np.arange(m + 1))
+        self._cell_bounds = bounds.tolist()
+        # The same cells padded to one width for the batch (a padding row scores −inf: its entry
+        # [3, 3] meets the target's 1).
+        width = int(np.diff(bounds).max())
+        slot = np.arange(len(Q)) - bounds[cell[order]]
+        self._cell_padded = np.full((m, width), -1, dtype=np.intp)
+        self._cell_padded[cell[order], slot] = order
+        self._cell_padded_scores = np.zeros((m, width, 16))
+        self._cell_padded_scores[:, :, 15] = -np.inf
+        self._cell_padded_scores[cell[order], slot] = self._cell_scores
 
     def _nearest(self, target: Array) -> tuple[Array, float]:
         """A table configuration whose pose is near the target, and the squared feature distance of
@@ -347,14 +357,18 @@ class LevenbergMarquardt(Solver):
         return _THREADPOOLS
 
     def _start_from_table(self, targets: Array, Q: Array) -> NDArray[np.intp]:
-        """Replace, in place, the rows of Q whose nearest table pose (of the first FIRST_TABLE) is nearer
-        their target than their own pose; 1 for those rows, else 0."""
+        """Replace, in place, the rows of Q whose table pose from the cell search of _nearest is nearer
+        their target than their own pose; 1 for those rows whose start is their cell's centre
+        (the first table pose their restarts would take), else 0."""
         assert self._table is not None
         N = targets.shape[0]
-        scores = targets.reshape(N, 16) @ self._scores.T  # (N, FIRST_TABLE), as in _nearest
-        best = scores.argmax(axis=1)
+        flat = targets.reshape(N, 16)
+        centre = (flat @ self._scores.T).argmax(axis=1)  # (N, FIRST_TABLE) scores, as in _nearest
+        scores = np.einsum("nkj,nj->nk", self._cell_padded_scores[centre], flat)
+        j = scores.argmax(axis=1)
+        best = self._cell_padded[centre, j]
         p = targets[:, :3, 3]
-        d2_table = np.einsum("ij,ij->i", p, p) + 0.12 - 2.0 * scores[np.arange(N), best]
+        d2_table = np.einsum("ij,ij->i", p, p) + 0.12 - 2.0 * scores[np.arange(N), j]
         T, _ = self.chain.fk_jacobian_batch(Q, jacobian=False)
         diff = targets[:, :3, :] - T[:, :3, :]
         d2_seed = np.einsum("ij,ij->i", diff[:, :, 3], diff[:, :, 3]) + 0.04 * np.einsum(
@@ -362,7 +376,7 @@ class LevenbergMarquardt(Solver):
         )
         use = d2_table < d2_seed
         Q[use] = np.minimum(np.maximum(self._table[0][best[use]], self._lower), self._upper)
-        return np.asarray(use, dtype=np.intp)
+        return np.asarray(use & (best == centre), dtype=np.intp)
 
     def _solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
         targets = np.asarray(targets, dtype=float)
