@@ -11,8 +11,10 @@ whatever the solver claims. All solvers see the same targets; `lm` also runs bat
 `solve_batch` call). ikpy is slow (~10 ms a solve) and runs on the first --ikpy-samples targets
 only. A peer that is not installed is skipped with its install command (`pip install 'armtool[peers]'`).
 
-Rounds (--rounds, default 3) run every solver once each, round after round, so a busy machine
-slows all of them alike; the table shows the median over rounds of each figure, and "spread" is
+Before round 1, every solver solves the first --warmup targets (default 100) untimed, so that
+round 1 runs in the same state as the rounds after it (lm's first round was often its slowest).
+Each run starts after a garbage collection. Rounds (--rounds, default 3) run every solver once
+each, round after round, so a busy machine slows all of them alike; the table shows the median over rounds of each figure, and "spread" is
 how far the largest per-round median lies above the smallest ((max − min) / min), for `lm` and
 beside it for the peers. Batched rows show the amortized time (total / N) as their median and
 p95. "CPU median" is the median of each solve's process CPU time: on a loaded machine wall
@@ -27,13 +29,14 @@ the solver). Only solvers with a timeout can fail that way. Process CPU time cou
 Markdown tables and PASS/FAIL lines for the IK-speed issue's targets go to stdout; progress and
 skipped solvers or arms to stderr. Exit code 0, or 1 with --strict when a target is missed.
 
-    python benchmarks/ik_bench.py [--samples 1000] [--rounds 3] [--robots panda,ur5,xarm6,xarm7,kinova,so101]
+    python benchmarks/ik_bench.py [--samples 1000] [--rounds 3] [--warmup 100] [--robots panda,ur5,xarm6,xarm7,kinova,so101]
         [--solvers lm,analytic] [--corpus ../shared/realworld]
 """
 
 from __future__ import annotations
 
 import argparse
+import gc
 import glob
 import os
 import platform
@@ -213,11 +216,23 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
         runs.append((peer_name, CpuWatch(peer), False))
 
     reports: dict[str, list[Any]] = {label: [] for label, _, _ in runs}
+    if args.warmup:  # an untimed pass of every solver first: round 1 then runs in the state of rounds 2 and 3
+        k = min(args.warmup, args.samples)
+        warm = Targets(targets.q_true[:k], targets.poses[:k], targets.seeds[:k])
+        for label, solver, batch in runs:
+            log(f"  {name} warm-up: {label}")
+            if batch:
+                solver.solve_batch(warm.poses, warm.seeds)
+            elif label != "ikpy":
+                inner = solver.solver if isinstance(solver, CpuWatch) else solver  # untimed
+                for pose, seed in zip(warm.poses, warm.seeds):
+                    inner.solve(pose, seed)
     for r in range(args.rounds):
         for label, solver, batch in runs:
             log(f"  {name} round {r + 1}/{args.rounds}: {label}")
             if isinstance(solver, CpuWatch):
                 solver.start_run()
+            gc.collect()  # every run starts from the same collected heap, not the previous run's garbage
             if label == "ikpy":
                 reports[label].append(run_solver(chain, solver, few, few_config))
             else:
@@ -353,15 +368,21 @@ def main() -> int:
     parser.add_argument(
         "--rounds", type=int, default=3, help="run every solver this many times; report medians (default 3)"
     )
+    parser.add_argument(
+        "--warmup",
+        type=int,
+        default=100,
+        help="untimed solves per solver on the first targets before round 1, 0 for none (default 100)",
+    )
     parser.add_argument("--strict", action="store_true", help="exit 1 when a target is missed")
     args = parser.parse_args()
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
     args.solvers = [s.strip() for s in args.solvers.split(",") if s.strip()]
     args.peers = [p.strip() for p in args.peers.split(",") if p.strip()]
     unknown = [r for r in robots if r not in ROBOTS] + [p for p in args.peers if p not in PEERS]
-    if unknown or args.samples < 1 or args.rounds < 1 or not args.timeout > 0:
+    if unknown or args.samples < 1 or args.rounds < 1 or args.warmup < 0 or not args.timeout > 0:
         parser.error(
-            f"robots must be among {', '.join(ROBOTS)}, peers among {', '.join(PEERS)}; --samples, --rounds >= 1; --timeout > 0"
+            f"robots must be among {', '.join(ROBOTS)}, peers among {', '.join(PEERS)}; --samples, --rounds >= 1; --warmup >= 0; --timeout > 0"
         )
 
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from enum import Enum
 from pathlib import Path
 
 import typer
@@ -11,18 +10,7 @@ from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
 from armtool.ik import MAX_SAMPLES, MAX_TIMEOUT_S
-
-
-class BenchFormat(str, Enum):
-    TABLE = "table"
-    JSON = "json"
-    CSV = "csv"
-
-
-class SeedModeOption(str, Enum):
-    MID = "mid"
-    RANDOM = "random"
-    NEAR = "near"
+from armtool.ik.modes import BenchFormat, SeedMode
 
 
 def ik_bench(
@@ -60,8 +48,8 @@ def ik_bench(
     seed: int = typer.Option(
         0, "--seed", callback=opt.seed(), help="Random seed for targets (and restarts); any integer."
     ),
-    seed_mode: SeedModeOption = typer.Option(
-        SeedModeOption.MID, "--seed-mode", help="Start each solve from mid-range, random, or near the answer."
+    seed_mode: SeedMode = typer.Option(
+        SeedMode.MID, "--seed-mode", help="Start each solve from mid-range, random, or near the answer."
     ),
     timeout: float | None = typer.Option(
         None,
@@ -86,7 +74,7 @@ def ik_bench(
     from armtool.cli.lint import _parse_xacro_args
     from armtool.console import say, stderr, write_stdout
     from armtool.fileio import check_output_paths
-    from armtool.ik.bench import BenchConfig, NotApplicable, SeedMode, SolverReport, make_targets, run_solver
+    from armtool.ik.bench import BenchConfig, NotApplicable, SolverReport, make_targets, run_solver
     from armtool.ik.group import GroupSettings, group_chain, group_settings
     from armtool.ik.peers import check_peer_name, make_peer, native_stdout_to_stderr, peer_names
     from armtool.ik.registry import solver_class, solver_names
@@ -161,7 +149,7 @@ def ik_bench(
         config = BenchConfig(
             samples=samples,
             rng_seed=seed,
-            seed_mode=SeedMode(seed_mode.value),
+            seed_mode=seed_mode,
             timeout=timeout,
             tolerance=tolerance,
             position_only=position_only,

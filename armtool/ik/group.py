@@ -229,13 +229,17 @@ def group_settings(kinematics_yaml: Path, group: str) -> GroupSettings:
                 where,
                 "a number of seconds such as 0.005",
             )
-        if not (math.isfinite(value) and 0 < value <= MAX_TIMEOUT_S):
+        try:
+            seconds = float(value)
+        except OverflowError:  # an integer beyond a float's range (YAML integers are unbounded)
+            seconds = math.inf
+        if not (math.isfinite(seconds) and 0 < seconds <= MAX_TIMEOUT_S):
             raise ArmtoolError(
                 f"kinematics_solver_timeout of '{group}' is {value!r}",
                 where,
                 f"a finite number of seconds > 0 and ≤ {MAX_TIMEOUT_S:g}, such as 0.005",
             )
-        timeout = float(value)
+        timeout = seconds
     position_only = False
     if "position_only_ik" in g.settings:
         flag = g.settings["position_only_ik"].value

@@ -70,3 +70,35 @@ def test_solver_randomness_is_independent_of_the_target_stream() -> None:
     assert not np.allclose(
         solver.rng.uniform(chain.lower, chain.upper), np.random.default_rng(0).uniform(chain.lower, chain.upper)
     )
+
+
+class Recorder(Liar):
+    """Records every target it is asked to solve."""
+
+    name = "recorder"
+
+    def __init__(self, chain, **kw):  # type: ignore[no-untyped-def]
+        super().__init__(chain, **kw)
+        self.targets: list[np.ndarray] = []
+
+    def solve(self, target, seed):  # type: ignore[no-untyped-def]
+        self.targets.append(np.array(target))
+        return super().solve(target, seed)
+
+
+def test_warm_up_solves_real_targets_before_the_timed_ones() -> None:
+    # Warming up on the mid-range pose alone runs no step of an iterative solver (its seed is the
+    # answer): the first timed solves then paid for the solver's first calls.
+    from armtool.ik.bench import WARM_UP_SOLVES
+
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    config = BenchConfig(samples=5, repeat=0)
+    targets = make_targets(chain, config)
+    solver = Recorder(chain)
+    run_solver(chain, solver, targets, config)
+    warm, timed = solver.targets[:-5], solver.targets[-5:]
+    assert np.allclose(timed, targets.poses)
+    mid = chain.fk(chain.mid())
+    away = [t for t in warm if not np.allclose(t, mid)]
+    assert len(away) == WARM_UP_SOLVES
+    assert not any(np.allclose(a, p) for a in away for p in targets.poses)  # a stream of their own

@@ -96,3 +96,12 @@ def test_position_only_ik_and_timeout(tmp_path: Path) -> None:
     kin.write_text("arm:\n  position_only_ik: 3\n")
     with pytest.raises(ArmtoolError, match="position_only_ik of 'arm' is 3"):
         group_settings(kin, "arm")
+
+
+def test_timeout_beyond_a_floats_range_is_an_input_error(tmp_path: Path) -> None:
+    # YAML integers are unbounded: 10**400 seconds is out of range, not an OverflowError traceback.
+    kin = tmp_path / "kinematics.yaml"
+    kin.write_text("arm:\n  kinematics_solver_timeout: 1" + "0" * 400 + "\n")
+    with pytest.raises(ArmtoolError, match="kinematics_solver_timeout of 'arm' is") as info:
+        group_settings(kin, "arm")
+    assert info.value.where == f"{kin}:2"

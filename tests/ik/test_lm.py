@@ -124,11 +124,12 @@ def test_answers_keep_both_error_norms_within_tolerance() -> None:
 def test_far_seed_starts_from_the_nearest_table_pose() -> None:
     # The target is a table pose's own; from the mid-range seed (far from it) the first try starts at
     # that table pose, which is already the answer: no iteration at all. From the seed it takes ~7.
+    # Any table pose, not only the cells' centres: a pose is in the cell of the centre nearest it.
     relative, base, tip = ARMS["panda"]
     chain = load_chain(erd(relative), base, tip)
     solver = make_solver("lm", chain, timeout=0.05)
     table = solver._table[0]  # type: ignore[attr-defined]
-    for i in (0, 17, solver.FIRST_TABLE - 1):  # type: ignore[attr-defined]
+    for i in (0, 17, solver.FIRST_TABLE - 1, solver.FIRST_TABLE, 5000, solver.TABLE_SIZE - 1):  # type: ignore[attr-defined]
         target = chain.fk(table[i])
         r = solver.solve(target, chain.mid())
         assert r.success and r.iterations == 0
