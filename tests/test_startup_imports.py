@@ -77,3 +77,27 @@ def test_no_heavy_imports(command: str, tmp_path: Path) -> None:
     assert exit_code == 0
     assert "armtool" in modules and "typer" in modules  # the probe did run the CLI
     assert sorted(modules.intersection(HEAVY)) == []
+
+
+def test_command_line_start_imports_only_the_option_choices_of_the_servo_commands() -> None:
+    # Building the command line reads the servo commands' choices (numpy-free modules); the bus,
+    # the models and the motion code come only with a servo command that runs (~60 ms otherwise).
+    probe = _PROBE.replace('name.partition(".")[0] for name in sys.modules', "name for name in sys.modules")
+    result = subprocess.run(
+        [sys.executable, "-c", probe, json.dumps(["--version"])],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "NO_COLOR": "1"},
+    )
+    assert result.returncode == 0, result.stderr
+    modules = set(json.loads(result.stdout.strip().splitlines()[-1])["modules"])
+    assert "armtool.servo.limits.choices" in modules  # the probe did build the command line
+    loaded = {m for m in modules if m.startswith("armtool.servo.")}
+    assert loaded <= {
+        "armtool.servo.limits",
+        "armtool.servo.limits.choices",
+        "armtool.servo.lut",
+        "armtool.servo.lut.choices",
+        "armtool.servo.registry",
+    }, sorted(loaded)

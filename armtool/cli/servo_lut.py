@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import typer
-from rich.markup import escape
 
 from armtool.cli import options as opt
 from armtool.console import stderr
@@ -60,7 +59,7 @@ def summary_table(summary: Summary) -> Table:
     from rich.table import Table
     from rich.text import Text
 
-    table = Table(title=escape(summary.title), title_justify="left")
+    table = Table(title=Text(summary.title), title_justify="left")
     for col in summary.columns:
         table.add_column(col, justify="left" if col in summary.left else "right", no_wrap=col in summary.no_wrap)
     for row in summary.rows:
@@ -71,8 +70,10 @@ def summary_table(summary: Summary) -> Table:
 def print_summary(summary: Summary) -> None:
     """A core-built table, and its notes, on stderr."""
     stderr().print(summary_table(summary))
+    from armtool.console import say
+
     for note in summary.notes:
-        stderr().print(escape(note))
+        say(note)
 
 
 @app.command("fit", help="Fit the table (wanted angle -> command) from a measurement CSV.\n\n" + MEAS_FORMAT)

@@ -12,11 +12,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import typer
-from rich.markup import escape
 
 from armtool.cli import options as opt
 from armtool.cli.servo_lut import app, write_output
-from armtool.console import stderr
+from armtool.console import say, stderr
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.extras import require
 from armtool.servo.lut.choices import MeasureApproach, ReportFormat
@@ -63,7 +62,7 @@ def _hooks(yes: bool) -> Hooks:
     return Hooks(
         ask=lambda text: str(typer.prompt(text, err=True)),
         confirm=lambda question: _confirm(question, yes),
-        note=lambda text: stderr().print(escape(text)),
+        note=say,
         progress=_progress,
     )
 
