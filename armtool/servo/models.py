@@ -228,6 +228,27 @@ def _x_table(model_number: int, current: bool) -> dict[str, Register]:
     return t
 
 
+def _xl330_table(model_number: int, velocity_limit: int) -> dict[str, Register]:
+    """XL330-M288/M077 (e-manual): the X table with Present Current in mA (Current Limit 1750),
+    a 3.7-6 V supply (voltage limits 31-70 in 0.1 V) and 0..2047 velocity units."""
+    t = _x_table(model_number, current=True)
+    t.update(
+        {
+            "temperature_limit": R(31, 1, 70, 0, 100, eeprom=True),
+            "max_voltage": R(32, 2, 70, 31, 70, eeprom=True),
+            "min_voltage": R(34, 2, 35, 31, 70, eeprom=True),
+            "current_limit": R(38, 2, 1750, 0, 1750, eeprom=True),
+            "velocity_limit": R(44, 4, velocity_limit, 0, 2047, eeprom=True),
+            "alarm_shutdown": R(63, 1, 53, 0, 63, eeprom=True),
+            "position_p_gain": R(84, 2, 400, 0, 16383),
+            "goal_current": R(102, 2, 1750, -1750, 1750, enc="s"),
+            "goal_velocity": R(104, 4, 0, -2047, 2047, enc="s"),
+            "present_voltage": R(144, 2, 50, ro=True),
+        }
+    )
+    return t
+
+
 def _sts_table(model_number: int) -> dict[str, Register]:
     return {
         "firmware": R(0, 1, 3, eeprom=True, ro=True),
@@ -296,8 +317,8 @@ def _model(name: str, protocol: str, number: int, ticks: int, table: dict[str, R
 
 
 # Speed units (e-manual): AX 0.111 rpm, MX (protocol 1) 0.114 rpm, X 0.229 rpm, Feetech ticks/s.
-# Load full scale: AX/MX 1023 (0.1 %), STS and XL430 1000 (0.1 %), XM430 Present Current at its
-# Current Limit (1193, 2.69 mA units).
+# Load full scale: AX/MX 1023 (0.1 %), STS and XL430 1000 (0.1 %), XM430 and XL330 Present Current
+# at their Current Limit (XM430 1193 in 2.69 mA units, XL330 1750 in mA).
 MODELS: tuple[ServoModel, ...] = (
     _model(
         "AX-12A",
@@ -346,6 +367,25 @@ MODELS: tuple[ServoModel, ...] = (
     ),
     _model(
         "XM430-W350", "dxl2", 1020, 4096, _x_table(1020, current=True), aliases=("xm430", "xm430-w350"), speed_rpm=0.229
+    ),
+    # Koch v1.1 and other low-cost arms (LeRobot's `koch`): XL330-M288 joints, XL330-M077 leaders.
+    _model(
+        "XL330-M288",
+        "dxl2",
+        1200,
+        4096,
+        _xl330_table(1200, velocity_limit=445),
+        aliases=("xl330-m288", "xl330-m288-t"),
+        speed_rpm=0.229,
+    ),
+    _model(
+        "XL330-M077",
+        "dxl2",
+        1190,
+        4096,
+        _xl330_table(1190, velocity_limit=1620),
+        aliases=("xl330-m077", "xl330-m077-t"),
+        speed_rpm=0.229,
     ),
     _model(  # Goal_Velocity 0 runs at about 3000 ticks/s, and no faster than 3400 (sim ASSUMPTION)
         "STS3215",

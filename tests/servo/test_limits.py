@@ -41,7 +41,9 @@ def test_auto_finds_every_ax12_stop_within_2_ticks_without_overload() -> None:
         assert r.evidence["reason_min"].startswith("stall") and r.evidence["reason_max"].startswith("stall")
 
 
-@pytest.mark.parametrize("fixture, ids", [("so101_arm.yaml", [1, 3, 6]), ("xl430_arm.yaml", [11, 13])])
+@pytest.mark.parametrize(
+    "fixture, ids", [("so101_arm.yaml", [1, 3, 6]), ("xl430_arm.yaml", [11, 13]), ("koch_arm.yaml", [11, 12, 13])]
+)
 def test_auto_on_feetech_and_protocol2(fixture: str, ids: list[int]) -> None:
     for r, (lo, hi), trips in _auto(fixture, ids):
         assert abs(r.raw_min - lo) <= 2 and abs(r.raw_max - hi) <= 2 and trips == 0

@@ -106,3 +106,15 @@ def test_ax12a_60_deg_s_is_90_speed_units() -> None:
     assert ax.speed_unit_deg_s == pytest.approx(0.666)
     assert by_name("XM430-W350").load_full_scale == by_name("XM430-W350").reg("current_limit").hi
     assert [m.default_zero for m in (ax, by_name("STS3215"))] == [512, 2048]
+
+
+def test_xl330_models_of_koch_arms() -> None:
+    m288, m077 = by_name("xl330-m288"), by_name("XL330-M077-T")
+    assert (m288.name, m288.model_number, m077.model_number) == ("XL330-M288", 1200, 1190)
+    assert by_number("dxl2", 1200) is m288 and by_number("dxl2", 1190) is m077
+    # e-manual: Present Current in mA up to the 1750 mA Current Limit; 0.229 rpm speed units; 5 V parts
+    assert m288.load_full_scale == m077.load_full_scale == 1750
+    assert m288.speed_register(60) == 44
+    assert (m288.reg("velocity_limit").default, m077.reg("velocity_limit").default) == (445, 1620)
+    assert m288.reg("max_voltage").hi == 70 and m288.reg("present_voltage").addr == 144
+    assert m288.settle_ticks == 6 and m288.default_zero == 2048
