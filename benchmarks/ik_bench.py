@@ -13,10 +13,15 @@ only. A peer that is not installed is skipped with its install command (`pip ins
 
 Before round 1, every solver solves the first --warmup targets (default 100) untimed, so that
 round 1 runs in the same state as the rounds after it (lm's first round was often its slowest).
-Each run starts after a garbage collection. Rounds (--rounds, default 3) run every solver once
-each, round after round, so a busy machine slows all of them alike; the table shows the median over rounds of each figure, and "spread" is
-how far the largest per-round median lies above the smallest ((max − min) / min), for `lm` and
-beside it for the peers. Batched rows show the amortized time (total / N) as their median and
+Rounds (--rounds, default 3) run one after the other, each after a garbage collection. Within a
+round the solvers take turns block by block (--block targets, default 50; the order rotates from
+block to block) and lm's batch call runs once, mid-round: the development VM switches between two
+CPU speeds 2x apart every few seconds, and a solver that ran whole while the machine was fast
+would be compared with one that ran while it was slow. The table shows the median over rounds of
+each figure, and "spread" is how far the largest per-round median lies above the smallest
+((max − min) / min), for `lm` and beside it for the peers and for a machine probe (a fixed
+pure-Python loop timed after every block): a spread the probe shows too is the machine's.
+Batched rows show the amortized time (total / N) as their median and
 p95. "CPU median" is the median of each solve's process CPU time: on a loaded machine wall
 times stretch with the time the process waits for a core, CPU times much less. rtb's ik_LM
 and ikpy have no timeout: "> timeout" counts their solves that took longer than the protocol's.
@@ -29,7 +34,7 @@ the solver). Only solvers with a timeout can fail that way. Process CPU time cou
 Markdown tables and PASS/FAIL lines for the IK-speed issue's targets go to stdout; progress and
 skipped solvers or arms to stderr. Exit code 0, or 1 with --strict when a target is missed.
 
-    python benchmarks/ik_bench.py [--samples 1000] [--rounds 3] [--warmup 100] [--robots panda,ur5,xarm6,xarm7,kinova,so101]
+    python benchmarks/ik_bench.py [--samples 1000] [--rounds 3] [--block 50] [--warmup 100] [--robots panda,ur5,xarm6,xarm7,kinova,so101]
         [--solvers lm,analytic] [--corpus ../shared/realworld]
 """
 
@@ -74,6 +79,7 @@ PEERS = ("pytracik", "rtb-lm", "ikpy", "pykdl")
 TOLERANCE = 1e-5
 KDL_PUBLISHED_PANDA = 62.0  # % success of KDL NR_JL on Panda in TRAC-IK's protocol
 MAX_SPREAD = 0.20  # run-to-run spread of lm's median, (max - min) / min over rounds
+PROBE_LOOP = 30_000  # additions in the machine probe: ~1.5 ms of CPU on the development VM
 
 
 def log(text: str) -> None:
@@ -128,42 +134,21 @@ class Row:
     round_medians_us: tuple[float, ...]  # per round: the spread shows how noisy the machine was
 
 
-class CpuWatch:
-    """A solver whose solve() calls are timed on the process CPU clock too (one list per run)."""
-
-    def __init__(self, solver: Any) -> None:
-        self.solver = solver
-        self.runs: list[list[float]] = []
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self.solver, name)
-
-    def start_run(self) -> None:
-        self.runs.append([])
-
-    def solve(self, target: Any, seed: Any) -> Any:
-        c0 = time.process_time()
-        result = self.solver.solve(target, seed)
-        self.runs[-1].append(time.process_time() - c0)
-        return result
+def machine_probe() -> float:
+    """Seconds of process CPU for a fixed pure-Python loop (~1-3 ms): the machine's own speed at
+    this moment, timed between the solvers' blocks, so its spread over rounds shows how much of a
+    solver's spread is the machine's."""
+    c0 = time.process_time()
+    total = 0
+    for i in range(PROBE_LOOP):
+        total += i
+    return time.process_time() - c0
 
 
-def stalled(report: Any, cpu_s: Sequence[float], timeout: float) -> int:
-    """Failed solves that ran past the timeout on the wall clock with less than half of it on the CPU."""
-    cpu = list(cpu_s)[-report.samples :]  # the run's first call is the harness's warm-up
-    return sum(
-        1
-        for ok, wall_us, c in zip(report.solved, report.wall_times_us, cpu)
-        if not ok and wall_us >= timeout * 1e6 and c < timeout / 2
-    )
-
-
-def summarize(
-    label: str, batch: bool, reports: Sequence[Any], timeout: float, cpu_runs: Sequence[Sequence[float]] = ()
-) -> Row:
+def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float) -> Row:
     med = statistics.median
     over = None if batch else int(med([sum(t > timeout * 1e6 for t in r.wall_times_us) for r in reports]))
-    stall = None if batch or not cpu_runs else int(med([stalled(r, c, timeout) for r, c in zip(reports, cpu_runs)]))
+    stall = None if batch else int(med([r.stalled_failures or 0 for r in reports]))
     return Row(
         label,
         batch,
@@ -180,9 +165,49 @@ def summarize(
     )
 
 
-def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row]] | None:
+@dataclass
+class Run:
+    """One timed row: a solver (or a peer) solving one by one, or lm's one batch call."""
+
+    label: str
+    solver: Any
+    batch: bool = False
+    limit: int | None = None  # solves only the first `limit` targets (ikpy: ~10 ms a solve)
+
+
+def interleaved_round(runs: Sequence[Run], targets: Any, block: int, round_index: int) -> tuple[dict[str, Any], float]:
+    """One round: the targets in blocks of `block`, every single-solve run timed on each block in
+    turn (the order rotated from block to block, so no solver always follows the same one), the
+    batch call once in the middle of the round. A change of the machine's speed then lands on
+    every solver alike instead of on whichever ran at that moment. Returns each run's Timed and
+    the median of the machine probe timed once per block."""
+    from armtool.ik.bench import join_timed, time_batch, time_solves
+
+    N = targets.poses.shape[0]
+    starts = list(range(0, N, block))
+    singles = [run for run in runs if not run.batch]
+    parts: dict[str, list[Any]] = {run.label: [] for run in singles}
+    batched: dict[str, Any] = {}
+    probes = []
+    gc.collect()
+    for k, start in enumerate(starts):
+        if k == len(starts) // 2:
+            for run in runs:
+                if run.batch:
+                    batched[run.label] = time_batch(run.solver, targets.poses, targets.seeds)
+        shift = (k + round_index) % len(singles) if singles else 0
+        for run in singles[shift:] + singles[:shift]:
+            stop = min(start + block, N if run.limit is None else min(run.limit, N))
+            if start < stop:
+                parts[run.label].append(time_solves(run.solver, targets.poses[start:stop], targets.seeds[start:stop]))
+        probes.append(machine_probe())
+    timed = {label: join_timed(blocks) for label, blocks in parts.items()}
+    return {**timed, **batched}, statistics.median(probes)
+
+
+def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row], list[float]] | None:
     from armtool.errors import ArmtoolError
-    from armtool.ik.bench import BenchConfig, Targets, make_targets, run_solver
+    from armtool.ik.bench import BenchConfig, Targets, make_targets, solver_report, warm_up
     from armtool.ik.peers import make_peer
     from armtool.ik.registry import make_solver, solver_names
 
@@ -192,11 +217,8 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
     root, chain = loaded
     config = BenchConfig(samples=args.samples, timeout=args.timeout, tolerance=TOLERANCE, repeat=0)
     targets = make_targets(chain, config)
-    k = min(args.ikpy_samples, args.samples)
-    few = Targets(targets.q_true[:k], targets.poses[:k], targets.seeds[:k])
-    few_config = BenchConfig(samples=k, timeout=args.timeout, tolerance=TOLERANCE, repeat=0)
 
-    runs: list[tuple[str, Any, bool]] = []  # label, solver (or its CpuWatch), batched
+    runs: list[Run] = []
     for solver_name in solver_names():
         if args.solvers and solver_name not in args.solvers:
             continue
@@ -205,52 +227,47 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
         except ArmtoolError as exc:  # e.g. analytic: no closed form for this arm
             log(f"  {name}: {solver_name} skipped: {exc.what}")
             continue
-        runs.append((solver_name, CpuWatch(solver), False))
+        runs.append(Run(solver_name, solver))
         if solver_name == "lm":
-            runs.append(("lm (batch)", solver, True))
+            runs.append(Run("lm (batch)", solver, batch=True))
     for peer_name in args.peers:
         peer = make_peer(peer_name, chain, root, timeout=args.timeout, tolerance=TOLERANCE)
         if isinstance(peer, str):
             log(f"warning: peer {peer_name} skipped: {peer}")
             continue
-        runs.append((peer_name, CpuWatch(peer), False))
+        runs.append(Run(peer_name, peer, limit=args.ikpy_samples if peer_name == "ikpy" else None))
 
-    reports: dict[str, list[Any]] = {label: [] for label, _, _ in runs}
+    for run in runs:
+        if not run.batch:
+            warm_up(chain, run.solver)  # the first calls of its code paths, on targets of their own
     if args.warmup:  # an untimed pass of every solver first: round 1 then runs in the state of rounds 2 and 3
         k = min(args.warmup, args.samples)
-        warm = Targets(targets.q_true[:k], targets.poses[:k], targets.seeds[:k])
-        for label, solver, batch in runs:
-            log(f"  {name} warm-up: {label}")
-            if batch:
-                solver.solve_batch(warm.poses, warm.seeds)
-            elif label != "ikpy":
-                inner = solver.solver if isinstance(solver, CpuWatch) else solver  # untimed
-                for pose, seed in zip(warm.poses, warm.seeds):
-                    inner.solve(pose, seed)
+        for run in runs:
+            log(f"  {name} warm-up: {run.label}")
+            if run.batch:
+                run.solver.solve_batch(targets.poses[:k], targets.seeds[:k])
+            elif run.limit is None:
+                for pose, seed in zip(targets.poses[:k], targets.seeds[:k]):
+                    run.solver.solve(pose, seed)
+    reports: dict[str, list[Any]] = {run.label: [] for run in runs}
+    probes = []
     for r in range(args.rounds):
-        for label, solver, batch in runs:
-            log(f"  {name} round {r + 1}/{args.rounds}: {label}")
-            if isinstance(solver, CpuWatch):
-                solver.start_run()
-            gc.collect()  # every run starts from the same collected heap, not the previous run's garbage
-            if label == "ikpy":
-                reports[label].append(run_solver(chain, solver, few, few_config))
-            else:
-                reports[label].append(run_solver(chain, solver, targets, config, batch=batch))
-    rows = {
-        label: summarize(
-            label, batch, reports[label], args.timeout, solver.runs if isinstance(solver, CpuWatch) else ()
-        )
-        for label, solver, batch in runs
-    }
-    return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows
+        log(f"  {name} round {r + 1}/{args.rounds}: " + ", ".join(run.label for run in runs) + " (interleaved)")
+        timed, probe = interleaved_round(runs, targets, args.block, r)
+        probes.append(probe)
+        for run in runs:
+            k = min(run.limit or args.samples, args.samples)
+            some = Targets(targets.q_true[:k], targets.poses[:k], targets.seeds[:k])
+            reports[run.label].append(solver_report(chain, run.solver, some, config, timed[run.label]))
+    rows = {run.label: summarize(run.label, run.batch, reports[run.label], args.timeout) for run in runs}
+    return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows, probes
 
 
 def ratio(a: float, b: float | None) -> str:
     return "-" if b is None or not b > 0 else f"{a / b:.2f}×"
 
 
-def print_table(title: str, rows: dict[str, Row]) -> None:
+def print_table(title: str, rows: dict[str, Row], probes: Sequence[float]) -> None:
     tracik, rtb = rows.get("pytracik"), rows.get("rtb-lm")
     print(f"### {title}\n")
     print(
@@ -278,10 +295,26 @@ def print_table(title: str, rows: dict[str, Row]) -> None:
                 + ("" if sp is None else f" (spread {sp:.0%})")
             )
         print("\nMedian µs per round: " + "; ".join(parts))
+        sp = spread(probes)
+        print(
+            "Machine probe per round (a fixed pure-Python loop, median over blocks, µs): "
+            + ", ".join(f"{t * 1e6:,.0f}" for t in probes)
+            + ("" if sp is None else f" (spread {sp:.0%})")
+        )
+        lm = rows.get("lm")
+        if lm is not None and all(probes):
+            relative = [t / (probe * 1e6) for t, probe in zip(lm.round_medians_us, probes)]
+            sp = spread(relative)
+            print(
+                "lm's median per round in machine-probe units (not a target; the solver's own steadiness "
+                "with the machine's speed divided out): "
+                + ", ".join(f"{x:.3f}" for x in relative)
+                + ("" if sp is None else f" (spread {sp:.0%})")
+            )
     print()
 
 
-def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
+def checks(robot: str, rows: dict[str, Row], probes: Sequence[float]) -> list[tuple[str, str]]:
     """(PASS | FAIL | SKIP, text) for the IK-speed issue's targets on one robot."""
     out: list[tuple[str, str]] = []
 
@@ -326,9 +359,13 @@ def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
             for r in (tracik, rtb)
             if r is not None and (s := spread(r.round_medians_us)) is not None
         )
+        machine = spread(probes)
         check(
             sp <= MAX_SPREAD,
-            f"lm's median spread over rounds <= {MAX_SPREAD:.0%} ({sp:.0%}" + (f"; peers: {peers})" if peers else ")"),
+            f"lm's median spread over rounds <= {MAX_SPREAD:.0%} ({sp:.0%}"
+            + (f"; peers: {peers}" if peers else "")
+            + ("" if machine is None else f"; machine probe {machine:.0%}")
+            + ")",
         )
     if robot == "ur5":
         a = rows.get("analytic")
@@ -374,15 +411,21 @@ def main() -> int:
         default=100,
         help="untimed solves per solver on the first targets before round 1, 0 for none (default 100)",
     )
+    parser.add_argument(
+        "--block",
+        type=int,
+        default=50,
+        help="targets per block: the solvers take turns block by block within each round (default 50)",
+    )
     parser.add_argument("--strict", action="store_true", help="exit 1 when a target is missed")
     args = parser.parse_args()
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
     args.solvers = [s.strip() for s in args.solvers.split(",") if s.strip()]
     args.peers = [p.strip() for p in args.peers.split(",") if p.strip()]
     unknown = [r for r in robots if r not in ROBOTS] + [p for p in args.peers if p not in PEERS]
-    if unknown or args.samples < 1 or args.rounds < 1 or args.warmup < 0 or not args.timeout > 0:
+    if unknown or args.samples < 1 or args.rounds < 1 or args.block < 1 or args.warmup < 0 or not args.timeout > 0:
         parser.error(
-            f"robots must be among {', '.join(ROBOTS)}, peers among {', '.join(PEERS)}; --samples, --rounds >= 1; --warmup >= 0; --timeout > 0"
+            f"robots must be among {', '.join(ROBOTS)}, peers among {', '.join(PEERS)}; --samples, --rounds, --block >= 1; --warmup >= 0; --timeout > 0"
         )
 
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
@@ -397,9 +440,9 @@ def main() -> int:
         if done is None:
             results.append(("SKIP", f"{robot}: not benchmarked (files absent)"))
             continue
-        title, rows = done
-        print_table(title, rows)
-        results += checks(robot, rows)
+        title, rows, probes = done
+        print_table(title, rows, probes)
+        results += checks(robot, rows, probes)
         sys.stdout.flush()
     print("Targets of the IK-speed issue (medians of the rounds, same process as the peers):")
     for verdict, text in results:

@@ -116,6 +116,51 @@ def warm_up(chain: Chain, solver: Solver) -> None:
     solver.solve(chain.fk(chain.mid()), chain.mid())
 
 
+@dataclass
+class Timed:
+    """A solver's answers to some targets, and the wall and process-CPU seconds of each solve (or,
+    for a batch, each answer's share of the one call)."""
+
+    results: list[IKResult]
+    wall: Array
+    cpu: Array
+    batch: bool = False
+
+
+def time_solves(solver: Solver, poses: Array, seeds: Array, progress: Callable[[int], None] | None = None) -> Timed:
+    """One solve() per target, each timed on the wall and the process CPU clock."""
+    N = poses.shape[0]
+    wall, cpu = np.zeros(N), np.zeros(N)
+    results = []
+    for i in range(N):
+        w0, c0 = time.perf_counter(), time.process_time()
+        res = solver.solve(poses[i], seeds[i])
+        wall[i], cpu[i] = time.perf_counter() - w0, time.process_time() - c0
+        results.append(res)
+        if progress:
+            progress(1)
+    return Timed(results, wall, cpu)
+
+
+def time_batch(solver: Solver, poses: Array, seeds: Array) -> Timed:
+    """One solve_batch() call over every target; each answer is charged an equal share of it."""
+    N = poses.shape[0]
+    w0, c0 = time.perf_counter(), time.process_time()
+    results = solver.solve_batch(poses, seeds)
+    total_wall, total_cpu = time.perf_counter() - w0, time.process_time() - c0
+    return Timed(results, np.full(N, total_wall / N), np.full(N, total_cpu / N), batch=True)
+
+
+def join_timed(parts: Sequence[Timed]) -> Timed:
+    """The timings of consecutive blocks of the same targets, as one run over all of them."""
+    return Timed(
+        [r for part in parts for r in part.results],
+        np.concatenate([part.wall for part in parts]),
+        np.concatenate([part.cpu for part in parts]),
+        batch=all(part.batch for part in parts),
+    )
+
+
 def run_solver(
     chain: Chain,
     solver: Solver,
@@ -125,29 +170,23 @@ def run_solver(
     batch: bool = False,
     progress: Callable[[int], None] | None = None,
 ) -> SolverReport:
-    N = targets.poses.shape[0]
-    wall = np.zeros(N)
-    cpu = np.zeros(N)
-    results: list[IKResult]
+    """Warm the solver up, time it on every target (one batch call, or one solve each) and report."""
     warm_up(chain, solver)
     if batch:
-        w0, c0 = time.perf_counter(), time.process_time()
-        results = solver.solve_batch(targets.poses, targets.seeds)
-        total_wall, total_cpu = time.perf_counter() - w0, time.process_time() - c0
-        wall[:] = total_wall / N
-        cpu[:] = total_cpu / N
+        timed = time_batch(solver, targets.poses, targets.seeds)
         if progress:
-            progress(N)
+            progress(targets.poses.shape[0])
     else:
-        results = []
-        for i in range(N):
-            w0, c0 = time.perf_counter(), time.process_time()
-            res = solver.solve(targets.poses[i], targets.seeds[i])
-            wall[i], cpu[i] = time.perf_counter() - w0, time.process_time() - c0
-            results.append(res)
-            if progress:
-                progress(1)
-        total_wall = float(wall.sum())
+        timed = time_solves(solver, targets.poses, targets.seeds, progress)
+    return solver_report(chain, solver, targets, config, timed)
+
+
+def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchConfig, timed: Timed) -> SolverReport:
+    """Every figure of one run, each answer judged by our own FK; with config.repeat, the first
+    targets are solved again (untimed) to check that the same target gives the same answer."""
+    results, wall, cpu, batch = timed.results, timed.wall, timed.cpu, timed.batch
+    N = targets.poses.shape[0]
+    total_wall = float(wall.sum())
     Q = np.array([np.asarray(r.q, dtype=float).reshape(chain.n) for r in results])
     ok, pos, rot = verify_batch(chain, Q, targets.poses, config.tolerance, position_only=config.position_only)
     claimed = np.array([r.success for r in results])

@@ -102,3 +102,26 @@ def test_warm_up_solves_real_targets_before_the_timed_ones() -> None:
     away = [t for t in warm if not np.allclose(t, mid)]
     assert len(away) == WARM_UP_SOLVES
     assert not any(np.allclose(a, p) for a in away for p in targets.poses)  # a stream of their own
+
+
+def test_blocks_joined_report_like_one_run() -> None:
+    # The benchmark script times solvers block by block, taking turns; the joined blocks must give
+    # the same verdicts and the same number of timings as one run over every target.
+    from armtool.ik import make_solver
+    from armtool.ik.bench import join_timed, solver_report, time_solves
+
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    config = BenchConfig(samples=12, repeat=0, timeout=0.02)
+    targets = make_targets(chain, config)
+    solver = make_solver("lm", chain, timeout=0.02)
+    whole = solver_report(chain, solver, targets, config, time_solves(solver, targets.poses, targets.seeds))
+    blocks = [time_solves(solver, targets.poses[a : a + 5], targets.seeds[a : a + 5]) for a in (0, 5, 10)]
+    joined = join_timed(blocks)
+    assert len(joined.results) == 12 and joined.wall.shape == (12,) and not joined.batch
+    report = solver_report(chain, solver, targets, config, joined)
+    assert report.solved == whole.solved and report.samples == 12
+    assert report.solves_per_s == 12 / joined.wall.sum()
+    liar = solver_report(
+        chain, Liar(chain), targets, config, join_timed([time_solves(Liar(chain), targets.poses, targets.seeds)])
+    )
+    assert liar.claimed_but_wrong == 12
