@@ -175,18 +175,32 @@ class Run:
     limit: int | None = None  # solves only the first `limit` targets (ikpy: ~10 ms a solve)
 
 
-def interleaved_round(runs: Sequence[Run], targets: Any, block: int, round_index: int) -> tuple[dict[str, Any], float]:
+@dataclass
+class Machine:
+    """The machine probe per round (median over the round's blocks, seconds), and each single-solve
+    run's median per round in probe units: per block, its median solve over the probe timed right
+    after that block; the median over the round's blocks. A solver steady in these units is as
+    steady as the machine lets any measurement be."""
+
+    probes: list[float] = field(default_factory=list)
+    relative: dict[str, list[float]] = field(default_factory=dict)
+
+
+def interleaved_round(
+    runs: Sequence[Run], targets: Any, block: int, round_index: int, machine: Machine
+) -> dict[str, Any]:
     """One round: the targets in blocks of `block`, every single-solve run timed on each block in
     turn (the order rotated from block to block, so no solver always follows the same one), the
     batch call once in the middle of the round. A change of the machine's speed then lands on
-    every solver alike instead of on whichever ran at that moment. Returns each run's Timed and
-    the median of the machine probe timed once per block."""
+    every solver alike instead of on whichever ran at that moment. Returns each run's Timed, and
+    adds the round's probe figures to `machine`."""
     from armtool.ik.bench import join_timed, time_batch, time_solves
 
     N = targets.poses.shape[0]
     starts = list(range(0, N, block))
     singles = [run for run in runs if not run.batch]
     parts: dict[str, list[Any]] = {run.label: [] for run in singles}
+    relative: dict[str, list[float]] = {run.label: [] for run in singles}
     batched: dict[str, Any] = {}
     probes = []
     gc.collect()
@@ -196,16 +210,25 @@ def interleaved_round(runs: Sequence[Run], targets: Any, block: int, round_index
                 if run.batch:
                     batched[run.label] = time_batch(run.solver, targets.poses, targets.seeds)
         shift = (k + round_index) % len(singles) if singles else 0
+        here = []
         for run in singles[shift:] + singles[:shift]:
             stop = min(start + block, N if run.limit is None else min(run.limit, N))
             if start < stop:
                 parts[run.label].append(time_solves(run.solver, targets.poses[start:stop], targets.seeds[start:stop]))
-        probes.append(machine_probe())
+                here.append(run.label)
+        probe = machine_probe()
+        probes.append(probe)
+        for label in here:
+            relative[label].append(float(statistics.median(parts[label][-1].wall)) / probe)
+    machine.probes.append(statistics.median(probes))
+    for label, values in relative.items():
+        if values:
+            machine.relative.setdefault(label, []).append(statistics.median(values))
     timed = {label: join_timed(blocks) for label, blocks in parts.items()}
-    return {**timed, **batched}, statistics.median(probes)
+    return {**timed, **batched}
 
 
-def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row], list[float]] | None:
+def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row], Machine] | None:
     from armtool.errors import ArmtoolError
     from armtool.ik.bench import BenchConfig, Targets, make_targets, solver_report, warm_up
     from armtool.ik.peers import make_peer
@@ -250,24 +273,23 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
                 for pose, seed in zip(targets.poses[:k], targets.seeds[:k]):
                     run.solver.solve(pose, seed)
     reports: dict[str, list[Any]] = {run.label: [] for run in runs}
-    probes = []
+    machine = Machine()
     for r in range(args.rounds):
         log(f"  {name} round {r + 1}/{args.rounds}: " + ", ".join(run.label for run in runs) + " (interleaved)")
-        timed, probe = interleaved_round(runs, targets, args.block, r)
-        probes.append(probe)
+        timed = interleaved_round(runs, targets, args.block, r, machine)
         for run in runs:
             k = min(run.limit or args.samples, args.samples)
             some = Targets(targets.q_true[:k], targets.poses[:k], targets.seeds[:k])
             reports[run.label].append(solver_report(chain, run.solver, some, config, timed[run.label]))
     rows = {run.label: summarize(run.label, run.batch, reports[run.label], args.timeout) for run in runs}
-    return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows, probes
+    return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows, machine
 
 
 def ratio(a: float, b: float | None) -> str:
     return "-" if b is None or not b > 0 else f"{a / b:.2f}×"
 
 
-def print_table(title: str, rows: dict[str, Row], probes: Sequence[float]) -> None:
+def print_table(title: str, rows: dict[str, Row], machine: Machine) -> None:
     tracik, rtb = rows.get("pytracik"), rows.get("rtb-lm")
     print(f"### {title}\n")
     print(
@@ -295,26 +317,29 @@ def print_table(title: str, rows: dict[str, Row], probes: Sequence[float]) -> No
                 + ("" if sp is None else f" (spread {sp:.0%})")
             )
         print("\nMedian µs per round: " + "; ".join(parts))
-        sp = spread(probes)
+        sp = spread(machine.probes)
         print(
             "Machine probe per round (a fixed pure-Python loop, median over blocks, µs): "
-            + ", ".join(f"{t * 1e6:,.0f}" for t in probes)
+            + ", ".join(f"{t * 1e6:,.0f}" for t in machine.probes)
             + ("" if sp is None else f" (spread {sp:.0%})")
         )
-        lm = rows.get("lm")
-        if lm is not None and all(probes):
-            relative = [t / (probe * 1e6) for t, probe in zip(lm.round_medians_us, probes)]
-            sp = spread(relative)
+        parts = []
+        for label in ("lm", "pytracik", "rtb-lm"):
+            values = machine.relative.get(label, [])
+            sp = spread(values)
+            if values:
+                parts.append(
+                    f"{label} " + ", ".join(f"{x:.3f}" for x in values) + ("" if sp is None else f" (spread {sp:.0%})")
+                )
+        if parts:
             print(
-                "lm's median per round in machine-probe units (not a target; the solver's own steadiness "
-                "with the machine's speed divided out): "
-                + ", ".join(f"{x:.3f}" for x in relative)
-                + ("" if sp is None else f" (spread {sp:.0%})")
+                "Median per round in machine-probe units (not a target: the solver's own steadiness with the "
+                "machine's speed divided out): " + "; ".join(parts)
             )
     print()
 
 
-def checks(robot: str, rows: dict[str, Row], probes: Sequence[float]) -> list[tuple[str, str]]:
+def checks(robot: str, rows: dict[str, Row], machine: Machine) -> list[tuple[str, str]]:
     """(PASS | FAIL | SKIP, text) for the IK-speed issue's targets on one robot."""
     out: list[tuple[str, str]] = []
 
@@ -359,12 +384,12 @@ def checks(robot: str, rows: dict[str, Row], probes: Sequence[float]) -> list[tu
             for r in (tracik, rtb)
             if r is not None and (s := spread(r.round_medians_us)) is not None
         )
-        machine = spread(probes)
+        probe = spread(machine.probes)
         check(
             sp <= MAX_SPREAD,
             f"lm's median spread over rounds <= {MAX_SPREAD:.0%} ({sp:.0%}"
             + (f"; peers: {peers}" if peers else "")
-            + ("" if machine is None else f"; machine probe {machine:.0%}")
+            + ("" if probe is None else f"; machine probe {probe:.0%}")
             + ")",
         )
     if robot == "ur5":
@@ -440,9 +465,9 @@ def main() -> int:
         if done is None:
             results.append(("SKIP", f"{robot}: not benchmarked (files absent)"))
             continue
-        title, rows, probes = done
-        print_table(title, rows, probes)
-        results += checks(robot, rows, probes)
+        title, rows, machine = done
+        print_table(title, rows, machine)
+        results += checks(robot, rows, machine)
         sys.stdout.flush()
     print("Targets of the IK-speed issue (medians of the rounds, same process as the peers):")
     for verdict, text in results:

@@ -54,8 +54,10 @@ def test_solvers_take_turns_block_by_block() -> None:
     log = Log()
     a, b, c = (Solver(name, log, targets.poses) for name in "abc")
     runs = [script.Run("a", a), script.Run("a (batch)", a, batch=True), script.Run("b", b), script.Run("c", c, limit=3)]
-    timed, probe = script.interleaved_round(runs, targets, 4, 0)
-    assert probe > 0
+    machine = script.Machine()
+    timed = script.interleaved_round(runs, targets, 4, 0, machine)
+    assert len(machine.probes) == 1 and machine.probes[0] > 0
+    assert set(machine.relative) == {"a", "b", "c"}  # per single-solve run, in probe units
     for label, count in (("a", 10), ("b", 10), ("c", 3), ("a (batch)", 10)):
         assert len(timed[label].results) == count
     singles = [(name, i) for name, i in log.calls if "batch" not in name]
