@@ -166,18 +166,24 @@ def test_the_seed_is_tried_when_the_table_pose_fails() -> None:
 
 
 def test_restart_seeds_are_near_the_target() -> None:
-    # The approximate k-d query returns table poses within (1 + eps) of the exact nearest distances.
+    # The cells of the nearest centres hold the target's nearest table poses, or poses almost as near.
     relative, base, tip = ARMS["panda"]
     chain = load_chain(erd(relative), base, tip)
     solver = make_solver("lm", chain)
     _Q, F, _F2 = solver._table  # type: ignore[attr-defined]
-    for target in chain.fk_batch(chain.random(np.random.default_rng(8), 5)):
-        seeds = solver._restart_seeds(target)  # type: ignore[attr-defined]
+    exact_first = 0
+    targets = chain.fk_batch(chain.random(np.random.default_rng(8), 40))
+    for target in targets:
+        seeds = np.array(solver._restart_seeds(target))  # type: ignore[attr-defined]
         f = np.concatenate((target[:3, 3], 0.2 * target[:3, :3].reshape(9)))
         exact = np.sort(np.linalg.norm(F - f, axis=1))[: len(seeds)]
-        got = np.linalg.norm(chain.fk_batch(np.array(seeds))[:, :3, 3] - target[:3, 3], axis=1)
+        T = chain.fk_batch(seeds)
+        got = np.linalg.norm(np.concatenate([T[:, :3, 3], 0.2 * T[:, :3, :3].reshape(-1, 9)], axis=1) - f, axis=1)
         assert len(seeds) == solver.TABLE_SEEDS  # type: ignore[attr-defined]
-        assert got.max() <= (1 + solver.TREE_EPS) * exact.max() + 1e-9  # type: ignore[attr-defined]
+        assert np.all(np.diff(got) >= -1e-12)  # nearest first
+        assert got[-1] <= 1.5 * exact[-1]
+        exact_first += bool(abs(got[0] - exact[0]) < 1e-9)
+    assert exact_first >= 0.7 * len(targets)
 
 
 def test_joint_pinned_at_its_limit_is_solved() -> None:
