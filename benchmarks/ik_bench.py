@@ -166,16 +166,6 @@ def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float) -
 
 
 @dataclass
-class Run:
-    """One timed row: a solver (or a peer) solving one by one, or lm's one batch call."""
-
-    label: str
-    solver: Any
-    batch: bool = False
-    limit: int | None = None  # solves only the first `limit` targets (ikpy: ~10 ms a solve)
-
-
-@dataclass
 class Machine:
     """The machine probe per round (median over the round's blocks, seconds), and each single-solve
     run's median per round in probe units: per block, its median solve over the probe timed right
@@ -187,50 +177,33 @@ class Machine:
 
 
 def interleaved_round(
-    runs: Sequence[Run], targets: Any, block: int, round_index: int, machine: Machine
+    entries: Sequence[Any], targets: Any, block: int, round_index: int, machine: Machine
 ) -> dict[str, Any]:
-    """One round: the targets in blocks of `block`, every single-solve run timed on each block in
-    turn (the order rotated from block to block, so no solver always follows the same one), the
-    batch call once in the middle of the round. A change of the machine's speed then lands on
-    every solver alike instead of on whichever ran at that moment. Returns each run's Timed, and
-    adds the round's probe figures to `machine`."""
-    from armtool.ik.bench import join_timed, time_batch, time_solves
+    """One round (armtool.ik.bench.time_interleaved: the solvers take turns block by block, the
+    batch call mid-round, the order rotated by the round's index too), with the machine probe
+    timed after every block; the round's probe figures are added to `machine`."""
+    from armtool.ik.bench import time_interleaved
 
-    N = targets.poses.shape[0]
-    starts = list(range(0, N, block))
-    singles = [run for run in runs if not run.batch]
-    parts: dict[str, list[Any]] = {run.label: [] for run in singles}
-    relative: dict[str, list[float]] = {run.label: [] for run in singles}
-    batched: dict[str, Any] = {}
-    probes = []
-    gc.collect()
-    for k, start in enumerate(starts):
-        if k == len(starts) // 2:
-            for run in runs:
-                if run.batch:
-                    batched[run.label] = time_batch(run.solver, targets.poses, targets.seeds)
-        shift = (k + round_index) % len(singles) if singles else 0
-        here = []
-        for run in singles[shift:] + singles[:shift]:
-            stop = min(start + block, N if run.limit is None else min(run.limit, N))
-            if start < stop:
-                parts[run.label].append(time_solves(run.solver, targets.poses[start:stop], targets.seeds[start:stop]))
-                here.append(run.label)
+    probes: list[float] = []
+    relative: dict[str, list[float]] = {}
+
+    def probe_after(block_times: dict[str, Any]) -> None:
         probe = machine_probe()
         probes.append(probe)
-        for label in here:
-            relative[label].append(float(statistics.median(parts[label][-1].wall)) / probe)
+        for label, timed in block_times.items():
+            relative.setdefault(label, []).append(float(statistics.median(timed.wall)) / probe)
+
+    gc.collect()
+    timed = time_interleaved(entries, targets, block, rotate=round_index, after_block=probe_after)
     machine.probes.append(statistics.median(probes))
     for label, values in relative.items():
-        if values:
-            machine.relative.setdefault(label, []).append(statistics.median(values))
-    timed = {label: join_timed(blocks) for label, blocks in parts.items()}
-    return {**timed, **batched}
+        machine.relative.setdefault(label, []).append(statistics.median(values))
+    return timed
 
 
 def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row], Machine] | None:
     from armtool.errors import ArmtoolError
-    from armtool.ik.bench import BenchConfig, Targets, make_targets, solver_report, warm_up
+    from armtool.ik.bench import BenchConfig, Entry, first, make_targets, solver_report, warm_up
     from armtool.ik.peers import make_peer
     from armtool.ik.registry import make_solver, solver_names
 
@@ -241,7 +214,7 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
     config = BenchConfig(samples=args.samples, timeout=args.timeout, tolerance=TOLERANCE, repeat=0)
     targets = make_targets(chain, config)
 
-    runs: list[Run] = []
+    entries: list[Any] = []
     for solver_name in solver_names():
         if args.solvers and solver_name not in args.solvers:
             continue
@@ -250,38 +223,38 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
         except ArmtoolError as exc:  # e.g. analytic: no closed form for this arm
             log(f"  {name}: {solver_name} skipped: {exc.what}")
             continue
-        runs.append(Run(solver_name, solver))
+        entries.append(Entry(solver))
         if solver_name == "lm":
-            runs.append(Run("lm (batch)", solver, batch=True))
+            entries.append(Entry(solver, batch=True))
     for peer_name in args.peers:
         peer = make_peer(peer_name, chain, root, timeout=args.timeout, tolerance=TOLERANCE)
         if isinstance(peer, str):
             log(f"warning: peer {peer_name} skipped: {peer}")
             continue
-        runs.append(Run(peer_name, peer, limit=args.ikpy_samples if peer_name == "ikpy" else None))
+        entries.append(Entry(peer, limit=args.ikpy_samples if peer_name == "ikpy" else None))
 
-    for run in runs:
-        if not run.batch:
-            warm_up(chain, run.solver)  # the first calls of its code paths, on targets of their own
+    for entry in entries:
+        if not entry.batch:
+            warm_up(chain, entry.solver)  # the first calls of its code paths, on targets of their own
     if args.warmup:  # an untimed pass of every solver first: round 1 then runs in the state of rounds 2 and 3
         k = min(args.warmup, args.samples)
-        for run in runs:
-            log(f"  {name} warm-up: {run.label}")
-            if run.batch:
-                run.solver.solve_batch(targets.poses[:k], targets.seeds[:k])
-            elif run.limit is None:
+        for entry in entries:
+            log(f"  {name} warm-up: {entry.label}")
+            if entry.batch:
+                entry.solver.solve_batch(targets.poses[:k], targets.seeds[:k])
+            elif entry.limit is None:
                 for pose, seed in zip(targets.poses[:k], targets.seeds[:k]):
-                    run.solver.solve(pose, seed)
-    reports: dict[str, list[Any]] = {run.label: [] for run in runs}
+                    entry.solver.solve(pose, seed)
+    reports: dict[str, list[Any]] = {entry.label: [] for entry in entries}
     machine = Machine()
     for r in range(args.rounds):
-        log(f"  {name} round {r + 1}/{args.rounds}: " + ", ".join(run.label for run in runs) + " (interleaved)")
-        timed = interleaved_round(runs, targets, args.block, r, machine)
-        for run in runs:
-            k = min(run.limit or args.samples, args.samples)
-            some = Targets(targets.q_true[:k], targets.poses[:k], targets.seeds[:k])
-            reports[run.label].append(solver_report(chain, run.solver, some, config, timed[run.label]))
-    rows = {run.label: summarize(run.label, run.batch, reports[run.label], args.timeout) for run in runs}
+        log(f"  {name} round {r + 1}/{args.rounds}: " + ", ".join(e.label for e in entries) + " (taking turns)")
+        timed = interleaved_round(entries, targets, args.block, r, machine)
+        for entry in entries:
+            reports[entry.label].append(
+                solver_report(chain, entry.solver, first(targets, entry.limit), config, timed[entry.label])
+            )
+    rows = {e.label: summarize(e.label, e.batch, reports[e.label], args.timeout) for e in entries}
     return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows, machine
 
 

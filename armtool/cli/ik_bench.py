@@ -74,7 +74,7 @@ def ik_bench(
     from armtool.cli.lint import _parse_xacro_args
     from armtool.console import say, stderr, write_stdout
     from armtool.fileio import check_output_paths
-    from armtool.ik.bench import BenchConfig, NotApplicable, SolverReport, make_targets, run_solver
+    from armtool.ik.bench import BenchConfig, Entry, NotApplicable, SolverReport, make_targets, run_bench
     from armtool.ik.group import GroupSettings, group_chain, group_settings
     from armtool.ik.peers import check_peer_name, make_peer, native_stdout_to_stderr, peer_names
     from armtool.ik.registry import solver_class, solver_names
@@ -175,19 +175,20 @@ def ik_bench(
 
         from armtool.console import progress_bar
 
-        reports: list[SolverReport | NotApplicable] = []
-        runs = [(s, False) for s in [*built, *peer_list]]
+        entries = [Entry(s) for s in [*built, *peer_list]]
         if batch:
-            runs += [(s, True) for s in built if type(s).solve_batch is not Solver.solve_batch]
+            entries += [Entry(s, batch=True) for s in built if type(s).solve_batch is not Solver.solve_batch]
         with progress_bar(label_width=16) as bar:
-            for solver, as_batch in runs:
-                label = solver.name + (" (batch)" if as_batch else "")
-                task = bar.add_task(label, total=samples)
+            tasks: dict[str, TaskID] = {e.label: bar.add_task(e.label, total=samples) for e in entries}
 
-                def advance(k: int, t: TaskID = task) -> None:
-                    bar.advance(t, k)
+            def advance(label: str, k: int) -> None:
+                bar.advance(tasks[label], k)
 
-                reports.append(run_solver(solve_chain, solver, targets, config, batch=as_batch, progress=advance))
+            # The solvers take turns on blocks of targets, so a change of the CPU's speed during
+            # the run (turbo, thermal limits, other programs) lands on all of them alike.
+            reports: list[SolverReport | NotApplicable] = list(
+                run_bench(solve_chain, entries, targets, config, progress=advance)
+            )
     reports += rows_na
     if output_format is BenchFormat.JSON:
         write_stdout(render_json(chain, config, reports))

@@ -228,21 +228,84 @@ def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchC
     )
 
 
+@dataclass(frozen=True)
+class Entry:
+    """One row of a benchmark: a solver solving one target at a time, or its one batch call over
+    all of them; `limit` solves only the first targets (a very slow peer)."""
+
+    solver: Solver
+    batch: bool = False
+    limit: int | None = None
+
+    @property
+    def label(self) -> str:
+        return self.solver.name + (" (batch)" if self.batch else "")
+
+
+BLOCK = 50  # targets a solver solves before the next one takes its turn
+
+
+def time_interleaved(
+    entries: Sequence[Entry],
+    targets: Targets,
+    block: int = BLOCK,
+    rotate: int = 0,
+    after_block: Callable[[dict[str, Timed]], None] | None = None,
+    progress: Callable[[str, int], None] | None = None,
+) -> dict[str, Timed]:
+    """Every entry timed on the same targets, taking turns: block by block, each one-at-a-time entry
+    solves the block (the order rotated by one each block, starting `rotate` places on), and each
+    batch entry makes its one call mid-way. A laptop's turbo or a VM's neighbours change the
+    CPU's speed over seconds (the development VM: 2x, every 2.5-8 s); run whole one after the
+    other, one solver would be timed fast and the next slow. `after_block` gets each block's
+    timings by label."""
+    N = targets.poses.shape[0]
+    singles = [e for e in entries if not e.batch]
+    parts: dict[str, list[Timed]] = {e.label: [] for e in singles}
+    batched: dict[str, Timed] = {}
+    starts = range(0, N, block)
+    for k, start in enumerate(starts):
+        if k == len(starts) // 2:
+            for e in entries:
+                if e.batch:
+                    batched[e.label] = time_batch(e.solver, targets.poses, targets.seeds)
+                    if progress:
+                        progress(e.label, N)
+        shift = (k + rotate) % len(singles) if singles else 0
+        here: dict[str, Timed] = {}
+        for e in singles[shift:] + singles[:shift]:
+            stop = min(start + block, N if e.limit is None else min(e.limit, N))
+            if start < stop:
+                tick = (lambda n, label=e.label: progress(label, n)) if progress else None
+                here[e.label] = time_solves(e.solver, targets.poses[start:stop], targets.seeds[start:stop], tick)
+                parts[e.label].append(here[e.label])
+        if after_block:
+            after_block(here)
+    timed = {label: join_timed(blocks) for label, blocks in parts.items() if blocks}
+    timed.update(batched)
+    return timed
+
+
+def first(targets: Targets, count: int | None) -> Targets:
+    """The first `count` targets (all of them for None)."""
+    if count is None or count >= targets.poses.shape[0]:
+        return targets
+    return Targets(targets.q_true[:count], targets.poses[:count], targets.seeds[:count])
+
+
 def run_bench(
     chain: Chain,
-    solvers: Sequence[Solver],
+    entries: Sequence[Entry],
+    targets: Targets,
     config: BenchConfig,
     *,
-    batch: Sequence[Solver] = (),
+    block: int = BLOCK,
     progress: Callable[[str, int], None] | None = None,
 ) -> list[SolverReport]:
-    targets = make_targets(chain, config)
-    reports = []
-    tick: Callable[[int], None] | None  # annotated: mypy cannot infer a lambda with a default argument inline
-    for solver in solvers:
-        tick = (lambda k, s=solver: progress(s.name, k)) if progress else None
-        reports.append(run_solver(chain, solver, targets, config, progress=tick))
-    for solver in batch:
-        tick = (lambda k, s=solver: progress(s.name + " (batch)", k)) if progress else None
-        reports.append(run_solver(chain, solver, targets, config, batch=True, progress=tick))
-    return reports
+    """Warm every solver up, time them all on the same targets taking turns (time_interleaved),
+    and report each, in the order of `entries`."""
+    for e in entries:
+        if not e.batch:
+            warm_up(chain, e.solver)
+    timed = time_interleaved(entries, targets, block, progress=progress)
+    return [solver_report(chain, e.solver, first(targets, e.limit), config, timed[e.label]) for e in entries]

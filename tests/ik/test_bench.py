@@ -125,3 +125,42 @@ def test_blocks_joined_report_like_one_run() -> None:
         chain, Liar(chain), targets, config, join_timed([time_solves(Liar(chain), targets.poses, targets.seeds)])
     )
     assert liar.claimed_but_wrong == 12
+
+
+def test_run_bench_takes_turns_block_by_block() -> None:
+    # Solvers run whole one after the other would be timed at different CPU speeds: they take
+    # turns on blocks of targets (the order rotated), the batch call runs once, mid-way.
+    from armtool.ik.bench import Entry, run_bench
+
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    config = BenchConfig(samples=10, repeat=0)
+    targets = make_targets(chain, config)
+    calls: list[tuple[str, int]] = []
+
+    class Logged(Liar):
+        def solve(self, target, seed):  # type: ignore[no-untyped-def]
+            hit = np.flatnonzero((targets.poses == target).all(axis=(1, 2)))
+            calls.append((self.name, int(hit[0]) if hit.size else -1))  # -1: a warm-up target
+            return super().solve(target, seed)
+
+        def solve_batch(self, poses, seeds):  # type: ignore[no-untyped-def]
+            calls.append((self.name + " (batch)", len(poses)))
+            return [super(Logged, self).solve(p, s) for p, s in zip(poses, seeds)]
+
+    a, b, c = Logged(chain), Logged(chain), Logged(chain)
+    a.name, b.name, c.name = "a", "b", "c"
+    entries = [Entry(a), Entry(a, batch=True), Entry(b), Entry(c, limit=3)]
+    reports = run_bench(chain, entries, targets, config, block=4)
+    assert [(r.solver, r.mode, r.samples) for r in reports] == [
+        ("a", "single", 10),
+        ("a", "batch", 10),
+        ("b", "single", 10),
+        ("c", "single", 3),
+    ]
+    timed = [(name, i) for name, i in calls if i >= 0 and "batch" not in name]
+    for name, count in (("a", 10), ("b", 10), ("c", 3)):
+        assert [i for n, i in timed if n == name] == list(range(count))
+    runs = [name for k, (name, _) in enumerate(timed) if k == 0 or timed[k - 1][0] != name]
+    assert runs == ["a", "b", "c", "b", "a", "b"]  # blocks of 4: a b c | b (c done) a | (c) a b
+    batch_at = calls.index(("a (batch)", 10))
+    assert 0 < batch_at < len(calls) - 1

@@ -263,7 +263,7 @@ def test_plot_is_checked_before_the_work(tmp_path: Path, monkeypatch: pytest.Mon
     def never(*_: Any, **__: Any) -> None:
         raise AssertionError("the benchmark ran before --plot was checked")
 
-    monkeypatch.setattr(bench, "run_solver", never)
+    monkeypatch.setattr(bench, "run_bench", never)
     urdf = planar(tmp_path)
     code, _, err = run("ik-bench", str(urdf), *QUICK, "--plot", str(tmp_path / "no" / "dir" / "ik.png"))
     assert code == 2 and "does not exist" in err and "--plot" in err, err
