@@ -36,16 +36,20 @@ def say(text: str, *, label: str = "", style: str = "") -> None:
 
 
 def progress_bar(label_width: int = 18) -> Progress:
-    """The progress bar every long subcommand shows on stderr: label, bar, done/total, time left."""
+    """The progress bar every long subcommand shows on stderr: label, bar, done/total, time left.
+    Only on a terminal: into a log or a pipe, a live display leaves a stray empty line (before an
+    error message, too)."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
+    console = stderr()
     return Progress(
         TextColumn(f"{{task.description:<{label_width}}}"),
         BarColumn(),
         MofNCompleteColumn(),
         TimeRemainingColumn(),
-        console=stderr(),
+        console=console,
         transient=True,
+        disable=not console.is_terminal,
     )
 
 

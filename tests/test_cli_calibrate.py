@@ -518,3 +518,9 @@ def test_ur_kinematics_yaml_reproduces_the_fit_through_the_ur_xacro(tmp_path: Pa
     worst = max(float(np.abs(expanded.fk(q) - calibrated.fk(q)).max()) for q in Q)
     moved = max(float(np.abs(nominal.fk(q) - calibrated.fk(q))[:3, 3].max()) for q in Q)
     assert worst < 1e-9 and moved > 1e-4
+
+
+def test_simulate_error_is_the_first_line_on_stderr(tmp_path: Path) -> None:
+    # Into a pipe, a progress bar started before the chain was checked left an empty line first.
+    result = armtool("calibrate", "simulate", str(CLEAN_ARM), "--flange", "nope", "-o", str(tmp_path / "ds"))
+    assert result.returncode == 2 and result.stderr.startswith("error: tip link 'nope'"), result.stderr
