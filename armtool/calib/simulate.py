@@ -54,6 +54,17 @@ class SimulationSpec:
     xacro_args: dict[str, str] = field(default_factory=dict)  # for a .xacro robot
     package_paths: tuple[Path, ...] = ()
 
+    def __post_init__(self) -> None:
+        # From Python, plain strings are welcome ("poor", "eye_in_hand"); a wrong one is named
+        # here with the choices, not found later as a KeyError inside the rendering.
+        for name, kind in (("quality", Quality), ("setup", Setup)):
+            value = getattr(self, name)
+            try:
+                object.__setattr__(self, name, kind(value))
+            except ValueError:
+                choices = ", ".join(v.value for v in kind)
+                raise ArmtoolError(f"unknown {name} {value!r}", hint=f"choose from: {choices}") from None
+
     @property
     def distances(self) -> tuple[float, float]:
         return self.distance_m or DISTANCE_M[self.setup]

@@ -71,3 +71,14 @@ def test_simulate_eye_in_hand_on_a_5_dof_arm_from_the_command_line(tmp_path: Pat
     )
     assert result.exit_code == 0, result.output
     assert len(list((out / "images").glob("*.png"))) == 8
+
+
+def test_spec_takes_plain_strings_and_names_a_wrong_one() -> None:
+    from armtool.calib.choices import Quality
+    from armtool.errors import ArmtoolError
+
+    spec = SimulationSpec(quality="poor", setup="eye_in_hand")  # type: ignore[arg-type]
+    assert spec.quality is Quality.POOR and spec.setup is Setup.EYE_IN_HAND
+    with pytest.raises(ArmtoolError) as err:
+        SimulationSpec(quality="great")  # type: ignore[arg-type]
+    assert "quality 'great'" in err.value.what and "typical" in (err.value.hint or "")
