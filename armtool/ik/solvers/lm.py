@@ -456,8 +456,11 @@ class LevenbergMarquardt(Solver):
             np.minimum(try_err, err, out=try_err)
             tries += 1
             # Every step is taken (non-monotone, as in solve()).
-            A = np.einsum("rjm,rkm->mjk", Jt, Jt)
-            A.reshape(-1, n * n)[:, :: n + 1] += (k * err + bias)[:, None]  # + λI: the diagonal only
+            # JᵀJ with the configuration index last, as its inputs: einsum then runs unbuffered
+            # (half the time of "->mjk" at m = 20 and 1000, the same numbers); + λI on the diagonal only.
+            A_soa = np.einsum("rjm,rkm->jkm", Jt, Jt)
+            A_soa.reshape(n * n, -1)[:: n + 1] += k * err + bias
+            A = A_soa.transpose(2, 0, 1)
             g = np.einsum("rjm,rm->mj", Jt, e)
             dq = np.linalg.solve(A, g[..., None])[..., 0]
             blocked = ((Qa <= lower) & (dq < 0)) | ((Qa >= upper) & (dq > 0))
@@ -516,11 +519,11 @@ def _pose_error_soa(R: Array, p: Array, Rt: Array, pt: Array) -> Array:
     np.subtract(M[0, 2], M[2, 0], out=v[1])
     np.subtract(M[1, 0], M[0, 1], out=v[2])
     v *= 0.5
-    cos = np.clip((M[0, 0] + M[1, 1] + M[2, 2] - 1.0) * 0.5, -1.0, 1.0)
+    cos = np.minimum(np.maximum((M[0, 0] + M[1, 1] + M[2, 2] - 1.0) * 0.5, -1.0), 1.0)  # np.clip's wrapper: 2x the time
     sin = np.sqrt(np.einsum("im,im->m", v, v))
     angle = np.arctan2(sin, cos)
     v *= np.where(sin > 1e-9, angle / np.maximum(sin, 1e-300), 1.0)
-    for i in np.flatnonzero((sin <= 1e-9) & (cos < 0)):  # a half turn: the axis from the diagonal
+    for i in ((sin <= 1e-9) & (cos < 0)).nonzero()[0]:  # a half turn: the axis from the diagonal
         v[:, i] = rotation_error(R[:, :, i], Rt[:, :, i])
     return e
 
