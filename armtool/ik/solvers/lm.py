@@ -63,6 +63,7 @@ class LevenbergMarquardt(Solver):
     _tree: Any = None  # k-d tree over the table's pose features
     FIRST_TABLE = 1024  # cells of the table for first tries: their centres are searched by brute force
     _scores: Array  # (FIRST_TABLE, 16): see _build_table
+    _batch_minus_2F: Array  # −2 × the pose features of the first BATCH_TABLE_SIZE table poses
 
     def __init__(
         self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
@@ -101,10 +102,10 @@ class LevenbergMarquardt(Solver):
         """(m, BATCH_TABLE_SEEDS) indices of the first BATCH_TABLE_SIZE table configurations nearest
         each target, nearest first."""
         assert self._table is not None
-        _, F, F2 = (a[: self.BATCH_TABLE_SIZE] for a in self._table)
-        d = F2[None, :] - 2.0 * (
-            _pose_features(targets) @ F.T
-        )  # squared distance up to |f|², which does not change the order
+        F2 = self._table[2][: self.BATCH_TABLE_SIZE]
+        # Squared distance up to |f|², which does not change the order; −2F is scaled by a power of
+        # two (exact), so f·(−2F) is bit for bit −2·(f·F) in one pass over the (m, 1024) product fewer.
+        d = F2 + _pose_features(targets) @ self._batch_minus_2F.T
         order = np.argpartition(d, self.BATCH_TABLE_SEEDS, axis=1)[:, : self.BATCH_TABLE_SEEDS]
         return np.take_along_axis(order, np.argsort(np.take_along_axis(d, order, axis=1), axis=1), axis=1)
 
@@ -120,6 +121,7 @@ class LevenbergMarquardt(Solver):
         F = _pose_features(T)
         F2 = np.einsum("ij,ij->i", F, F)
         self._table = (Q, F, F2)
+        self._batch_minus_2F = -2.0 * F[: self.BATCH_TABLE_SIZE]
         self._tree = cKDTree(F)
         # score_i = f·F_i − |F_i|²/2 is largest for the table pose nearest the target (|f − F_i|² =
         # |f|² − 2·score_i), and f·F_i is one product with the target's 4×4 entries in row order:
