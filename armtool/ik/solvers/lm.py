@@ -63,7 +63,6 @@ class LevenbergMarquardt(Solver):
     _tree: Any = None  # k-d tree over the table's pose features
     FIRST_TABLE = 1024  # cells of the table for first tries: their centres are searched by brute force
     _scores: Array  # (FIRST_TABLE, 16): see _build_table
-    _batch_minus_2F: Array  # −2 × the pose features of the first BATCH_TABLE_SIZE table poses
 
     def __init__(
         self, chain: Any, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
@@ -121,7 +120,6 @@ class LevenbergMarquardt(Solver):
         F = _pose_features(T)
         F2 = np.einsum("ij,ij->i", F, F)
         self._table = (Q, F, F2)
-        self._batch_minus_2F = -2.0 * F[: self.BATCH_TABLE_SIZE]
         self._tree = cKDTree(F)
         # score_i = f·F_i − |F_i|²/2 is largest for the table pose nearest the target (|f − F_i|² =
         # |f|² − 2·score_i), and f·F_i is one product with the target's 4×4 entries in row order:
@@ -153,6 +151,8 @@ class LevenbergMarquardt(Solver):
         self._cell_padded_scores = np.zeros((m, width, 16))
         self._cell_padded_scores[:, :, 15] = -np.inf
         self._cell_padded_scores[cell[order], slot] = self._cell_scores
+        # For _batch_nearest: −2 × the pose features of the first BATCH_TABLE_SIZE table poses.
+        self._batch_minus_2F: Array = -2.0 * F[: self.BATCH_TABLE_SIZE]
 
     def _nearest(self, target: Array) -> tuple[Array, float]:
         """A table configuration whose pose is near the target, and the squared feature distance of
