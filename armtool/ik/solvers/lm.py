@@ -417,10 +417,11 @@ class LevenbergMarquardt(Solver):
         # the seed's pose, as in solve(); their restarts then skip that pose (the nearest of the
         # same rows). The seed's pose distance is the same feature distance as the table's.
         skip = self._start_from_table(targets, Qa)
-        # Everything kept per active target is in three arrays, so that dropping the finished ones
-        # is three fancy indexings (with Jt, e, err: six), not ten: the targets' rotations and
-        # positions (12, m), and the stall state (4, m): the try's best error, steps since it last
-        # fell by PROGRESS, steps in the try, and the try's patience (FIRST_STALL, then STALL).
+        # Everything kept per active target is in four arrays, so that dropping the finished ones
+        # is four fancy indexings (with this step's Jt, e, err: seven), not ten: idx, Qa, the
+        # targets' rotations and positions (12, m), and the stall state (4, m): the try's best
+        # error, steps since it last fell by PROGRESS, steps in the try, and the try's patience
+        # (FIRST_STALL, then STALL).
         goal = np.ascontiguousarray(np.concatenate([targets[:, :3, :3].reshape(N, 9), targets[:, :3, 3]], axis=1).T)
         state = np.array([[np.inf], [0.0], [0.0], [float(self.FIRST_STALL)]]).repeat(N, axis=1)
         fresh = np.array([[np.inf], [0.0], [0.0], [float(self.STALL)]])  # a restarted try's state
