@@ -93,6 +93,22 @@ class ChainJoint:
 
 
 @dataclass(frozen=True)
+class _PlanStep:
+    """One joint of fk_jacobian_soa's plan (see Chain._batch_plan)."""
+
+    o_R: Array
+    o_Rt: Array
+    o_p: Array
+    col: int  # the rotation column the joint's axis lies on
+    turned: slice  # the columns a revolute joint turns: 0:2, 1:3 or 0:3:2
+    a: int  # which of them is a (turned towards b) and which b, within that slice
+    b: int
+    sign: float
+    prismatic: bool
+    undo: Array | None  # an unaligned axis's basis B: R ← R·Bᵀ after the motion (`B @ R` on the (3,N) blocks)
+
+
+@dataclass(frozen=True)
 class _UrdfJoint:
     name: str
     type: str
@@ -244,7 +260,9 @@ class Chain:
         self._signs: Array = np.array([1.0] * self.n)  # per joint: the sign of its axis in the batch plan
         self._revolute_cols: NDArray[np.intp] | None = None if self.revolute.all() else np.flatnonzero(self.revolute)
         self._pin: Any = None
-        self._plan: list[tuple[Array, Array, int, float, Array | None]] | None = None
+        self._plan: list[_PlanStep] | None = None
+        # Whether the tip offset moves the tip frame: an identity offset costs fk_jacobian_soa two products.
+        self._tip_moves = not np.array_equal(tip_offset, np.eye(4))
         self.free_orientation = 0  # trailing virtual joints that make the tip's orientation free (position-only IK)
 
     def with_free_orientation(self) -> Chain:
@@ -330,42 +348,46 @@ class Chain:
 
         Every step is a 3×3 GEMM over N columns or an element-wise update of contiguous rows of
         length N (~0.3 µs per configuration for a 7-joint arm at N = 1000; the (N,3,3) layout
-        with strided columns and np.cross took ~2 µs).
+        with strided columns and np.cross took ~2 µs). The batch IK calls it once per step, down
+        to ~20 configurations, where its ~12 numpy calls per joint are most of its cost: the plan
+        holds every per-joint constant, the first joint's origin is the start (no product with
+        the identity), and each joint's position is written where the Jacobian reads it.
         """
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         N, n = Q.shape[0], self.n
         plan = self._batch_plan()
-        R = np.empty((3, 3, N))
-        R[:] = np.eye(3)[:, :, None]
-        p = np.zeros((3, N))
+        points = np.empty((3, n, N))  # each joint's origin: where the Jacobian's columns are taken
         J = np.zeros((6, n, N)) if jacobian else None
-        points = np.empty((3, n, N))
         signed = Q.T * self._signs[:, None]
         cos, sin = np.cos(signed), np.sin(signed)
-        for i, (o_R, o_p, axis_col, sign, frame) in enumerate(plan):
-            p += o_p @ R  # p_i += Σ_k R[i,k] o_p[k]
-            R = o_R.T @ R  # R[i] ← o_Rᵀ R[i] as (3,N) blocks: R·o_R per configuration
-            if J is not None:
-                points[:, i] = p
-            if self.joints[i].kind == "prismatic":
+        R = np.empty((3, 3, N))
+        p: Array = points[:, 0]
+        for i, step in enumerate(plan):
+            if i == 0:  # R and p start at the identity and zero: the first origin is the frame itself
+                R[:] = step.o_R[:, :, None]
+                p[:] = step.o_p[:, None]
+            else:
+                p = np.add(p, step.o_p @ R, out=points[:, i])  # p_i += Σ_k R[i,k] o_p[k]
+                R = step.o_Rt @ R  # R[i] ← o_Rᵀ R[i] as (3,N) blocks: R·o_R per configuration
+            axis = R[:, step.col]
+            if step.prismatic:
                 if J is not None:
-                    J[:3, i] = R[:, axis_col] * sign
-                p += Q[:, i] * sign * R[:, axis_col]
+                    J[:3, i] = axis * step.sign
+                p = p + Q[:, i] * step.sign * axis  # a new array: points[:, i] keeps the joint's origin
             else:
                 if J is not None:
-                    J[3:, i] = R[:, axis_col] if sign == 1.0 else R[:, axis_col] * sign
-                a, b = (axis_col + 1) % 3, (axis_col + 2) % 3
-                c, s_ = cos[i], sin[i]
-                col_a, col_b = R[:, a], R[:, b]  # views: col_b is updated in place after col_a's new value is formed
-                new_a = c * col_a
-                new_a += s_ * col_b
-                col_b *= c
-                col_b -= s_ * col_a
-                col_a[...] = new_a
-            if frame is not None:
-                R = frame.T @ R
-        p += self.tip_offset[:3, 3] @ R
-        R = self.tip_offset[:3, :3].T @ R
+                    J[3:, i] = axis if step.sign == 1.0 else axis * step.sign
+                # The two columns it turns, a and b, as one view (columns 0,1 / 1,2 / 0,2): both
+                # products at once, then a ← c·a + s·b and b ← c·b − s·a (4 numpy calls, not 7).
+                turned = R[:, step.turned]
+                cx, sx = turned * cos[i], turned * sin[i]
+                np.add(cx[:, step.a], sx[:, step.b], out=turned[:, step.a])
+                np.subtract(cx[:, step.b], sx[:, step.a], out=turned[:, step.b])
+            if step.undo is not None:
+                R = step.undo @ R
+        if self._tip_moves:
+            p = p + self.tip_offset[:3, 3] @ R
+            R = self.tip_offset[:3, :3].T @ R
         if J is None:
             return R, p, None
         r = p[:, None, :] - points  # (3, n, N): from each joint origin to the tip
@@ -381,22 +403,28 @@ class Chain:
             J[2, rev] = (w0 * r[1] - w1 * r[0])[rev]
         return R, p, J
 
-    def _batch_plan(self) -> list[tuple[Array, Array, int, float, Array | None]]:
-        """Per joint: origin rotation (times a basis change for unaligned axes), origin translation,
-        the column the axis lies on, its sign, and the basis change to undo after the motion."""
+    def _batch_plan(self) -> list[_PlanStep]:
+        """Per joint: origin rotation (times a basis change for unaligned axes) and its transpose,
+        origin translation, the column the axis lies on and the two it turns, its sign, and the
+        basis change to undo after the motion."""
         if self._plan is None:
-            plan: list[tuple[Array, Array, int, float, Array | None]] = []
+            plan: list[_PlanStep] = []
             for j in self.joints:
                 o_R, o_p = j.origin[:3, :3].copy(), j.origin[:3, 3].copy()
                 col = int(np.argmax(np.abs(j.axis)))
-                if abs(abs(j.axis[col]) - 1.0) < 1e-12:
-                    plan.append((o_R, o_p, col, float(np.sign(j.axis[col])), None))
-                    continue
-                # Unaligned axis: a basis B with B[:, 2] = axis; rotate about its z column, then undo.
-                B = _basis_with_z(j.axis)
-                plan.append((o_R @ B, o_p, 2, 1.0, B.T.copy()))
+                sign, undo = float(np.sign(j.axis[col])), None
+                if abs(abs(j.axis[col]) - 1.0) >= 1e-12:
+                    # Unaligned axis: a basis B with B[:, 2] = axis; rotate about its z column, then undo.
+                    B = _basis_with_z(j.axis)
+                    o_R, col, sign, undo = o_R @ B, 2, 1.0, B
+                a, b = (col + 1) % 3, (col + 2) % 3
+                turned = slice(min(a, b), max(a, b) + 1, abs(b - a))
+                first = 0 if a < b else 1
+                plan.append(
+                    _PlanStep(o_R, o_R.T, o_p, col, turned, first, 1 - first, sign, j.kind == "prismatic", undo)
+                )
             self._plan = plan
-            self._signs = np.array([step[3] for step in plan])
+            self._signs = np.array([step.sign for step in plan])
         return self._plan
 
     # ---- helpers -----------------------------------------------------------------------------

@@ -60,3 +60,27 @@ def test_far_seeds_start_from_the_nearest_table_pose() -> None:
     assert all(r.success and r.iterations == 0 for r in results)
     assert np.allclose([r.q for r in results[:40]], solver._wrap(table))  # type: ignore[attr-defined]
     assert np.allclose([r.q for r in results[40:]], solver._wrap(near))  # type: ignore[attr-defined]
+
+
+def test_start_from_table_in_chunks_equals_one_chunk() -> None:
+    # _start_from_table goes through the targets in chunks (to stay in the cache): any chunk size
+    # picks the same starts, so the whole batch gives the same answers and iteration counts.
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    rng = np.random.default_rng(4)
+    targets = chain.fk_batch(chain.random(rng, 50))
+    seeds = np.tile(chain.mid(), (50, 1))
+    results = []
+    for chunk in (7, 1000):
+        solver = make_solver("lm", chain, timeout=0.05)
+        solver.START_CHUNK = chunk  # type: ignore[attr-defined]
+        Q = seeds.copy()
+        skip = solver._start_from_table(targets, Q)  # type: ignore[attr-defined]
+        results.append((Q, skip, solver.solve_batch(targets, seeds)))
+    (Q7, skip7, r7), (Q1, skip1, r1) = results
+    assert np.array_equal(Q7, Q1) and np.array_equal(skip7, skip1)
+    assert not np.array_equal(Q7, seeds)  # some targets do start from the table
+    assert [r.iterations for r in r7] == [r.iterations for r in r1]
+    assert np.array_equal([r.q for r in r7], [r.q for r in r1])
+    for r, t in zip(r7, targets):
+        assert r.success == verify(chain, r.q, t, 1e-5)[0]
+    assert sum(r.success for r in r7) == 50

@@ -170,3 +170,42 @@ def test_default_chain_on_real_arms(relative: str, args: dict[str, str], tip: st
         pytest.skip("the realworld corpus is absent")
     root = load_robot_xml(path, args, [REALWORLD.resolve()])
     assert default_base_tip(root)[1] == tip
+
+
+# Every case of fk_jacobian_soa's plan: a prismatic first joint, revolute axes along -z, y (the
+# turned columns 0 and 2, not adjacent), x, and an unaligned one, a continuous joint, and a tip
+# offset that is the identity (no tip frame) or a fixed joint.
+MIXED_JOINTS = """<robot name="mixed">
+  <link name="base"/><link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/><link name="l5"/>
+  <link name="tool"/>
+  <joint name="slide" type="prismatic"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.1" rpy="0.2 0 0"/><axis xyz="0 0 1"/><limit lower="-0.2" upper="0.3"/></joint>
+  <joint name="yaw" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0.1 0 0.1"/><axis xyz="0 0 -1"/><limit lower="-2" upper="2"/></joint>
+  <joint name="pitch" type="revolute"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0 0.1 0.2" rpy="0 0.3 0"/><axis xyz="0 1 0"/><limit lower="-2" upper="2"/></joint>
+  <joint name="tilted" type="revolute"><parent link="l3"/><child link="l4"/>
+    <origin xyz="0.2 0 0"/><axis xyz="0.3 0.5 0.8"/><limit lower="-2" upper="2"/></joint>
+  <joint name="roll" type="continuous"><parent link="l4"/><child link="l5"/>
+    <origin xyz="0 0 0.1" rpy="0 0 1.0"/><axis xyz="-1 0 0"/></joint>
+  <joint name="flange" type="fixed"><parent link="l5"/><child link="tool"/>
+    <origin xyz="0 0 0.05" rpy="0.1 0.2 0.3"/></joint>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("tip", ["tool", "l5"])
+def test_soa_kinematics_match_pinocchio_on_every_joint_kind(tmp_path: Path, tip: str) -> None:
+    path = tmp_path / "mixed.urdf"
+    path.write_text(MIXED_JOINTS)
+    chain = load_chain(path, "base", tip)
+    Q = chain.random(np.random.default_rng(5), 9)
+    R, p, J = chain.fk_jacobian_soa(Q)
+    R_only, p_only, none = chain.fk_jacobian_soa(Q, jacobian=False)
+    assert J is not None and none is None
+    assert np.array_equal(R, R_only) and np.array_equal(p, p_only)
+    for k, q in enumerate(Q):
+        T, J_pin = chain.fk_jacobian(q)
+        assert np.allclose(R[:, :, k], T[:3, :3], atol=1e-12)
+        assert np.allclose(p[:, k], T[:3, 3], atol=1e-12)
+        assert np.allclose(J[:, :, k], J_pin, atol=1e-12)

@@ -60,6 +60,7 @@ class LevenbergMarquardt(Solver):
     RESTART_CELLS = 4  # cells searched for the restarts' TABLE_SEEDS poses
     BATCH_TABLE_SIZE = 1024  # restarts of many targets at once search a smaller table, by brute force
     BATCH_TABLE_SEEDS = 8
+    START_CHUNK = 128  # targets per chunk of _start_from_table
     FAR = 1e-3  # ‖e‖² from the seed above which the nearest table pose may be nearer
     _table: tuple[Array, Array, Array] | None = None  # configurations, pose features, their squared norms
     FIRST_TABLE = 1024  # cells of the table for first tries: their centres are searched by brute force
@@ -102,10 +103,10 @@ class LevenbergMarquardt(Solver):
         """(m, BATCH_TABLE_SEEDS) indices of the first BATCH_TABLE_SIZE table configurations nearest
         each target, nearest first."""
         assert self._table is not None
-        _, F, F2 = (a[: self.BATCH_TABLE_SIZE] for a in self._table)
-        d = F2[None, :] - 2.0 * (
-            _pose_features(targets) @ F.T
-        )  # squared distance up to |f|², which does not change the order
+        F2 = self._table[2][: self.BATCH_TABLE_SIZE]
+        # Squared distance up to |f|², which does not change the order; −2F is scaled by a power of
+        # two (exact), so f·(−2F) is bit for bit −2·(f·F) in one pass over the (m, 1024) product fewer.
+        d = F2 + _pose_features(targets) @ self._batch_minus_2F.T
         order = np.argpartition(d, self.BATCH_TABLE_SEEDS, axis=1)[:, : self.BATCH_TABLE_SEEDS]
         return np.take_along_axis(order, np.argsort(np.take_along_axis(d, order, axis=1), axis=1), axis=1)
 
@@ -150,6 +151,8 @@ class LevenbergMarquardt(Solver):
         self._cell_padded_scores = np.zeros((m, width, 16))
         self._cell_padded_scores[:, :, 15] = -np.inf
         self._cell_padded_scores[cell[order], slot] = self._cell_scores
+        # For _batch_nearest: −2 × the pose features of the first BATCH_TABLE_SIZE table poses.
+        self._batch_minus_2F: Array = -2.0 * F[: self.BATCH_TABLE_SIZE]
 
     def _nearest(self, target: Array) -> tuple[Array, float]:
         """A table configuration whose pose is near the target, and the squared feature distance of
@@ -372,16 +375,27 @@ class LevenbergMarquardt(Solver):
     def _start_from_table(self, targets: Array, Q: Array) -> NDArray[np.intp]:
         """Replace, in place, the rows of Q whose table pose from the cell search of _nearest is nearer
         their target than their own pose; 1 for those rows whose start is their cell's centre
-        (the first table pose their restarts would take), else 0."""
+        (the first table pose their restarts would take), else 0.
+
+        The targets go through in chunks of START_CHUNK: for 1000 at once the centres' scores
+        (8 MB) and the gathered cells' rows (14 MB) were allocated, page-faulted and evicted on
+        every call; a chunk's fit in the cache (the same products, row by row)."""
         assert self._table is not None
         N = targets.shape[0]
         flat = targets.reshape(N, 16)
-        centre = (flat @ self._scores.T).argmax(axis=1)  # (N, FIRST_TABLE) scores, as in _nearest
-        scores = np.einsum("nkj,nj->nk", self._cell_padded_scores[centre], flat)
-        j = scores.argmax(axis=1)
-        best = self._cell_padded[centre, j]
+        centre = np.empty(N, dtype=np.intp)
+        best = np.empty(N, dtype=np.intp)
+        top = np.empty(N)  # each target's best cell score
+        for a in range(0, N, self.START_CHUNK):
+            f = flat[a : a + self.START_CHUNK]
+            c = (f @ self._scores.T).argmax(axis=1)  # (chunk, FIRST_TABLE) scores, as in _nearest
+            scores = np.einsum("nkj,nj->nk", self._cell_padded_scores[c], f)
+            j = scores.argmax(axis=1)
+            centre[a : a + len(f)] = c
+            best[a : a + len(f)] = self._cell_padded[c, j]
+            top[a : a + len(f)] = scores[np.arange(len(f)), j]
         p = targets[:, :3, 3]
-        d2_table = np.einsum("ij,ij->i", p, p) + 0.12 - 2.0 * scores[np.arange(N), j]
+        d2_table = np.einsum("ij,ij->i", p, p) + 0.12 - 2.0 * top
         T, _ = self.chain.fk_jacobian_batch(Q, jacobian=False)
         diff = targets[:, :3, :] - T[:, :3, :]
         d2_seed = np.einsum("ij,ij->i", diff[:, :, 3], diff[:, :, 3]) + 0.04 * np.einsum(
@@ -399,11 +413,10 @@ class LevenbergMarquardt(Solver):
         if targets.shape != (N, 4, 4) or n != chain.n:
             return super().solve_batch(targets, seeds)
         deadline = self.clock() + self.timeout * N
-        k, bias, per_try = self._k, self._bias, self._per_try
+        k, bias, per_try, progress = self._k, self._bias, self._per_try, self.PROGRESS
         near = 2.0 * (0.99 * self.tolerance) ** 2
         accept = (0.99 * self.tolerance) ** 2
         lower, upper = self._lower, self._upper
-        eye = np.eye(n)
         Q = np.minimum(np.maximum(seeds, lower), upper)  # answers, written back as targets finish
         iterations = np.zeros(N, dtype=int)
         restarts = np.zeros(N, dtype=int)  # per target: which table seed comes next
@@ -417,18 +430,22 @@ class LevenbergMarquardt(Solver):
         # the seed's pose, as in solve(); their restarts then skip that pose (the nearest of the
         # same rows). The seed's pose distance is the same feature distance as the table's.
         skip = self._start_from_table(targets, Qa)
-        Rt = targets[:, :3, :3].transpose(1, 2, 0).copy()
-        pt = targets[:, :3, 3].T.copy()
-        try_err = np.full(N, np.inf)
-        since = np.zeros(N, dtype=int)
-        tries = np.zeros(N, dtype=int)
-        tail = False
+        # Everything kept per active target is in four arrays, so that dropping the finished ones
+        # is four fancy indexings (with this step's Jt, e, err: seven), not ten: idx, Qa, the
+        # targets' rotations and positions (12, m), and the stall state (4, m): the try's best
+        # error, steps since it last fell by PROGRESS, steps in the try, and the try's patience
+        # (FIRST_STALL, then STALL).
+        goal = np.ascontiguousarray(np.concatenate([targets[:, :3, :3].reshape(N, 9), targets[:, :3, 3]], axis=1).T)
+        state = np.array([[np.inf], [0.0], [0.0], [float(self.FIRST_STALL)]]).repeat(N, axis=1)
+        fresh = np.array([[np.inf], [0.0], [0.0], [float(self.STALL)]])  # a restarted try's state
+        try_err, since, tries, patience = state
+        step, tail = 0, False  # every active target takes one iteration per step: its count is the step's
         while self.clock() < deadline:
             R, p, Jt = chain.fk_jacobian_soa(Qa)
             assert Jt is not None
-            e = _pose_error_soa(R, p, Rt, pt)
+            e = _pose_error_soa(R, p, goal[:9].reshape(3, 3, -1), goal[9:])
             err = np.einsum("im,im->m", e, e)
-            close = np.flatnonzero(err < near)
+            close = (err < near).nonzero()[0]
             if close.size:
                 ec = e[:, close]
                 done = close[
@@ -436,36 +453,43 @@ class LevenbergMarquardt(Solver):
                     & (np.einsum("im,im->m", ec[3:], ec[3:]) <= accept)
                 ]
                 if done.size:
-                    Q[idx[done]] = Qa[done]
+                    finished = idx[done]
+                    Q[finished] = Qa[done]
+                    iterations[finished] = step
                     keep = np.ones(idx.size, dtype=bool)
                     keep[done] = False
                     idx, Qa, Jt, e, err = idx[keep], Qa[keep], Jt[..., keep], e[:, keep], err[keep]
-                    Rt, pt, try_err, since, tries = Rt[..., keep], pt[:, keep], try_err[keep], since[keep], tries[keep]
+                    goal, state = goal[:, keep], state[:, keep]
+                    try_err, since, tries, patience = state
             if idx.size <= self.SCALAR_TAIL:
                 tail = True
                 break  # a few stubborn targets: numpy's per-call overhead makes the scalar loop faster
-            iterations[idx] += 1
+            step += 1
             # Stall bookkeeping as in solve(): a try ends when its best error has not fallen by
-            # PROGRESS in STALL steps, or after max_iterations_per_try steps.
-            since = np.where(err < self.PROGRESS * try_err, 0, since + 1)
+            # PROGRESS in its patience's steps, or after max_iterations_per_try steps.
+            since += 1
+            since[err < progress * try_err] = 0
             np.minimum(try_err, err, out=try_err)
             tries += 1
             # Every step is taken (non-monotone, as in solve()).
-            A = np.einsum("rjm,rkm->mjk", Jt, Jt)
-            A += (k * err + bias)[:, None, None] * eye
+            # JᵀJ with the configuration index last, as its inputs: einsum then runs unbuffered
+            # (half the time of "->mjk" at m = 20 and 1000, the same numbers); + λI on the diagonal only.
+            A_soa = np.einsum("rjm,rkm->jkm", Jt, Jt)
+            A_soa.reshape(n * n, -1)[:: n + 1] += k * err + bias
+            A = A_soa.transpose(2, 0, 1)
             g = np.einsum("rjm,rm->mj", Jt, e)
             dq = np.linalg.solve(A, g[..., None])[..., 0]
             blocked = ((Qa <= lower) & (dq < 0)) | ((Qa >= upper) & (dq > 0))
-            rows = np.flatnonzero(blocked.any(axis=1))
+            rows = blocked.any(axis=1).nonzero()[0]
             if rows.size:  # joints held at a limit leave the step, as in solve()
                 b = blocked[rows]
                 free = ~b
-                A_b = A[rows] * (free[:, :, None] & free[:, None, :]) + b[:, :, None] * eye
+                A_b = A[rows] * (free[:, :, None] & free[:, None, :]) + b[:, :, None] * self._eye
                 dq[rows] = np.linalg.solve(A_b, (g[rows] * free)[..., None])[..., 0]
-            Qa = np.minimum(np.maximum(Qa + dq, lower), upper)
-            restart = np.flatnonzero(
-                (since >= np.where(restarts[idx] > 0, self.STALL, self.FIRST_STALL)) | (tries >= per_try)
-            )
+            Qa += dq
+            np.maximum(Qa, lower, out=Qa)
+            np.minimum(Qa, upper, out=Qa)
+            restart = ((since >= patience) | (tries >= per_try)).nonzero()[0]
             if restart.size:
                 r = idx[restart]
                 first = r[restarts[r] == 0]
@@ -478,8 +502,9 @@ class LevenbergMarquardt(Solver):
                     seeds_r[~use] = self.rng.uniform(chain.lower, chain.upper, size=(int((~use).sum()), n))
                 Qa[restart] = np.minimum(np.maximum(seeds_r, lower), upper)
                 restarts[r] += 1
-                try_err[restart], since[restart], tries[restart] = np.inf, 0, 0
+                state[:, restart] = fresh
         Q[idx] = Qa
+        iterations[idx] = step
         if tail:
             # The hardest few share what is left of the call's budget, up to TAIL_TIMEOUTS
             # timeouts each: one unreachable target must not hold up the whole batch.
@@ -510,11 +535,11 @@ def _pose_error_soa(R: Array, p: Array, Rt: Array, pt: Array) -> Array:
     np.subtract(M[0, 2], M[2, 0], out=v[1])
     np.subtract(M[1, 0], M[0, 1], out=v[2])
     v *= 0.5
-    cos = np.clip((M[0, 0] + M[1, 1] + M[2, 2] - 1.0) * 0.5, -1.0, 1.0)
+    cos = np.minimum(np.maximum((M[0, 0] + M[1, 1] + M[2, 2] - 1.0) * 0.5, -1.0), 1.0)  # np.clip's wrapper: 2x the time
     sin = np.sqrt(np.einsum("im,im->m", v, v))
     angle = np.arctan2(sin, cos)
     v *= np.where(sin > 1e-9, angle / np.maximum(sin, 1e-300), 1.0)
-    for i in np.flatnonzero((sin <= 1e-9) & (cos < 0)):  # a half turn: the axis from the diagonal
+    for i in ((sin <= 1e-9) & (cos < 0)).nonzero()[0]:  # a half turn: the axis from the diagonal
         v[:, i] = rotation_error(R[:, :, i], Rt[:, :, i])
     return e
 
