@@ -136,11 +136,8 @@ EXPECTED_ERRORS: dict[str, list[tuple[str, Lines, str]]] = {
             (331, 362, 434),
             "body, LHipPitch_link, RHipPitch_link: a negative principal moment (-0.021, -0.0027, -0.0028)",
         ),
-        (
-            "U501",
-            Every(r'filename="file:///usr/Romeo/', 20),
-            "absolute file:///usr/Romeo/naoqi-sdk-.../*.mesh paths to a vendor SDK",
-        ),
+        # (its 20 file:///usr/Romeo/naoqi-sdk-.../*.mesh paths to a vendor SDK outside the package are
+        # U501 warnings: missing here, present where that SDK is installed)
     ],
     "romeo_description/urdf/romeo_small.urdf": [
         (

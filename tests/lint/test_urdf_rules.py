@@ -217,6 +217,36 @@ def test_meshes_resolve_relative_package_and_missing(tmp_path: Path) -> None:
     assert "b.stl" in only(found, "U501")[0].message and "other_pkg" in only(found, "U502")[0].message
 
 
+def _mesh_link(uri: str) -> str:
+    return (
+        '<link name="l1"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>'
+        f'</inertial><visual><geometry><mesh filename="{uri}"/></geometry></visual></link>'
+    )
+
+
+def test_missing_absolute_mesh_outside_the_package_is_a_warning(tmp_path: Path) -> None:
+    # file:///usr/<vendor SDK>/... (romeo_laas_small.urdf): whether it exists depends on the machine
+    pkg = tmp_path / "pkg"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>pkg</name></package>")
+    elsewhere = tmp_path / "sdk" / "meshes" / "torso.mesh"
+    for uri in (f"file://{elsewhere}", str(elsewhere)):
+        (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri)))
+        assert (f.code, f.severity) == ("U501", Severity.WARNING)
+        assert "outside the package" in f.message
+
+
+def test_missing_absolute_mesh_inside_the_package_is_an_error(tmp_path: Path) -> None:
+    pkg = tmp_path / "pkg"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>pkg</name></package>")
+    missing = pkg / "meshes" / "torso.stl"
+    for uri in (f"file://{missing}", str(missing)):
+        (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri)))
+        assert (f.code, f.severity) == ("U501", Severity.ERROR)
+        assert "not found" in f.message
+
+
 def test_package_path_option(tmp_path: Path) -> None:
     (tmp_path / "pkgs" / "meshes_pkg").mkdir(parents=True)
     (tmp_path / "pkgs" / "meshes_pkg" / "package.xml").write_text("<package><name>meshes_pkg</name></package>")
