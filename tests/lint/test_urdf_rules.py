@@ -247,6 +247,20 @@ def test_missing_absolute_mesh_inside_the_package_is_an_error(tmp_path: Path) ->
         assert "not found" in f.message
 
 
+def test_three_slash_package_mesh_suggests_the_two_slash_uri_that_exists(tmp_path: Path) -> None:
+    pkg = tmp_path / "pkg"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "meshes").mkdir()
+    (pkg / "package.xml").write_text("<package><name>pkg</name></package>")
+    (pkg / "meshes" / "a.stl").write_text("solid a\nendsolid a\n")
+    found = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link("package:///pkg/meshes/a.stl")))
+    (f,) = found
+    assert (f.code, f.severity) == ("U501", Severity.ERROR) and "names no package" in f.message
+    assert f.hint == 'write filename="package://pkg/meshes/a.stl" (two slashes; that file exists)'
+    (g,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link("package:///pkg/meshes/b.stl")))
+    assert g.hint is not None and "package://PACKAGE/path" in g.hint
+
+
 def test_package_path_option(tmp_path: Path) -> None:
     (tmp_path / "pkgs" / "meshes_pkg").mkdir(parents=True)
     (tmp_path / "pkgs" / "meshes_pkg" / "package.xml").write_text("<package><name>meshes_pkg</name></package>")

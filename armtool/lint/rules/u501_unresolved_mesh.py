@@ -54,12 +54,21 @@ class UnresolvedMesh(Rule):
                 )
                 continue
             if missing_package == "":
+                # Pinocchio joins its package directories with the rest and finds such files; ROS's
+                # resource_retriever looks up the package "" and fails.
+                two_slashes = "package://" + uri[len("package:///") :].lstrip("/")
+                found, missing = ctx.resolver.resolve(two_slashes, ctx.base_dir)
+                if found is not None and missing is None and ctx.resolver.is_file(found):
+                    hint = f'write filename="{two_slashes}" (two slashes; that file exists)'
+                else:
+                    hint = "write package://PACKAGE/path; ROS's resource_retriever cannot resolve package:///"
                 yield ctx.finding(
                     self,
                     mesh,
-                    f"link '{link.get('name')}': mesh '{uri}' names no package (three slashes after package:)",
+                    f"link '{link.get('name')}': mesh '{uri}' names no package (three slashes after package:); "
+                    "ROS's resource_retriever cannot resolve it",
                     attr="filename",
-                    hint="write package://PACKAGE/path; ROS's resource_retriever cannot resolve package:///",
+                    hint=hint,
                 )
                 continue
             if path is None or missing_package is not None or ctx.resolver.is_file(path):
