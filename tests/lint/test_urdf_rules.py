@@ -112,6 +112,17 @@ def test_u301_degrees_are_flagged_and_pi_is_not(tmp_path: Path) -> None:
         assert lint_text(tmp_path, two_links(ok)) == [], pi
 
 
+def test_u301_radians_beyond_pi_are_info_and_degrees_a_warning(tmp_path: Path) -> None:
+    # 3π/2 written as 4.71238898038 (talos wrist_left_tool_joint) is the same rotation as -π/2, in
+    # radians: no parser or planner minds; only values that look like degrees are warnings.
+    radians = revolute("j1", "base", "l1", extra='<origin xyz="0 0 0.1" rpy="0 0 4.71238898038"/>')
+    (f,) = lint_text(tmp_path, two_links(radians))
+    assert (f.code, f.severity) == ("U301", Severity.INFO) and f.edit is not None
+    degrees = radians.replace("4.71238898038", "270")
+    (g,) = lint_text(tmp_path, two_links(degrees))
+    assert (g.code, g.severity) == ("U301", Severity.WARNING)
+
+
 def test_u301_wraps_to_same_rotation(tmp_path: Path) -> None:
     from armtool.lint.rules.u301_rpy_out_of_range import wrap
 
