@@ -235,34 +235,34 @@ def _mesh_link(uri: str) -> str:
     )
 
 
-def test_missing_absolute_mesh_outside_the_package_is_a_warning(tmp_path: Path) -> None:
-    # file:///usr/<vendor SDK>/... (romeo_laas_small.urdf): whether it exists depends on the machine
-    pkg = tmp_path / "pkg"
-    (pkg / "urdf").mkdir(parents=True)
-    (pkg / "package.xml").write_text("<package><name>pkg</name></package>")
-    elsewhere = tmp_path / "sdk" / "meshes" / "torso.mesh"
-    for uri in (f"file://{elsewhere}", str(elsewhere)):
-        (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri)))
-        assert (f.code, f.severity) == ("U501", Severity.WARNING)
-        assert "outside the package" in f.message
-
-
-def test_missing_absolute_mesh_inside_the_package_is_an_error(tmp_path: Path) -> None:
-    pkg = tmp_path / "pkg"
-    (pkg / "urdf").mkdir(parents=True)
-    (pkg / "package.xml").write_text("<package><name>pkg</name></package>")
-    missing = pkg / "meshes" / "torso.stl"
-    for uri in (f"file://{missing}", str(missing)):
-        (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri)))
-        assert (f.code, f.severity) == ("U501", Severity.ERROR)
-        assert "not found" in f.message
-
-
-def test_three_slash_package_mesh_suggests_the_two_slash_uri_that_exists(tmp_path: Path) -> None:
+def _package(tmp_path: Path) -> Path:
     pkg = tmp_path / "pkg"
     (pkg / "urdf").mkdir(parents=True)
     (pkg / "meshes").mkdir()
     (pkg / "package.xml").write_text("<package><name>pkg</name></package>")
+    return pkg
+
+
+@pytest.mark.parametrize(
+    ("where", "severity", "says"),
+    [
+        # file:///usr/<vendor SDK>/... (romeo_laas_small.urdf): whether it exists depends on the machine
+        ("sdk/meshes/torso.mesh", Severity.WARNING, "outside the package"),
+        ("pkg/meshes/torso.stl", Severity.ERROR, "not found"),
+    ],
+)
+@pytest.mark.parametrize("scheme", ["file://", ""])
+def test_missing_absolute_mesh_is_a_warning_outside_the_package_only(
+    tmp_path: Path, where: str, severity: Severity, says: str, scheme: str
+) -> None:
+    pkg = _package(tmp_path)
+    uri = f"{scheme}{tmp_path / where}"
+    (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri)))
+    assert (f.code, f.severity) == ("U501", severity) and says in f.message
+
+
+def test_three_slash_package_mesh_suggests_the_two_slash_uri_that_exists(tmp_path: Path) -> None:
+    pkg = _package(tmp_path)
     (pkg / "meshes" / "a.stl").write_text("solid a\nendsolid a\n")
     found = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link("package:///pkg/meshes/a.stl")))
     (f,) = found
