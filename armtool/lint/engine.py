@@ -20,6 +20,8 @@ from armtool.model.packages import PackageResolver
 from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml
 
 if TYPE_CHECKING:  # imported on use (xacro costs start-up time; SRDF support is not always needed)
+    from lxml import etree
+
     from armtool.lint.srdf_context import SrdfContext
     from armtool.model.xacro_source import Expansion, XacroFailure
 
@@ -299,24 +301,34 @@ class Linter:
             self._urdf_cache[key] = self.load_urdf(path, extra_args)
         return self._urdf_cache[key]
 
-    def _urdf_for_srdf(self, srdf: Path, robot_name: str | None) -> tuple[UrdfContext | None, str | None]:
-        """The URDF an SRDF describes, or None and why not."""
-        from armtool.lint.pairing import urdf_candidates
+    def _urdf_for_srdf(self, srdf: Path, srdf_root: etree._Element) -> tuple[UrdfContext | None, str | None]:
+        """The URDF an SRDF describes, or None and why not. The first usable candidate, unless it
+        lacks names the SRDF uses and a later candidate found beside it lacks fewer."""
+        from armtool.lint.pairing import unknown_names, urdf_candidates
 
         given = self.options.urdf or self.options.config.urdf_for(srdf)
         if given is not None:
             ctx, findings = self._urdf_model(given)
             return ctx, None if ctx is not None else _cause(given, findings)
         first_failure: str | None = None
-        for cand in urdf_candidates(srdf, robot_name, self.resolver):
+        best: tuple[int, UrdfContext] | None = None
+        for cand in urdf_candidates(srdf, srdf_root.get("name"), self.resolver):
             if not cand.path.is_file():
                 first_failure = first_failure or f"{display_path(cand.path)} ({cand.why}) does not exist"
                 continue
             ctx, findings = self._urdf_model(cand.path, cand.xacro_args)
             if ctx is not None and ctx.links:
-                return ctx, None
+                if cand.why == "named by .setup_assistant":
+                    return ctx, None  # MoveIt's own record of the pairing
+                missing = unknown_names(srdf_root, ctx.joint_names, ctx.link_names)
+                if best is None or missing < best[0]:
+                    best = (missing, ctx)
+                if missing == 0:
+                    break
             if ctx is None and findings and first_failure is None:
                 first_failure = _cause(cand.path, findings) + f" ({cand.why})"
+        if best is not None:
+            return best[1], None
         return None, first_failure or "no URDF found beside it"
 
     def load_srdf(self, path: Path, *, pair: bool = True) -> tuple[SrdfContext | None, list[Finding]]:
@@ -349,7 +361,7 @@ class Linter:
         findings: list[Finding] = []
         urdf: UrdfContext | None = None
         if pair:
-            urdf, why = self._urdf_for_srdf(path, root.get("name"))
+            urdf, why = self._urdf_for_srdf(path, root)
             if urdf is None:
                 findings.append(
                     _file_finding(

@@ -4,7 +4,10 @@ As a user of the package would find them: MoveIt's `.setup_assistant` file (it n
 package, relative path and xacro arguments, and the SRDF), then the package's own layout
 (`config/<robot>.urdf.xacro` beside `config/<robot>.srdf`, `urdf/` and `srdf/` beside `config/`).
 Candidates are returned best first; the engine takes the first that loads as a robot with links
-(a `<robot>.ros2_control.xacro` defines none and is never the URDF).
+(a `<robot>.ros2_control.xacro` defines none and is never the URDF). When that one lacks names
+the SRDF uses and other candidates were found beside it (`solo.srdf` beside `solo.urdf` and
+`solo12.urdf`, both `<robot name="solo">`), the one that knows the most of them is taken: an
+SRDF describes the URDF whose joints and links it names (`unknown_names`).
 """
 
 from __future__ import annotations
@@ -12,6 +15,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 from typing import NamedTuple
+
+from lxml import etree
 
 from armtool.fileio import read_regular
 from armtool.model.packages import PackageResolver
@@ -34,6 +39,35 @@ class SetupAssistant(NamedTuple):
     urdf_relative: str | None
     urdf_xacro_args: dict[str, str]
     srdf_relative: str | None
+
+
+def srdf_names(root: etree._Element) -> tuple[set[str], set[str]]:
+    """The joint and link names an SRDF refers to (groups, group states, chains, end effectors,
+    passive joints, disabled collisions); joints its own <virtual_joint>s declare are left out."""
+    joints: set[str] = set()
+    links: set[str] = set()
+    virtual: set[str] = set()
+    for el in root.iter(etree.Element):
+        tag = etree.QName(el).localname
+        if tag == "virtual_joint":
+            virtual.add(el.get("name", ""))
+        elif tag in ("joint", "passive_joint"):
+            joints.add(el.get("name", ""))
+        elif tag == "link":
+            links.add(el.get("name", ""))
+        elif tag == "chain":
+            links.update((el.get("base_link", ""), el.get("tip_link", "")))
+        elif tag == "end_effector":
+            links.add(el.get("parent_link", ""))
+        elif tag == "disable_collisions":
+            links.update((el.get("link1", ""), el.get("link2", "")))
+    return joints - virtual - {""}, links - {""}
+
+
+def unknown_names(srdf_root: etree._Element, joint_names: set[str], link_names: set[str]) -> int:
+    """How many of the names an SRDF refers to a URDF with these joints and links lacks."""
+    joints, links = srdf_names(srdf_root)
+    return len(joints - joint_names) + len(links - link_names)
 
 
 def parse_xacro_args(text: str) -> dict[str, str]:

@@ -87,6 +87,10 @@ class XacroFailure(Exception):
             )
         if self.missing_arg:
             return f"pass --xacro-arg {self.missing_arg}:=VALUE (or give the <xacro:arg> a default)"
+        if "/package://" in self.message or "/package:/" in self.message:
+            # xacro's get_include_files joins any filename that is not absolute to the including
+            # file's directory: it has no package:// scheme (only $(find PKG)).
+            return "xacro does not resolve package:// in <xacro:include filename>: write $(find PKG)/path"
         return "fix the xacro, or pass --xacro-arg NAME:=VALUE / --package-path DIR"
 
 

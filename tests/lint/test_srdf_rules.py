@@ -236,6 +236,9 @@ def test_s104_sideways_chain_names_common_ancestor(tmp_path: Path) -> None:
     (f,) = lint_srdf(tmp_path, '<group name="pinch"><chain base_link="left_finger" tip_link="right_finger"/></group>')
     assert f.code == "S104" and "'tool0'" in f.message
     assert f.hint == 'start the chain where the branches meet: base_link="tool0"'
+    # MoveIt's RobotModel::addJointModelGroup builds such a group through the common ancestor
+    # (it loads and plans); only chain IK plugins reject it: a warning, not an error.
+    assert f.severity == Severity.WARNING
 
 
 def test_s104_chain_to_itself(tmp_path: Path) -> None:

@@ -112,6 +112,17 @@ def test_u301_degrees_are_flagged_and_pi_is_not(tmp_path: Path) -> None:
         assert lint_text(tmp_path, two_links(ok)) == [], pi
 
 
+def test_u301_radians_beyond_pi_are_info_and_degrees_a_warning(tmp_path: Path) -> None:
+    # 3π/2 written as 4.71238898038 (talos wrist_left_tool_joint) is the same rotation as -π/2, in
+    # radians: no parser or planner minds; only values that look like degrees are warnings.
+    radians = revolute("j1", "base", "l1", extra='<origin xyz="0 0 0.1" rpy="0 0 4.71238898038"/>')
+    (f,) = lint_text(tmp_path, two_links(radians))
+    assert (f.code, f.severity) == ("U301", Severity.INFO) and f.edit is not None
+    degrees = radians.replace("4.71238898038", "270")
+    (g,) = lint_text(tmp_path, two_links(degrees))
+    assert (g.code, g.severity) == ("U301", Severity.WARNING)
+
+
 def test_u301_wraps_to_same_rotation(tmp_path: Path) -> None:
     from armtool.lint.rules.u301_rpy_out_of_range import wrap
 
@@ -215,6 +226,50 @@ def test_meshes_resolve_relative_package_and_missing(tmp_path: Path) -> None:
     found = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), link))
     assert sorted(f.code for f in found) == ["U501", "U502"]
     assert "b.stl" in only(found, "U501")[0].message and "other_pkg" in only(found, "U502")[0].message
+
+
+def _mesh_link(uri: str) -> str:
+    return (
+        '<link name="l1"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>'
+        f'</inertial><visual><geometry><mesh filename="{uri}"/></geometry></visual></link>'
+    )
+
+
+def _package(tmp_path: Path) -> Path:
+    pkg = tmp_path / "pkg"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "meshes").mkdir()
+    (pkg / "package.xml").write_text("<package><name>pkg</name></package>")
+    return pkg
+
+
+@pytest.mark.parametrize(
+    ("where", "severity", "says"),
+    [
+        # file:///usr/<vendor SDK>/... (romeo_laas_small.urdf): whether it exists depends on the machine
+        ("sdk/meshes/torso.mesh", Severity.WARNING, "outside the package"),
+        ("pkg/meshes/torso.stl", Severity.ERROR, "not found"),
+    ],
+)
+@pytest.mark.parametrize("scheme", ["file://", ""])
+def test_missing_absolute_mesh_is_a_warning_outside_the_package_only(
+    tmp_path: Path, where: str, severity: Severity, says: str, scheme: str
+) -> None:
+    pkg = _package(tmp_path)
+    uri = f"{scheme}{tmp_path / where}"
+    (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri)))
+    assert (f.code, f.severity) == ("U501", severity) and says in f.message
+
+
+def test_three_slash_package_mesh_suggests_the_two_slash_uri_that_exists(tmp_path: Path) -> None:
+    pkg = _package(tmp_path)
+    (pkg / "meshes" / "a.stl").write_text("solid a\nendsolid a\n")
+    found = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link("package:///pkg/meshes/a.stl")))
+    (f,) = found
+    assert (f.code, f.severity) == ("U501", Severity.ERROR) and "names no package" in f.message
+    assert f.hint == 'write filename="package://pkg/meshes/a.stl" (two slashes; that file exists)'
+    (g,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link("package:///pkg/meshes/b.stl")))
+    assert g.hint is not None and "package://PACKAGE/path" in g.hint
 
 
 def test_package_path_option(tmp_path: Path) -> None:

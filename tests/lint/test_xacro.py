@@ -100,6 +100,19 @@ def test_find_package_resolves_through_package_path(tmp_path: Path) -> None:
     assert "X001" not in {f.code for f in found}
 
 
+def test_package_uri_in_include_fails_as_in_xacro_and_says_why(tmp_path: Path) -> None:
+    # xacro's get_include_files joins a filename that is not absolute to the including file's
+    # directory; it has no package:// scheme (hector_description/robots/quadrotor_base.xacro).
+    pkg = tmp_path / "arm_description"
+    pkg.mkdir()
+    (pkg / "package.xml").write_text("<package><name>arm_description</name></package>")
+    (pkg / "macros.xacro").write_text(MACROS)
+    main = tmp_path / "robot.urdf.xacro"
+    main.write_text(MAIN.replace('filename="macros.xacro"', 'filename="package://arm_description/macros.xacro"'))
+    (f,) = [f for f in lint_paths([main], LintOptions(package_paths=[tmp_path])).findings if f.code == "X001"]
+    assert f.hint == "xacro does not resolve package:// in <xacro:include filename>: write $(find PKG)/path"
+
+
 def test_macro_library_alone_is_quiet(tmp_path: Path) -> None:
     lib = tmp_path / "macros.xacro"
     lib.write_text(MACROS)

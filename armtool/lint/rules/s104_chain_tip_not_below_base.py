@@ -16,9 +16,14 @@ class ChainTipNotBelowBase(Rule):
 
     Why is this bad?
     KDL, TRAC-IK and the other chain solvers need a serial chain going down the tree from
-    base to tip. Reversed or sideways, MoveIt builds the group through the links' common
-    ancestor (or adds no joints at all), and the IK plugin refuses to initialise for that
-    group, or solves for the wrong joints.
+    base to tip. A reversed chain (tip above base) gives a group with the wrong joints: MoveIt
+    adds the joint above the tip as well. A chain from a link to itself adds no joints, and
+    MoveIt drops the group. These are errors.
+
+    A sideways chain (tip on another branch) is a warning: MoveIt's RobotModel builds the group
+    on purpose, up from the base to the links' common ancestor and down to the tip (a chain
+    "from one end-effector to another"), so the group loads and plans; but it is not a serial
+    chain, and the chain IK plugins (KDL, TRAC-IK) refuse to initialise for it.
 
     Example:
     <chain base_link="tool0" tip_link="base_link"/>
@@ -59,8 +64,13 @@ class ChainTipNotBelowBase(Rule):
                 if tip in base_line:
                     hint = f'swap them: base_link="{tip}" tip_link="{base}"'
                 elif common is not None:
-                    message += f"; the chain would run up to '{common}' and down again, which is not a serial chain"
+                    message += (
+                        f"; MoveIt builds the group up to '{common}' and down again, which is not a serial "
+                        "chain: chain IK plugins (KDL, TRAC-IK) reject it"
+                    )
                     hint = f'start the chain where the branches meet: base_link="{common}"'
+                    yield ctx.finding(self, el, message, attr="tip_link", hint=hint).with_severity(Severity.WARNING)
+                    continue
                 elif up:
                     hint = f"'{base}' is in another tree; base_link must be above '{tip}', e.g. '{up[-1]}'"
                 else:

@@ -14,8 +14,10 @@ class NonPositiveVelocity(Rule):
     Reports a joint limit with velocity="0" or a negative velocity.
 
     Why is this bad?
-    Time parameterization divides by the velocity limit: MoveIt plans a path and then
-    fails to time it, or produces a trajectory that never moves this joint.
+    MoveIt's RobotModel reads a velocity of 0 as "no velocity limit", and its time
+    parameterization (TOTG) then refuses the trajectory ("No velocity limit was defined for
+    joint ..."): the path is planned and cannot be timed, unless joint_limits.yaml supplies
+    a limit.
 
     Example:
     <limit lower="-1.57" upper="1.57" effort="30" velocity="0"/>

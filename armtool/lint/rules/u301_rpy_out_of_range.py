@@ -40,9 +40,11 @@ class RpyOutOfRange(Rule):
     real files write π as 3.1416).
 
     Why is this bad?
-    The rotation is still valid (angles are periodic), but the value is almost always
-    degrees typed where URDF expects radians: rpy="0 0 90" turns 90 rad, the same rotation as
-    116.6°, not the quarter turn that was meant.
+    The rotation is still valid (angles are periodic), but the value is often degrees typed
+    where URDF expects radians: rpy="0 0 90" turns 90 rad, the same rotation as 116.6°, not the
+    quarter turn that was meant. Values that look like degrees (above 2π, or a whole number of
+    common degrees such as 90) are warnings; other values, such as 4.712389 (3π/2), are radians
+    that merely go the long way round, and are reported as info.
 
     Example:
     <origin xyz="0 0 0.1" rpy="0 0 90"/>
@@ -95,4 +97,8 @@ class RpyOutOfRange(Rule):
         else:
             message = f'{owner}: rpy="{raw}" is outside [-π, π]'
             hint = f'write the same rotation as rpy="{" ".join(wrapped)}"'
+            # radians beyond π: the same rotation, written the long way round; nothing is wrong
+            finding = ctx.finding(self, origin, message, attr="rpy", hint=hint, fix_value=" ".join(wrapped))
+            yield finding.with_severity(Severity.INFO)
+            return
         yield ctx.finding(self, origin, message, attr="rpy", hint=hint, fix_value=" ".join(wrapped))
