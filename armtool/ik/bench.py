@@ -252,24 +252,28 @@ def time_interleaved(
     rotate: int = 0,
     after_block: Callable[[dict[str, Timed]], None] | None = None,
     progress: Callable[[str, int], None] | None = None,
+    batch_calls: int = 1,
 ) -> dict[str, Timed]:
     """Every entry timed on the same targets, taking turns: block by block, each one-at-a-time entry
     solves the block (the order rotated by one each block, starting `rotate` places on), and each
-    batch entry makes its one call mid-way. A laptop's turbo or a VM's neighbours change the
-    CPU's speed over seconds (the development VM: 2x, every 2.5-8 s); run whole one after the
-    other, one solver would be timed fast and the next slow. `after_block` gets each block's
-    timings by label."""
+    batch entry makes its call over all targets mid-way, or `batch_calls` calls spread evenly
+    over the blocks. A laptop's turbo or a VM's neighbours change the CPU's speed over seconds
+    (the development VM: 2x, every 2.5-8 s); run whole one after the other, one solver would be
+    timed fast and the next slow. A batch row's answers are its first call's; its time per
+    target is the mean over its calls, so it samples the machine across the run as the
+    one-at-a-time rows do. `after_block` gets each block's timings by label."""
     N = targets.poses.shape[0]
     singles = [e for e in entries if not e.batch]
     parts: dict[str, list[Timed]] = {e.label: [] for e in singles}
-    batched: dict[str, Timed] = {}
+    calls: dict[str, list[Timed]] = {e.label: [] for e in entries if e.batch}
     starts = range(0, N, block)
+    batch_at = [int((i + 0.5) * len(starts) / batch_calls) for i in range(batch_calls)]
     for k, start in enumerate(starts):
-        if k == len(starts) // 2:
+        for _ in range(batch_at.count(k)):
             for e in entries:
                 if e.batch:
-                    batched[e.label] = time_batch(e.solver, targets.poses, targets.seeds)
-                    if progress:
+                    calls[e.label].append(time_batch(e.solver, targets.poses, targets.seeds))
+                    if progress and len(calls[e.label]) == 1:
                         progress(e.label, N)
         shift = (k + rotate) % len(singles) if singles else 0
         here: dict[str, Timed] = {}
@@ -282,7 +286,10 @@ def time_interleaved(
         if after_block:
             after_block(here)
     timed = {label: join_timed(blocks) for label, blocks in parts.items() if blocks}
-    timed.update(batched)
+    for label, made in calls.items():
+        wall = np.mean([c.wall for c in made], axis=0)
+        cpu = np.mean([c.cpu for c in made], axis=0)
+        timed[label] = Timed(made[0].results, wall, cpu, batch=True)
     return timed
 
 

@@ -3,6 +3,7 @@ a machine probe is timed after every block."""
 
 from __future__ import annotations
 
+import argparse
 import importlib.util
 import sys
 from pathlib import Path
@@ -45,7 +46,8 @@ def test_every_round_has_its_probe_and_each_solver_in_probe_units() -> None:
     entries = [Entry(a), Entry(a, batch=True), Entry(b, limit=3)]
     machine = script.Machine()
     for r in range(2):
-        timed = script.interleaved_round(entries, targets, 4, r, machine)
+        args = argparse.Namespace(block=4, batch_calls=2)
+        timed = script.interleaved_round(entries, targets, args, r, machine)
         assert {label: len(t.results) for label, t in timed.items()} == {"a": 10, "a (batch)": 10, "b": 3}
     assert len(machine.probes) == 2 and min(machine.probes) > 0
     assert set(machine.relative) == {"a", "b"} and all(len(v) == 2 for v in machine.relative.values())

@@ -164,3 +164,27 @@ def test_run_bench_takes_turns_block_by_block() -> None:
     assert runs == ["a", "b", "c", "b", "a", "b"]  # blocks of 4: a b c | b (c done) a | (c) a b
     batch_at = calls.index(("a (batch)", 10))
     assert 0 < batch_at < len(calls) - 1
+
+
+def test_batch_calls_are_spread_over_the_blocks() -> None:
+    from armtool.ik.bench import Entry, time_interleaved
+
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    targets = make_targets(chain, BenchConfig(samples=12, repeat=0))
+    order: list[str] = []
+
+    class Logged(Liar):
+        def solve(self, target, seed):  # type: ignore[no-untyped-def]
+            order.append("single")
+            return super().solve(target, seed)
+
+        def solve_batch(self, poses, seeds):  # type: ignore[no-untyped-def]
+            order.append("batch")
+            return [Liar.solve(self, p, s) for p, s in zip(poses, seeds)]
+
+    solver = Logged(chain)
+    timed = time_interleaved([Entry(solver), Entry(solver, batch=True)], targets, block=3, batch_calls=2)
+    # Four blocks of three: the calls come before blocks 1 and 3, not both at the start.
+    assert order == ["single"] * 3 + ["batch"] + ["single"] * 6 + ["batch"] + ["single"] * 3
+    batch = timed["liar (batch)"]
+    assert batch.batch and len(batch.results) == 12 and batch.wall.shape == (12,)
