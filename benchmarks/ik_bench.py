@@ -6,12 +6,12 @@ gripper_frame_link) from example-robot-data; xArm6 and xArm7 (link_base → link
 real-repository corpus (xarm_ros2's xarm_device.urdf.xacro with dof:=6 / dof:=7, read in place;
 an arm whose files are absent is skipped with a message). N configurations uniform within the
 limits → FK → targets; every solve from the mid-range seed; 5 ms timeout; success = every twist
-component within 1e-5 and q within the limits, by armtool's FK (`armtool.ik.bench.run_solver`),
+component within 1e-5 and q within the limits, by armtool's FK (`armtool.ik.bench.solver_report`),
 whatever the solver claims. All solvers see the same targets; `lm` also runs batched (one
 `solve_batch` call). ikpy is slow (~10 ms a solve) and runs on the first --ikpy-samples targets
 only. A peer that is not installed is skipped with its install command (`pip install 'armtool[peers]'`).
 
-Before round 1, every solver solves the first --warmup targets (default 100) untimed, so that
+Before round 1, every solver but ikpy solves the first --warmup targets (default 100) untimed, so that
 round 1 runs in the same state as the rounds after it (lm's first round was often its slowest).
 Rounds (--rounds, default 3) run one after the other, each after a garbage collection. Within a
 round the solvers take turns block by block (--block targets, default 50; the order rotates from
@@ -81,7 +81,7 @@ PEERS = ("pytracik", "rtb-lm", "ikpy", "pykdl")
 TOLERANCE = 1e-5
 KDL_PUBLISHED_PANDA = 62.0  # % success of KDL NR_JL on Panda in TRAC-IK's protocol
 MAX_SPREAD = 0.20  # run-to-run spread of lm's median, (max - min) / min over rounds
-PROBE_LOOP = 30_000  # additions in the machine probe: ~1.5 ms of CPU on the development VM
+PROBE_LOOP = 30_000  # additions in the machine probe: 1.1 or 1.8 ms on the development VM
 
 
 def log(text: str) -> None:
@@ -137,14 +137,14 @@ class Row:
 
 
 def machine_probe() -> float:
-    """Seconds of process CPU for a fixed pure-Python loop (~1-3 ms): the machine's own speed at
+    """Seconds (wall clock) of a fixed pure-Python loop (~1-3 ms): the machine's own speed at
     this moment, timed between the solvers' blocks, so its spread over rounds shows how much of a
     solver's spread is the machine's."""
-    c0 = time.process_time()
+    w0 = time.perf_counter()  # the wall clock, as the solvers' medians
     total = 0
     for i in range(PROBE_LOOP):
         total += i
-    return time.process_time() - c0
+    return time.perf_counter() - w0
 
 
 def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float) -> Row:
@@ -170,9 +170,10 @@ def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float) -
 @dataclass
 class Machine:
     """The machine probe per round (median over the round's blocks, seconds), and each single-solve
-    run's median per round in probe units: per block, its median solve over the probe timed right
-    after that block; the median over the round's blocks. A solver steady in these units is as
-    steady as the machine lets any measurement be."""
+    run's median per round in probe units: per block, its median solve over the probe timed once
+    every solver had its turn on that block; the median over the round's blocks. This divides out
+    changes of the CPU's speed, not the waits of a loaded machine: a solver steady in these
+    units is as steady as a speed-switching machine lets any measurement be."""
 
     probes: list[float] = field(default_factory=list)
     relative: dict[str, list[float]] = field(default_factory=dict)
@@ -429,7 +430,7 @@ def main() -> int:
     args = parser.parse_args()
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
     args.solvers = [s.strip() for s in args.solvers.split(",") if s.strip()]
-    args.peers = [p.strip() for p in args.peers.split(",") if p.strip()]
+    args.peers = list(dict.fromkeys(p.strip() for p in args.peers.split(",") if p.strip()))  # each once
     unknown = [r for r in robots if r not in ROBOTS] + [p for p in args.peers if p not in PEERS]
     if (
         unknown
@@ -437,11 +438,12 @@ def main() -> int:
         or args.rounds < 1
         or args.block < 1
         or args.batch_calls < 1
+        or args.ikpy_samples < 1
         or args.warmup < 0
         or not args.timeout > 0
     ):
         parser.error(
-            f"robots must be among {', '.join(ROBOTS)}, peers among {', '.join(PEERS)}; --samples, --rounds, --block, --batch-calls >= 1; --warmup >= 0; --timeout > 0"
+            f"robots must be among {', '.join(ROBOTS)}, peers among {', '.join(PEERS)}; --samples, --rounds, --block, --batch-calls, --ikpy-samples >= 1; --warmup >= 0; --timeout > 0"
         )
 
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")

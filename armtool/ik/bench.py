@@ -262,6 +262,11 @@ def time_interleaved(
     timed fast and the next slow. A batch row's answers are its first call's; its time per
     target is the mean over its calls, so it samples the machine across the run as the
     one-at-a-time rows do. `after_block` gets each block's timings by label."""
+    labels = [e.label for e in entries]
+    if len(set(labels)) < len(labels) or block < 1 or batch_calls < 1:
+        raise ValueError(f"entries need distinct labels ({labels}), block and batch_calls >= 1")
+    if any(e.limit is not None and (e.batch or e.limit < 1) for e in entries):
+        raise ValueError("a limit is for one-at-a-time entries, and at least 1")
     N = targets.poses.shape[0]
     singles = [e for e in entries if not e.batch]
     parts: dict[str, list[Timed]] = {e.label: [] for e in singles}

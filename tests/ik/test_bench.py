@@ -188,3 +188,19 @@ def test_batch_calls_are_spread_over_the_blocks() -> None:
     assert order == ["single"] * 3 + ["batch"] + ["single"] * 6 + ["batch"] + ["single"] * 3
     batch = timed["liar (batch)"]
     assert batch.batch and len(batch.results) == 12 and batch.wall.shape == (12,)
+
+
+def test_interleaving_refuses_entries_it_would_mix_up() -> None:
+    # Two entries with one label would solve every block into the same list (2N answers for N).
+    import pytest
+
+    from armtool.ik.bench import Entry, time_interleaved
+
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    targets = make_targets(chain, BenchConfig(samples=4, repeat=0))
+    a, b = Liar(chain), Liar(chain)
+    for entries in ([Entry(a), Entry(b)], [Entry(a, limit=0)], [Entry(a, batch=True, limit=2)]):
+        with pytest.raises(ValueError):
+            time_interleaved(entries, targets)
+    with pytest.raises(ValueError):
+        time_interleaved([Entry(a)], targets, batch_calls=0)

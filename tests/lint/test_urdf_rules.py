@@ -121,6 +121,9 @@ def test_u301_radians_beyond_pi_are_info_and_degrees_a_warning(tmp_path: Path) -
     degrees = radians.replace("4.71238898038", "270")
     (g,) = lint_text(tmp_path, two_links(degrees))
     assert (g.code, g.severity) == ("U301", Severity.WARNING)
+    mixed = radians.replace('rpy="0 0 4.71238898038"', 'rpy="0 90 4.71"')  # 90 is plainly degrees
+    (h,) = lint_text(tmp_path, two_links(mixed))
+    assert (h.code, h.severity) == ("U301", Severity.WARNING) and "degrees" in h.message
 
 
 def test_u301_wraps_to_same_rotation(tmp_path: Path) -> None:
@@ -259,6 +262,15 @@ def test_missing_absolute_mesh_is_a_warning_outside_the_package_only(
     uri = f"{scheme}{tmp_path / where}"
     (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri)))
     assert (f.code, f.severity) == ("U501", severity) and says in f.message
+
+
+def test_missing_mesh_inside_the_package_through_a_symlink_is_still_an_error(tmp_path: Path) -> None:
+    # colcon --symlink-install: the path names the package through a link; it is still inside it.
+    pkg = _package(tmp_path)
+    (tmp_path / "link").symlink_to(tmp_path)
+    uri = f"file://{tmp_path / 'link' / 'pkg' / 'meshes' / 'missing.stl'}"
+    (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri)))
+    assert (f.code, f.severity) == ("U501", Severity.ERROR) and "not found" in f.message
 
 
 def test_three_slash_package_mesh_suggests_the_two_slash_uri_that_exists(tmp_path: Path) -> None:

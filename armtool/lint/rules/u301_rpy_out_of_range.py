@@ -21,9 +21,13 @@ def wrap(angle: float) -> float:
     return math.pi if wrapped <= -math.pi else wrapped
 
 
+def _degrees_like(v: float) -> bool:
+    return v > 2 * math.pi or (v == int(v) and int(v) in _COMMON_DEGREES)
+
+
 def looks_like_degrees(values: list[float]) -> bool:
     out = [abs(v) for v in values if abs(v) > math.pi + TOLERANCE_RAD]
-    return bool(out) and all(v > 2 * math.pi or (v == int(v) and int(v) in _COMMON_DEGREES) for v in out)
+    return bool(out) and all(_degrees_like(v) for v in out)
 
 
 def _out_of_range(raw: str | None) -> bool:
@@ -97,8 +101,12 @@ class RpyOutOfRange(Rule):
         else:
             message = f'{owner}: rpy="{raw}" is outside [-π, π]'
             hint = f'write the same rotation as rpy="{" ".join(wrapped)}"'
-            # radians beyond π: the same rotation, written the long way round; nothing is wrong
-            finding = ctx.finding(self, origin, message, attr="rpy", hint=hint, fix_value=" ".join(wrapped))
-            yield finding.with_severity(Severity.INFO)
-            return
+            if not any(_degrees_like(abs(v)) for v in values if abs(v) > math.pi + TOLERANCE_RAD):
+                # radians beyond π: the same rotation, written the long way round; nothing is wrong
+                finding = ctx.finding(self, origin, message, attr="rpy", hint=hint, fix_value=" ".join(wrapped))
+                yield finding.with_severity(Severity.INFO)
+                return
+            # one angle plainly in degrees (90 beside 4.71): a warning, whatever the others look like
+            message += " and some of it looks like degrees"
+            hint += "; URDF angles are radians"
         yield ctx.finding(self, origin, message, attr="rpy", hint=hint, fix_value=" ".join(wrapped))

@@ -77,7 +77,8 @@ class UnresolvedMesh(Rule):
                 if home is None:  # the package (or directory) that holds the file
                     file_dir = ctx.path.resolve().parent
                     home = str(package_root(file_dir) or file_dir)
-                outside = os.path.commonpath([os.path.abspath(path), home]) != home
+                # Both sides with symlinks resolved: a colcon --symlink-install tree links into src/.
+                outside = os.path.commonpath([os.path.realpath(path), home]) != home
             else:
                 outside = False
             if outside:
