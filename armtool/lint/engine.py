@@ -304,7 +304,7 @@ class Linter:
     def _urdf_for_srdf(self, srdf: Path, srdf_root: etree._Element) -> tuple[UrdfContext | None, str | None]:
         """The URDF an SRDF describes, or None and why not. The first usable candidate, unless it
         lacks names the SRDF uses and a later candidate found beside it lacks fewer."""
-        from armtool.lint.pairing import unknown_names, urdf_candidates
+        from armtool.lint.pairing import srdf_names, unknown_names, urdf_candidates
 
         given = self.options.urdf or self.options.config.urdf_for(srdf)
         if given is not None:
@@ -312,6 +312,7 @@ class Linter:
             return ctx, None if ctx is not None else _cause(given, findings)
         first_failure: str | None = None
         best: tuple[int, UrdfContext] | None = None
+        wanted: tuple[set[str], set[str]] | None = None  # the SRDF's names, read once when first needed
         for cand in urdf_candidates(srdf, srdf_root.get("name"), self.resolver):
             if not cand.path.is_file():
                 first_failure = first_failure or f"{display_path(cand.path)} ({cand.why}) does not exist"
@@ -320,7 +321,8 @@ class Linter:
             if ctx is not None and ctx.links:
                 if cand.why == "named by .setup_assistant":
                     return ctx, None  # MoveIt's own record of the pairing
-                missing = unknown_names(srdf_root, ctx.joint_names, ctx.link_names)
+                wanted = wanted or srdf_names(srdf_root)
+                missing = unknown_names(wanted, ctx.joint_names, ctx.link_names)
                 if best is None or missing < best[0]:
                     best = (missing, ctx)
                 if missing == 0:

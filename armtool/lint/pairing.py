@@ -64,9 +64,9 @@ def srdf_names(root: etree._Element) -> tuple[set[str], set[str]]:
     return joints - virtual - {""}, links - {""}
 
 
-def unknown_names(srdf_root: etree._Element, joint_names: set[str], link_names: set[str]) -> int:
-    """How many of the names an SRDF refers to a URDF with these joints and links lacks."""
-    joints, links = srdf_names(srdf_root)
+def unknown_names(wanted: tuple[set[str], set[str]], joint_names: set[str], link_names: set[str]) -> int:
+    """How many of an SRDF's names (`srdf_names`) a URDF with these joints and links lacks."""
+    joints, links = wanted
     return len(joints - joint_names) + len(links - link_names)
 
 
