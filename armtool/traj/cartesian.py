@@ -35,7 +35,7 @@ SINGULAR_SIGMA = 1e-3
 
 
 class PoseSolver(Protocol):
-    """What the path needs of IK: an `armtool.ik` solver, or `armtool.traj.path_ik.PathIK`."""
+    """What the path needs of IK: an `armtool.ik` solver."""
 
     def solve(self, target: Array, seed: Array) -> IKResult: ...
 

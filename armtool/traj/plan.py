@@ -149,7 +149,7 @@ def plan_cartesian(
     solver: str,
 ) -> CartesianPlan:
     """The joint path along `spec` from `start`, as far as it could be followed."""
-    from armtool.traj.path_ik import PathIK
+    from armtool.ik.registry import make_solver
 
     if not urdf.is_file():
         raise ArmtoolError("URDF not found", str(urdf))
@@ -157,7 +157,9 @@ def plan_cartesian(
     chain = load_chain(urdf, base, tip)
     q0 = start_configuration(chain, start)
     segs = segments(spec, chain.fk(q0))
-    result = cart.compute_cartesian(chain, PathIK(chain, solver), q0, segs, options)
+    # lm's table of poses is built only if a point needs it: a path's next point is near its seed.
+    ik = make_solver(solver, chain, **({"lazy_table": True} if solver == "lm" else {}))
+    result = cart.compute_cartesian(chain, ik, q0, segs, options)
     prismatic = tuple(not r for r in chain.revolute)
     return CartesianPlan(
         chain, result, Trajectory(tuple(chain.joint_names), result.q, source=str(urdf), prismatic=prismatic)
