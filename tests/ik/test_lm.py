@@ -226,3 +226,12 @@ def test_joint_pinned_at_its_limit_is_solved() -> None:
             r = solver.solve(chain.fk(q), chain.mid())
             assert r.success and chain.within_limits(r.q)
             assert verify(chain, r.q, chain.fk(q), 1e-5)[0]
+
+
+def test_the_compiled_kernel_is_cached_on_disk() -> None:
+    # The first run compiles lm's loop (and says so); the machine code is then on disk for later runs.
+    from armtool.ik.solvers.lm import compiled_on_disk
+
+    relative, base, tip = ARMS["ur5"]
+    make_solver("lm", load_chain(erd(relative), base, tip))
+    assert compiled_on_disk() in (True, None)  # None: a Numba that does not say where its cache is

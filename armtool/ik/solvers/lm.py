@@ -25,7 +25,9 @@ orders the restarts and watches the clock between groups of tries.
 
 from __future__ import annotations
 
+import logging
 import math
+import os
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -37,6 +39,8 @@ if TYPE_CHECKING:
     from numpy.typing import NDArray
 
     from armtool.model.chain import Chain
+
+log = logging.getLogger(__name__)
 
 
 class LevenbergMarquardt(Solver):
@@ -106,17 +110,15 @@ class LevenbergMarquardt(Solver):
     def _load_kernel(self) -> None:
         """Call each compiled entry point once on the mid-range pose (a one-pose table), so that loading
         (or, on the very first run, compiling) their machine code happens here, not inside a solve."""
+        if compiled_on_disk() is False:
+            log.warning("compiling lm's kernel with Numba (once: ~10-30 s; later runs load it from its cache)")
         n, mid = self._n, self.chain.mid()
         target = np.ascontiguousarray(self.chain.fk(mid))
         scores, bounds, table_q = np.zeros((1, 16)), np.array([0, 1], dtype=np.int64), mid[None].copy()
-        out = np.empty((1, kernel.OUT_HEAD + 2 * n))
-        kernel.first_tries_batch(
-            self._geometry, self._settings, scores, scores, bounds, table_q, target[None], mid[None], out,
-            np.empty(1, dtype=np.int64),
-        )  # fmt: skip
-        kernel.first_tries(self._geometry, self._settings, scores, scores, bounds, table_q, target, mid, out[0])
+        out = np.empty(kernel.OUT_HEAD + 2 * n)
+        kernel.first_tries(self._geometry, self._settings, scores, scores, bounds, table_q, target, mid, out)
         kernel.restart_rows(scores, scores, bounds, target, 1, 1, -1)
-        kernel.run_tries(self._geometry, self._settings, target, table_q, self.STALL, out[0])
+        kernel.run_tries(self._geometry, self._settings, target, table_q, self.STALL, out)
 
     # ---- the table ------------------------------------------------------------------------------
     def table(self) -> tuple[Array, Array, NDArray[np.int64], Array]:
@@ -211,7 +213,7 @@ class LevenbergMarquardt(Solver):
         return np.ascontiguousarray(targets), np.ascontiguousarray(seeds)
 
     def call_batch(self, prepared: tuple[Array, Array]) -> list[Answer]:
-        """Every target's first tries in one compiled call; the unsolved few then restart one by one,
+        """Every target's first tries, then the unsolved few restart one by one,
         sharing what is left of the call's budget (`timeout` per target), up to TAIL_TIMEOUTS
         timeouts each: one unreachable target must not hold up the whole batch."""
         targets, seeds = prepared
@@ -219,10 +221,11 @@ class LevenbergMarquardt(Solver):
         deadline = self.clock() + self.timeout * N
         scores, cell_scores, bounds, table_q = self.table()
         outs = np.empty((N, head + 2 * n))
-        tried = np.empty(N, dtype=np.int64)
-        kernel.first_tries_batch(
-            self._geometry, self._settings, scores, cell_scores, bounds, table_q, targets, seeds, outs, tried
-        )
+        first_tries, geometry, settings = kernel.first_tries, self._geometry, self._settings
+        tried = [
+            first_tries(geometry, settings, scores, cell_scores, bounds, table_q, t, s, out)
+            for t, s, out in zip(targets, seeds, outs)
+        ]
         solved = outs[:, 0] == kernel.SOLVED
         Q = self._wrap(outs[:, head : head + n])
         answers = [Answer(q, True, int(i)) for q, i in zip(Q, outs[:, 1].tolist())]
@@ -232,6 +235,14 @@ class LevenbergMarquardt(Solver):
             budget = min(self.TAIL_TIMEOUTS * self.timeout, max(left, 0.0))
             answers[i] = self._restarts(targets[i], outs[i], int(tried[i]), self.clock() + budget)
         return answers
+
+
+def compiled_on_disk() -> bool | None:
+    """Whether Numba's cache holds lm's machine code (None: this Numba does not say)."""
+    try:
+        return os.path.exists(kernel.run_tries._cache._cache_file._index_path)
+    except AttributeError:
+        return None
 
 
 def chain_geometry(chain: Chain) -> Array:

@@ -34,7 +34,7 @@ OUT_HEAD = 3  # out = [status, iterations, best ‖e‖², q (n), best q (n)]
 _LOWER, _UPPER, _PRISMATIC = 16, 17, 15  # geometry columns
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _forward(geometry, q, R, p, points, axes, scratch):  # type: ignore[no-untyped-def]
     """Tip rotation R (3,3) and position p (3,) for q, in place; each joint's origin in `points`
     and its axis in the base frame in `axes` (n, 3), which the Jacobian reads."""
@@ -79,7 +79,7 @@ def _forward(geometry, q, R, p, points, axes, scratch):  # type: ignore[no-untyp
                 R[a, 2] = r0 * m02 + r1 * m12 + r2 * m22
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _jacobian(geometry, p, points, axes, J):  # type: ignore[no-untyped-def]
     """The 6×n Jacobian [v; ω] of the tip (base frame, at the tip's origin) from _forward's output."""
     n = points.shape[0]
@@ -96,7 +96,7 @@ def _jacobian(geometry, p, points, axes, J):  # type: ignore[no-untyped-def]
             J[3, i], J[4, i], J[5, i] = w0, w1, w2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _pose_error(R, p, target, e, M):  # type: ignore[no-untyped-def]
     """e = [p_target − p; log(R_target Rᵀ)] in place (armtool.ik.solver.rotation_error's formula)."""
     for a in range(3):
@@ -129,13 +129,13 @@ def _pose_error(R, p, target, e, M):  # type: ignore[no-untyped-def]
         e[3], e[4], e[5] = x0 * angle, x1 * angle, x2 * angle
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _damped_step(J, e, damping, free, dq, A, g):  # type: ignore[no-untyped-def]
-    """dq = (JᵀJ + λI)⁻¹ Jᵀe over the joints marked free (the others get 0), by Cholesky; False
-    when A is not positive definite (non-finite numbers)."""
+    """dq = (JᵀJ + λI)⁻¹ Jᵀe over the joints whose `free` is 1.0 (the others get 0), by Cholesky;
+    False when A is not positive definite (non-finite numbers)."""
     n = J.shape[1]
     for i in range(n):
-        if not free[i]:
+        if free[i] == 0.0:
             g[i] = 0.0
             for j in range(i + 1):
                 A[i, j] = 0.0
@@ -146,7 +146,7 @@ def _damped_step(J, e, damping, free, dq, A, g):  # type: ignore[no-untyped-def]
             s += J[r, i] * e[r]
         g[i] = s
         for j in range(i + 1):
-            if free[j]:
+            if free[j] != 0.0:
                 s = 0.0
                 for r in range(6):
                     s += J[r, i] * J[r, j]
@@ -179,7 +179,7 @@ def _damped_step(J, e, damping, free, dq, A, g):  # type: ignore[no-untyped-def]
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def run_tries(geometry, settings, target, starts, first_patience, out):  # type: ignore[no-untyped-def]
     """Levenberg–Marquardt tries from each row of `starts` in turn, until one converges.
 
@@ -195,21 +195,21 @@ def run_tries(geometry, settings, target, starts, first_patience, out):  # type:
     n = starts.shape[1]
     patience, progress, per_try = int(settings[1]), settings[2], int(settings[3])
     k, bias, tolerance = settings[4], settings[5], settings[6]
-    lower, upper = geometry[:n, _LOWER], geometry[:n, _UPPER]
+    # Plain loops and np.empty only: every other numpy operation costs Numba a compilation of its own.
     R, M = np.empty((3, 3)), np.empty((3, 3))
     p, e = np.empty(3), np.empty(6)
     points, axes = np.empty((n, 3)), np.empty((n, 3))
     J, A = np.empty((6, n)), np.empty((n, n))
-    g, dq, q, q_next, best_q = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    free = np.ones(n, dtype=np.bool_)
+    g, dq, q, q_next, best_q, free = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     tol2 = (0.99 * tolerance) ** 2
     near = 2.0 * tol2
     best_err = math.inf
-    best_q[:] = starts[0]
+    for i in range(n):
+        best_q[i] = starts[0, i]
     iterations = 0
     for t in range(starts.shape[0]):
         for i in range(n):
-            q[i] = min(max(starts[t, i], lower[i]), upper[i])
+            q[i] = min(max(starts[t, i], geometry[i, _LOWER]), geometry[i, _UPPER])
         try_err, since = math.inf, 0
         wait = first_patience if t == 0 else patience
         for step in range(per_try + 1):
@@ -219,8 +219,8 @@ def run_tries(geometry, settings, target, starts, first_patience, out):  # type:
             err = pos2 + e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
             if err < near and pos2 <= tol2 and err - pos2 <= tol2:
                 out[0], out[1], out[2] = SOLVED, iterations, err
-                out[OUT_HEAD : OUT_HEAD + n] = q
-                out[OUT_HEAD + n :] = q
+                for i in range(n):
+                    out[OUT_HEAD + i] = out[OUT_HEAD + n + i] = q[i]
                 return
             if err < try_err * progress:
                 since = 0
@@ -230,64 +230,74 @@ def run_tries(geometry, settings, target, starts, first_patience, out):  # type:
                 try_err = err
                 if err < best_err:
                     best_err = err
-                    best_q[:] = q
+                    for i in range(n):
+                        best_q[i] = q[i]
             if since >= wait or step >= per_try:
                 break
             iterations += 1
             _jacobian(geometry, p, points, axes, J)
             damping = k * err + bias
-            free[:] = True
+            for i in range(n):
+                free[i] = 1.0
             if not _damped_step(J, e, damping, free, dq, A, g):
                 break
             crossed = False
             for i in range(n):
                 q_next[i] = q[i] + dq[i]
-                crossed = crossed or q_next[i] < lower[i] or q_next[i] > upper[i]
+                crossed = crossed or q_next[i] < geometry[i, _LOWER] or q_next[i] > geometry[i, _UPPER]
             if crossed:
                 # Joints already at a limit that the step pushes further out leave the step, and
                 # the others re-plan without them; the rest of the step is clamped.
                 blocked = False
                 for i in range(n):
-                    if min(max(q_next[i], lower[i]), upper[i]) == q[i] != q_next[i]:
-                        free[i] = False
+                    if min(max(q_next[i], geometry[i, _LOWER]), geometry[i, _UPPER]) == q[i] != q_next[i]:
+                        free[i] = 0.0
                         blocked = True
                 if blocked and _damped_step(J, e, damping, free, dq, A, g):
                     for i in range(n):
                         q_next[i] = q[i] + dq[i]
                 for i in range(n):
-                    q_next[i] = min(max(q_next[i], lower[i]), upper[i])
-            q[:] = q_next
+                    q_next[i] = min(max(q_next[i], geometry[i, _LOWER]), geometry[i, _UPPER])
+            for i in range(n):
+                q[i] = q_next[i]
     out[0], out[1], out[2] = 0.0, iterations, best_err
-    out[OUT_HEAD : OUT_HEAD + n] = best_q
-    out[OUT_HEAD + n :] = best_q
+    for i in range(n):
+        out[OUT_HEAD + i] = out[OUT_HEAD + n + i] = best_q[i]
 
 
-@njit(cache=True)
-def _feature_distance2(geometry, q, target):  # type: ignore[no-untyped-def]
-    """The table's distance from q's tip pose to the target: |Δp|² + 0.2²·‖R − R_target‖²_F."""
-    n = q.shape[0]
+@njit(cache=True, error_model="numpy")
+def _feature_distance2(geometry, starts, target):  # type: ignore[no-untyped-def]
+    """The table's distance from the tip pose of starts[0] to the target: |Δp|² + 0.2²·‖R − R_target‖²_F."""
+    n = starts.shape[1]
     R, M, p = np.empty((3, 3)), np.empty((3, 3)), np.empty(3)
+    q = np.empty(n)
+    for i in range(n):
+        q[i] = starts[0, i]
     _forward(geometry, q, R, p, np.empty((n, 3)), np.empty((n, 3)), M)
     d = 0.0
     for a in range(3):
-        d += (target[a, 3] - p[a]) ** 2
+        x = target[a, 3] - p[a]
+        d += x * x
         for b in range(3):
-            d += 0.04 * (target[a, b] - R[a, b]) ** 2
+            x = target[a, b] - R[a, b]
+            d += 0.04 * x * x
     return d
 
 
-@njit(cache=True)
-def _score(scores, row, t):  # type: ignore[no-untyped-def]
+@njit(cache=True, error_model="numpy")
+def _score(scores, row, target):  # type: ignore[no-untyped-def]
+    """A table row's score against the target's 16 entries in row order."""
     s = 0.0
-    for j in range(16):
-        s += scores[row, j] * t[j]
+    for a in range(4):
+        for b in range(4):
+            s += scores[row, 4 * a + b] * target[a, b]
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _nearest_row(scores, cell_scores, cell_bounds, t):  # type: ignore[no-untyped-def]
-    """(table row, feature distance²) of the pose nearest the target (t: its 16 entries) within the
-    cell whose centre is nearest it. A score f·F_i − |F_i|²/2 is largest for the nearest pose."""
+    """(table row, feature distance²) of the pose nearest the target t within the cell whose centre
+    is nearest it. A score f·F_i − |F_i|²/2 is largest for the nearest pose."""
     best, centre = -math.inf, 0
     for c in range(scores.shape[0]):
         s = _score(scores, c, t)
@@ -298,68 +308,67 @@ def _nearest_row(scores, cell_scores, cell_bounds, t):  # type: ignore[no-untype
         s = _score(cell_scores, i, t)
         if s > best:
             best, row = s, i
-    return row, t[3] * t[3] + t[7] * t[7] + t[11] * t[11] + 0.12 - 2.0 * best
+    return row, t[0, 3] * t[0, 3] + t[1, 3] * t[1, 3] + t[2, 3] * t[2, 3] + 0.12 - 2.0 * best
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def first_tries(geometry, settings, scores, cell_scores, cell_bounds, table_q, target, seed, out):  # type: ignore[no-untyped-def]
     """A solve's first try: from the seed or, when the seed's pose is farther than settings[7] and
     the nearest table pose is nearer the target, from that table pose and then from the seed.
     Returns the table row tried (−1: none), which the restarts skip, or NEED_TABLE without trying
     when the seed is far and the table is empty (not built yet: `cell_bounds` of length < 2)."""
     n = seed.shape[0]
-    starts = np.empty((2, n))
+    from_seed, both = np.empty((1, n)), np.empty((2, n))  # [seed] or [table pose, seed]
     for i in range(n):
-        starts[0, i] = min(max(seed[i], geometry[i, _LOWER]), geometry[i, _UPPER])
-    rows, tried = 1, -1
-    d_seed = _feature_distance2(geometry, starts[0], target)
+        from_seed[0, i] = both[1, i] = min(max(seed[i], geometry[i, _LOWER]), geometry[i, _UPPER])
+    d_seed = _feature_distance2(geometry, from_seed, target)
     if d_seed > settings[7]:
         if cell_bounds.shape[0] < 2:
             return NEED_TABLE
-        row, d_table = _nearest_row(scores, cell_scores, cell_bounds, target.reshape(16))
+        row, d_table = _nearest_row(scores, cell_scores, cell_bounds, target)
         if d_table < d_seed:
-            starts[1] = starts[0]
-            starts[0] = table_q[row]
-            rows, tried = 2, row
-    run_tries(geometry, settings, target, starts[:rows], int(settings[0]), out)
-    return tried
+            for i in range(n):
+                both[0, i] = table_q[row, i]
+            run_tries(geometry, settings, target, both, int(settings[0]), out)
+            return row
+    run_tries(geometry, settings, target, from_seed, int(settings[0]), out)
+    return -1
 
 
-@njit(cache=True)
-def first_tries_batch(geometry, settings, scores, cell_scores, cell_bounds, table_q, targets, seeds, outs, tried):  # type: ignore[no-untyped-def]
-    """first_tries for every target (row) in one call."""
-    for i in range(targets.shape[0]):
-        tried[i] = first_tries(
-            geometry, settings, scores, cell_scores, cell_bounds, table_q, targets[i], seeds[i], outs[i]
-        )
+@njit(cache=True, error_model="numpy")
+def _insert_best(values, keys, value, key):  # type: ignore[no-untyped-def]
+    """Keep `values` (largest first) and their `keys` the best len(values) seen: insert one."""
+    k = values.shape[0]
+    if not value > values[k - 1]:
+        return
+    i = k - 1
+    while i > 0 and value > values[i - 1]:
+        values[i], keys[i] = values[i - 1], keys[i - 1]
+        i -= 1
+    values[i], keys[i] = value, key
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def restart_rows(scores, cell_scores, cell_bounds, target, cells, count, skip):  # type: ignore[no-untyped-def]
     """Table rows of the `count` poses nearest the target, nearest first, among the cells of the
     `cells` centres nearest it; row `skip` (the first try's) left out."""
-    t = target.reshape(16)
-    centre_scores = np.empty(scores.shape[0])
+    t = target
+    k = min(cells, scores.shape[0])
+    best_cells, chosen = np.empty(k), np.empty(k, dtype=np.int64)
+    for i in range(k):
+        best_cells[i], chosen[i] = -math.inf, -1
     for c in range(scores.shape[0]):
-        centre_scores[c] = _score(scores, c, t)
-    chosen = np.argsort(-centre_scores)[:cells]
-    size = 0
+        _insert_best(best_cells, chosen, _score(scores, c, t), c)
+    best_rows, rows = np.empty(count), np.empty(count, dtype=np.int64)
+    for i in range(count):
+        best_rows[i], rows[i] = -math.inf, -1
     for c in chosen:
-        size += cell_bounds[c + 1] - cell_bounds[c]
-    rows = np.empty(size, dtype=np.int64)
-    values = np.empty(size)
-    k = 0
-    for c in chosen:
+        if c < 0:
+            continue
         for i in range(cell_bounds[c], cell_bounds[c + 1]):
-            rows[k] = i
-            values[k] = -math.inf if i == skip else _score(cell_scores, i, t)
-            k += 1
-    order = np.argsort(-values)
-    out = np.empty(min(count, size), dtype=np.int64)
+            if i != skip:
+                _insert_best(best_rows, rows, _score(cell_scores, i, t), i)
     taken = 0
-    for o in order:
-        if taken == out.shape[0] or values[o] == -math.inf:
-            break
-        out[taken] = rows[o]
+    while taken < count and rows[taken] >= 0:
         taken += 1
-    return out[:taken]
+    return rows[:taken]
