@@ -7,12 +7,14 @@ document is re-read with lxml and the tags are moved into a side table.
 
 Bounds: xacro evaluates Python expressions (`${str(9**9**9)}`, `${'x'*10**10}`) and reads any
 file it is told to include, so a hostile or mistaken xacro could run forever or fill memory.
+Expressions are evaluated by `armtool.model.xacro_eval`, which refuses an operation whose result
+would be huge before it runs (a single C-level `pow` cannot be interrupted otherwise).
 Includes must be regular files of at most MAX_INCLUDE_BYTES (a FIFO or /dev/zero is refused
 before it is opened); the expanded document is at most MAX_EXPANDED_CHARS; and where the
 platform can fork (and no other thread runs), xacro runs in a forked child with a wall-clock
 limit (TIMEOUT_S) and an address-space limit (MEMORY_HEADROOM_BYTES above the parent's size).
-A thread cannot be stopped and a SIGALRM cannot interrupt one long C-level `pow`, but a child
-can be killed. The fork costs about 1 ms, against tens to hundreds of ms for xacro itself.
+A thread cannot be stopped and a SIGALRM cannot interrupt one long C-level call, but a child
+can be killed: the last resort for what the expression bounds do not foresee. The fork costs about 1 ms, against tens to hundreds of ms for xacro itself.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from armtool.fileio import NotRegularFile, read_regular
 from armtool.model.display import display_path
 from armtool.model.origin import Origin, SourceLine
 from armtool.model.packages import PackageResolver
+from armtool.model.xacro_eval import bounded_eval
 from armtool.model.xmlsource import MAX_FILE_BYTES, XmlSyntaxProblem, declares_entities, parse_xml
 
 SRC_ATTR = "armtool-src"
@@ -183,6 +186,7 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     orig_eval_all = xacro.eval_all
     orig_include = xacro.process_include
     orig_find = substitution_args._eval_find
+    orig_eval = xacro.safe_eval
     directives: dict[Any, str] = {}
     frames: list[str] = []
 
@@ -230,6 +234,7 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     xacro.eval_all = eval_all
     xacro.process_include = process_include
     substitution_args._eval_find = eval_find
+    xacro.safe_eval = bounded_eval
     try:
         yield
     finally:
@@ -238,6 +243,7 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
         xacro.eval_all = orig_eval_all
         xacro.process_include = orig_include
         substitution_args._eval_find = orig_find
+        xacro.safe_eval = orig_eval
 
 
 def _parse_loc(value: str, files: list[Path]) -> SourceLine | None:
