@@ -169,8 +169,10 @@ def _point_lines(text: str, moveit: bool) -> list[int]:
     """Source line of each item of `points` (YAML marks; JSON is YAML enough for this)."""
     import yaml
 
+    from armtool.yamlload import compose_all
+
     try:
-        docs = [d for d in yaml.compose_all(text, Loader=yaml.SafeLoader) if d is not None]
+        docs = compose_all(text)
     except yaml.YAMLError:
         return []
     if not docs or not isinstance(docs[0], yaml.MappingNode):
@@ -194,8 +196,10 @@ def _load_structured(text: str, source: str, fmt: TrajFormat) -> Any:
             raise ArmtoolError(f"trajectory file is not valid JSON: {exc.msg}", f"{source}:{exc.lineno}") from None
     import yaml
 
+    from armtool.yamlload import safe_load_all
+
     try:
-        docs = [d for d in yaml.safe_load_all(text) if d is not None]
+        docs = safe_load_all(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"{source}:{mark.line + 1}" if mark is not None else source
