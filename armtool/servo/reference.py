@@ -16,8 +16,6 @@ instrument sees that. References, by `--reference` spec:
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -134,26 +132,32 @@ class CsvReference:
 
     @classmethod
     def load(cls, path: Path) -> CsvReference:
+        from armtool.csvrows import csv_rows
         from armtool.fileio import read_text
 
         text = read_text(path, "reference file")
-        lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-        reader = csv.DictReader(io.StringIO("\n".join(lines)))
-        if not {"command_ticks", "reference_deg"} <= {f.strip() for f in reader.fieldnames or []}:
+        numbered = [
+            (line, row)
+            for line, row in csv_rows(text.splitlines(), str(path), 1, "reference CSV")
+            if any(cell.strip() for cell in row) and not row[0].lstrip().startswith("#")
+        ]
+        header = [h.strip() for h in numbered[0][1]] if numbered else []
+        if not {"command_ticks", "reference_deg"} <= set(header):
             raise ArmtoolError(
                 "the reference CSV needs columns command_ticks and reference_deg",
-                str(path),
-                hint=f"found: {', '.join(reader.fieldnames or []) or 'nothing'}",
+                f"{path}:{numbered[0][0]}" if numbered else str(path),
+                hint=f"found: {', '.join(header) or 'nothing'}",
             )
+        tick_col, deg_col = header.index("command_ticks"), header.index("reference_deg")
         readings: dict[int, list[float]] = {}
-        for k, row in enumerate(reader, start=2):
-            row = {key.strip(): value for key, value in row.items() if key is not None}
+        for line, row in numbered[1:]:
+            where = f"{path}:{line}"
             try:
-                c, a = int(float(row["command_ticks"])), float(row["reference_deg"])
-            except (TypeError, ValueError):
-                raise ArmtoolError("command_ticks/reference_deg is not a number", f"{path}: row {k}") from None
+                c, a = int(float(row[tick_col])), float(row[deg_col])
+            except (IndexError, ValueError):
+                raise ArmtoolError("command_ticks/reference_deg is missing or not a number", where) from None
             if not math.isfinite(a):
-                raise ArmtoolError(f"reference_deg is {row['reference_deg'].strip()}", f"{path}: row {k}")
+                raise ArmtoolError(f"reference_deg is {row[deg_col].strip()}", where)
             readings.setdefault(c, []).append(a)
         if not readings:
             raise ArmtoolError("the reference CSV has no rows", str(path))

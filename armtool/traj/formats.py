@@ -11,8 +11,6 @@ A path without timing has no `time_s` column (CSV) or every `time_from_start` ze
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
 from pathlib import Path
@@ -91,7 +89,12 @@ def _read_csv(text: str, source: str) -> Trajectory:
     first = 0
     while first < len(lines) and (not lines[first].strip() or lines[first].lstrip().startswith("#")):
         first += 1
-    header = [h.strip() for h in next(csv.reader([lines[first]]))]
+    from armtool.csvrows import csv_rows
+
+    if first == len(lines):
+        raise ArmtoolError("no header row", source, "the first line names the columns, e.g. time_s,joint1_rad")
+    numbered = csv_rows(lines[first:], source, first + 1, "trajectory CSV")
+    header = [h.strip() for h in numbered[0][1]]
     hwhere = f"{source}:{first + 1}"
     columns: dict[str, dict[str, int]] = {}
     prismatic: dict[str, bool] = {}
@@ -138,7 +141,7 @@ def _read_csv(text: str, source: str) -> Trajectory:
             )
     rows: list[list[float]] = []
     line_nos: list[int] = []
-    for offset, row in enumerate(csv.reader(io.StringIO("\n".join(lines[first + 1 :]))), start=first + 2):
+    for offset, row in numbered[1:]:
         if not any(cell.strip() for cell in row) or row[0].lstrip().startswith("#"):
             continue
         where = f"{source}:{offset}"

@@ -4,7 +4,6 @@ The CLI parses flags into a `PathSpec` and prints; everything here raises Armtoo
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -111,7 +110,13 @@ def waypoint_segments(path: Path, T0: Array) -> list[cart.Segment]:
     from armtool.fileio import read_text
 
     text = read_text(path, "waypoints file", MAX_WAYPOINT_BYTES)
-    rows = [(i + 1, r) for i, r in enumerate(csv.reader(text.splitlines())) if r and not r[0].lstrip().startswith("#")]
+    from armtool.csvrows import csv_rows
+
+    rows = [
+        (n, r)
+        for n, r in csv_rows(text.splitlines(), str(path), 1, "waypoints CSV")
+        if r and not r[0].lstrip().startswith("#")
+    ]
     if not rows:
         raise ArmtoolError("no waypoints", str(path))
     header = [h.strip() for h in rows[0][1]]

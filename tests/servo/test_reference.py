@@ -117,4 +117,4 @@ def test_csv_reference(tmp_path: Path) -> None:
     bad.write_text("command_ticks,reference_deg\n1,nan\n")
     with pytest.raises(ArmtoolError) as info:
         CsvReference.load(bad)
-    assert info.value.where == f"{bad}: row 2"
+    assert info.value.where == f"{bad}:2"
