@@ -298,21 +298,37 @@ def _camera_reference(arg: str) -> CameraReference:
     return CameraReference(device or "0", **kw)
 
 
+MAX_ENCODER_BAUD = 4_000_000  # above what a microcontroller's USB serial link runs at
+
+
+def encoder_port_baud(arg: str) -> tuple[str, int]:
+    """`PORT[@BAUD]` of `--reference encoder:PORT[@BAUD]`: the port and a baud rate in
+    1..MAX_ENCODER_BAUD (115200 when none is given). Baud 0 is refused: on Linux it means "hang
+    up", so the port opens and then nothing ever arrives."""
+    port, at, baud = arg.partition("@")
+    example = "--reference encoder:/dev/ttyACM1@115200"
+    if not port.strip():
+        raise ArmtoolError("encoder reference without a port", hint=example)
+    if not at:
+        return port, ENCODER_BAUD
+    try:
+        rate = int(baud.strip())
+    except ValueError:
+        raise ArmtoolError(f"encoder baud rate {baud!r} is not a whole number", hint=example) from None
+    if not 1 <= rate <= MAX_ENCODER_BAUD:
+        raise ArmtoolError(
+            f"encoder baud rate {rate} is outside 1..{MAX_ENCODER_BAUD}",
+            hint=f"{example} (the rate the encoder's sketch opens its serial port with)",
+        )
+    return port, rate
+
+
 def open_reference(spec: str, ask: Callable[[str], str] | None = None) -> Reference:
     """The reference named by `spec` (encoder:PORT[@BAUD], manual, csv:FILE, camera:DEVICE)."""
     kind, _, arg = spec.partition(":")
     kind = kind.strip().lower()
     if kind == "encoder":
-        if not arg:
-            raise ArmtoolError("encoder reference without a port", hint="--reference encoder:/dev/ttyACM1")
-        port, _, baud = arg.partition("@")
-        try:
-            rate = int(baud) if baud else ENCODER_BAUD
-        except ValueError:
-            raise ArmtoolError(
-                f"encoder baud rate {baud!r} is not a number", hint="encoder:/dev/ttyACM1@115200"
-            ) from None
-        return EncoderReference(port, rate)
+        return EncoderReference(*encoder_port_baud(arg))
     if kind == "manual":
         if ask is None:
             raise ArmtoolError("the manual reference needs someone at the keyboard")
@@ -343,8 +359,8 @@ def check_reference_spec(spec: str, bus_port: str, interactive: bool) -> None:
 
     kind, _, arg = spec.partition(":")
     kind = kind.strip().lower()
-    if kind == "encoder" and arg:
-        enc_port = arg.partition("@")[0]
+    if kind == "encoder":
+        enc_port, _ = encoder_port_baud(arg)  # a bad port or baud is refused before anything opens
         if os.path.realpath(enc_port) == os.path.realpath(bus_port):
             raise ArmtoolError(
                 f"--reference encoder:{enc_port} is the servo bus (--port {bus_port})",
