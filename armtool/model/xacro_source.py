@@ -71,6 +71,7 @@ class XacroFailure(Exception):
         trail: tuple[SourceLine, ...] = (),
         missing_package: str | None = None,
         missing_arg: str | None = None,
+        similar_package: str | None = None,
     ) -> None:
         super().__init__(message)
         self.message = message
@@ -79,12 +80,18 @@ class XacroFailure(Exception):
         self.trail = trail
         self.missing_package = missing_package
         self.missing_arg = missing_arg
+        self.similar_package = similar_package  # an existing package whose name is close to the missing one
 
     @property
     def hint(self) -> str:
         """What the user can pass or change, naming the option that supplies it."""
         if self.missing_package:
-            return (
+            fix = (
+                f"write $(find {self.similar_package}) if that is the package meant, or "
+                if self.similar_package
+                else ""
+            )
+            return fix + (
                 f"pass --package-path DIR (a directory holding package '{self.missing_package}', "
                 "found by the <name> in its package.xml) or set ROS_PACKAGE_PATH"
             )
@@ -100,9 +107,11 @@ class XacroFailure(Exception):
 class _MissingPackage(Exception):
     """Raised by our $(find) so that the failure names the package (xacro wraps it)."""
 
-    def __init__(self, name: str) -> None:
-        super().__init__(f"package '{name}' not found for $(find {name})")
+    def __init__(self, name: str, similar: str | None = None) -> None:
+        maybe = f" (did you mean '{similar}'?)" if similar else ""
+        super().__init__(f"package '{name}' not found for $(find {name}){maybe}")
         self.name = name
+        self.similar = similar
 
 
 @dataclass
@@ -226,7 +235,9 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     def eval_find(pkg: str) -> str:
         found = resolver.find(pkg, top.parent)
         if found is None:
-            raise _MissingPackage(pkg)
+            from armtool.suggest import closest
+
+            raise _MissingPackage(pkg, closest(pkg, resolver.known_names(top.parent)))
         return str(found)
 
     xacro.parse = parse
@@ -321,6 +332,7 @@ def _failure(exc: BaseException, top: Path, files: list[Path]) -> XacroFailure:
         trail,
         missing_package=package.name if isinstance(package, _MissingPackage) else None,
         missing_arg=str(arg) if arg is not None else None,
+        similar_package=package.similar if isinstance(package, _MissingPackage) else None,
     )
 
 
@@ -380,12 +392,15 @@ def _failure_row(exc: XacroFailure) -> tuple[object, ...]:
         tuple((str(loc.path), loc.line) for loc in exc.trail),
         exc.missing_package,
         exc.missing_arg,
+        exc.similar_package,
     )
 
 
 def _failure_from_row(row: tuple[Any, ...]) -> XacroFailure:
-    message, path, line, trail, package, arg = row
-    return XacroFailure(message, Path(path), line, tuple(SourceLine(Path(p), n) for p, n in trail), package, arg)
+    message, path, line, trail, package, arg, similar = row
+    return XacroFailure(
+        message, Path(path), line, tuple(SourceLine(Path(p), n) for p, n in trail), package, arg, similar
+    )
 
 
 def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> tuple[str, list[Path]]:
