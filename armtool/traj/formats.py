@@ -307,11 +307,20 @@ def _num(x: float) -> str:
 
 
 def format_trajectory(traj: Trajectory, fmt: TrajFormat) -> str:
-    """The trajectory as text in `fmt`."""
+    """The trajectory as text in `fmt`. An untimed path is refused as a ROS or MoveIt trajectory:
+    every time_from_start would be 0, and ros2_controllers' joint_trajectory_controller rejects the
+    goal ("Time between points 0 and 1 is not strictly increasing", validate_trajectory_msg)."""
     if fmt is TrajFormat.CSV:
         return _csv(traj)
     if fmt is TrajFormat.JSON:
         return _json(traj)
+    if traj.times is None and traj.n_points > 1:
+        raise ArmtoolError(
+            f"an untimed path cannot be written as a {fmt.value} trajectory: every time_from_start would be 0, "
+            "which a joint_trajectory_controller rejects (time must increase strictly from point to point)",
+            hint="time it first (armtool traj time PATH --urdf URDF -o timed.yaml), "
+            "or write the path as CSV or JSON (-o path.csv, --to csv)",
+        )
     return _yaml(traj, fmt)
 
 
