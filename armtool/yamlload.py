@@ -13,6 +13,7 @@ anchors for a few shared defaults (`<<: *defaults`): a few hundred nodes at most
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import Any
 
 import yaml
@@ -74,17 +75,20 @@ def check_aliases(node: yaml.Node, text: str) -> None:
         )
 
 
+def _checked_documents(loader: yaml.SafeLoader, text: str) -> Iterator[yaml.Node]:
+    """The node graph of each non-empty document of the stream, checked before it is returned."""
+    while loader.check_node():
+        node = loader.get_node()
+        if node is not None:
+            check_aliases(node, text)
+            yield node
+
+
 def compose_all(text: str) -> list[yaml.Node]:
     """The node graph of every document (None documents dropped), each checked."""
     loader = yaml.SafeLoader(text)
     try:
-        nodes = []
-        while loader.check_node():
-            node = loader.get_node()
-            if node is not None:
-                check_aliases(node, text)
-                nodes.append(node)
-        return nodes
+        return list(_checked_documents(loader, text))
     finally:
         loader.dispose()
 
@@ -105,12 +109,7 @@ def safe_load_all(text: str) -> list[Any]:
     """yaml.safe_load_all, checked: the Python value of every document (empty ones dropped)."""
     loader = yaml.SafeLoader(text)
     try:
-        docs = []
-        while loader.check_node():
-            node = loader.get_node()
-            if node is not None:
-                check_aliases(node, text)
-                docs.append(loader.construct_document(node))
+        docs = [loader.construct_document(node) for node in _checked_documents(loader, text)]
         return [d for d in docs if d is not None]
     finally:
         loader.dispose()
