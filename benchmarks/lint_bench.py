@@ -25,6 +25,7 @@ table goes to stdout (markdown), progress to stderr.
 from __future__ import annotations
 
 import argparse
+import atexit
 import json
 import os
 import platform
@@ -124,12 +125,20 @@ def find_check_urdf(given: str | None) -> str | None:
 
 # Every command runs in an empty directory, as in a robot repository without [tool.armtool]
 # (run from this checkout, armtool would find and parse this project's pyproject.toml).
-NEUTRAL_CWD = tempfile.mkdtemp(prefix="armtool-bench-")
+_NEUTRAL: list[str] = []
+
+
+def neutral_cwd() -> str:
+    """An empty directory made on first use and removed when the script ends."""
+    if not _NEUTRAL:
+        _NEUTRAL.append(tempfile.mkdtemp(prefix="armtool-bench-"))
+        atexit.register(shutil.rmtree, _NEUTRAL[0], True)
+    return _NEUTRAL[0]
 
 
 def run_once(cmd: Sequence[str], env: dict[str, str]) -> float:
     start = time.perf_counter()
-    subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, check=False, cwd=NEUTRAL_CWD)
+    subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, check=False, cwd=neutral_cwd())
     return time.perf_counter() - start
 
 
@@ -142,7 +151,9 @@ def run_loop(cmds: Sequence[Sequence[str]], env: dict[str, str]) -> tuple[float,
     """Wall clock and CPU time (user + system of the finished children) of running `cmds` in turn."""
     cpu, start = _children_cpu_s(), time.perf_counter()
     for cmd in cmds:
-        subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, check=False, cwd=NEUTRAL_CWD)
+        subprocess.run(
+            cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, check=False, cwd=neutral_cwd()
+        )
     return time.perf_counter() - start, _children_cpu_s() - cpu
 
 
@@ -184,7 +195,7 @@ def instructions(cmd: Sequence[str], env: dict[str, str], valgrind: str) -> int:
         text=True,
         env=env,
         check=False,
-        cwd=NEUTRAL_CWD,
+        cwd=neutral_cwd(),
     )
     counts = [int(line.rsplit(None, 1)[-1]) for line in result.stderr.splitlines() if "Collected :" in line]
     if not counts:
@@ -353,7 +364,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(
         f"armtool lint benchmark: Python {platform.python_version()} on {platform.machine()}, "
-        f"{os.cpu_count()} CPUs (load average {load:.1f} at the end), armtool a {install_kind(python)} install; "
+        f"{os.cpu_count()} CPUs (load average {load:.1f} at the end), armtool: {install_kind(python)} install; "
         f"medians of {args.repeat} interleaved runs for (a), {args.repeat_all} for (b)."
     )
     print()
