@@ -81,7 +81,9 @@ def read_groups(text: str) -> list[GroupSettings]:
     the top level is a list or a scalar (an empty file has no groups)."""
     import yaml
 
-    node = yaml.compose(text, Loader=yaml.SafeLoader)
+    from armtool.yamlload import compose
+
+    node = compose(text)  # refuses a document that aliases blow up (a YAMLError, like any bad YAML)
     if node is None:
         return []
     for wrapper in ("/**", "ros__parameters", "robot_description_kinematics"):

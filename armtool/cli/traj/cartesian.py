@@ -19,7 +19,18 @@ def cartesian(
     tip: Annotated[str | None, typer.Option(help="Tool link (default: the end of the longest chain).")] = None,
     start_q: Annotated[
         str | None,
-        typer.Option("--start", help="Start configuration, comma-separated joint values (default: mid-range)."),
+        typer.Option(
+            "--start",
+            help="Start configuration, comma-separated joint values (default: the SRDF's home/ready state, "
+            "else mid-range when it is not singular, else a well-conditioned configuration near it).",
+        ),
+    ] = None,
+    srdf: Annotated[
+        Path | None,
+        typer.Option(
+            help="SRDF whose home/ready group state is the default start (default: one beside the URDF "
+            "for the same robot, in its package or a sibling *moveit_config* package)."
+        ),
     ] = None,
     line: Annotated[
         str | None, typer.Option(help="Straight line to X,Y,Z (m, base frame), keeping the orientation.")
@@ -112,7 +123,7 @@ def cartesian(
         typer.Option(help="Also draw the tool path and each step's midpoint deviation from the path (PNG)."),
     ] = None,
 ) -> None:
-    start({"-o": output, "--plot": plot}, [urdf, waypoints])
+    start({"-o": output, "--plot": plot}, [urdf, waypoints, srdf])
     from rich.markup import escape
 
     from armtool.console import stderr
@@ -129,8 +140,8 @@ def cartesian(
         max_step_rad=max_step or None,
         max_step_m=max_step_m or None,
     )
-    done = plan.plan_cartesian(urdf, base, tip, start_q, spec, steps, solver.value)
-    for text in plan.report_lines(done.result):
+    done = plan.plan_cartesian(urdf, base, tip, start_q, spec, steps, solver.value, srdf)
+    for text in plan.report_lines(done.result, done):
         stderr().print(escape(text))
     plan.require_fraction(done.result, min_fraction)
     emit(done.trajectory, output, to, TrajFormat.CSV, None)

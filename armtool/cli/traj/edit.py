@@ -60,13 +60,15 @@ def time_cmd(
     start({"-o": output}, [path, urdf, joint_limits])
     from armtool.console import stderr
     from armtool.traj.pipeline import LimitSources, read_input
-    from armtool.traj.timing import time_optimal
+    from armtool.traj.timing import time_path
 
     traj, in_fmt = read_input(path)
     limits = LimitSources(
         urdf, joint_limits, tuple(vel or ()), tuple(acc or ()), tuple(jerk or ()), vscale, ascale
     ).load()
-    timed = time_optimal(traj, limits)
+    done = time_path(traj, limits)
+    timed = done.trajectory
+    stderr().print(f"interpolation: {done.interpolation}")
     kind = "jerk-limited" if limits.subset(traj.joint_names).has_jerk_limits() else "time-optimal"
     stderr().print(
         f"{kind}: {timed.duration_s:.4f} s over {timed.n_points} samples "
@@ -165,7 +167,7 @@ def _retime_and_emit(
     from armtool.console import stderr
     from armtool.traj.pipeline import retime
 
-    timed, limits = retime(traj, sources(urdf, joint_limits, vel, acc))
+    timed, limits, interpolation = retime(traj, sources(urdf, joint_limits, vel, acc))
     if limits is not None:
-        stderr().print(f"re-timed: {timed.duration_s:.4f} s")
+        stderr().print(f"re-timed: {timed.duration_s:.4f} s ({interpolation})")
     emit(timed, output, to, fallback, limits)
