@@ -17,7 +17,8 @@ from armtool.errors import ArmtoolError
 from armtool.extras import require
 
 BOARD_HELP = (
-    "The printed board: charuco:COLSxROWS:SQUARE:MARKER[:DICT] (squares, metres; DICT default DICT_6X6_250) "
+    "The printed board: chessboard:COLSxROWS:SQUARE (squares, not inner corners; metres), "
+    "charuco:COLSxROWS:SQUARE:MARKER[:DICT] (squares, metres; DICT default DICT_6X6_250) "
     "or aprilgrid:COLSxROWS:TAG:GAP[:FAMILY] (tags, metres; FAMILY default tag36h11)."
 )
 
@@ -46,7 +47,7 @@ def camera(
         ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
 ) -> None:
-    """Fit camera intrinsics and lens distortion from images of a ChArUco board or an AprilTag grid."""
+    """Fit camera intrinsics and lens distortion from images of a chessboard, a ChArUco board or an AprilTag grid."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.boards import parse_board
     from armtool.calib.intrinsics import calibrate_images, image_paths, write_intrinsics
