@@ -265,10 +265,9 @@ def simulate(
     if spec.board is None:
         family_dictionary(spec.family)
     elif spec.board.symmetric:
-        raise ArmtoolError(
-            f"a {spec.board.cols}x{spec.board.rows} chessboard looks the same turned by 180°: a fit cannot use it",
-            hint="use a chessboard with one even and one odd number of squares (e.g. 10x7), or a ChArUco board",
-        )
+        from armtool.calib.targets.spec import symmetric_board_error
+
+        raise symmetric_board_error(spec.board, "--target")
     if out.exists() and any(out.iterdir()):
         raise ArmtoolError("output directory is not empty", str(out), "choose a new directory, nothing was written")
     rng = np.random.default_rng(spec.seed)

@@ -190,9 +190,9 @@ def simulate(
 ) -> None:
     """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
     require("calib")  # exit 2 with the install command when the extra is missing
-    from armtool.calib.boards import parse_board
     from armtool.calib.simulate import SimulationSpec
     from armtool.calib.simulate import simulate as run
+    from armtool.calib.targets.spec import fit_board
     from armtool.cli.lint import _parse_xacro_args
     from armtool.console import progress_bar, say
 
@@ -210,7 +210,7 @@ def simulate(
         distortion=distortion,
         xacro_args=args,
         package_paths=tuple(package_path),
-        board=parse_board(target) if target is not None else None,
+        board=fit_board(target, "--target") if target is not None else None,
     )
     with progress_bar() as bar:
         task = bar.add_task("rendering", total=samples)

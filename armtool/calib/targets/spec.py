@@ -55,11 +55,24 @@ def board_target(target: Any) -> BoardSpec:
             hint=f"write type: {spec.kind.value}, or leave type out",
         )
     if spec.symmetric:
-        raise ArmtoolError(
-            f"target.board {text}: a {spec.cols}x{spec.rows} chessboard looks the same turned by 180°, so its "
-            "frame cannot be told from an image and would flip between samples",
-            hint="print a chessboard with one even and one odd number of squares (e.g. 10x7), or use a ChArUco board",
-        )
+        raise symmetric_board_error(spec, "target.board")
+    return spec
+
+
+def symmetric_board_error(spec: BoardSpec, source: str) -> ArmtoolError:
+    """Why a fit refuses a chessboard that looks the same turned by 180° (`source`: where it was named)."""
+    return ArmtoolError(
+        f"{source} {spec.text()}: a {spec.cols}x{spec.rows} chessboard looks the same turned by 180°, so its "
+        "frame cannot be told from an image and would flip between samples",
+        hint="print a chessboard with one even and one odd number of squares (e.g. 10x7), or use a ChArUco board",
+    )
+
+
+def fit_board(text: str, source: str) -> BoardSpec:
+    """A board spec from the command line (`source`: the option) that a fit can use."""
+    spec = parse_board(text)
+    if spec.symmetric:
+        raise symmetric_board_error(spec, source)
     return spec
 
 
