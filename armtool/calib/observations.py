@@ -63,6 +63,10 @@ def observe(
     target = Target.of(ds)
     samples = ds.samples if samples is None else samples
     out: dict[str, Observation] = {}
+    if not target.usable:
+        return {
+            s.id: Observation(s.id, None, "the target in dataset.yaml is not usable (see its problem)") for s in samples
+        }
     if ds.corners_file is not None:
         for s in samples:
             uv = ds.corners.get(s.id)

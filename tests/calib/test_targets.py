@@ -135,3 +135,13 @@ def test_the_target_document_reads_back_and_the_face_frame_faces_out() -> None:
     face = Target(board=spec).face_pose()
     assert np.allclose(face[:3, 3], [0.16, 0.12, 0.0]) and np.allclose(face[:3, 2], [0, 0, -1])
     assert np.allclose(Target().face_pose(), np.eye(4)) and Target().document("tool0")["type"] == "apriltag"
+
+
+def test_an_unusable_board_target_rejects_every_sample_instead_of_looking_for_a_tag(tmp_path: Path) -> None:
+    from armtool.calib.observations import observe
+
+    ds = load_dataset(_with_target(tmp_path, "target: {board: 'chessboard:8x6:0.025'}"), JOINTS)
+    assert not Target.of(ds).usable
+    (only,) = observe(ds, CAM).values()
+    assert only.corners_px is None and "target in dataset.yaml is not usable" in only.reason
+    assert Target.of(ds).describe() == "the target"

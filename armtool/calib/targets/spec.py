@@ -90,6 +90,11 @@ class Target:
         return cls(ds.family, ds.tag_id, ds.size_m, ds.board)
 
     @property
+    def usable(self) -> bool:
+        """False for a dataset whose board target could not be read (no board, no tag family)."""
+        return self.board is not None or bool(self.family)
+
+    @property
     def points_m(self) -> Array:
         """(P, 3) points in the target frame; an observation's corners are (P, 2) in this order."""
         if self.board is not None:
@@ -99,7 +104,9 @@ class Target:
         return tag_object_points(self.size_m)
 
     def describe(self) -> str:
-        return self.board.describe() if self.board is not None else f"tag {self.tag_id} ({self.family})"
+        if self.board is not None:
+            return self.board.describe()
+        return f"tag {self.tag_id} ({self.family})" if self.usable else "the target"
 
     def document(self, mounted_on: str) -> dict[str, object]:
         """dataset.yaml's `target:` for a dataset armtool writes."""
