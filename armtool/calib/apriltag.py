@@ -361,24 +361,12 @@ def pnp_pose(corners_px: Array, size_m: float, camera: CameraModel) -> tuple[Arr
     the corners cannot tell them apart: near-fronto-parallel views of small tags. Such a pose
     should not initialise anything on its own (research §2: the 2–9° p99 rotation tail).
     """
-    import cv2
+    from armtool.calib.targets.pose import planar_pose
 
     corners = np.asarray(corners_px, dtype=np.float64).reshape(4, 2)
     if not np.all(np.isfinite(corners)):
         raise ArmtoolError("tag corners contain NaN (tag not detected)")
-    obj = tag_object_points(size_m)
-    n, rvecs, tvecs, _ = cv2.solvePnPGeneric(obj, corners, camera.K, camera.dist, flags=cv2.SOLVEPNP_IPPE_SQUARE)
-    if n == 0:
+    cMt, rms, ambiguous = planar_pose(tag_object_points(size_m), corners, camera, square=True)
+    if not np.isfinite(rms):
         raise ArmtoolError("solvePnP found no pose for these tag corners")
-    poses = []
-    for rvec, tvec in zip(rvecs, tvecs):
-        cMt = np.eye(4)
-        cMt[:3, :3] = cv2.Rodrigues(np.asarray(rvec, dtype=np.float64))[0]
-        cMt[:3, 3] = np.asarray(tvec, dtype=np.float64).reshape(3)
-        proj = camera.project(obj @ cMt[:3, :3].T + cMt[:3, 3])
-        rms = float(np.sqrt(np.mean(np.sum((proj - corners) ** 2, axis=1)))) if np.all(np.isfinite(proj)) else np.inf
-        poses.append((rms, cMt))
-    poses.sort(key=lambda p: p[0])
-    best_rms, best = poses[0]
-    ambiguous = len(poses) > 1 and poses[1][0] < max(AMBIGUITY_RATIO * best_rms, AMBIGUITY_MIN_PX)
-    return best, best_rms, ambiguous
+    return cMt, rms, ambiguous

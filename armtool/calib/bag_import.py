@@ -11,6 +11,18 @@ joint stays within `tolerance` of where it was for at least `min_still_s`, or (`
 "velocity"`) every joint's reported velocity stays below `max_velocity` that long. Position is
 the default because many drivers publish no velocity, or a velocity differenced from encoder
 ticks that is never quite zero. The window's joint values are the per-joint median.
+
+The image of a window is the one nearest its centre. When the only images fall near the window's
+edge (a slow camera, dropped frames, a short stop), that image may have been taken while the arm
+was starting or stopping, and the camera's and the encoders' clocks differ by tens of ms: its
+offset from the centre, as a fraction of the half-window (0 at the centre, 1 at the edge), is
+warned about above `WARN_OFFSET_FRACTION` and the window skipped above `max_image_offset`
+(`--max-image-offset`).
+
+A recording that was interrupted is not a finished bag: ROS 2 writes metadata.yaml when
+`ros2 bag record` stops (SIGTERM or a crash leave none, ros2/rosbag2#791) and `ros2 bag reindex DIR`
+rebuilds it (ros2/rosbag2#1619); ROS 1 records into NAME.bag.active and writes the index last,
+which `rosbag reindex` rebuilds. Such inputs are named as interrupted, with the command that fixes them.
 """
 
 from __future__ import annotations
@@ -20,7 +32,7 @@ import shutil
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,6 +41,9 @@ from armtool.calib.camera import Array
 from armtool.calib.choices import Setup, StillBy
 from armtool.calib.dataset import manifest_document
 from armtool.errors import ArmtoolError
+
+if TYPE_CHECKING:
+    from armtool.calib.boards import BoardSpec
 
 log = logging.getLogger(__name__)
 
@@ -54,6 +69,11 @@ class ImportOptions:
     tolerance: float = 0.002  # rad (or m): largest change of any joint within a window
     max_velocity: float = 0.01  # rad/s (or m/s), with still_by=StillBy.VELOCITY
     min_still_s: float = 0.5
+    max_image_offset: float = 0.8  # of the half-window: beyond, the window's image is refused
+    board: BoardSpec | None = None  # the target is this board, not the tag (family, tag_id, tag_size_m unused)
+
+
+WARN_OFFSET_FRACTION = 0.5  # an image farther from its window's centre (fraction of the half-window) is warned about
 
 
 @dataclass(frozen=True)
@@ -137,6 +157,12 @@ class ImportedSample:
     image_offset_s: float  # image stamp − window centre
     q: dict[str, float]
 
+    @property
+    def image_offset_fraction(self) -> float:
+        """|image_offset_s| over the half-window: 0 at the window's centre, 1 at its edge."""
+        half = 0.5 * (self.end_s - self.start_s)
+        return abs(self.image_offset_s) / half if half > 0 else 0.0
+
 
 @dataclass
 class ImportResult:
@@ -159,6 +185,7 @@ class ImportResult:
                     "window_start_s": s.start_s,
                     "window_end_s": s.end_s,
                     "image_offset_s": s.image_offset_s,
+                    "image_offset_fraction": s.image_offset_fraction,
                     "joints": s.q,
                 }
                 for s in self.samples
@@ -170,25 +197,58 @@ class ImportResult:
         }
 
 
+_ROS2_STORAGE = (".db3", ".mcap")
+
+
+def _ros1_reindex_hint(active: Path) -> str:
+    final = active.name[: -len(".active")] if active.name.endswith(".active") else active.name
+    return (
+        f"rebuild its index with `rosbag reindex {active.name}`, rename it (`mv {active.name} {final}`) "
+        f"and import {final}"
+    )
+
+
+def _ros2_interrupted(directory: Path, where: Path) -> ArmtoolError:
+    return ArmtoolError(
+        "the ROS 2 recording was interrupted: its directory has storage files but no metadata.yaml, which "
+        "`ros2 bag record` writes when it stops",
+        str(where),
+        f"rebuild it with `ros2 bag reindex {directory}` (it reads the storage files), then import again",
+    )
+
+
 def _bag_path(bag: Path) -> Path:
-    """The path rosbags opens: a ROS 1 .bag file, or a ROS 2 bag directory (with metadata.yaml)."""
+    """The path rosbags opens: a ROS 1 .bag file, or a ROS 2 bag directory (with metadata.yaml).
+    An interrupted recording is named as such, with the reindex command that finishes it."""
     if not bag.exists():
+        active = bag.with_name(bag.name + ".active")
+        if bag.suffix == ".bag" and active.is_file():
+            raise ArmtoolError(
+                f"bag not found, but {active.name} is there: the ROS 1 recording was interrupted before "
+                "`rosbag record` wrote its index",
+                str(bag),
+                _ros1_reindex_hint(active),
+            )
         raise ArmtoolError("bag not found", str(bag))
     if bag.is_file() and bag.suffix == ".bag":
         return bag
-    if bag.is_file() and bag.suffix in (".db3", ".mcap"):
+    if bag.is_file() and bag.name.endswith(".bag.active"):
+        raise ArmtoolError(
+            "an unfinished ROS 1 recording (.bag.active): `rosbag record` was stopped before it wrote the bag's index",
+            str(bag),
+            _ros1_reindex_hint(bag),
+        )
+    if bag.is_file() and bag.suffix in _ROS2_STORAGE:
         if (bag.parent / "metadata.yaml").is_file():
             return bag.parent
-        raise ArmtoolError(
-            f"a ROS 2 {bag.suffix} file without its bag directory's metadata.yaml",
-            str(bag),
-            "pass the bag directory that `ros2 bag record` wrote (it holds metadata.yaml and the storage files)",
-        )
+        raise _ros2_interrupted(bag.parent, bag)
     if bag.is_dir():
         if (bag / "metadata.yaml").is_file():
             return bag
+        if any(p.suffix in _ROS2_STORAGE for p in bag.iterdir()):
+            raise _ros2_interrupted(bag, bag)
         raise ArmtoolError(
-            "directory has no metadata.yaml: not a ROS 2 bag",
+            "directory has no metadata.yaml and no .db3 or .mcap storage file: not a ROS 2 bag",
             str(bag),
             "pass a ROS 1 .bag file or a ROS 2 bag directory",
         )
@@ -310,8 +370,15 @@ class _Bag:
         except ArmtoolError:
             raise
         except Exception as exc:  # rosbags raises its own errors, and OSError/KeyError on damaged files
+            unindexed = path.suffix == ".bag" and any(
+                words in str(exc) for words in ("not indexed", "index looks damaged")
+            )
             raise ArmtoolError(
-                f"cannot read the bag: {exc}", str(path), "is it a complete ROS 1 .bag or ROS 2 bag directory?"
+                f"cannot read the bag: {exc}",
+                str(path),
+                "the ROS 1 recording was interrupted or cut short: " + _ros1_reindex_hint(path)
+                if unindexed
+                else "is it a complete ROS 1 .bag or ROS 2 bag directory?",
             ) from None
         self.topics: dict[str, str] = {c.topic: c.msgtype for c in self.reader.connections}
 
@@ -474,25 +541,16 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
                 str(bag),
                 "let the arm stop at each pose for a second, or loosen --tolerance / --max-velocity / --min-still",
             )
-        # The image nearest each window's centre, among those taken inside the window.
-        chosen: dict[int, tuple[int, Window]] = {}
-        skipped: list[tuple[float, float, str]] = []
         it_rel = it - t0
-        for w in windows:
-            inside = np.nonzero((it_rel >= w.start_s) & (it_rel <= w.end_s))[0]
-            if len(inside) == 0:
-                nearest = float(np.min(np.abs(it_rel - w.centre_s)))
-                skipped.append(
-                    (w.start_s, w.end_s, f"no image during the window (nearest {nearest:.2f} s from its centre)")
-                )
-                continue
-            best = int(inside[np.argmin(np.abs(it_rel[inside] - w.centre_s))])
-            chosen[best] = (len(chosen), w)
+        chosen, skipped = _choose_images(it_rel, windows, options.max_image_offset)
         if not chosen:
+            too_far = [r for *_, r in skipped if "--max-image-offset" in r]
             raise ArmtoolError(
-                f"{len(windows)} settled windows, but no image of '{options.image_topic}' was taken during any of them",
+                f"{len(windows)} settled windows, but no image of '{options.image_topic}' was taken during any of them"
+                + (f" away from its edges ({len(too_far)} only near an edge)" if too_far else ""),
                 str(bag),
-                "check that both topics were recorded at the same time (and that their clocks agree)",
+                "check that both topics were recorded at the same time (and that their clocks agree)"
+                + ("; pass --max-image-offset 1 to take images at a window's edge" if too_far else ""),
             )
         if intrinsics_camera is None:
             info_topic = options.camera_info_topic or _default_camera_info_topic(options.image_topic)
@@ -540,6 +598,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
                 {n: float(v) for n, v in zip(names, w.q)},
             )
         )
+    warnings += _edge_warnings(samples, jt - t0, q, it_rel[sorted(chosen, key=lambda k: chosen[k][0])])
     manifest = manifest_document(
         f"armtool calibrate import-bag {bag.name}",
         options.setup,
@@ -548,6 +607,10 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         options.tag_id,
         options.tag_size_m,
     )
+    if options.board is not None:
+        from armtool.calib.targets.spec import Target
+
+        manifest["target"] = Target(board=options.board).document(manifest["target"]["mounted_on"])
     rows = ["id,image," + ",".join(names)]
     rows += [f"{s.id},{s.image}," + ",".join(f"{s.q[n]:.9f}" for n in names) for s in samples]
     from armtool.fileio import atomic_directory
@@ -568,6 +631,59 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
 
                 save_intrinsics(intrinsics_camera, tmp / "camera.yaml")
     return ImportResult(out, samples, skipped, intrinsics_source, clock, warnings)
+
+
+def _choose_images(
+    it_rel: Array, windows: list[Window], max_offset: float
+) -> tuple[dict[int, tuple[int, Window]], list[tuple[float, float, str]]]:
+    """Per window, the image nearest its centre among those taken inside it: {image index: (sample
+    number, window)}, and the windows skipped with why (no image inside, or the nearest one farther
+    from the centre than `max_offset` of the half-window)."""
+    chosen: dict[int, tuple[int, Window]] = {}
+    skipped: list[tuple[float, float, str]] = []
+    for w in windows:
+        inside = np.nonzero((it_rel >= w.start_s) & (it_rel <= w.end_s))[0]
+        if len(inside) == 0:
+            nearest = float(np.min(np.abs(it_rel - w.centre_s)))
+            skipped.append(
+                (w.start_s, w.end_s, f"no image during the window (nearest {nearest:.2f} s from its centre)")
+            )
+            continue
+        best = int(inside[np.argmin(np.abs(it_rel[inside] - w.centre_s))])
+        offset = float(it_rel[best] - w.centre_s)
+        half = 0.5 * (w.end_s - w.start_s)
+        fraction = abs(offset) / half if half > 0 else 0.0
+        if fraction > max_offset:
+            keep = min(1.0, float(np.ceil(round(fraction * 100.0, 6)) / 100.0))  # the smallest limit that keeps it
+            skipped.append(
+                (
+                    w.start_s,
+                    w.end_s,
+                    f"its only images are near its edge: the nearest to its centre was taken {abs(offset):.2f} s from it, "
+                    f"{fraction:.0%} of the way to the edge (limit {max_offset:.0%}), perhaps while the arm moved; "
+                    f"pass --max-image-offset {keep:g} to keep it",
+                )
+            )
+            continue
+        chosen[best] = (len(chosen), w)
+    return chosen, skipped
+
+
+def _edge_warnings(samples: list[ImportedSample], jt_rel: Array, q: Array, image_times: Array) -> list[str]:
+    """A warning per sample whose image lies in the outer part of its window (beyond
+    WARN_OFFSET_FRACTION of the half-window), with how far the joints there are from the sample's values."""
+    out = []
+    for s, t in zip(samples, image_times):
+        if s.image_offset_fraction <= WARN_OFFSET_FRACTION:
+            continue
+        at_image = np.array([np.interp(t, jt_rel, q[:, j]) for j in range(q.shape[1])])
+        drift = float(np.max(np.abs(at_image - np.array(list(s.q.values())))))
+        out.append(
+            f"sample {s.id}: its image was taken {abs(s.image_offset_s):.2f} s from the centre of its settled window "
+            f"{s.start_s:.2f}-{s.end_s:.2f} s ({s.image_offset_fraction:.0%} of the way to its edge; the joints there "
+            f"differ from the sample's by up to {drift:.4f}): the arm may have been moving, check the image"
+        )
+    return out
 
 
 def _missing_joints(names: list[str], seen: set[str], topic: str, urdf: Path, bag: Path) -> None:

@@ -26,6 +26,7 @@ from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
+    from armtool.calib.boards import BoardSpec
     from armtool.model.chain import Chain
 
 FORMAT = "armtool-calib-dataset/1"
@@ -70,6 +71,7 @@ class Dataset:
     problems: list[Problem] = field(default_factory=list)
     xacro_args: dict[str, str] = field(default_factory=dict)  # robot.xacro_args: for a .xacro robot.urdf
     package_paths: list[Path] = field(default_factory=list)  # robot.package_paths, resolved against the dataset
+    board: BoardSpec | None = None  # target.board: a board instead of one AprilTag (family, tag_id, size_m unused)
 
     def robot_sources(
         self, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None
@@ -208,6 +210,51 @@ def _robot_sources(
     return args, paths
 
 
+def _tag_target(doc: dict[str, Any], where: str, problems: list[Problem]) -> tuple[str, int | None, float | None]:
+    """target.family, target.id and target.size_m of an AprilTag target (None when invalid, with a problem)."""
+    family = _get(doc, "target.family", problems, where) or "tag36h11"
+    tag_id = _get(doc, "target.id", problems, where, int)
+    size_m = _get(doc, "target.size_m", problems, where, (int, float))
+    if size_m is not None and not (TAG_SIZE_M[0] <= float(size_m) <= TAG_SIZE_M[1]):  # NaN fails too
+        problems.append(
+            Problem(
+                where,
+                f"target.size_m is {size_m}: the black square's edge in metres, {TAG_SIZE_M[0]:g} to {TAG_SIZE_M[1]:g}",
+                "e.g. 0.08 for an 80 mm tag",
+            )
+        )
+        size_m = None
+    if tag_id is not None and not 0 <= tag_id <= MAX_TAG_ID:
+        problems.append(
+            Problem(
+                where, f"target.id is {tag_id}: AprilTag ids are 0 to {MAX_TAG_ID}", "the number printed under the tag"
+            )
+        )
+        tag_id = None
+    if not isinstance(family, str):
+        problems.append(Problem(where, f"target.family must be a string, got {family!r}", "e.g. tag36h11"))
+        family = "tag36h11"
+    return family, tag_id, size_m
+
+
+def _target(
+    doc: dict[str, Any], where: str, problems: list[Problem]
+) -> tuple[BoardSpec | None, str, int | None, float | None]:
+    """(board, family, id, size_m): a board target (`target.board`, as `calibrate camera --board`
+    spells it) or an AprilTag's keys; what cannot be used is a problem. A board target's tag keys
+    are not looked for."""
+    from armtool.calib.targets.spec import board_target, declares_board
+
+    target = doc.get("target")
+    if not declares_board(target):
+        return (None, *_tag_target(doc, where, problems))
+    try:
+        return board_target(target), "", 0, 0.0
+    except ArmtoolError as exc:
+        problems.append(Problem(where, exc.what, exc.hint or ""))
+        return None, "", 0, 0.0
+
+
 def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *, with_samples: bool = True) -> Dataset:
     """Read the manifest and samples; problems are collected, not raised (see `require_ok`).
 
@@ -261,28 +308,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     if not isinstance(rectified, bool):
         problems.append(Problem(where, f"camera.images_rectified must be true or false, got {rectified!r}"))
         rectified = False
-    family = _get(doc, "target.family", problems, where) or "tag36h11"
-    tag_id = _get(doc, "target.id", problems, where, int)
-    size_m = _get(doc, "target.size_m", problems, where, (int, float))
-    if size_m is not None and not (TAG_SIZE_M[0] <= float(size_m) <= TAG_SIZE_M[1]):  # NaN fails too
-        problems.append(
-            Problem(
-                where,
-                f"target.size_m is {size_m}: the black square's edge in metres, {TAG_SIZE_M[0]:g} to {TAG_SIZE_M[1]:g}",
-                "e.g. 0.08 for an 80 mm tag",
-            )
-        )
-        size_m = None
-    if tag_id is not None and not 0 <= tag_id <= MAX_TAG_ID:
-        problems.append(
-            Problem(
-                where, f"target.id is {tag_id}: AprilTag ids are 0 to {MAX_TAG_ID}", "the number printed under the tag"
-            )
-        )
-        tag_id = None
-    if not isinstance(family, str):
-        problems.append(Problem(where, f"target.family must be a string, got {family!r}", "e.g. tag36h11"))
-        family = "tag36h11"
+    board, family, tag_id, size_m = _target(doc, where, problems)
     bad_joints = [j for j in joints if not isinstance(j, str)]
     if bad_joints:
         problems.append(
@@ -337,6 +363,15 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     corners_file = _resolve(root / corners_name) if corners_name else None
     if corners_file is None and (root / "corners.csv").is_file():
         corners_file = _resolve(root / "corners.csv")
+    if corners_file is not None and board is not None:
+        problems.append(
+            Problem(
+                where,
+                f"{corners_file.name} holds one AprilTag's corners, but the target is a board",
+                "a board's corners are found in the images: remove corners.csv (and `corners:`)",
+            )
+        )
+        corners_file = None
 
     ds = Dataset(
         root,
@@ -356,6 +391,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         problems=problems,
         xacro_args=xacro_args,
         package_paths=package_paths,
+        board=board,
     )
     ds.samples_file = samples_path
     if corners_file is not None and (why := unreadable_reason(corners_file)) is not None:

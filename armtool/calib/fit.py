@@ -91,18 +91,28 @@ class CalibrationResult:
 
 
 class Problem:
-    """Residuals and Jacobian for one set of samples."""
+    """Residuals and Jacobian for one set of samples.
+
+    `uv` (N, P, 2) holds each sample's pixels of the target's P points (`tag_points`, (P, 3)): a
+    tag's 4 corners, or a board's corners, NaN where an image does not show a point (a partial
+    ChArUco view); those coordinates have a residual of 0 and do not count."""
 
     def __init__(self, model: CalibModel, camera: CameraModel, Q: Array, uv: Array, tag_points: Array) -> None:
         self.model, self.camera, self.Q, self.uv, self.tag_points = model, camera, Q, uv, tag_points
+        self.seen = np.isfinite(uv)
+
+    @property
+    def coordinates(self) -> int:
+        """Pixel coordinates measured: what the parameters are fitted to."""
+        return int(self.seen.sum())
 
     def predict(self, x: Array, Q: Array | None = None) -> Array:
         Q = self.Q if Q is None else Q
         pts = self.model.corners_in_camera(x, Q, self.tag_points).reshape(-1, 3)
-        return self.camera.project(pts).reshape(len(Q), 4, 2)
+        return self.camera.project(pts).reshape(len(Q), -1, 2)
 
     def residuals(self, x: Array) -> Array:
-        return (self.predict(x) - self.uv).ravel()
+        return np.where(self.seen, self.predict(x) - np.nan_to_num(self.uv), 0.0).ravel()
 
     def jacobian(self, x: Array, free: Sequence[int], h: float = 1e-6) -> Array:
         J = np.empty((self.uv.size, len(free)))
@@ -118,8 +128,9 @@ class Problem:
         return Problem(self.model, self.camera, self.Q[list(rows)], self.uv[list(rows)], self.tag_points)
 
     def per_sample_rms(self, x: Array) -> Array:
-        r = (self.predict(x) - self.uv).reshape(len(self.Q), 8)
-        rms: Array = np.sqrt((r**2).mean(axis=1))
+        r = self.residuals(x).reshape(len(self.Q), -1)
+        counts = self.seen.reshape(len(self.Q), -1).sum(axis=1)
+        rms: Array = np.sqrt((r**2).sum(axis=1) / np.maximum(counts, 1))
         return rms
 
 
@@ -156,15 +167,15 @@ def _solve(problem: Problem, x0: Array, free: list[int], robust: bool, f_scale: 
 
 
 def _start_frames(
-    model: CalibModel, camera: CameraModel, Q: Array, uv: Array, size_m: float, hints: dict[str, Array]
+    model: CalibModel, camera: CameraModel, Q: Array, uv: Array, points: Array, hints: dict[str, Array]
 ) -> tuple[Array, Array]:
-    from armtool.calib.apriltag import pnp_pose
     from armtool.calib.handeye import initial_frames
+    from armtool.calib.targets.pose import planar_pose
 
     F = model.flange(np.zeros(model.size), Q)
     flanges, tags = [], []
     for i in range(len(Q)):
-        cMt, _rms, ambiguous = pnp_pose(uv[i], size_m, camera)
+        cMt, _rms, ambiguous = planar_pose(points, uv[i], camera)
         if not ambiguous:
             flanges.append(F[i])
             tags.append(cMt)
@@ -190,19 +201,23 @@ def calibrate(
     hints: dict[str, Array] | None = None,
     holdout_ids: set[str] | None = None,
     progress: Callable[[str], None] | None = None,
+    target_points: Array | None = None,
 ) -> CalibrationResult:
-    """Fit the model to the samples' tag corners; `holdout_ids` (default: a random `options.holdout`
-    share) are kept out of the fit and only scored. Each step is one function below."""
+    """Fit the model to the samples' target corners; `holdout_ids` (default: a random `options.holdout`
+    share) are kept out of the fit and only scored. The target is a tag of edge `size_m`, or the
+    points `target_points` (P, 3) of a board that the observations' corners (P, 2) index. Each step
+    is one function below."""
     from armtool.calib.apriltag import tag_object_points
 
+    points = tag_object_points(size_m) if target_points is None else np.asarray(target_points, dtype=np.float64)
     say = progress or (lambda _msg: None)
     groups = _partition(samples, observations, holdout_ids, options)
     Q, uv = _arrays(groups.fit, observations, model.chain.n)
     warnings = _motion_warnings(model, Q, options)
 
     say("initialising the camera and tag frames (PnP + AX=XB)")
-    model = model.with_frames(*_start_frames(model, camera, Q, uv, size_m, hints or {}))
-    problem = Problem(model, camera, Q, uv, tag_object_points(size_m))
+    model = model.with_frames(*_start_frames(model, camera, Q, uv, points, hints or {}))
+    problem = Problem(model, camera, Q, uv, points)
     frames = model.layout.frames
 
     say("hand-eye-only fit (nominal robot)")
@@ -213,7 +228,7 @@ def calibrate(
     ident = analyse(model, problem.jacobian(x_he, candidates), candidates, options.qr_tolerance)
     _check_identified(model, ident, candidates, options)
     free = ident.kept
-    _check_enough_data(uv.size, len(free), len(groups.fit))
+    _check_enough_data(problem.coordinates, len(free), len(groups.fit))
 
     say(f"fitting {len(free)} parameters (robust)")
     robust = _robust_fit(problem, x_he, free, groups.fit, options)
@@ -287,13 +302,13 @@ def _partition(
         why = f"; most images: {common[0][0]} ({common[0][1]} of {len(rejected)})" if common else ""
         raise ArmtoolError(
             f"only {len(fit)} sample(s) with a detected tag to fit{why}",
-            hint="check target.family/id/size_m in dataset.yaml and the images with `armtool calibrate check`",
+            hint="check target (family/id/size_m, or board) in dataset.yaml and the images with `armtool calibrate check`",
         )
     return _Groups(fit, hold, rejected)
 
 
 def _arrays(group: list[Sample], observations: dict[str, Observation], joints: int) -> tuple[Array, Array]:
-    """Joint readings (N, n) and detected corners (N, 4, 2) of samples that all have a detection."""
+    """Joint readings (N, n) and detected corners (N, P, 2) of samples that all have a detection."""
     if not group:
         return np.zeros((0, joints)), np.zeros((0, 4, 2))
     return np.stack([s.q for s in group]), np.stack([observations[s.id].corners_px for s in group])  # type: ignore[misc]
@@ -375,7 +390,7 @@ def _robust_fit(problem: Problem, x: Array, free: list[int], samples: list[Sampl
                 f"residual {rms_all[k]:.1f} px RMS against a median of {median:.2f} px (row {s.row}: wrong joint reading or mislabeled image?)"
             )
         inliers = [k for k in inliers if k not in new]
-        if len(inliers) * 8 < 2 * len(free):
+        if problem.subset(inliers).coordinates < 2 * len(free):
             raise ArmtoolError(
                 f"{len(outliers)} of {len(samples)} samples disagree with the model",
                 hint="check the joint readings and image names in samples.csv",

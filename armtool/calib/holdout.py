@@ -55,8 +55,8 @@ def check_same_setup(
         or not np.allclose(np.resize(vcamera.dist, 5), np.resize(camera.dist, 5))
     ):
         differences.append("camera intrinsics")
-    if (vds.family, vds.tag_id, vds.size_m) != (ds.family, ds.tag_id, ds.size_m):
-        differences.append("target (family, id or size)")
+    if (vds.family, vds.tag_id, vds.size_m, vds.board) != (ds.family, ds.tag_id, ds.size_m, ds.board):
+        differences.append("target (family, id or size, or board)")
     if differences:
         raise ArmtoolError(
             "the validation dataset differs from the dataset in: " + ", ".join(differences),

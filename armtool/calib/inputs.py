@@ -15,6 +15,7 @@ from armtool.calib.camera import CameraModel, load_intrinsics
 from armtool.calib.dataset import Dataset, Problem, load_dataset, read_samples
 from armtool.calib.files import unreadable_reason
 from armtool.calib.observations import Observation
+from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain, load_chain
 
@@ -91,8 +92,8 @@ def detection_problems(ds: Dataset, observations: dict[str, Observation]) -> lis
         problems.append(
             Problem(
                 "dataset.yaml",
-                f"tag {ds.tag_id} ({ds.family}) was usable in only {found} of {len(ds.samples)} samples",
-                "check target.family, target.id and the images (the warnings above say what was seen)",
+                f"{Target.of(ds).describe()} was usable in only {found} of {len(ds.samples)} samples",
+                "check the target in dataset.yaml and the images (the warnings above say what was seen)",
             )
         )
     return problems

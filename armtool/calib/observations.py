@@ -1,4 +1,4 @@
-"""Tag corners per sample: detected in the images, or read from corners.csv.
+"""Target corners per sample: detected in the images, or (one AprilTag) read from corners.csv.
 
 Detection is the slow part of a calibration (tens of ms per image), so it runs on a thread per
 core (OpenCV releases the GIL while it works; a forked process pool can deadlock on OpenCV's
@@ -13,28 +13,27 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from armtool.calib.camera import CameraModel
 from armtool.calib.dataset import Dataset, Sample
 from armtool.calib.se3 import Array
+from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
 
 
 @dataclass(frozen=True)
 class Observation:
     sample_id: str
-    corners_px: Array | None  # (4,2), OpenCV pixel centres; None when rejected
+    # (P,2) OpenCV pixel centres, in the order of the target's points (`Target.points_m`: a tag's 4
+    # corners, a board's corners); NaN rows for points the image does not show; None when rejected.
+    corners_px: Array | None
     reason: str = ""  # why there are no corners
 
 
-def _detect_one(args: tuple[str, str, str, int, CameraModel]) -> tuple[str, Array | None, str]:
-
-    from armtool.calib.apriltag import detect_tag
-
-    sample_id, image_path, family, tag_id, camera = args
+def _detect_one(args: tuple[str, str, Target, CameraModel]) -> tuple[str, Array | None, str]:
     from armtool.calib.files import read_gray
+    from armtool.calib.targets.detect import detect_corners
 
+    sample_id, image_path, target, camera = args
     try:
         gray = read_gray(Path(image_path))
     except ArmtoolError as exc:
@@ -47,10 +46,8 @@ def _detect_one(args: tuple[str, str, str, int, CameraModel]) -> tuple[str, Arra
             None,
             f"image is {gray.shape[1]}x{gray.shape[0]}, the intrinsics say {camera.width}x{camera.height}",
         )
-    det = detect_tag(gray, family, tag_id, camera)
-    if not det.ok:
-        return sample_id, None, det.reason
-    return sample_id, np.asarray(det.corners_px, dtype=float), ""
+    corners, reason = detect_corners(gray, target, camera)
+    return sample_id, corners, reason
 
 
 def observe(
@@ -63,8 +60,13 @@ def observe(
     """Corners for every sample: corners.csv when the dataset has one, else detection in the images."""
     from armtool.calib.files import unreadable_reason
 
+    target = Target.of(ds)
     samples = ds.samples if samples is None else samples
     out: dict[str, Observation] = {}
+    if not target.usable:
+        return {
+            s.id: Observation(s.id, None, "the target in dataset.yaml is not usable (see its problem)") for s in samples
+        }
     if ds.corners_file is not None:
         for s in samples:
             uv = ds.corners.get(s.id)
@@ -77,7 +79,7 @@ def observe(
         elif (why := unreadable_reason(Path(s.image))) is not None:
             out[s.id] = Observation(s.id, None, f"image {s.image} {why}")
         else:
-            jobs.append((s.id, str(s.image), ds.family, ds.tag_id, camera))
+            jobs.append((s.id, str(s.image), target, camera))
     total = len(jobs)
     workers = workers or min(os.cpu_count() or 1, 8)
     if total == 0:

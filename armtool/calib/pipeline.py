@@ -126,6 +126,8 @@ def observe_samples(job: FitJob, detect: Detect) -> Observed:
 
 
 def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | None = None) -> CalibrationResult:
+    from armtool.calib.boards import board_points
+
     request, ds = job.request, job.dataset
     options = FitOptions(
         families=request.families,
@@ -144,6 +146,7 @@ def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | N
         ds.hints,
         holdout_ids=observed.holdout_ids,
         progress=progress,
+        target_points=board_points(ds.board) if ds.board is not None else None,
     )
 
 

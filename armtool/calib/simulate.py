@@ -1,8 +1,9 @@
 """Synthetic calibration datasets with known truth, for rehearsing a pose set and for the tests.
 
 A "true" robot is the URDF with injected errors (6-D origin errors per joint, zero offsets), seen
-by a camera at a made-up but plausible place; tag images are rendered from the true robot and the
-joint readings written as the controller would report them. The truth (injected errors, frames,
+by a camera at a made-up but plausible place; images of the target (one AprilTag, or a board with
+`board`) are rendered from the true robot and the joint readings written as the controller would
+report them. The truth (injected errors, frames,
 validation poses, the true URDF) goes to `truth/`, which `armtool calibrate fit` never reads.
 """
 
@@ -12,8 +13,10 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
 from armtool.calib import se3
 from armtool.calib.camera import CameraModel
@@ -21,7 +24,11 @@ from armtool.calib.choices import Quality, Setup
 from armtool.calib.dataset import manifest_document
 from armtool.calib.model import CalibModel
 from armtool.calib.se3 import Array
+from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
+
+if TYPE_CHECKING:
+    from armtool.calib.boards import BoardSpec
 
 QUALITY: dict[Quality, dict[str, tuple[float, float]]] = {  # research/calibration.md §2 image conditions
     Quality.GOOD: {"blur": (0.5, 0.7), "noise": (1.5 / 255, 1.5 / 255), "black": (0.06, 0.10), "white": (0.85, 0.9)},
@@ -53,6 +60,7 @@ class SimulationSpec:
     distortion: bool = False
     xacro_args: dict[str, str] = field(default_factory=dict)  # for a .xacro robot
     package_paths: tuple[Path, ...] = ()
+    board: BoardSpec | None = None  # a board instead of the tag (tag_size_m, tag_id, family unused)
 
     def __post_init__(self) -> None:
         # From Python, plain strings are welcome ("poor", "eye_in_hand"); a wrong one is named
@@ -68,6 +76,10 @@ class SimulationSpec:
     @property
     def distances(self) -> tuple[float, float]:
         return self.distance_m or DISTANCE_M[self.setup]
+
+    @property
+    def target(self) -> Target:
+        return Target(self.family, self.tag_id, self.tag_size_m, self.board)
 
 
 def default_camera(distortion: bool = False) -> CameraModel:
@@ -113,7 +125,10 @@ def _place(
     Eye-to-hand: a camera looking at the middle of the workspace, random joint vectors. Eye-in-hand:
     the tag is put where the flange camera looks in many reachable poses, and the pool holds those
     poses (`_eye_in_hand_views`), so any arm that can point its camera works, 5-DOF ones included.
+    The target is placed by its face frame (`Target.face_pose`: centred, z out of the face); R is
+    its own frame.
     """
+    faceMtarget = se3.inv(spec.target.face_pose())
     chain = model0.chain
     Q = chain.random(rng, 40000)
     F = model0.flange(np.zeros(model0.size), Q)
@@ -125,12 +140,12 @@ def _place(
         direction = np.array([1.0, 0.35, 0.55])
         eye = centre + direction / np.linalg.norm(direction) * (0.5 * reach + 0.75)
         bMc = _look_at(eye, centre, np.array([0.0, 0.0, 1.0]))
-        return se3.inv(bMc), fMt, Q
+        return se3.inv(bMc), fMt @ faceMtarget, Q
     fMc = se3.xyz_rpy([0.04, 0.0, 0.03], [0.0, 0.0, 0.0])
     bMt, views = _eye_in_hand_views(
         model0, fMc, camera or default_camera(spec.distortion), spec, rng, Q, 3 * (spec.samples + spec.validation)
     )
-    return se3.inv(fMc), bMt, views
+    return se3.inv(fMc), bMt @ faceMtarget, views
 
 
 def _good_views(bMc: Array, bMt: Array, camera: CameraModel, spec: SimulationSpec) -> Array:
@@ -196,18 +211,21 @@ def _eye_in_hand_views(
 
 
 def _visible(model: CalibModel, x: Array, camera: CameraModel, Q: Array, spec: SimulationSpec) -> Array:
-    """Indices of rows of Q whose tag pose renders well (distance, tilt, whole plate in view)."""
-    from armtool.calib.render import tag_in_view
+    """Indices of rows of Q whose target pose renders well (distance, tilt, whole plate or board in view)."""
+    from armtool.calib.render import board_in_view, tag_in_view
 
-    C = model.tag_in_camera(x, Q)
-    t = C[:, :3, 3]
+    C = model.tag_in_camera(x, Q)  # the target's own frame
+    F = C @ spec.target.face_pose()  # its face frame: centred, z towards a camera that sees it
+    t = F[:, :3, 3]
     dist = np.linalg.norm(t, axis=1)
     view = -t / np.maximum(dist[:, None], 1e-9)
-    facing = np.einsum("ni,ni->n", C[:, :3, 2], view)  # cos(angle between the tag normal and the ray)
+    facing = np.einsum("ni,ni->n", F[:, :3, 2], view)  # cos(angle between the target's normal and the ray)
     ok = (dist > spec.distances[0]) & (dist < spec.distances[1]) & (facing > math.cos(math.radians(spec.max_tilt_deg)))
     good = []
     for i in np.flatnonzero(ok):
-        if tag_in_view(camera, C[i], spec.tag_size_m, spec.family):
+        if spec.board is not None and board_in_view(camera, C[i], spec.board):
+            good.append(i)
+        elif spec.board is None and tag_in_view(camera, C[i], spec.tag_size_m, spec.family):
             good.append(i)
     return np.array(good, dtype=int)
 
@@ -233,7 +251,7 @@ def simulate(
 
     from armtool.calib.apriltag import family_dictionary
     from armtool.calib.camera import save_intrinsics
-    from armtool.calib.render import render_tag
+    from armtool.calib.render import render_board, render_tag
     from armtool.calib.urdf_out import (
         check_reproduces,
         corrected_text,
@@ -244,7 +262,12 @@ def simulate(
     from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
 
-    family_dictionary(spec.family)
+    if spec.board is None:
+        family_dictionary(spec.family)
+    elif spec.board.symmetric:
+        from armtool.calib.targets.spec import symmetric_board_error
+
+        raise symmetric_board_error(spec.board, "--target")
     if out.exists() and any(out.iterdir()):
         raise ArmtoolError("output directory is not empty", str(out), "choose a new directory, nothing was written")
     rng = np.random.default_rng(spec.seed)
@@ -258,7 +281,7 @@ def simulate(
     need = spec.samples + spec.validation
     if len(visible) < need:
         raise ArmtoolError(
-            f"only {len(visible)} of {len(pool)} candidate poses show the tag well; {need} are needed",
+            f"only {len(visible)} of {len(pool)} candidate poses show the {'board' if spec.board else 'tag'} well; {need} are needed",
             hint="lower --samples or --validation, or name with --flange a link that can point the camera (eye_in_hand) or the tag (eye_to_hand) at the other",
         )
     chosen = rng.choice(visible, size=need, replace=False)
@@ -277,18 +300,34 @@ def simulate(
         readings = readings + rng.normal(scale=math.radians(spec.joint_noise_deg), size=readings.shape)
     images = [f"images/{i:04d}.png" for i in range(spec.samples)]
     for i in range(spec.samples):
-        img = render_tag(
-            camera,
-            C[i],
-            spec.tag_size_m,
-            spec.family,
-            spec.tag_id,
-            blur_sigma_px=rng.uniform(*q_cfg["blur"]),
-            noise_sigma=q_cfg["noise"][0],
-            black=rng.uniform(*q_cfg["black"]),
-            white=rng.uniform(*q_cfg["white"]),
-            rng=rng,
-        )
+        blur, noise = rng.uniform(*q_cfg["blur"]), q_cfg["noise"][0]
+        black, white = rng.uniform(*q_cfg["black"]), rng.uniform(*q_cfg["white"])
+        img: NDArray[np.uint8] | None
+        if spec.board is not None:
+            img = render_board(
+                camera,
+                C[i],
+                spec.board,
+                blur_sigma_px=blur,
+                noise_sigma=noise,
+                black=black,
+                white=white,
+                gradient=0.1,
+                rng=rng,
+            )
+        else:
+            img = render_tag(
+                camera,
+                C[i],
+                spec.tag_size_m,
+                spec.family,
+                spec.tag_id,
+                blur_sigma_px=blur,
+                noise_sigma=noise,
+                black=black,
+                white=white,
+                rng=rng,
+            )
         if img is None:  # cannot happen: poses were chosen by the same visibility test
             raise ArmtoolError(f"internal: pose {i} is not renderable")
         cv2.imwrite(str(out / images[i]), img)
@@ -317,6 +356,7 @@ def simulate(
     manifest = manifest_document(
         "armtool calibrate simulate", spec.setup, chain, spec.family, spec.tag_id, spec.tag_size_m
     )
+    manifest["target"] = spec.target.document(manifest["target"]["mounted_on"])
     manifest["hints"] = {k: _rough(v, rng) for k, v in hints.items()}
     _write_text(out / "dataset.yaml", yaml.safe_dump(manifest, sort_keys=False))
     # The truth, kept apart.
@@ -344,6 +384,7 @@ def simulate(
             "seed": spec.seed,
             "samples": spec.samples,
             "tag_size_m": spec.tag_size_m,
+            "target": spec.target.describe(),
         },
     }
     _write_text(out / "truth" / "truth.yaml", yaml.safe_dump(truth, sort_keys=False))

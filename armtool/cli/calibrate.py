@@ -1,4 +1,4 @@
-"""`armtool calibrate check|fit|simulate`: kinematic calibration from AprilTag images."""
+"""`armtool calibrate check|fit|simulate`: kinematic calibration from images of an AprilTag or a board."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     from armtool.calib.observations import Observation
 
 app = typer.Typer(
-    help="Fit a real arm's kinematic errors from AprilTag images and write a corrected URDF.",
+    help="Fit a real arm's kinematic errors from images of an AprilTag or a board and write a corrected URDF.",
     no_args_is_help=True,
     add_completion=False,
     context_settings={"help_option_names": ["-h", "--help"]},
@@ -176,6 +176,12 @@ def simulate(
         help="Wrong rows to mix in (joint off by 5°, mislabeled image; at most a quarter of --samples).",
     ),
     distortion: bool = typer.Option(False, "--distortion", help="Give the camera lens distortion."),
+    target: str | None = typer.Option(
+        None,
+        "--target",
+        help="A board instead of the AprilTag, spelled as for `calibrate camera --board`: chessboard:COLSxROWS:SQUARE, "
+        "charuco:COLSxROWS:SQUARE:MARKER[:DICT] or aprilgrid:COLSxROWS:TAG:GAP[:FAMILY] (metres).",
+    ),
     seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed (any integer)."),
     xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
     package_path: list[Path] = typer.Option(
@@ -186,6 +192,7 @@ def simulate(
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.simulate import SimulationSpec
     from armtool.calib.simulate import simulate as run
+    from armtool.calib.targets.spec import fit_board
     from armtool.cli.lint import _parse_xacro_args
     from armtool.console import progress_bar, say
 
@@ -203,6 +210,7 @@ def simulate(
         distortion=distortion,
         xacro_args=args,
         package_paths=tuple(package_path),
+        board=fit_board(target, "--target") if target is not None else None,
     )
     with progress_bar() as bar:
         task = bar.add_task("rendering", total=samples)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
@@ -16,8 +17,12 @@ from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
 
+if TYPE_CHECKING:
+    from armtool.calib.boards import BoardSpec
+
 BOARD_HELP = (
-    "The printed board: charuco:COLSxROWS:SQUARE:MARKER[:DICT] (squares, metres; DICT default DICT_6X6_250) "
+    "The printed board: chessboard:COLSxROWS:SQUARE (squares, not inner corners; metres), "
+    "charuco:COLSxROWS:SQUARE:MARKER[:DICT] (squares, metres; DICT default DICT_6X6_250) "
     "or aprilgrid:COLSxROWS:TAG:GAP[:FAMILY] (tags, metres; FAMILY default tag36h11)."
 )
 
@@ -46,7 +51,7 @@ def camera(
         ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
 ) -> None:
-    """Fit camera intrinsics and lens distortion from images of a ChArUco board or an AprilTag grid."""
+    """Fit camera intrinsics and lens distortion from images of a chessboard, a ChArUco board or an AprilTag grid."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.boards import parse_board
     from armtool.calib.intrinsics import calibrate_images, image_paths, write_intrinsics
@@ -86,11 +91,11 @@ def import_bag(
     ),
     urdf: Path = typer.Option(..., "--urdf", help="The robot's URDF (or xacro), copied into the dataset."),
     out: Path = typer.Option(..., "--out", "-o", help="New dataset directory (armtool-calib-dataset/1)."),
-    tag_size: float = typer.Option(
-        ...,
+    tag_size: float | None = typer.Option(
+        None,
         "--tag-size",
         callback=opt.finite_float(TAG_SIZE_M[0], TAG_SIZE_M[1], unit="m"),
-        help="Edge of the tag's black square, metres (measure the print; 0.001 to 2).",
+        help="Edge of the tag's black square, metres (measure the print; 0.001 to 2). Required unless --target names a board.",
     ),
     joints_topic: str = typer.Option("/joint_states", "--joints-topic", help="sensor_msgs/JointState topic."),
     base: str | None = typer.Option(None, "--base", help="Base link (default: the URDF's root)."),
@@ -132,6 +137,19 @@ def import_bag(
     min_still: float = typer.Option(
         0.5, "--min-still", callback=opt.seconds(3600.0), help="Shortest settled window, seconds."
     ),
+    max_image_offset: float = typer.Option(
+        0.8,
+        "--max-image-offset",
+        callback=opt.finite_float(0.0, 1.0),
+        help="Farthest the chosen image may be from its settled window's centre, as a fraction of the half-window "
+        "(0 = centre, 1 = edge); a window whose images are all farther is skipped (beyond 0.5 a warning).",
+    ),
+    target: str | None = typer.Option(
+        None,
+        "--target",
+        help="The images show this board instead of an AprilTag (as `calibrate camera --board`; --tag-size, "
+        "--family and --tag-id are then not used).",
+    ),
     output_format: ReportFormat = typer.Option(
         ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
@@ -147,6 +165,7 @@ def import_bag(
     opt.check_chain_ends(base, flange)
     if out.exists() and not out.is_dir():
         raise ArmtoolError("--out exists and is not a directory", str(out), "pass a new directory name")
+    board = _import_target(target, tag_size)
     options = ImportOptions(
         image_topic=image_topic,
         joints_topic=joints_topic,
@@ -157,17 +176,33 @@ def import_bag(
         setup=setup,
         family=family,
         tag_id=tag_id,
-        tag_size_m=tag_size,
+        tag_size_m=tag_size if tag_size is not None else 0.0,
         still_by=still_by,
         tolerance=tolerance,
         max_velocity=max_velocity,
         min_still_s=min_still,
+        max_image_offset=max_image_offset,
+        board=board,
     )
     with stderr().status("reading the bag"):
         result = run(bag, urdf, out, options)
     if output_format is ReportFormat.JSON:
         write_stdout(json.dumps(result.summary(), indent=2))
     print_bag_report(result)
+
+
+def _import_target(target: str | None, tag_size: float | None) -> BoardSpec | None:
+    """The board of `import-bag --target`, or None for an AprilTag (whose --tag-size is then required)."""
+    if target is None:
+        if tag_size is None:
+            raise ArmtoolError(
+                "--tag-size is required for an AprilTag target",
+                hint="measure the black square's edge on the print, in metres (e.g. --tag-size 0.08), or pass --target BOARD",
+            )
+        return None
+    from armtool.calib.targets.spec import fit_board
+
+    return fit_board(target, "--target")
 
 
 def register(app: typer.Typer) -> None:

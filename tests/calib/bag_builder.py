@@ -80,8 +80,10 @@ def write_bag(
     camera_info: bool = False,
     zero_stamps: bool = False,
     image_rate_hz: float = 5.0,
+    image_times: list[float] | None = None,
 ) -> list[float]:
-    """Write a bag of `kind` ros1 | sqlite3 | mcap; return the image header stamps (s from START_S)."""
+    """Write a bag of `kind` ros1 | sqlite3 | mcap; return the image header stamps (s from START_S).
+    Images are taken at `image_rate_hz`, or at `image_times` (s from START_S) when given."""
     from rosbags.typesys import Stores, get_typestore
 
     ros1 = kind == "ros1"
@@ -101,7 +103,7 @@ def write_bag(
 
     rng = np.random.default_rng(1)
     names = joint_names or JOINTS
-    image_stamps = list(np.arange(0.05, motion.t[-1], 1.0 / image_rate_hz))
+    image_stamps = list(np.arange(0.05, motion.t[-1], 1.0 / image_rate_hz)) if image_times is None else image_times
     events: list[tuple[float, str, object]] = []
     for t, q, v in zip(motion.t, motion.q, motion.v):
         events.append(

@@ -154,3 +154,114 @@ def test_raw_encodings_decode_to_opencv_arrays() -> None:
         raw_image_array(_raw("32FC1", np.zeros(4, np.float32), 1, 1, 4))
     with pytest.raises(ArmtoolError, match="inconsistent"):
         raw_image_array(_raw("mono8", np.zeros(3, np.uint8), 2, 3, 3))
+
+
+def _edge_bag(tmp_path: Path, fractions: list[float]) -> tuple[Path, list[tuple[float, float]]]:
+    """A ROS 2 bag whose only image of settled window k is `fractions[k]` of its half-window after its centre."""
+    m = simulate_motion(n_stops=len(fractions), seed=2)
+    windows = settled_windows(m.t, m.q, 0.5, tolerance=0.002)
+    assert len(windows) == len(fractions)
+    times = [w.centre_s + f * 0.5 * (w.end_s - w.start_s) for w, f in zip(windows, fractions)]
+    write_bag(tmp_path / "cal", "sqlite3", m, image_times=times)
+    return tmp_path / "cal", [(w.start_s, w.end_s) for w in windows]
+
+
+def test_an_image_near_its_window_edge_is_warned_about_and_refused_beyond_the_limit(tmp_path: Path) -> None:
+    bag, windows = _edge_bag(tmp_path, [0.0, 0.7, 0.95])
+    result = import_bag(bag, CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw", flange="tool0"))
+    assert [s.id for s in result.samples] == ["0000", "0001"]
+    assert abs(result.samples[1].image_offset_fraction - 0.7) < 0.01 and result.samples[0].image_offset_fraction < 0.01
+    (warning,) = [w for w in result.warnings if "settled window" in w]
+    assert warning.startswith("sample 0001: its image was taken") and "70% of the way to its edge" in warning
+    ((start, end, reason),) = result.skipped
+    assert (start, end) == pytest.approx(windows[2])
+    assert "95% of the way to the edge (limit 80%)" in reason and "pass --max-image-offset 0.95 to keep it" in reason
+    assert result.summary()["samples"][1]["image_offset_fraction"] == pytest.approx(0.7, abs=0.01)  # type: ignore[index]
+    relaxed = import_bag(
+        bag, CLEAN_ARM, tmp_path / "all", ImportOptions("/camera/image_raw", flange="tool0", max_image_offset=1.0)
+    )
+    assert len(relaxed.samples) == 3 and not relaxed.skipped
+    assert sum("settled window" in w for w in relaxed.warnings) == 2
+
+
+def test_the_text_report_names_the_edge_image_and_the_option(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from armtool.cli import app
+
+    bag, _ = _edge_bag(tmp_path, [0.7, 0.95])
+    args = ["calibrate", "import-bag", str(bag), "--image-topic", "/camera/image_raw", "--urdf", str(CLEAN_ARM)]
+    result = CliRunner().invoke(app, [*args, "--flange", "tool0", "--tag-size", "0.05", "-o", str(tmp_path / "o")])
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.stderr.split())
+    assert "warning: sample 0000: its image was taken" in text and "--max-image-offset 0.95" in text
+    import subprocess
+    import sys
+
+    only_edges = subprocess.run(
+        [sys.executable, "-m", "armtool", *args[:-2], "--urdf", str(CLEAN_ARM), "--tag-size", "0.05"]
+        + ["--max-image-offset", "0.5", "-o", str(tmp_path / "o2")],
+        capture_output=True,
+        text=True,
+    )
+    assert only_edges.returncode == 2 and "Traceback" not in only_edges.stderr
+    assert "--max-image-offset 1" in " ".join(only_edges.stderr.split())
+    assert not (tmp_path / "o2").exists()
+
+
+def test_an_interrupted_ros2_recording_names_ros2_bag_reindex(tmp_path: Path) -> None:
+    for kind in ("sqlite3", "mcap"):
+        bag = tmp_path / kind
+        write_bag(bag, kind, simulate_motion(n_stops=2))
+        (bag / "metadata.yaml").unlink()  # what a killed `ros2 bag record` leaves
+        storage = next(p for p in bag.iterdir() if p.suffix in (".db3", ".mcap"))
+        for given in (bag, storage):
+            with pytest.raises(ArmtoolError, match="the ROS 2 recording was interrupted") as info:
+                import_bag(given, CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw"))
+            assert "not a ROS 2 bag" not in info.value.what
+            assert f"ros2 bag reindex {bag}" in (info.value.hint or "")
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(ArmtoolError, match="no .db3 or .mcap storage file: not a ROS 2 bag"):
+        import_bag(tmp_path / "empty", CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw"))
+
+
+def _unindexed(bag: Path) -> bytes:
+    """The bytes of a ROS 1 bag as `rosbag record` leaves it when killed: no index (index_pos 0), cut short."""
+    data = bytearray(bag.read_bytes())
+    at = data.index(b"index_pos=") + len(b"index_pos=")
+    data[at : at + 8] = bytes(8)
+    return bytes(data[: int(len(data) * 0.8)])
+
+
+def test_an_interrupted_ros1_recording_names_rosbag_reindex(tmp_path: Path) -> None:
+    write_bag(tmp_path / "done.bag", "ros1", simulate_motion(n_stops=2))
+    active = tmp_path / "cal.bag.active"
+    active.write_bytes(_unindexed(tmp_path / "done.bag"))
+    options = ImportOptions("/camera/image_raw")
+    with pytest.raises(ArmtoolError, match=r"an unfinished ROS 1 recording \(.bag.active\)") as info:
+        import_bag(active, CLEAN_ARM, tmp_path / "out", options)
+    assert "`rosbag reindex cal.bag.active`" in (info.value.hint or "") and "mv cal.bag.active cal.bag" in (
+        info.value.hint or ""
+    )
+    with pytest.raises(ArmtoolError, match="bag not found, but cal.bag.active is there") as info:
+        import_bag(tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "out", options)
+    assert "rosbag reindex cal.bag.active" in (info.value.hint or "")
+    (tmp_path / "cut.bag").write_bytes(_unindexed(tmp_path / "done.bag"))  # renamed without reindexing
+    with pytest.raises(ArmtoolError, match="cannot read the bag: Bag is not indexed") as info:
+        import_bag(tmp_path / "cut.bag", CLEAN_ARM, tmp_path / "out", options)
+    assert "rosbag reindex cut.bag" in (info.value.hint or "")
+
+
+def test_a_board_target_goes_into_the_manifest(tmp_path: Path) -> None:
+    from armtool.calib.boards import parse_board
+    from armtool.cli.calibrate_extra import _import_target
+
+    write_bag(tmp_path / "cal.bag", "ros1", simulate_motion(n_stops=2), camera_info=True)
+    board = _import_target("charuco:6x5:0.04:0.03:4X4_50", None)
+    import_bag(tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw", board=board))
+    ds = load_dataset(tmp_path / "out", JOINTS)
+    assert not ds.errors and ds.board == parse_board("charuco:6x5:0.04:0.03:4X4_50")
+    with pytest.raises(ArmtoolError, match="--tag-size is required for an AprilTag target"):
+        _import_target(None, None)
+    with pytest.raises(ArmtoolError, match="looks the same turned by 180°"):
+        _import_target("chessboard:8x6:0.03", None)
