@@ -54,6 +54,9 @@ class ImportOptions:
     tolerance: float = 0.002  # rad (or m): largest change of any joint within a window
     max_velocity: float = 0.01  # rad/s (or m/s), with still_by=StillBy.VELOCITY
     min_still_s: float = 0.5
+    # A xacro robot: its arguments and where its packages are (the dataset gets the expansion).
+    xacro_args: tuple[tuple[str, str], ...] = ()
+    package_paths: tuple[Path, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -418,7 +421,10 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
     if not out.parent.is_dir():
         raise ArmtoolError("the output's parent directory does not exist", str(out), "create it first")
     family_dictionary(options.family)
-    chain = chain_from_xml(load_robot_xml(urdf), options.base, options.flange, source=urdf.name)
+    xacro_args = dict(options.xacro_args)
+    chain = chain_from_xml(
+        load_robot_xml(urdf, xacro_args, options.package_paths), options.base, options.flange, source=urdf.name
+    )
     names = list(chain.joint_names)
     intrinsics_camera = None
     intrinsics_source = str(options.intrinsics)
@@ -557,7 +563,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         for k, (i, _) in chosen.items():
             data, ext = files[k]
             (tmp / "images" / f"{i:04d}{ext}").write_bytes(data)
-        (tmp / "robot.urdf").write_text(expanded_text(urdf), encoding="utf-8")
+        (tmp / "robot.urdf").write_text(expanded_text(urdf, xacro_args, options.package_paths), encoding="utf-8")
         (tmp / "samples.csv").write_text("\n".join(rows) + "\n", encoding="utf-8")
         (tmp / "dataset.yaml").write_text(yaml.safe_dump(manifest, sort_keys=False), encoding="utf-8")
         if intrinsics_camera is not None:

@@ -37,9 +37,14 @@ class FileKind(str, Enum):
     XACRO = "xacro"
     SRDF = "srdf"
     KINEMATICS = "kinematics"
+    JOINT_LIMITS = "joint_limits"
+    PILZ = "pilz"
+    CONTROLLERS = "controllers"
 
 
 def file_kind(path: Path) -> FileKind | None:
+    """The kind a file's name says; for MoveIt's YAML files its content decides later whether it
+    is MoveIt's (UR's default_kinematics.yaml, Franka's joint_limits.yaml are not)."""
     name = path.name.lower()
     if name.endswith(".srdf") or name.endswith(".srdf.xacro"):
         return FileKind.SRDF
@@ -47,8 +52,17 @@ def file_kind(path: Path) -> FileKind | None:
         return FileKind.URDF
     if name.endswith(".xacro"):
         return FileKind.XACRO
-    if name.endswith(("kinematics.yaml", "kinematics.yml")):
+    if not name.endswith((".yaml", ".yml")):
+        return None
+    stem = name.rsplit(".", 1)[0]
+    if stem.endswith("kinematics"):
         return FileKind.KINEMATICS
+    if "joint_limits" in stem:
+        return FileKind.JOINT_LIMITS
+    if stem.endswith("cartesian_limits"):
+        return FileKind.PILZ
+    if "controller" in stem:
+        return FileKind.CONTROLLERS
     return None
 
 
@@ -62,7 +76,7 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
             found = sorted(_walk(path))
             if not found:
                 raise ArmtoolError(
-                    "no robot description files (.urdf, .xacro, .srdf, kinematics.yaml) found",
+                    "no robot description files (.urdf, .xacro, .srdf, MoveIt's YAML files) found",
                     str(path),
                     "pass the files themselves, or a directory that holds them",
                 )
@@ -112,8 +126,11 @@ class LintOptions:
         srdf: Path | None = None,
         config: LintConfig | None = None,
         stdin: bytes | None = None,
+        moveit_config: Path | None = None,
     ) -> None:
         self.stdin = stdin  # the bytes of `-`
+        self.moveit_config = moveit_config  # a MoveIt config package checked as a whole
+        self.file_args: dict[Path, dict[str, str]] = {}  # xacro arguments of one file (resolved path)
         self.xacro_args = dict(xacro_args or {})
         self.package_paths = list(package_paths)
         self.urdf = urdf
@@ -138,7 +155,15 @@ _LOADER_CODE: dict[FileKind | None, str] = {
     FileKind.XACRO: "X001",
     FileKind.SRDF: "S001",
     FileKind.KINEMATICS: "K001",
+    FileKind.JOINT_LIMITS: "L001",
+    FileKind.PILZ: "P001",
+    FileKind.CONTROLLERS: "C001",
 }
+
+
+def file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:
+    """A finding a loader reports about a whole file (its code's rule gives name and severity)."""
+    return _file_finding(code, path, line, column, message, hint)
 
 
 def _file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:
@@ -173,6 +198,18 @@ def sniff_kind(data: bytes) -> FileKind:
     return FileKind.URDF
 
 
+def _sniff_yaml(data: bytes) -> FileKind:
+    """The MoveIt file a YAML file named on the command line looks like (the rules then decide
+    from its content whether it is MoveIt's at all)."""
+    if re.search(rb"^\s*joint_limits\s*:", data, re.MULTILINE):
+        return FileKind.JOINT_LIMITS
+    if re.search(rb"^\s*cartesian_limits\s*:", data, re.MULTILINE):
+        return FileKind.PILZ
+    if re.search(rb"^\s*(controller_names|controller_list|controller_manager)\s*:", data, re.MULTILINE):
+        return FileKind.CONTROLLERS
+    return FileKind.KINEMATICS
+
+
 def _read(path: Path) -> bytes:
     """A regular file's bytes (never a FIFO or device: see read_regular), at most MAX_BYTES."""
     try:
@@ -193,6 +230,8 @@ class Linter:
         self._urdf_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], tuple[UrdfContext | None, list[Finding]]] = {}
         self._rules: dict[Target, list[Rule]] = {}
         self.suppressions = SuppressionIndex()
+        self._paired: dict[Path, SrdfContext | None] = {}
+        self.package_cache: dict[Path, Any] = {}  # MoveIt config package root -> its controllers (moveit_files)
 
     def _read(self, path: Path) -> bytes:
         """The file's bytes; inline ignore comments are read from them too, not from a second read."""
@@ -209,11 +248,16 @@ class Linter:
         self.suppressions.prime(display_path(path), data)
         return data
 
+    def read_text(self, path: Path) -> str:
+        """A YAML file's text (UTF-8; undecodable bytes replaced), read once for ignore comments too."""
+        return self._read(path).decode("utf-8", "replace")
+
     # ---- per-file settings ------------------------------------------------
     def xacro_args_for(self, path: Path, extra: dict[str, str] | None = None) -> dict[str, str]:
         """xacro arguments for one file: the config's for its glob, then `extra` (.setup_assistant),
         then --xacro-arg (the command line wins)."""
         args = dict(self.options.config.xacro_args_for(path))
+        args.update(self.options.file_args.get(path.resolve(), {}))
         args.update(extra or {})
         args.update(self.options.xacro_args)
         return args
@@ -471,6 +515,21 @@ class Linter:
         ctx = KinematicsContext(path, groups, srdf_ctx)
         return findings + list(self._run(ctx, Target.KINEMATICS))
 
+    # ---- a MoveIt config package's other YAML files ----------------------------------
+    def srdf_for_package_file(self, path: Path) -> tuple[SrdfContext | None, str]:
+        """The SRDF a package YAML file (joint_limits.yaml, controllers) belongs to: as for kinematics.yaml."""
+        return self._srdf_for_kinematics(path, [])
+
+    def paired_srdf(self, path: Path) -> SrdfContext | None:
+        """The SRDF with its URDF (loaded once per run; its own findings are reported when it is linted)."""
+        if path not in self._paired:
+            ctx, _ = self.load_srdf(path)
+            self._paired[path] = ctx
+        return self._paired[path]
+
+    def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]:
+        return self._run(ctx, target)
+
     # ---- common -----------------------------------------------------------------
     def _run(self, ctx: FileContext, target: Target) -> Iterator[Finding]:
         rules = self._rules.get(target)
@@ -482,13 +541,22 @@ class Linter:
     def lint_file(self, path: Path) -> list[Finding]:
         kind = file_kind(path) if path != STDIN else sniff_kind(self._read(path))
         if kind is None and path.suffix.lower() in (".yaml", ".yml"):
-            kind = FileKind.KINEMATICS  # named on the command line: its content decides (MoveIt's or not)
+            kind = _sniff_yaml(self._read(path))  # named on the command line: its content decides
         elif kind is None and path.is_file():
             kind = sniff_kind(self._read(path))
         if kind is FileKind.SRDF:
             return self.lint_srdf(path)
         if kind is FileKind.KINEMATICS:
             return self.lint_kinematics(path)
+        if kind in (FileKind.JOINT_LIMITS, FileKind.PILZ, FileKind.CONTROLLERS):
+            from armtool.lint import moveit_files
+
+            lint = {
+                FileKind.JOINT_LIMITS: moveit_files.lint_joint_limits,
+                FileKind.PILZ: moveit_files.lint_pilz,
+                FileKind.CONTROLLERS: moveit_files.lint_controllers,
+            }[kind]
+            return lint(self, path)
         return self.lint_urdf(path)
 
     def lint(self, path: Path) -> list[Finding]:
@@ -525,7 +593,13 @@ class Linter:
 # Plain os.fork and pipes, not multiprocessing: its import and Pool cost ~35 ms, a fifth of
 # linting all 69 example-robot-data URDFs; here the parent lints too and one fork costs ~2 ms.
 PARALLEL_MIN_FILES = 16
-_TARGET_OF_KIND: dict[FileKind | None, Target] = {FileKind.SRDF: Target.SRDF, FileKind.KINEMATICS: Target.KINEMATICS}
+_TARGET_OF_KIND: dict[FileKind | None, Target] = {
+    FileKind.SRDF: Target.SRDF,
+    FileKind.KINEMATICS: Target.KINEMATICS,
+    FileKind.JOINT_LIMITS: Target.JOINT_LIMITS,
+    FileKind.PILZ: Target.PILZ,
+    FileKind.CONTROLLERS: Target.CONTROLLERS,
+}
 MAX_WORKERS = 8
 
 
@@ -557,8 +631,8 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
 
     kinds = {file_kind(path) for path in files}
     targets = {_TARGET_OF_KIND.get(kind, Target.URDF) for kind in kinds}
-    if Target.SRDF in targets or Target.KINEMATICS in targets:
-        targets |= {Target.URDF, Target.SRDF}  # an SRDF's URDF, a kinematics.yaml's SRDF
+    if targets - {Target.URDF}:
+        targets |= {Target.URDF, Target.SRDF}  # an SRDF's URDF, a MoveIt YAML file's SRDF
     for target in targets:
         linter._rules.setdefault(target, rules_for(target))  # imported once, before forking
     # Largest files first: a few big robots (Talos, Romeo) dominate the work.
@@ -718,8 +792,30 @@ def _finding_from_row(row: tuple[object, ...]) -> Finding:
     )
 
 
+def _package_files(options: LintOptions) -> list[Path]:
+    """--moveit-config: the package's files as its launch files load them (its URDF, with the
+    .setup_assistant's xacro arguments, is also what its SRDF is checked against)."""
+    from armtool.moveit.package import read_package
+
+    assert options.moveit_config is not None
+    resolver = PackageResolver([*options.package_paths, *options.config.package_paths])
+    pkg = read_package(options.moveit_config, resolver)
+    files = pkg.files()
+    if pkg.urdf is not None and pkg.urdf.is_file():
+        options.file_args[pkg.urdf.resolve()] = dict(pkg.urdf_xacro_args)
+        if options.urdf is None:
+            options.urdf = pkg.urdf
+        files.insert(0, pkg.urdf)
+    if pkg.srdf is not None and options.srdf is None and pkg.srdf.is_file():
+        options.srdf = pkg.srdf
+    return files
+
+
 def lint_paths(paths: Iterable[Path], options: LintOptions) -> LintResult:
-    files = collect_files(list(paths))
+    paths = list(paths)
+    if options.moveit_config is not None:
+        paths += _package_files(options)
+    files = collect_files(paths)
     config = options.config
     findings: list[Finding] = []
     for file_findings in _lint_all(files, options):

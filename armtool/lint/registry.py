@@ -69,7 +69,15 @@ RULE_TABLE: tuple[tuple[str, str, str], ...] = (
 
 CODES: dict[str, str] = {code: name for code, name, _ in RULE_TABLE}
 NAMES: dict[str, str] = {name: code for code, name, _ in RULE_TABLE}
-_TARGET_OF_LETTER = {"U": Target.URDF, "X": Target.URDF, "S": Target.SRDF, "K": Target.KINEMATICS}
+_TARGET_OF_LETTER = {
+    "U": Target.URDF,
+    "X": Target.URDF,
+    "S": Target.SRDF,
+    "K": Target.KINEMATICS,
+    "L": Target.JOINT_LIMITS,
+    "P": Target.PILZ,
+    "C": Target.CONTROLLERS,
+}
 _loaded: dict[str, type[Rule]] = {}
 
 

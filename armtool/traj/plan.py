@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -147,6 +148,8 @@ def plan_cartesian(
     spec: PathSpec,
     options: cart.CartesianOptions,
     solver: str,
+    xacro_args: Mapping[str, str] | None = None,
+    package_paths: Sequence[Path] = (),
 ) -> CartesianPlan:
     """The joint path along `spec` from `start`, as far as it could be followed."""
     from armtool.traj.path_ik import PathIK
@@ -154,7 +157,7 @@ def plan_cartesian(
     if not urdf.is_file():
         raise ArmtoolError("URDF not found", str(urdf))
     spec.check()
-    chain = load_chain(urdf, base, tip)
+    chain = load_chain(urdf, base, tip, xacro_args=xacro_args, package_paths=package_paths)
     q0 = start_configuration(chain, start)
     segs = segments(spec, chain.fk(q0))
     result = cart.compute_cartesian(chain, PathIK(chain, solver), q0, segs, options)
