@@ -186,6 +186,24 @@ def _cause(path: Path, findings: list[Finding]) -> str:
     return f"{display_path(path)} could not be loaded: {first.code} {first.message}"
 
 
+_XACRO_HINTS = re.compile(rb"<xacro:|\$\{|\$\((?:arg|find|eval|env|optenv|dirname)\b")
+_XACRO_NAMESPACES = ("http://www.ros.org/wiki/xacro", "http://ros.org/wiki/xacro", "http://wiki.ros.org/xacro")
+
+
+def _is_xacro(root: etree._Element) -> bool:
+    """A document that only xacro can make into a URDF: an element in xacro's namespace, or an
+    attribute with a `${...}` or `$(...)` expression (comments do not count)."""
+    from lxml import etree
+
+    for el in root.iter(etree.Element):
+        tag = el.tag
+        if isinstance(tag, str) and tag.startswith("{") and tag[1:].split("}", 1)[0] in _XACRO_NAMESPACES:
+            return True
+        if any("${" in v or "$(" in v for v in el.attrib.values()):
+            return True
+    return False
+
+
 _SRDF_TAGS = re.compile(rb"<(group|virtual_joint|disable_collisions|group_state|end_effector|passive_joint)[\s/>]")
 _LINK_TAG = re.compile(rb"<link[\s/>]")
 
@@ -196,6 +214,17 @@ def sniff_kind(data: bytes) -> FileKind:
     if _SRDF_TAGS.search(data) and not _LINK_TAG.search(data):
         return FileKind.SRDF
     return FileKind.URDF
+
+
+def _names_srdf(srdf: Path) -> bool:
+    """True when the package's .setup_assistant names this SRDF (its URDF is then this SRDF's
+    by MoveIt's own record, not only the package's)."""
+    from armtool.lint.pairing import read_setup_assistant
+
+    setup = read_setup_assistant(srdf.parent)
+    if setup is None or not setup.srdf_relative:
+        return False
+    return (setup.package_dir / setup.srdf_relative).resolve() == srdf.resolve()
 
 
 def _sniff_yaml(data: bytes) -> FileKind:
@@ -298,6 +327,17 @@ class Linter:
                 )
             )
             return None, findings
+        if _XACRO_HINTS.search(data) and _is_xacro(root):
+            ctx, found = self._load_xacro(path, extra_args)
+            note = _file_finding(
+                "X002",
+                path,
+                1,
+                1,
+                f"{path.name} is a xacro (xacro elements or ${{...}}/$(...) expressions): expanded as one",
+                f"rename it {path.stem}.urdf.xacro; other tools read a .urdf as plain URDF",
+            )
+            return ctx, [note, *findings, *found]
         return UrdfContext(path, root, Locator(path, data=data), self.resolver, raw=data), findings
 
     def _expand(self, path: Path, extra_args: dict[str, str] | None = None) -> Expansion | Finding:
@@ -345,15 +385,17 @@ class Linter:
             self._urdf_cache[key] = self.load_urdf(path, extra_args)
         return self._urdf_cache[key]
 
-    def _urdf_for_srdf(self, srdf: Path, srdf_root: etree._Element) -> tuple[UrdfContext | None, str | None]:
-        """The URDF an SRDF describes, or None and why not. The first usable candidate, unless it
-        lacks names the SRDF uses and a later candidate found beside it lacks fewer."""
+    def _urdf_for_srdf(self, srdf: Path, srdf_root: etree._Element) -> tuple[UrdfContext | None, str | None, bool]:
+        """The URDF an SRDF describes, or None and why not; and whether the pairing is the user's
+        or MoveIt's own (--urdf, the configuration, .setup_assistant) rather than a guess from the
+        files beside it. The first usable candidate, unless it lacks names the SRDF uses and a
+        later candidate found beside it lacks fewer."""
         from armtool.lint.pairing import srdf_names, unknown_names, urdf_candidates
 
         given = self.options.urdf or self.options.config.urdf_for(srdf)
         if given is not None:
             ctx, findings = self._urdf_model(given)
-            return ctx, None if ctx is not None else _cause(given, findings)
+            return ctx, None if ctx is not None else _cause(given, findings), True
         first_failure: str | None = None
         best: tuple[int, UrdfContext] | None = None
         wanted: tuple[set[str], set[str]] | None = None  # the SRDF's names, read once when first needed
@@ -364,7 +406,7 @@ class Linter:
             ctx, findings = self._urdf_model(cand.path, cand.xacro_args)
             if ctx is not None and ctx.links:
                 if cand.why == "named by .setup_assistant":
-                    return ctx, None  # MoveIt's own record of the pairing
+                    return ctx, None, _names_srdf(srdf)  # MoveIt's own record of the pairing
                 wanted = wanted or srdf_names(srdf_root)
                 missing = unknown_names(wanted, ctx.joint_names, ctx.link_names)
                 if best is None or missing < best[0]:
@@ -374,8 +416,8 @@ class Linter:
             if ctx is None and findings and first_failure is None:
                 first_failure = _cause(cand.path, findings) + f" ({cand.why})"
         if best is not None:
-            return best[1], None
-        return None, first_failure or "no URDF found beside it"
+            return best[1], None, False
+        return None, first_failure or "no URDF found beside it", False
 
     def load_srdf(self, path: Path, *, pair: bool = True) -> tuple[SrdfContext | None, list[Finding]]:
         """The SRDF (a .srdf.xacro expanded like URDF xacros), paired with its URDF. None with no
@@ -406,8 +448,9 @@ class Linter:
             ]
         findings: list[Finding] = []
         urdf: UrdfContext | None = None
+        authoritative = False
         if pair:
-            urdf, why = self._urdf_for_srdf(path, root)
+            urdf, why, authoritative = self._urdf_for_srdf(path, root)
             if urdf is None:
                 findings.append(
                     _file_finding(
@@ -420,7 +463,9 @@ class Linter:
                         "[tool.armtool.lint.urdf]",
                     )
                 )
-        return SrdfContext(path, root, locator, urdf), findings
+        ctx = SrdfContext(path, root, locator, urdf)
+        ctx.urdf_given = urdf is not None and authoritative
+        return ctx, findings
 
     def lint_srdf(self, path: Path) -> list[Finding]:
         ctx, findings = self.load_srdf(path)

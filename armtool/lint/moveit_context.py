@@ -23,6 +23,15 @@ if TYPE_CHECKING:
     from armtool.moveit.params import Scalar
 
 
+def as_double(value: Scalar) -> str:
+    """An integer scalar written as the same number in double form (`1` -> `1.0`, `0x10` -> `16.0`)."""
+    text = value.text.strip()
+    if text.lstrip("+-").isdigit() and not (len(text.lstrip("+-")) > 1 and text.lstrip("+-")[0] == "0"):
+        return text + ".0"
+    number = value.number()
+    return repr(float(number)) if number is not None else text
+
+
 class YamlContext(FileContext):
     """A MoveIt YAML file: its path, which ROS loads it (2, 1 or None when nothing says), and the
     robot; findings at a line and column, fixes as text edits of a scalar."""
@@ -94,6 +103,7 @@ class JointLimitsContext(YamlContext):
     ) -> None:
         super().__init__(path, ros, srdf, urdf, known_args)
         self.doc = doc
+        self.in_moveit_package = False  # beside a .setup_assistant or an SRDF (not a description's limits file)
 
     def urdf_joint_names(self) -> set[str]:
         return self.urdf.joint_names if self.urdf is not None else set()

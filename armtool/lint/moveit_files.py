@@ -76,7 +76,24 @@ def lint_joint_limits(linter: Linter, path: Path) -> list[Finding]:
     srdf, urdf, args = robot_for(linter, path)
     doc = read_joint_limits(path, root, args)
     ctx = JointLimitsContext(path, doc, _ros(path, doc.section.ros2_params), srdf, urdf, args)
+    ctx.in_moveit_package = srdf is not None or _moveit_package(path)
     return list(linter.run_rules(ctx, Target.JOINT_LIMITS))
+
+
+def _moveit_package(path: Path) -> bool:
+    """True when the package holding `path` is a MoveIt config (a .setup_assistant, or an SRDF in
+    it), not a description package whose joint_limits.yaml xacro or ros2_control reads."""
+    from armtool.moveit.package import package_root
+    from armtool.moveit.params import package_xml
+
+    marker = package_xml(path)
+    root = marker.parent if marker is not None else package_root(path)
+    if root is None:
+        return False
+    if (root / ".setup_assistant").is_file():
+        return True
+    places = [root, *(p for p in root.iterdir() if p.is_dir() and not p.name.startswith("."))]
+    return any(any(place.glob("*.srdf")) or any(place.glob("*.srdf.xacro")) for place in places)
 
 
 def lint_pilz(linter: Linter, path: Path) -> list[Finding]:

@@ -139,8 +139,8 @@ class RobotControllers:
     """The controllers the robot's controller manager loads (ros2_controllers / ros_controllers)."""
 
     path: Path
+    ros2_params: bool  # ROS 2's format (controller_manager: ros__parameters:), else ROS 1's flat file
     declared: dict[str, Controller] = field(default_factory=dict)  # name -> type (and joints)
-    manager_at: tuple[int, int] | None = None
 
 
 def read_moveit_controllers(path: Path, root: yaml.Node | None) -> MoveItControllers | None:
@@ -190,7 +190,7 @@ def read_robot_controllers(path: Path, root: yaml.Node | None) -> RobotControlle
         manager = next((p for name, p in nodes.items() if name.rsplit("/", 1)[-1] == "controller_manager"), None)
         if manager is None:
             return None
-        out = RobotControllers(path)
+        out = RobotControllers(path, True)
         for name, knode, value in items(manager):
             ctype = as_scalar(child(value, "type"))
             if ctype is None:
@@ -199,7 +199,7 @@ def read_robot_controllers(path: Path, root: yaml.Node | None) -> RobotControlle
             own = nodes.get(name) or nodes.get(f"/{name}")
             out.declared[name] = Controller(name, line, column, ctype, _joints_of(own, ctype.text))
         return out if out.declared else None
-    out = RobotControllers(path)
+    out = RobotControllers(path, False)
     for name, knode, value in items(root):
         ctype = as_scalar(child(value, "type"))
         if ctype is None or "/" not in ctype.text:

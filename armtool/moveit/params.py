@@ -21,6 +21,7 @@ file cannot grow into a huge document here.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -68,9 +69,17 @@ class Scalar(NamedTuple):
     column: int
     start: int
     end: int
+    tag: str | None = None  # a local tag such as xacro's `!degrees`
 
     def number(self) -> float | None:
-        """The value as a float when it is an integer or a double, else None."""
+        """The value as a float when it is an integer or a double, else None (`!degrees 90` is
+        converted to radians, as xacro's YAML loader does)."""
+        value = self._number()
+        if value is not None and self.tag == "!degrees":
+            return math.radians(value)
+        return value
+
+    def _number(self) -> float | None:
         if self.kind == "int":
             return float(int(self.text.strip(), 0) if not _is_octal(self.text) else int(self.text.strip(), 8))
         if self.kind == "double":
@@ -114,6 +123,7 @@ def as_scalar(node: yaml.Node | None) -> Scalar | None:
         kind = "string"
     else:
         kind = scalar_kind(node.value, quoted)
+    tag = node.tag if node.tag.startswith("!") and not node.tag.startswith("!!") else None
     return Scalar(
         node.value,
         kind,
@@ -121,6 +131,7 @@ def as_scalar(node: yaml.Node | None) -> Scalar | None:
         node.start_mark.column + 1,
         node.start_mark.index,
         node.end_mark.index,
+        tag,
     )
 
 
@@ -270,6 +281,11 @@ class NameRef(NamedTuple):
         found = [n for n in pool if self.pattern.fullmatch(n)]
         bare = _SUBSTITUTION.sub("", self.written)
         return sorted(found, key=lambda n: (n != bare, len(n), n))
+
+    @property
+    def bare(self) -> str:
+        """The name for messages and did-you-mean: resolved, or without its unknown substitutions."""
+        return self.resolved if self.resolved is not None else _SUBSTITUTION.sub("", self.written)
 
     def note(self) -> str:
         """How a key with unknown substitutions was read, for a message ('' when it had none)."""
