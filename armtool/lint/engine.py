@@ -178,6 +178,15 @@ def xacro_finding(exc: XacroFailure) -> Finding:
     return finding._replace(related=related) if related else finding
 
 
+def _cause_hint(path: Path, findings: list[Finding]) -> str:
+    """What fixes a counterpart file that was found but could not be used: its own error's hint
+    (xacro's names the missing argument or package), said of that file."""
+    first = next((f for f in findings if f.severity.value == "error"), None)
+    if first is None or not first.hint:
+        return ""
+    return f"{display_path(path)} was found but cannot be used; {first.hint}"
+
+
 def _cause(path: Path, findings: list[Finding]) -> str:
     """Why a counterpart file could not be used, from the findings its loading produced."""
     first = next((f for f in findings if f.severity.value == "error"), findings[0] if findings else None)
@@ -260,6 +269,7 @@ class Linter:
         self._rules: dict[Target, list[Rule]] = {}
         self.suppressions = SuppressionIndex()
         self._paired: dict[Path, SrdfContext | None] = {}
+        self._urdf_hint: dict[Path, str] = {}  # SRDF -> what fixes the URDF that was found but failed
         self.package_cache: dict[Path, Any] = {}  # MoveIt config package root -> its controllers (moveit_files)
 
     def _read(self, path: Path) -> bytes:
@@ -395,6 +405,8 @@ class Linter:
         given = self.options.urdf or self.options.config.urdf_for(srdf)
         if given is not None:
             ctx, findings = self._urdf_model(given)
+            if ctx is None:
+                self._urdf_hint[srdf] = _cause_hint(given, findings)
             return ctx, None if ctx is not None else _cause(given, findings), True
         first_failure: str | None = None
         best: tuple[int, UrdfContext] | None = None
@@ -415,6 +427,7 @@ class Linter:
                     break
             if ctx is None and findings and first_failure is None:
                 first_failure = _cause(cand.path, findings) + f" ({cand.why})"
+                self._urdf_hint[srdf] = _cause_hint(cand.path, findings)
         if best is not None:
             return best[1], None, False
         return None, first_failure or "no URDF found beside it", False
@@ -459,7 +472,8 @@ class Linter:
                         root.sourceline or 1,
                         1,
                         f"cannot check names and limits against the robot: {why}",
-                        "pass --urdf PATH (a .urdf or .urdf.xacro), or set it for this file in "
+                        self._urdf_hint.get(path)
+                        or "pass --urdf PATH (a .urdf or .urdf.xacro), or set it for this file in "
                         "[tool.armtool.lint.urdf]",
                     )
                 )
@@ -476,13 +490,23 @@ class Linter:
     # ---- kinematics.yaml -----------------------------------------------------
     def _srdf_for_kinematics(self, path: Path, groups: list[str]) -> tuple[SrdfContext | None, str]:
         """The SRDF whose groups a kinematics.yaml configures, or None and why not."""
+        ctx, why, _ = self._find_srdf(path, groups)
+        return ctx, why
+
+    def _find_srdf(self, path: Path, groups: list[str]) -> tuple[SrdfContext | None, str, str]:
+        """The SRDF of a MoveIt YAML file, or None, why not, and what to do about it: an SRDF that
+        was found but could not be loaded gets its own error's hint (a xacro argument it needs,
+        a package path), not "pass --srdf"."""
         from armtool.lint.pairing import srdf_candidates
 
+        pass_srdf = "pass --srdf PATH, or set it for this file in [tool.armtool.lint.srdf]"
         given = self.options.srdf or self.options.config.srdf_for(path)
         if given is not None:
             ctx, findings = self.load_srdf(given, pair=False)
-            return ctx, "" if ctx is not None else _cause(given, findings)
-        failure = ""
+            if ctx is not None:
+                return ctx, "", ""
+            return None, _cause(given, findings), _cause_hint(given, findings) or pass_srdf
+        failure, hint = "", ""
         for tier in srdf_candidates(path):
             usable: dict[Path, SrdfContext] = {}
             for cand in tier:
@@ -492,15 +516,15 @@ class Linter:
                 if ctx is not None:
                     usable.setdefault(ctx.path, ctx)
                 elif findings and not failure:
-                    failure = _cause(cand.path, findings)
+                    failure, hint = _cause(cand.path, findings), _cause_hint(cand.path, findings)
             if len(usable) == 1:
-                return next(iter(usable.values())), ""
+                return next(iter(usable.values())), "", ""
             covering = [c for c in usable.values() if set(groups) <= set(c.groups)]
             if len(covering) == 1:
-                return covering[0], ""
+                return covering[0], "", ""
             if usable:
-                return None, "several SRDFs beside it: " + ", ".join(sorted(p.name for p in usable))
-        return None, failure or "no SRDF found beside it"
+                return None, "several SRDFs beside it: " + ", ".join(sorted(p.name for p in usable)), pass_srdf
+        return None, failure or "no SRDF found beside it", hint or pass_srdf
 
     def lint_kinematics(self, path: Path) -> list[Finding]:
         import yaml
@@ -545,18 +569,9 @@ class Linter:
                 return []  # `a1: 0.025`: no planning group of that name, so not MoveIt's
             return list(self._run(KinematicsContext(path, groups, srdf_ctx), Target.KINEMATICS))
         findings: list[Finding] = []
-        srdf_ctx, why = self._srdf_for_kinematics(path, names)
+        srdf_ctx, why, hint = self._find_srdf(path, names)
         if srdf_ctx is None:
-            findings.append(
-                _file_finding(
-                    "K002",
-                    path,
-                    1,
-                    1,
-                    f"cannot check group names: {why}",
-                    "pass --srdf PATH, or set it for this file in [tool.armtool.lint.srdf]",
-                )
-            )
+            findings.append(_file_finding("K002", path, 1, 1, f"cannot check group names: {why}", hint))
         ctx = KinematicsContext(path, groups, srdf_ctx)
         return findings + list(self._run(ctx, Target.KINEMATICS))
 
@@ -867,5 +882,9 @@ def lint_paths(paths: Iterable[Path], options: LintOptions) -> LintResult:
         for finding in file_findings:
             if config.keeps(finding):
                 findings.append(config.adjust(finding))
+    if len(files) > 1:
+        from armtool.lint.shared_defects import merge_shared_defects
+
+        findings = merge_shared_defects(findings)
     unique = {(f.path, f.line, f.column, f.code, f.message): f for f in findings}
     return LintResult(sorted(unique.values(), key=lambda f: f.sort_key), files)
