@@ -270,6 +270,8 @@ class Linter:
         self.suppressions = SuppressionIndex()
         self._paired: dict[Path, SrdfContext | None] = {}
         self._urdf_hint: dict[Path, str] = {}  # SRDF -> what fixes the URDF that was found but failed
+        self._variant: dict[Path, dict[str, str]] = {}  # a file being linted with one of its argument sets
+        self._exact_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], UrdfContext | None] = {}
         self.package_cache: dict[Path, Any] = {}  # MoveIt config package root -> its controllers (moveit_files)
 
     def _read(self, path: Path) -> bytes:
@@ -295,7 +297,8 @@ class Linter:
     def xacro_args_for(self, path: Path, extra: dict[str, str] | None = None) -> dict[str, str]:
         """xacro arguments for one file: the config's for its glob, then `extra` (.setup_assistant),
         then --xacro-arg (the command line wins)."""
-        args = dict(self.options.config.xacro_args_for(path))
+        variant = self._variant.get(path.resolve())
+        args = dict(variant if variant is not None else self.options.config.xacro_args_for(path))
         args.update(self.options.file_args.get(path.resolve(), {}))
         args.update(extra or {})
         args.update(self.options.xacro_args)
@@ -350,20 +353,31 @@ class Linter:
             return ctx, [note, *findings, *found]
         return UrdfContext(path, root, Locator(path, data=data), self.resolver, raw=data), findings
 
-    def _expand(self, path: Path, extra_args: dict[str, str] | None = None) -> Expansion | Finding:
-        """xacro's expansion of `path`, or the X001 finding that says why it failed."""
+    def _expand(
+        self, path: Path, extra_args: dict[str, str] | None = None, exact: dict[str, str] | None = None
+    ) -> Expansion | Finding:
+        """xacro's expansion of `path` (with `exact` arguments, else the file's: xacro_args_for),
+        or the X001 finding that says why it failed."""
         from armtool.model.xacro_source import XacroFailure, expand
 
         self._read(path)
         try:
-            return expand(path, self.xacro_args_for(path, extra_args), self.resolver)
+            return expand(path, exact if exact is not None else self.xacro_args_for(path, extra_args), self.resolver)
         except XacroFailure as exc:
             return xacro_finding(exc)
 
+    def load_urdf_with(self, path: Path, args: dict[str, str]) -> UrdfContext | None:
+        """A xacro expanded with exactly these arguments (another variant), or None when it fails."""
+        key = (path.resolve(), tuple(sorted(args.items())))
+        if key not in self._exact_cache:
+            self._exact_cache[key] = self._load_xacro(path, exact=args)[0]
+        return self._exact_cache[key]
+
     def _load_xacro(
-        self, path: Path, extra_args: dict[str, str] | None = None
+        self, path: Path, extra_args: dict[str, str] | None = None, exact: dict[str, str] | None = None
     ) -> tuple[UrdfContext | None, list[Finding]]:
-        expansion = self._expand(path, extra_args)
+        args = exact if exact is not None else self.xacro_args_for(path, extra_args)
+        expansion = self._expand(path, exact=args)
         if isinstance(expansion, Finding):
             return None, [expansion]
         root = expansion.root
@@ -376,15 +390,55 @@ class Linter:
         ctx = UrdfContext(
             path.resolve(), root, Locator(path.resolve(), expansion.origins), self.resolver, from_xacro=True
         )
+        ctx.xacro_args = dict(args)
+        ctx.source_files = tuple(expansion.files)
         return ctx, []
 
     def lint_urdf(self, path: Path) -> list[Finding]:
+        sets = self.options.config.xacro_arg_sets(path) if path != STDIN else [{}]
+        if len(sets) < 2:
+            return self._lint_urdf_once(path)
+        return self._lint_variants(path, sets)
+
+    def _lint_urdf_once(self, path: Path) -> list[Finding]:
         ctx, findings = self.load_urdf(path)
         if ctx is None:
             return findings
         if ctx.from_xacro and not ctx.links and not ctx.joints:
             return findings  # a macro library: nothing to check until a robot uses it
         return findings + list(self._run(ctx, Target.URDF))
+
+    def _lint_variants(self, path: Path, sets: list[dict[str, str]]) -> list[Finding]:
+        """The file linted once per argument set of the configuration. A finding every set gives
+        is reported once; the others say which set gave them ("[xacro args dof:=6]")."""
+        key = path.resolve()
+        differing = sorted({k for s in sets for k in s if len({s.get(k) for s in sets}) > 1})
+        per_set: list[tuple[str, list[Finding]]] = []
+        try:
+            for args in sets:
+                self._variant[key] = args
+                label = " ".join(f"{k}:={args.get(k, '')}" for k in differing) or "(no arguments)"
+                per_set.append((label, self._lint_urdf_once(path)))
+        finally:
+            self._variant.pop(key, None)
+        counts: dict[tuple[str, int, int, str, str], int] = {}
+        for _, found in per_set:
+            for f in dict.fromkeys(found):
+                counts[(f.path, f.line, f.column, f.code, f.message)] = (
+                    counts.get((f.path, f.line, f.column, f.code, f.message), 0) + 1
+                )
+        out: list[Finding] = []
+        seen: set[tuple[str, int, int, str, str]] = set()
+        for label, found in per_set:
+            for f in found:
+                k = (f.path, f.line, f.column, f.code, f.message)
+                if counts[k] == len(per_set):
+                    if k not in seen:
+                        seen.add(k)
+                        out.append(f)
+                else:
+                    out.append(f._replace(message=f"{f.message} [xacro args {label}]"))
+        return out
 
     # ---- SRDF --------------------------------------------------------------
     def _urdf_model(
@@ -477,6 +531,12 @@ class Linter:
                         "[tool.armtool.lint.urdf]",
                     )
                 )
+        if urdf is not None:
+            from armtool.lint.srdf_variant import fit
+
+            urdf, mismatch = fit(self, path, root, urdf)
+            if mismatch is not None:
+                findings.append(_file_finding("S003", path, root.sourceline or 1, 1, mismatch))
         ctx = SrdfContext(path, root, locator, urdf)
         ctx.urdf_given = urdf is not None and authoritative
         return ctx, findings

@@ -50,6 +50,7 @@ RULE_TABLE: tuple[tuple[str, str, str], ...] = (
     ("X002", "urdf-is-xacro", "x002_urdf_is_xacro:UrdfIsXacro"),
     ("S001", "invalid-srdf", "s001_invalid_srdf:InvalidSrdf"),
     ("S002", "urdf-not-found", "s002_urdf_not_found:UrdfNotFound"),
+    ("S003", "srdf-for-other-variant", "s003_srdf_for_other_variant:SrdfForOtherVariant"),
     ("K001", "invalid-yaml", "k001_invalid_yaml:InvalidYaml"),
     ("K002", "srdf-not-found", "k002_srdf_not_found:SrdfNotFound"),
     ("S101", "srdf-unknown-joint", "s101_srdf_unknown_joint:SrdfUnknownJoint"),
@@ -123,7 +124,7 @@ def rules_for(target: Target) -> list[type[Rule]]:
 # Reported by the engine while it loads a file (bad XML, no <robot>, xacro failed, no URDF beside
 # an SRDF, ...); their check() finds nothing, so a lint run need not import them to run them.
 LOADER_CODES = frozenset(
-    {"U001", "U002", "U003", "X001", "X002", "S001", "S002", "K001", "K002", "L001", "P001", "C001"}
+    {"U001", "U002", "U003", "X001", "X002", "S001", "S002", "S003", "K001", "K002", "L001", "P001", "C001"}
 )
 
 
