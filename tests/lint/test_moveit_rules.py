@@ -242,3 +242,26 @@ def test_c104_leaves_other_real_controllers_and_substitutions_alone(tmp_path: Pa
         "fake:\n  type: $(arg execution_type)\n  joints: [a]\n"
     )
     assert lint(path) == []
+
+
+def test_ros1_package_controller_list_and_ros_controllers(package: Path) -> None:
+    """MoveIt 1: simple_moveit_controllers.yaml's controller_list against ros_controllers.yaml."""
+    edit(package / "package.xml", "ament_cmake</buildtool_depend>", "catkin</buildtool_depend>")
+    edit(package / "package.xml", "<build_type>ament_cmake</build_type>", "")
+    config = package / "config"
+    for name in ("moveit_controllers.yaml", "ros2_controllers.yaml"):
+        (config / name).unlink()
+    (config / "simple_moveit_controllers.yaml").write_text(
+        "controller_list:\n"
+        "  - name: arm_controller\n    action_ns: follow_joint_trajectory\n    type: FollowJointTrajectory\n"
+        "    joints: [joint1, joint2, joint3, joint4, joint5, joint6]\n"
+        "  - name: gripper_controller\n    action_ns: gripper_cmd\n    type: GripperCommand\n    joints: [left_finger_joint]\n"
+    )
+    (config / "ros_controllers.yaml").write_text(
+        "arm_controller:\n  type: position_controllers/JointTrajectoryController\n"
+        "  joints: [joint1, joint2, joint3, joint4, joint5, joint6]\n"
+        "hand_controller:\n  type: position_controllers/GripperActionController\n  joint: left_finger_joint\n"
+    )
+    findings = lint(config)
+    assert [(f.code, f.line) for f in findings] == [("C103", 6)]
+    assert "'gripper_controller' is not declared in ros_controllers.yaml" in findings[0].message
