@@ -192,28 +192,17 @@ def kinematics_groups(kinematics_yaml: Path) -> list[str]:
 
 def _read_groups(kinematics_yaml: Path) -> list[KinematicsGroup]:
     """The file's groups, read as `armtool lint` reads them; errors name the file and line."""
-    import yaml
+    from armtool.lint.kinematics_context import NotAMapping, groups_of
+    from armtool.moveit.params import load_document
 
-    from armtool.fileio import read_text
-    from armtool.lint.kinematics_context import NotAMapping, read_groups
-
-    text = read_text(kinematics_yaml, "kinematics.yaml")
     try:
-        return read_groups(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f"{kinematics_yaml}:{mark.line + 1}" if mark is not None else str(kinematics_yaml)
-        raise ArmtoolError(
-            f"kinematics.yaml is not valid YAML: {getattr(exc, 'problem', None) or exc}", where
-        ) from None
+        return groups_of(load_document(kinematics_yaml, "kinematics.yaml"))
     except NotAMapping as exc:
         raise ArmtoolError(
             f"kinematics.yaml is {exc.what}, not a mapping of group names to settings",
             f"{kinematics_yaml}:{exc.line}",
             "write `GROUP:` followed by its settings (kinematics_solver, ...)",
         ) from None
-    except RecursionError:
-        raise ArmtoolError("kinematics.yaml is nested too deeply", str(kinematics_yaml), "flatten it") from None
 
 
 def group_settings(kinematics_yaml: Path, group: str) -> GroupSettings:

@@ -64,11 +64,18 @@ def read_groups(text: str) -> list[GroupSettings]:
     `arm: {...}`; ROS 2 `/**` or a node name, `ros__parameters`, `robot_description_kinematics`).
     Raises yaml.YAMLError, and NotAMapping when the settings are a list or a scalar (an empty
     file has no groups)."""
+    from armtool.moveit.params import parse
+
+    return groups_of(parse(text))
+
+
+def groups_of(root: Any) -> list[GroupSettings]:
+    """read_groups() of a document already parsed (`armtool.moveit.params.parse`)."""
     import yaml
 
-    from armtool.moveit.params import moveit_section, parse, shape
+    from armtool.moveit.params import moveit_section, shape
 
-    node = moveit_section(parse(text), "robot_description_kinematics").mapping
+    node = moveit_section(root, "robot_description_kinematics").mapping
     if node is None:
         return []
     if not isinstance(node, yaml.MappingNode):

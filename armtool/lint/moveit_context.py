@@ -65,6 +65,18 @@ class YamlContext(FileContext):
             return found
         return found._replace(edit=Edit(self.path, scalar.start, scalar.end, replacement))
 
+    def integer_finding(self, rule: Rule | type[Rule], value: Scalar, what: str, reader: str) -> Finding:
+        """A whole number where a ROS 2 reader declares a double parameter, with the fix `1` -> `1.0`."""
+        double = as_double(value)
+        return self.finding_at_scalar(
+            rule,
+            value,
+            f"{what}: {value.text} is an integer; {reader} reads it as a double parameter and refuses an "
+            "integer (InvalidParameterTypeException: expected [double] got [integer])",
+            hint=f"write {double}",
+            replacement=double,
+        )
+
     def urdf_note(self) -> str:
         """' (URDF: arm.urdf.xacro)': which URDF names and limits were compared with."""
         return f" (URDF: {display_path(self.urdf.path)})" if self.urdf is not None else ""

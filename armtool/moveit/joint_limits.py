@@ -152,23 +152,10 @@ def items_or_none(node: yaml.Node | None) -> bool:
 def load_joint_limits(path: Path, known_args: dict[str, str] | None = None) -> JointLimitsFile:
     """A joint_limits.yaml for a command (`traj --joint-limits`, `--moveit-config`): any layout;
     an ArmtoolError with file:line when it is not YAML or not MoveIt's format."""
-    import yaml
-
     from armtool.errors import ArmtoolError
-    from armtool.fileio import read_text
-    from armtool.moveit.params import parse
+    from armtool.moveit.params import load_document
 
-    text = read_text(path, "joint_limits.yaml")
-    try:
-        root = parse(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
-        raise ArmtoolError(
-            f"joint_limits.yaml is not valid YAML: {getattr(exc, 'problem', None) or exc}", where
-        ) from None
-    except RecursionError:
-        raise ArmtoolError("joint_limits.yaml is nested too deeply", str(path), "flatten it") from None
+    root = load_document(path, "joint_limits.yaml")
     if not is_moveit_joint_limits(root):
         raise ArmtoolError(
             "not MoveIt's joint_limits.yaml: no `joint_limits:` mapping of joints to limits (flat, or in a ROS 2 "

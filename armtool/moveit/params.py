@@ -110,6 +110,25 @@ def parse(text: str) -> yaml.Node | None:
     return yaml.compose(text, Loader=yaml.SafeLoader)
 
 
+def load_document(path: Path, what: str) -> yaml.Node | None:
+    """A MoveIt YAML file's nodes for a command, or an ArmtoolError naming `what`, the file and
+    the line (not UTF-8, not YAML, nested too deeply)."""
+    import yaml
+
+    from armtool.errors import ArmtoolError
+    from armtool.fileio import read_text
+
+    text = read_text(path, what)
+    try:
+        return parse(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
+        raise ArmtoolError(f"{what} is not valid YAML: {getattr(exc, 'problem', None) or exc}", where) from None
+    except RecursionError:
+        raise ArmtoolError(f"{what} is nested too deeply", str(path), "flatten it") from None
+
+
 def as_scalar(node: yaml.Node | None) -> Scalar | None:
     """A scalar node as a Scalar; None for mappings, lists and missing values."""
     import yaml

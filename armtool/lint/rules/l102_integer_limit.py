@@ -3,7 +3,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from armtool.lint.finding import Finding, FixSafety, Severity
-from armtool.lint.moveit_context import JointLimitsContext, as_double
+from armtool.lint.moveit_context import JointLimitsContext
 from armtool.lint.rule import Rule, Target
 from armtool.moveit.joint_limits import KEY_TYPES
 
@@ -54,11 +54,4 @@ class IntegerLimit(Rule):
         for key, what, value in items:
             if value.kind != "int" or (key in KEY_TYPES and KEY_TYPES[key] != "double"):
                 continue
-            yield ctx.finding_at_scalar(
-                self,
-                value,
-                f"{what}: {value.text} is an integer; MoveIt 2 reads it as a double parameter and refuses an "
-                "integer (InvalidParameterTypeException: expected [double] got [integer])",
-                hint=f"write {as_double(value)}",
-                replacement=as_double(value),
-            )
+            yield ctx.integer_finding(self, value, what, "MoveIt 2")

@@ -3,7 +3,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from armtool.lint.finding import Finding, FixSafety, Severity
-from armtool.lint.moveit_context import PilzContext, as_double
+from armtool.lint.moveit_context import PilzContext
 from armtool.lint.rule import Rule, Target
 from armtool.moveit.params import as_scalar, child
 
@@ -47,10 +47,4 @@ class IntegerCartesianLimit(Rule):
             value = as_scalar(child(ctx.limits, key))
             if value is None or value.kind != "int":
                 continue
-            yield ctx.finding_at_scalar(
-                self,
-                value,
-                f"{key}: {value.text} is an integer; Pilz declares it as a double parameter and refuses an integer",
-                hint=f"write {as_double(value)}",
-                replacement=as_double(value),
-            )
+            yield ctx.integer_finding(self, value, key, "Pilz")
