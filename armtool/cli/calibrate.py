@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -12,8 +12,19 @@ from armtool.calib.choices import Quality, ReportFormat, Setup
 from armtool.calib.limits import MAX_SIMULATED, TAG_SIZE_M
 from armtool.cli import options as opt
 from armtool.cli.options import PackagePaths, RobotConfig, XacroArgs
+
 from armtool.errors import ExitCode
 from armtool.extras import require
+
+# check and fit: the dataset names its robot and the robot's xacro arguments (robot.xacro_args).
+DatasetConfig = Annotated[
+    Path | None,
+    typer.Option(
+        "--config",
+        help="armtool.toml or pyproject.toml whose [tool.armtool.lint] package-paths apply (default: the nearest "
+        "one; the dataset's robot.xacro_args give the xacro arguments, --xacro-arg overrides them).",
+    ),
+]
 
 if TYPE_CHECKING:
     from armtool.calib.camera import CameraModel
@@ -44,7 +55,7 @@ def check(
     detect: bool = typer.Option(True, "--detect/--no-detect", help="Also look for the tag in every image."),
     xacro_arg: XacroArgs = None,
     package_path: PackagePaths = None,
-    config: RobotConfig = None,
+    config: DatasetConfig = None,
 ) -> None:
     """Validate a dataset: files, joints, units, images, and the tag in every image."""
     require("calib")  # exit 2 with the install command when the extra is missing
@@ -88,7 +99,7 @@ def fit(
     ),
     xacro_arg: XacroArgs = None,
     package_path: PackagePaths = None,
-    config: RobotConfig = None,
+    config: DatasetConfig = None,
     ur_kinematics: Path | None = typer.Option(
         None,
         "--ur-kinematics",
