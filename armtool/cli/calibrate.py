@@ -12,7 +12,6 @@ from armtool.calib.choices import Quality, ReportFormat, Setup
 from armtool.calib.limits import MAX_SIMULATED, TAG_SIZE_M
 from armtool.cli import options as opt
 from armtool.cli.options import PackagePaths, RobotConfig, XacroArgs
-
 from armtool.errors import ExitCode
 from armtool.extras import require
 
