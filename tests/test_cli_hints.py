@@ -22,6 +22,7 @@ import typer.main
 from armtool.cli import build_app
 
 ROOT = Path(__file__).resolve().parents[1] / "armtool"
+RULES_DIR = ROOT / "lint" / "rules"
 OPTION = re.compile(r"(?<![\w-])--[a-z][a-z0-9]*(?:-[a-z0-9]+)*")
 MENTION = re.compile(r"armtool\s+([a-z][a-z-]*(?:\s+[a-z][a-z-]*)?)")
 # Options of programs other than armtool that messages quote (pip, xacro, ros2, git).
@@ -281,6 +282,10 @@ def test_every_hint_names_an_option_of_its_command() -> None:
         own = _options(command)
         module, function = where.split(":")
         texts, _ = _reachable_strings(module, function)
+        if name in ("lint", "lint-urdf"):  # rules are imported by name from the registry: walk each
+            for rule in sorted(RULES_DIR.glob("[a-z][0-9][0-9][0-9]_*.py")):
+                rule_module = f"armtool.lint.rules.{rule.stem}"
+                texts += [(rule_module, t) for t in _printed_strings(_parsed(rule))]
         for reached, text in texts:
             if OPTION.fullmatch(text.strip()):
                 continue  # a bare flag is a label passed along with the value it gave, not a hint
