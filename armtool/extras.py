@@ -22,7 +22,7 @@ DISTRIBUTIONS: dict[str, str] = {
     "scipy": "scipy",
     "pinocchio": "pin",
     "cv2": "opencv-python-headless",
-    "threadpoolctl": "threadpoolctl",
+    "numba": "numba",
     "serial": "pyserial",
     "dynamixel_sdk": "dynamixel-sdk",
     "rosbags": "rosbags",
@@ -30,7 +30,7 @@ DISTRIBUTIONS: dict[str, str] = {
 
 # Extra -> the modules its commands import (tests/test_extras.py keeps this and pyproject.toml in step).
 MODULES: dict[Extra, tuple[str, ...]] = {
-    "ik": ("numpy", "scipy", "pinocchio", "threadpoolctl", "cv2"),  # cv2: the --plot PNG
+    "ik": ("numpy", "scipy", "pinocchio", "numba", "cv2"),  # numba: lm; cv2: the --plot PNG
     "calib": (
         "numpy",
         "scipy",
@@ -39,13 +39,13 @@ MODULES: dict[Extra, tuple[str, ...]] = {
         "rosbags",
     ),  # pinocchio: fit's URDF check, simulate's IK; rosbags: import-bag
     "servo": ("numpy", "scipy", "serial", "dynamixel_sdk"),  # servo-sim needs none of them
-    "traj": ("numpy", "scipy", "pinocchio", "threadpoolctl", "cv2"),  # lm for IK, cv2 for the PNGs
+    "traj": ("numpy", "scipy", "pinocchio", "numba", "cv2"),  # lm for IK, cv2 for the PNGs
 }
 
 # Where a module comes from when the running command's extra does not have it.
 _HOME: dict[str, Extra] = {
     "pinocchio": "ik",
-    "threadpoolctl": "ik",
+    "numba": "ik",
     "cv2": "calib",
     "serial": "servo",
     "dynamixel_sdk": "servo",

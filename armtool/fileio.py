@@ -353,6 +353,8 @@ def read_yaml(path: Path | str, what: str = "") -> object:
     """A YAML file's content, or an ArmtoolError that names the file and line and what it is."""
     import yaml
 
+    from armtool.yamlload import AliasBomb, safe_load
+
     path = Path(path)
     label = f"{what} " if what else ""
     try:
@@ -364,10 +366,15 @@ def read_yaml(path: Path | str, what: str = "") -> object:
     except UnicodeDecodeError:
         raise ArmtoolError(f"{label}file is not UTF-8 text", str(path), "save it as UTF-8") from None
     try:
-        return yaml.safe_load(text)
+        return safe_load(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
-        raise ArmtoolError(f"{label}file is not valid YAML: {getattr(exc, 'problem', None) or exc}", where) from None
+        problem = getattr(exc, "problem", None) or exc
+        if isinstance(exc, AliasBomb):
+            raise ArmtoolError(
+                f"{label}file refused: {problem}", where, "write the values out, without aliases"
+            ) from None
+        raise ArmtoolError(f"{label}file is not valid YAML: {problem}", where) from None
     except RecursionError:
         raise ArmtoolError(f"{label}file is nested too deeply", str(path), "flatten it") from None

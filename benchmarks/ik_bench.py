@@ -11,6 +11,10 @@ whatever the solver claims. All solvers see the same targets; `lm` also runs bat
 `solve_batch` call). ikpy is slow (~10 ms a solve) and runs on the first --ikpy-samples targets
 only. A peer that is not installed is skipped with its install command (`pip install 'armtool[peers]'`).
 
+What is timed (armtool.ik.bench.TIMING): each solver's own solve call and nothing else, for every
+row alike. Putting the target into a solver's input form (a peer's quaternion, KDL frames),
+reading its output, and checking every answer with armtool's FK happen outside the timed region.
+
 Before round 1, every solver but ikpy solves the first --warmup targets (default 100) untimed, so that
 round 1 runs in the same state as the rounds after it (lm's first round was often its slowest).
 Rounds (--rounds, default 3) run one after the other, each after a garbage collection. Within a
@@ -19,10 +23,10 @@ block to block) and lm's batch calls (--batch-calls, default 4) are spread over 
 row showing their mean: the development VM switches between two CPU speeds 2x apart every few
 seconds, and a solver that ran whole while the machine was fast would be compared with one
 that ran while it was slow (with one batch call per round, timed at one moment against rtb's
-throughput over the whole round, UR5's batch ratio was 2.6x, 3.3x and 3.6x in three runs). The table shows the median over rounds of
-each figure, and "spread" is how far the largest per-round median lies above the smallest
-((max − min) / min), for `lm` and beside it for the peers and for a machine probe (a fixed
-pure-Python loop timed after every block): a spread the probe shows too is the machine's.
+throughput over the whole round, UR5's batch ratio was 2.6x, 3.3x and 3.6x in three runs). The
+table shows the median over rounds of each figure. Absolute times swing with the CPU's speed;
+ratios of solvers timed in turns do not, so the targets are ratios: lm's median over rtb's in
+every round, and how far those per-round ratios spread ((max − min) / min).
 Batched rows show the amortized time (total / N) as their median and
 p95. "CPU median" is the median of each solve's process CPU time: on a loaded machine wall
 times stretch with the time the process waits for a core, CPU times much less. rtb's ik_LM
@@ -49,7 +53,6 @@ import os
 import platform
 import statistics
 import sys
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -80,8 +83,7 @@ DEFAULT_CORPUS = Path(__file__).resolve().parents[1] / ".." / "shared" / "realwo
 PEERS = ("pytracik", "rtb-lm", "ikpy", "pykdl")
 TOLERANCE = 1e-5
 KDL_PUBLISHED_PANDA = 62.0  # % success of KDL NR_JL on Panda in TRAC-IK's protocol
-MAX_SPREAD = 0.20  # run-to-run spread of lm's median, (max - min) / min over rounds
-PROBE_LOOP = 30_000  # additions in the machine probe: 1.1 or 1.8 ms on the development VM
+MAX_SPREAD = 0.20  # spread of lm's per-round ratio to rtb's median, (max - min) / min
 
 
 def log(text: str) -> None:
@@ -114,7 +116,7 @@ def load_robot(name: str, corpus: Path) -> tuple[Any, Any] | None:
 
 
 def spread(values: Sequence[float]) -> float | None:
-    """(max − min) / min of per-round medians; None with fewer than two rounds."""
+    """(max − min) / min of per-round values; None with fewer than two rounds."""
     return (max(values) - min(values)) / min(values) if len(values) > 1 and min(values) > 0 else None
 
 
@@ -134,17 +136,6 @@ class Row:
     failures: int  # median over rounds
     stalled: int | None  # failures with < timeout/2 of process CPU in >= timeout of wall (None for batched rows)
     round_medians_us: tuple[float, ...]  # per round: the spread shows how noisy the machine was
-
-
-def machine_probe() -> float:
-    """Seconds (wall clock) of a fixed pure-Python loop (~1-3 ms): the machine's own speed at
-    this moment, timed between the solvers' blocks, so its spread over rounds shows how much of a
-    solver's spread is the machine's."""
-    w0 = time.perf_counter()  # the wall clock, as the solvers' medians
-    total = 0
-    for i in range(PROBE_LOOP):
-        total += i
-    return time.perf_counter() - w0
 
 
 def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float) -> Row:
@@ -167,46 +158,18 @@ def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float) -
     )
 
 
-@dataclass
-class Machine:
-    """The machine probe per round (median over the round's blocks, seconds), and each single-solve
-    run's median per round in probe units: per block, its median solve over the probe timed once
-    every solver had its turn on that block; the median over the round's blocks. This divides out
-    changes of the CPU's speed, not the waits of a loaded machine: a solver steady in these
-    units is as steady as a speed-switching machine lets any measurement be."""
-
-    probes: list[float] = field(default_factory=list)
-    relative: dict[str, list[float]] = field(default_factory=dict)
-
-
 def interleaved_round(
-    entries: Sequence[Any], targets: Any, args: argparse.Namespace, round_index: int, machine: Machine
+    entries: Sequence[Any], targets: Any, args: argparse.Namespace, round_index: int
 ) -> dict[str, Any]:
     """One round (armtool.ik.bench.time_interleaved: the solvers take turns block by block, the
-    batch calls spread over the round, the order rotated by the round's index too), with the machine probe
-    timed after every block; the round's probe figures are added to `machine`."""
+    batch calls spread over the round, the order rotated by the round's index too)."""
     from armtool.ik.bench import time_interleaved
 
-    probes: list[float] = []
-    relative: dict[str, list[float]] = {}
-
-    def probe_after(block_times: dict[str, Any]) -> None:
-        probe = machine_probe()
-        probes.append(probe)
-        for label, timed in block_times.items():
-            relative.setdefault(label, []).append(float(statistics.median(timed.wall)) / probe)
-
     gc.collect()
-    timed = time_interleaved(
-        entries, targets, args.block, rotate=round_index, after_block=probe_after, batch_calls=args.batch_calls
-    )
-    machine.probes.append(statistics.median(probes))
-    for label, values in relative.items():
-        machine.relative.setdefault(label, []).append(statistics.median(values))
-    return timed
+    return time_interleaved(entries, targets, args.block, rotate=round_index, batch_calls=args.batch_calls)
 
 
-def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row], Machine] | None:
+def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row]] | None:
     from armtool.errors import ArmtoolError
     from armtool.ik.bench import BenchConfig, Entry, first, make_targets, solver_report, warm_up
     from armtool.ik.peers import make_peer
@@ -251,23 +214,31 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
                 for pose, seed in zip(targets.poses[:k], targets.seeds[:k]):
                     entry.solver.solve(pose, seed)
     reports: dict[str, list[Any]] = {entry.label: [] for entry in entries}
-    machine = Machine()
     for r in range(args.rounds):
         log(f"  {name} round {r + 1}/{args.rounds}: " + ", ".join(e.label for e in entries) + " (taking turns)")
-        timed = interleaved_round(entries, targets, args, r, machine)
+        timed = interleaved_round(entries, targets, args, r)
         for entry in entries:
             reports[entry.label].append(
                 solver_report(chain, entry.solver, first(targets, entry.limit), config, timed[entry.label])
             )
     rows = {e.label: summarize(e.label, e.batch, reports[e.label], args.timeout) for e in entries}
-    return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows, machine
+    return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows
 
 
 def ratio(a: float, b: float | None) -> str:
     return "-" if b is None or not b > 0 else f"{a / b:.2f}×"
 
 
-def print_table(title: str, rows: dict[str, Row], machine: Machine) -> None:
+def round_ratios(row: Row, reference: Row | None) -> list[float]:
+    """The row's median over the reference's, round by round (both timed in turns in each round)."""
+    if reference is None:
+        return []
+    return [a / b for a, b in zip(row.round_medians_us, reference.round_medians_us) if b > 0]
+
+
+def print_table(title: str, rows: dict[str, Row]) -> None:
+    from armtool.ik.bench import TIMING
+
     tracik, rtb = rows.get("pytracik"), rows.get("rtb-lm")
     print(f"### {title}\n")
     print(
@@ -284,40 +255,18 @@ def print_table(title: str, rows: dict[str, Row], machine: Machine) -> None:
             f"{ratio(row.median_us, rtb.median_us if rtb else None)} | {ratio(row.cpu_median_us, rtb.cpu_median_us if rtb else None)} | "
             f"{ratio(row.solves_per_s, rtb.solves_per_s if rtb else None)} |"
         )
+    print(f"\nTiming: {TIMING}.")
     shown = [row for row in rows.values() if row.label in ("lm", "lm (batch)", "pytracik", "rtb-lm")]
     if any(len(row.round_medians_us) > 1 for row in shown):
-        parts = []
-        for row in shown:
-            sp = spread(row.round_medians_us)
-            parts.append(
-                f"{row.label} "
-                + ", ".join(f"{t:,.0f}" for t in row.round_medians_us)
-                + ("" if sp is None else f" (spread {sp:.0%})")
-            )
-        print("\nMedian µs per round: " + "; ".join(parts))
-        sp = spread(machine.probes)
-        print(
-            "Machine probe per round (a fixed pure-Python loop, median over blocks, µs): "
-            + ", ".join(f"{t * 1e6:,.0f}" for t in machine.probes)
-            + ("" if sp is None else f" (spread {sp:.0%})")
-        )
-        parts = []
-        for label in ("lm", "pytracik", "rtb-lm"):
-            values = machine.relative.get(label, [])
-            sp = spread(values)
-            if values:
-                parts.append(
-                    f"{label} " + ", ".join(f"{x:.3f}" for x in values) + ("" if sp is None else f" (spread {sp:.0%})")
-                )
-        if parts:
-            print(
-                "Median per round in machine-probe units (not a target: the solver's own steadiness with the "
-                "machine's speed divided out): " + "; ".join(parts)
-            )
+        parts = [row.label + " " + ", ".join(f"{t:,.0f}" for t in row.round_medians_us) for row in shown]
+        print("Median µs per round: " + "; ".join(parts))
+    lm = rows.get("lm")
+    if lm is not None and rtb is not None:
+        print("lm / rtb-lm median, per round: " + ", ".join(f"{r:.2f}×" for r in round_ratios(lm, rtb)))
     print()
 
 
-def checks(robot: str, rows: dict[str, Row], machine: Machine) -> list[tuple[str, str]]:
+def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
     """(PASS | FAIL | SKIP, text) for the IK-speed issue's targets on one robot."""
     out: list[tuple[str, str]] = []
 
@@ -341,11 +290,20 @@ def checks(robot: str, rows: dict[str, Row], machine: Machine) -> list[tuple[str
     else:
         check(None, "lm median below pytracik's (pytracik not installed)")
     if rtb:
+        ratios = round_ratios(lm, rtb)
         check(
-            lm.median_us <= rtb.median_us,
-            f"lm median <= 1.0× rtb ik_LM's ({lm.median_us:,.0f} vs {rtb.median_us:,.0f} µs, {lm.median_us / rtb.median_us:.2f}×; "
+            all(r <= 1.0 for r in ratios),
+            "lm median <= 1.0× rtb ik_LM's in every round (" + ", ".join(f"{r:.2f}×" for r in ratios) + "; "
             f"CPU median {lm.cpu_median_us:,.0f} vs {rtb.cpu_median_us:,.0f} µs, {lm.cpu_median_us / rtb.cpu_median_us:.2f}×)",
         )
+        sp = spread(ratios)
+        if sp is None:
+            check(None, "lm's ratio to rtb ik_LM steady over rounds (needs --rounds 2 or more)")
+        else:
+            check(
+                sp <= MAX_SPREAD,
+                f"lm's ratio to rtb ik_LM's median steady over rounds: spread {sp:.0%} <= {MAX_SPREAD:.0%}",
+            )
         check(
             batch.solves_per_s >= 3 * rtb.solves_per_s and batch.success >= 99.9,
             f"lm batched >= 3× rtb ik_LM's solves/s at >= 99.9 % success ({batch.solves_per_s:,.0f} vs {rtb.solves_per_s:,.0f}/s, "
@@ -353,23 +311,6 @@ def checks(robot: str, rows: dict[str, Row], machine: Machine) -> list[tuple[str
         )
     else:
         check(None, "lm vs rtb ik_LM (roboticstoolbox-python not installed)")
-    sp = spread(lm.round_medians_us)
-    if sp is None:
-        check(None, "lm's run-to-run spread (needs --rounds 2 or more)")
-    else:
-        peers = "; ".join(
-            f"{r.label} {s:.0%}"
-            for r in (tracik, rtb)
-            if r is not None and (s := spread(r.round_medians_us)) is not None
-        )
-        probe = spread(machine.probes)
-        check(
-            sp <= MAX_SPREAD,
-            f"lm's median spread over rounds <= {MAX_SPREAD:.0%} ({sp:.0%}"
-            + (f"; peers: {peers}" if peers else "")
-            + ("" if probe is None else f"; machine probe {probe:.0%}")
-            + ")",
-        )
     if robot == "ur5":
         a = rows.get("analytic")
         if a is not None:
@@ -458,9 +399,9 @@ def main() -> int:
         if done is None:
             results.append(("SKIP", f"{robot}: not benchmarked (files absent)"))
             continue
-        title, rows, machine = done
-        print_table(title, rows, machine)
-        results += checks(robot, rows, machine)
+        title, rows = done
+        print_table(title, rows)
+        results += checks(robot, rows)
         sys.stdout.flush()
     print("Targets of the IK-speed issue (medians of the rounds, same process as the peers):")
     for verdict, text in results:

@@ -59,7 +59,8 @@ HEAVY = {
     "trimesh",
     "dynamixel-sdk",
     "pyserial",
-    "threadpoolctl",
+    "numba",
+    "llvmlite",
 }
 
 

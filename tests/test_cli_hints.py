@@ -269,6 +269,8 @@ def _named_command(text: str, at: int, name: str, commands: dict[str, set[str]])
 GIVEN_ONLY = {
     ("armtool.traj.check", "--max-step"): "the absolute jump rule reports --max-step only when CheckOptions.max_step "
     "is set, which only `traj check` does",
+    ("armtool.traj.check", "--vel-limit"): "T304's hint, a warning: the commands that write a trajectory print "
+    "only check's errors (pipeline.checked_text), so only `traj check` (which has --vel-limit) shows it",
     ("armtool.servo.lut.table", "--clip"): "only angles outside the table are refused with it: `servo-lut check` draws "
     "its angles inside the table, fit/export reach the method only through a field of the same name (command_ticks)",
 }

@@ -34,9 +34,11 @@ def test_json_output_on_ur5(tmp_path: Path) -> None:
     )
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
-    assert doc["schema_version"] == 1 and doc["config"]["samples"] == 20
+    assert doc["schema_version"] == 2 and doc["config"]["samples"] == 20
+    assert "the solver's own solve call only" in doc["timing"] and "outside the timed region" in doc["timing"]
     modes = {(s["solver"], s["mode"]) for s in doc["solvers"]}
     assert modes == {("lm", "single"), ("lm", "batch")}
+    assert all(isinstance(s["failure_reasons"], dict) for s in doc["solvers"])
     assert (tmp_path / "bench.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
@@ -139,6 +141,20 @@ def test_table_labels_maxima_and_shows_stalled_failures(tmp_path: Path) -> None:
         ).stdout
     )
     assert isinstance(doc["solvers"][0]["stalled_failures"], int)
+
+
+def test_table_states_its_timing_boundary_and_why_a_row_fails() -> None:
+    # A 0 % row with no reason looks like a broken solver: kdl-lma's says that KDL's own test
+    # weights rotation by 0.01, and the footer says what the times are.
+    urdf = erd(ARMS["ur5"][0])
+    result = runner.invoke(
+        app, ["ik-bench", str(urdf), "--samples", "8", "--solvers", "kdl-lma", "--no-batch", "--timeout", "0.05"]
+    )
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.stdout.split())
+    assert "main failure reason" in result.stdout
+    assert "KDL's test weights rotation by 0.01" in text.replace("│ ", "").replace(" │", "")
+    assert "Timing: time = the solver's own solve call only" in text
 
 
 def test_group_from_srdf_xacro_with_xacro_args(tmp_path: Path) -> None:

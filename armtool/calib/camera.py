@@ -302,8 +302,10 @@ def _node_value(node: Any) -> Any:
 def _read_plain_yaml(path: Path, text: str) -> dict[str, Any]:
     import yaml
 
+    from armtool.yamlload import safe_load
+
     try:
-        data = yaml.safe_load(text)
+        data = safe_load(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"{path}:{mark.line + 1}" if mark is not None else str(path)

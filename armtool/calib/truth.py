@@ -44,13 +44,15 @@ def load_truth(dataset: Path, model: CalibModel) -> Truth:
     """The truth `simulate` kept apart; ArmtoolError when it is missing or not as written."""
     import yaml
 
+    from armtool.yamlload import safe_load
+
     path = dataset / "truth" / "truth.yaml"
     if not path.is_file():
         raise ArmtoolError(
             "no truth/truth.yaml", str(path), "only datasets made by `armtool calibrate simulate` have a truth"
         )
     try:
-        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+        doc = safe_load(path.read_text(encoding="utf-8"))
         x = np.zeros(model.size)
         parts = model.split(x)
         for i, name in enumerate(model.chain.joint_names):

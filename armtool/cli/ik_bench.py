@@ -46,7 +46,7 @@ def ik_bench(
         None, "--peers", help="Comma-separated peer solvers, or 'all' (needs armtool[peers])."
     ),
     batch: bool = typer.Option(
-        True, "--batch/--no-batch", help="Also time one vectorized solve_batch call per solver that has one."
+        True, "--batch/--no-batch", help="Also time one batch call (all targets at once) per solver that has one."
     ),
     samples: int = typer.Option(
         1000,
@@ -205,7 +205,7 @@ def ik_bench(
 
         entries = [Entry(s) for s in [*built, *peer_list]]
         if batch:
-            entries += [Entry(s, batch=True) for s in built if type(s).solve_batch is not Solver.solve_batch]
+            entries += [Entry(s, batch=True) for s in built if s.has_batch()]
         with progress_bar(label_width=16) as bar:
             tasks: dict[str, TaskID] = {e.label: bar.add_task(e.label, total=samples) for e in entries}
 

@@ -4,6 +4,11 @@ Protocol (TRAC-IK's ik_tests, MoveIt's ik_benchmarking): N configurations unifor
 limits → FK → targets; each solve starts from the nominal seed (mid-range), or a random one,
 or one near the answer; a timeout per solve; success only if our own FK of the returned q
 is within the tolerance and q is within the limits.
+
+The timing boundary is the same for every solver, armtool's and the peers': only the solver's
+own call (`Solver.call`, or `call_batch`) is timed. Putting the inputs in the solver's form
+(`prepare`), reading its output (`answer`) and checking the answer by armtool's FK (`verify`) all
+happen outside the timed region, for every row alike (TIMING).
 """
 
 from __future__ import annotations
@@ -15,8 +20,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from armtool.ik.modes import SeedMode
-from armtool.ik.solver import Array, IKResult, Solver, verify_batch
+from armtool.ik.solver import Answer, Array, Solver, verify_batch
 from armtool.model.chain import Chain
+
+# What the timings mean, for the table's footer and the JSON report.
+TIMING = (
+    "time = the solver's own solve call only, the same boundary for every row; converting the target "
+    "into a solver's input form, reading its output and checking every answer with armtool's forward "
+    "kinematics (success = that check, never the solver's own flag) happen outside the timed region"
+)
 
 
 @dataclass(frozen=True)
@@ -76,6 +88,9 @@ class SolverReport:
     failed_condition_numbers: dict[str, float]
     failures: int
     claimed_but_wrong: int  # the solver said success, our FK disagreed
+    failure_reasons: dict[
+        str, int
+    ]  # why the failures failed (the solver's reason, or why its claim was wrong), most common first
     stalled_failures: int | None = (
         None  # failures past the timeout with < timeout/2 of CPU: the machine was busy (None: batch)
     )
@@ -118,37 +133,42 @@ def warm_up(chain: Chain, solver: Solver) -> None:
 
 @dataclass
 class Timed:
-    """A solver's answers to some targets, and the wall and process-CPU seconds of each solve (or,
-    for a batch, each answer's share of the one call)."""
+    """A solver's answers to some targets, and the wall and process-CPU seconds of each solve call
+    (or, for a batch, each answer's share of the one call)."""
 
-    results: list[IKResult]
+    results: list[Answer]
     wall: Array
     cpu: Array
     batch: bool = False
 
 
 def time_solves(solver: Solver, poses: Array, seeds: Array, progress: Callable[[int], None] | None = None) -> Timed:
-    """One solve() per target, each timed on the wall and the process CPU clock."""
+    """One solver call per target, each timed on the wall and the process CPU clock; the inputs are
+    prepared and the output read outside the timing (see TIMING)."""
     N = poses.shape[0]
     wall, cpu = np.zeros(N), np.zeros(N)
     results = []
+    prepare, call, answer = solver.prepare, solver.call, solver.answer
+    perf_counter, process_time = time.perf_counter, time.process_time
     for i in range(N):
-        w0, c0 = time.perf_counter(), time.process_time()
-        res = solver.solve(poses[i], seeds[i])
-        wall[i], cpu[i] = time.perf_counter() - w0, time.process_time() - c0
-        results.append(res)
+        prepared = prepare(poses[i], seeds[i])
+        w0, c0 = perf_counter(), process_time()
+        raw = call(prepared)
+        wall[i], cpu[i] = perf_counter() - w0, process_time() - c0
+        results.append(answer(raw))
         if progress:
             progress(1)
     return Timed(results, wall, cpu)
 
 
 def time_batch(solver: Solver, poses: Array, seeds: Array) -> Timed:
-    """One solve_batch() call over every target; each answer is charged an equal share of it."""
+    """One call_batch() over every target; each answer is charged an equal share of it."""
     N = poses.shape[0]
+    prepared = solver.prepare_batch(poses, seeds)
     w0, c0 = time.perf_counter(), time.process_time()
-    results = solver.solve_batch(poses, seeds)
+    raw = solver.call_batch(prepared)
     total_wall, total_cpu = time.perf_counter() - w0, time.process_time() - c0
-    return Timed(results, np.full(N, total_wall / N), np.full(N, total_cpu / N), batch=True)
+    return Timed(solver.answer_batch(raw), np.full(N, total_wall / N), np.full(N, total_cpu / N), batch=True)
 
 
 def join_timed(parts: Sequence[Timed]) -> Timed:
@@ -189,7 +209,11 @@ def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchC
     total_wall = float(wall.sum())
     Q = np.array([np.asarray(r.q, dtype=float).reshape(chain.n) for r in results])
     ok, pos, rot = verify_batch(chain, Q, targets.poses, config.tolerance, position_only=config.position_only)
-    claimed = np.array([r.success for r in results])
+    claimed = np.array([r.claimed for r in results])
+    reasons: dict[str, int] = {}
+    for i in np.flatnonzero(~ok).tolist():
+        why = solver.failure_reason(results[i])
+        reasons[why] = reasons.get(why, 0) + 1
     repeat = None
     if config.repeat > 0 and not batch:
         m = min(config.repeat, N)
@@ -222,6 +246,7 @@ def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchC
         failed_condition_numbers=_summary(np.array(conds)),
         failures=int((~ok).sum()),
         claimed_but_wrong=int((claimed & ~ok).sum()),
+        failure_reasons=dict(sorted(reasons.items(), key=lambda item: -item[1])),
         stalled_failures=None if batch else int(((~ok) & (wall >= config.timeout) & (cpu < config.timeout / 2)).sum()),
         wall_times_us=list(wall * 1e6),
         solved=[bool(x) for x in ok],

@@ -1,6 +1,15 @@
 """What every IK solver offers: `solve(target, seed) -> IKResult`, `solve_batch(targets, seeds)`.
 
 Targets are 4x4 homogeneous poses of the chain's tip in its base frame; seeds are joint vectors.
+
+A solve has three steps, so that a benchmark times every solver the same way (TRAC-IK's paper and
+roboticstoolbox time the solve call only):
+- `prepare(target, seed)`: the inputs in the form the solver's own call takes (a peer's quaternion,
+  a contiguous array). Not timed.
+- `call(prepared)`: the solver's own work, and nothing else. This is what `ik-bench` times.
+- `answer(raw)`: its output as an `Answer` (q, the solver's own claim, iterations). Not timed.
+Then `judge` checks the answer with armtool's own forward kinematics (`verify`), the same for every
+solver and outside the timing: a solver's claim is never trusted.
 """
 
 from __future__ import annotations
@@ -17,6 +26,18 @@ from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 
 Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Answer:
+    """What a solver's own call returned, before armtool checks it."""
+
+    q: Array
+    claimed: bool  # the solver's own verdict: it says q reaches the target
+    iterations: int = 0
+    reason: str = ""  # why the solver gave up, in its own terms (empty when it claims success)
+    # Every solution found (closed-form solvers return all of them; q is the first).
+    solutions: tuple[Array, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -112,7 +133,11 @@ def verify(chain: Chain, q: Array, target: Array, tolerance: float) -> tuple[boo
 
 
 class Solver:
-    """Base class: options, timing, and a looping solve_batch. Subclasses implement `solve`."""
+    """Base class: options, and the prepare → call → answer → judge steps of a solve.
+
+    Subclasses implement `call` (and `prepare` / `answer` when their own call takes or returns
+    something other than float arrays and an `Answer`); `call_batch` when they solve many targets
+    at once in their own way."""
 
     name: ClassVar[str]
     summary: ClassVar[str]
@@ -143,21 +168,82 @@ class Solver:
         self.opts = {**self.options, **options}
         chain.fk(chain.mid())  # builds the Pinocchio model now, not inside the first timed solve
 
-    def solve(self, target: Array, seed: Array) -> IKResult:
+    # ---- one target -------------------------------------------------------------------------------
+    def prepare(self, target: Array, seed: Array) -> Any:
+        """The inputs as the solver's own call takes them (untimed)."""
+        return np.asarray(target, dtype=float), np.asarray(seed, dtype=float)
+
+    def call(self, prepared: Any) -> Any:
+        """The solver's own work on one prepared target: what a benchmark times."""
         raise NotImplementedError
 
+    def answer(self, raw: Any) -> Answer:
+        """call()'s output as an Answer (untimed); armtool's own solvers return one already."""
+        assert isinstance(raw, Answer)
+        return raw
+
+    def solve(self, target: Array, seed: Array) -> IKResult:
+        """Solve one target and judge the answer by armtool's FK."""
+        return self.judge(self.answer(self.call(self.prepare(target, seed))), target)
+
+    def judge(self, answer: Answer, target: Array) -> IKResult:
+        """The answer checked by our own FK (`verify`): success is its verdict, not the solver's."""
+        q = np.asarray(answer.q, dtype=float)
+        if q.shape != (self.chain.n,):
+            q = q.reshape(self.chain.n)
+        ok, pos, rot = verify(self.chain, q, target, self.tolerance)
+        return IKResult(ok, q, pos, rot, answer.iterations, "" if ok else self.failure_reason(answer), answer.solutions)
+
+    def failure_reason(self, answer: Answer) -> str:
+        """Why an answer that armtool's check rejected failed: the solver's reason, or why its claim was wrong."""
+        return self.rejected_claim(answer) if answer.claimed else (answer.reason or "did not converge")
+
+    def rejected_claim(self, answer: Answer) -> str:
+        """Why an answer the solver accepted fails armtool's check (a solver whose own test differs says how)."""
+        return f"{self.name} accepted an answer that armtool's FK check rejects"
+
+    # ---- many targets -----------------------------------------------------------------------------
+    def prepare_batch(self, targets: Array, seeds: Array) -> Any:
+        """The inputs of call_batch (untimed): by default each target prepared as for call()."""
+        targets, seeds = self._batch_arrays(targets, seeds)
+        return [self.prepare(t, s) for t, s in zip(targets, seeds)]
+
+    def call_batch(self, prepared: Any) -> Any:
+        """The solver's own work on every prepared target (timed as one call); by default one call() each."""
+        return [self.call(p) for p in prepared]
+
+    def answer_batch(self, raw: Any) -> list[Answer]:
+        return [self.answer(r) for r in raw]
+
+    @classmethod
+    def has_batch(cls) -> bool:
+        """Whether the solver solves many targets in a way of its own (not one call() after another)."""
+        return cls.call_batch is not Solver.call_batch
+
     def solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
+        """Solve every target and judge the answers by armtool's FK."""
+        targets, seeds = self._batch_arrays(targets, seeds)
+        answers = self.answer_batch(self.call_batch(self.prepare_batch(targets, seeds)))
+        return self.judge_batch(answers, targets)
+
+    def judge_batch(self, answers: list[Answer], targets: Array) -> list[IKResult]:
+        if not answers:
+            return []
+        Q = np.array([np.asarray(a.q, dtype=float).reshape(self.chain.n) for a in answers])
+        ok, pos, rot = verify_batch(self.chain, Q, np.asarray(targets, dtype=float), self.tolerance)
+        return [
+            IKResult(o, q, p, r, a.iterations, "" if o else self.failure_reason(a), a.solutions)
+            for o, q, p, r, a in zip(ok.tolist(), Q, pos.tolist(), rot.tolist(), answers)
+        ]
+
+    def _batch_arrays(self, targets: Array, seeds: Array) -> tuple[Array, Array]:
         targets = np.asarray(targets, dtype=float)
         seeds = np.asarray(seeds, dtype=float)
         if targets.ndim != 3 or targets.shape[1:] != (4, 4) or seeds.shape != (targets.shape[0], self.chain.n):
             raise ArmtoolError(
                 f"expected (N,4,4) targets and (N,{self.chain.n}) seeds, got {targets.shape} and {seeds.shape}"
             )
-        return [self.solve(t, s) for t, s in zip(targets, seeds)]
-
-    def _result(self, q: Array, target: Array, iterations: int, reason: str = "") -> IKResult:
-        ok, pos, rot = verify(self.chain, q, target, self.tolerance)
-        return IKResult(ok, q, pos, rot, iterations, "" if ok else (reason or "did not converge"))
+        return targets, seeds
 
     @staticmethod
     def clock() -> float:

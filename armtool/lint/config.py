@@ -224,9 +224,17 @@ def load_config(path: Path | None = None) -> LintConfig:
         raise ArmtoolError(
             "TOML nested too deeply to read", str(path), "no armtool setting nests more than a few levels"
         ) from None
-    where = f"{path} [lint]" if own_file else f"{path} [tool.armtool.lint]"
+    name = "[lint]" if own_file else "[tool.armtool.lint]"
+    where = f"{path} {name}"
     if own_file:
         section = data.get("lint")
+        tool = data.get("tool")
+        if isinstance(tool, dict) and "armtool" in tool:  # pyproject.toml's layout in armtool's own file: never read
+            raise ArmtoolError(
+                "armtool.toml holds [tool.armtool], which only a pyproject.toml has",
+                str(path),
+                "in armtool.toml the settings go under [lint] ([lint.xacro-args], ...)",
+            )
     else:
         # `tool = "armtool"` or `[tool] armtool = 1`: not a table where one is needed. Another tool's
         # pyproject.toml may use `tool` for itself only if it is not a table: then it is not ours.
@@ -240,7 +248,7 @@ def load_config(path: Path | None = None) -> LintConfig:
     if section is None:
         return LintConfig(root=path.parent, source=path)
     if not isinstance(section, dict):
-        raise ArmtoolError("[tool.armtool.lint] must be a table", where)
+        raise ArmtoolError(f"{name} must be a table", where, f"write {name} with its keys below it")
     unknown = set(section) - _KEYS
     if unknown:
         raise ArmtoolError(

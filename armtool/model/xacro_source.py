@@ -7,12 +7,14 @@ document is re-read with lxml and the tags are moved into a side table.
 
 Bounds: xacro evaluates Python expressions (`${str(9**9**9)}`, `${'x'*10**10}`) and reads any
 file it is told to include, so a hostile or mistaken xacro could run forever or fill memory.
+Expressions are evaluated by `armtool.model.xacro_eval`, which refuses an operation whose result
+would be huge before it runs (a single C-level `pow` cannot be interrupted otherwise).
 Includes must be regular files of at most MAX_INCLUDE_BYTES (a FIFO or /dev/zero is refused
 before it is opened); the expanded document is at most MAX_EXPANDED_CHARS; and where the
 platform can fork (and no other thread runs), xacro runs in a forked child with a wall-clock
 limit (TIMEOUT_S) and an address-space limit (MEMORY_HEADROOM_BYTES above the parent's size).
-A thread cannot be stopped and a SIGALRM cannot interrupt one long C-level `pow`, but a child
-can be killed. The fork costs about 1 ms, against tens to hundreds of ms for xacro itself.
+A thread cannot be stopped and a SIGALRM cannot interrupt one long C-level call, but a child
+can be killed: the last resort for what the expression bounds do not foresee. The fork costs about 1 ms, against tens to hundreds of ms for xacro itself.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from armtool.fileio import NotRegularFile, read_regular
 from armtool.model.display import display_path
 from armtool.model.origin import Origin, SourceLine
 from armtool.model.packages import PackageResolver
+from armtool.model.xacro_eval import bounded_eval
 from armtool.model.xmlsource import MAX_FILE_BYTES, XmlSyntaxProblem, declares_entities, parse_xml
 
 SRC_ATTR = "armtool-src"
@@ -68,6 +71,7 @@ class XacroFailure(Exception):
         trail: tuple[SourceLine, ...] = (),
         missing_package: str | None = None,
         missing_arg: str | None = None,
+        similar_package: str | None = None,
     ) -> None:
         super().__init__(message)
         self.message = message
@@ -76,12 +80,18 @@ class XacroFailure(Exception):
         self.trail = trail
         self.missing_package = missing_package
         self.missing_arg = missing_arg
+        self.similar_package = similar_package  # an existing package whose name is close to the missing one
 
     @property
     def hint(self) -> str:
         """What the user can pass or change, naming the option that supplies it."""
         if self.missing_package:
-            return (
+            fix = (
+                f"write $(find {self.similar_package}) if that is the package meant, or "
+                if self.similar_package
+                else ""
+            )
+            return fix + (
                 f"pass --package-path DIR (a directory holding package '{self.missing_package}', "
                 "found by the <name> in its package.xml) or set ROS_PACKAGE_PATH"
             )
@@ -97,9 +107,11 @@ class XacroFailure(Exception):
 class _MissingPackage(Exception):
     """Raised by our $(find) so that the failure names the package (xacro wraps it)."""
 
-    def __init__(self, name: str) -> None:
-        super().__init__(f"package '{name}' not found for $(find {name})")
+    def __init__(self, name: str, similar: str | None = None) -> None:
+        maybe = f" (did you mean '{similar}'?)" if similar else ""
+        super().__init__(f"package '{name}' not found for $(find {name}){maybe}")
         self.name = name
+        self.similar = similar
 
 
 @dataclass
@@ -183,6 +195,7 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     orig_eval_all = xacro.eval_all
     orig_include = xacro.process_include
     orig_find = substitution_args._eval_find
+    orig_eval = xacro.safe_eval
     directives: dict[Any, str] = {}
     frames: list[str] = []
 
@@ -222,7 +235,9 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     def eval_find(pkg: str) -> str:
         found = resolver.find(pkg, top.parent)
         if found is None:
-            raise _MissingPackage(pkg)
+            from armtool.suggest import closest
+
+            raise _MissingPackage(pkg, closest(pkg, resolver.known_names(top.parent)))
         return str(found)
 
     xacro.parse = parse
@@ -230,6 +245,7 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     xacro.eval_all = eval_all
     xacro.process_include = process_include
     substitution_args._eval_find = eval_find
+    xacro.safe_eval = bounded_eval
     try:
         yield
     finally:
@@ -238,6 +254,7 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
         xacro.eval_all = orig_eval_all
         xacro.process_include = orig_include
         substitution_args._eval_find = orig_find
+        xacro.safe_eval = orig_eval
 
 
 def _parse_loc(value: str, files: list[Path]) -> SourceLine | None:
@@ -315,6 +332,7 @@ def _failure(exc: BaseException, top: Path, files: list[Path]) -> XacroFailure:
         trail,
         missing_package=package.name if isinstance(package, _MissingPackage) else None,
         missing_arg=str(arg) if arg is not None else None,
+        similar_package=package.similar if isinstance(package, _MissingPackage) else None,
     )
 
 
@@ -374,12 +392,15 @@ def _failure_row(exc: XacroFailure) -> tuple[object, ...]:
         tuple((str(loc.path), loc.line) for loc in exc.trail),
         exc.missing_package,
         exc.missing_arg,
+        exc.similar_package,
     )
 
 
 def _failure_from_row(row: tuple[Any, ...]) -> XacroFailure:
-    message, path, line, trail, package, arg = row
-    return XacroFailure(message, Path(path), line, tuple(SourceLine(Path(p), n) for p, n in trail), package, arg)
+    message, path, line, trail, package, arg, similar = row
+    return XacroFailure(
+        message, Path(path), line, tuple(SourceLine(Path(p), n) for p, n in trail), package, arg, similar
+    )
 
 
 def _expand_forked(path: Path, args: Mapping[str, str], resolver: PackageResolver) -> tuple[str, list[Path]]:

@@ -15,8 +15,8 @@ declared as a double refuses it (rclcpp's InvalidParameterTypeException).
 Keys may carry launch substitutions (`$(var tf_prefix)joint_1`, `$(arg prefix)joint_1`):
 `name_ref` substitutes the values known from the xacro arguments and matches the rest.
 
-Nodes are read with `yaml.compose`: aliases are shared nodes, never expanded copies, so a small
-file cannot grow into a huge document here.
+Nodes are read with `armtool.yamlload.compose`: aliases are shared nodes, never expanded copies,
+and a document whose aliases would expand it enormously is refused as invalid YAML.
 """
 
 from __future__ import annotations
@@ -104,10 +104,11 @@ def _is_octal(text: str) -> bool:
 
 
 def parse(text: str) -> yaml.Node | None:
-    """The document's node tree (None for an empty file). Raises yaml.YAMLError."""
-    import yaml
+    """The document's node tree (None for an empty file). Raises yaml.YAMLError, also for a
+    document that aliases blow up (armtool.yamlload's guard)."""
+    from armtool.yamlload import compose
 
-    return yaml.compose(text, Loader=yaml.SafeLoader)
+    return compose(text)
 
 
 def load_document(path: Path, what: str) -> yaml.Node | None:

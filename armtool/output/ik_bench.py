@@ -9,10 +9,11 @@ import json
 import math
 from dataclasses import asdict
 
-from armtool.ik.bench import BenchConfig, NotApplicable, SolverReport
+from armtool.ik.bench import TIMING, BenchConfig, NotApplicable, SolverReport
 from armtool.model.chain import Chain
 
-SCHEMA_VERSION = 1
+# 2: times exclude armtool's FK check of the answers (TIMING); failure_reasons per solver.
+SCHEMA_VERSION = 2
 Row = SolverReport | NotApplicable
 
 
@@ -34,12 +35,20 @@ def _title(chain: Chain, config: BenchConfig) -> str:
     )
 
 
+def main_failure(r: SolverReport) -> str:
+    """The most common reason of a row's failures, with its count: a row at 0 % says why."""
+    if not r.failure_reasons:
+        return "-"
+    reason, count = next(iter(r.failure_reasons.items()))
+    return f"{reason} ({count} of {r.failures})"
+
+
 def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
     from rich.console import Console
     from rich.markup import escape
     from rich.table import Table
 
-    table = Table(title=escape(_title(chain, config)))
+    table = Table(title=escape(_title(chain, config)), caption=escape(f"Timing: {TIMING}."), caption_justify="left")
     for col in (
         "solver",
         "success %",
@@ -54,11 +63,12 @@ def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
         "repeatable %",
         "solutions",
         "cond@fail",
+        "main failure reason",
     ):
-        table.add_column(col, justify="left" if col == "solver" else "right")
+        table.add_column(col, justify="left" if col in ("solver", "main failure reason") else "right")
     for r in reports:
         if isinstance(r, NotApplicable):
-            table.add_row(escape(r.solver), "n/a", *["-"] * 11)
+            table.add_row(escape(r.solver), "n/a", *["-"] * 11, escape(r.reason))
             continue
         table.add_row(
             escape(r.solver + (" (batch)" if r.mode == "batch" else "")),
@@ -74,10 +84,11 @@ def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
             "-" if r.repeatability is None else f"{100 * r.repeatability:.0f}",
             "-" if r.mean_solutions is None else f"{r.mean_solutions:.1f}",
             "-" if r.failures == 0 else _sci(r.failed_condition_numbers["median"]),
+            escape(main_failure(r)),
         )
     import sys
 
-    Console(highlight=False, width=None if sys.stdout.isatty() else 200).print(table)
+    Console(highlight=False, width=None if sys.stdout.isatty() else 240).print(table)
     from armtool.console import stderr
 
     err = stderr()
@@ -105,6 +116,7 @@ def render_json(chain: Chain, config: BenchConfig, reports: list[Row]) -> str:
         "base": chain.base,
         "tip": chain.tip,
         "joints": chain.joint_names,
+        "timing": TIMING,
         "config": {
             "samples": config.samples,
             "rng_seed": config.rng_seed,
@@ -151,12 +163,13 @@ def render_csv(reports: list[Row]) -> str:
             "failures",
             "claimed_but_wrong",
             "stalled_failures",
+            "main_failure_reason",
             "not_applicable",
         ]
     )
     for r in reports:
         if isinstance(r, NotApplicable):
-            writer.writerow([r.solver, r.mode] + [""] * 15 + [r.reason])
+            writer.writerow([r.solver, r.mode] + [""] * 16 + [r.reason])
             continue
         writer.writerow(
             [
@@ -177,6 +190,7 @@ def render_csv(reports: list[Row]) -> str:
                 r.failures,
                 r.claimed_but_wrong,
                 "" if r.stalled_failures is None else r.stalled_failures,
+                main_failure(r) if r.failures else "",
                 "",
             ]
         )

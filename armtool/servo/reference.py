@@ -16,8 +16,6 @@ instrument sees that. References, by `--reference` spec:
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -134,26 +132,32 @@ class CsvReference:
 
     @classmethod
     def load(cls, path: Path) -> CsvReference:
+        from armtool.csvrows import csv_rows
         from armtool.fileio import read_text
 
         text = read_text(path, "reference file")
-        lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-        reader = csv.DictReader(io.StringIO("\n".join(lines)))
-        if not {"command_ticks", "reference_deg"} <= {f.strip() for f in reader.fieldnames or []}:
+        numbered = [
+            (line, row)
+            for line, row in csv_rows(text.splitlines(), str(path), 1, "reference CSV")
+            if any(cell.strip() for cell in row) and not row[0].lstrip().startswith("#")
+        ]
+        header = [h.strip() for h in numbered[0][1]] if numbered else []
+        if not {"command_ticks", "reference_deg"} <= set(header):
             raise ArmtoolError(
                 "the reference CSV needs columns command_ticks and reference_deg",
-                str(path),
-                hint=f"found: {', '.join(reader.fieldnames or []) or 'nothing'}",
+                f"{path}:{numbered[0][0]}" if numbered else str(path),
+                hint=f"found: {', '.join(header) or 'nothing'}",
             )
+        tick_col, deg_col = header.index("command_ticks"), header.index("reference_deg")
         readings: dict[int, list[float]] = {}
-        for k, row in enumerate(reader, start=2):
-            row = {key.strip(): value for key, value in row.items() if key is not None}
+        for line, row in numbered[1:]:
+            where = f"{path}:{line}"
             try:
-                c, a = int(float(row["command_ticks"])), float(row["reference_deg"])
-            except (TypeError, ValueError):
-                raise ArmtoolError("command_ticks/reference_deg is not a number", f"{path}: row {k}") from None
+                c, a = int(float(row[tick_col])), float(row[deg_col])
+            except (IndexError, ValueError):
+                raise ArmtoolError("command_ticks/reference_deg is missing or not a number", where) from None
             if not math.isfinite(a):
-                raise ArmtoolError(f"reference_deg is {row['reference_deg'].strip()}", f"{path}: row {k}")
+                raise ArmtoolError(f"reference_deg is {row[deg_col].strip()}", where)
             readings.setdefault(c, []).append(a)
         if not readings:
             raise ArmtoolError("the reference CSV has no rows", str(path))
@@ -294,21 +298,37 @@ def _camera_reference(arg: str) -> CameraReference:
     return CameraReference(device or "0", **kw)
 
 
+MAX_ENCODER_BAUD = 4_000_000  # above what a microcontroller's USB serial link runs at
+
+
+def encoder_port_baud(arg: str) -> tuple[str, int]:
+    """`PORT[@BAUD]` of `--reference encoder:PORT[@BAUD]`: the port and a baud rate in
+    1..MAX_ENCODER_BAUD (115200 when none is given). Baud 0 is refused: on Linux it means "hang
+    up", so the port opens and then nothing ever arrives."""
+    port, at, baud = arg.partition("@")
+    example = "--reference encoder:/dev/ttyACM1@115200"
+    if not port.strip():
+        raise ArmtoolError("encoder reference without a port", hint=example)
+    if not at:
+        return port, ENCODER_BAUD
+    try:
+        rate = int(baud.strip())
+    except ValueError:
+        raise ArmtoolError(f"encoder baud rate {baud!r} is not a whole number", hint=example) from None
+    if not 1 <= rate <= MAX_ENCODER_BAUD:
+        raise ArmtoolError(
+            f"encoder baud rate {rate} is outside 1..{MAX_ENCODER_BAUD}",
+            hint=f"{example} (the rate the encoder's sketch opens its serial port with)",
+        )
+    return port, rate
+
+
 def open_reference(spec: str, ask: Callable[[str], str] | None = None) -> Reference:
     """The reference named by `spec` (encoder:PORT[@BAUD], manual, csv:FILE, camera:DEVICE)."""
     kind, _, arg = spec.partition(":")
     kind = kind.strip().lower()
     if kind == "encoder":
-        if not arg:
-            raise ArmtoolError("encoder reference without a port", hint="--reference encoder:/dev/ttyACM1")
-        port, _, baud = arg.partition("@")
-        try:
-            rate = int(baud) if baud else ENCODER_BAUD
-        except ValueError:
-            raise ArmtoolError(
-                f"encoder baud rate {baud!r} is not a number", hint="encoder:/dev/ttyACM1@115200"
-            ) from None
-        return EncoderReference(port, rate)
+        return EncoderReference(*encoder_port_baud(arg))
     if kind == "manual":
         if ask is None:
             raise ArmtoolError("the manual reference needs someone at the keyboard")
@@ -339,8 +359,8 @@ def check_reference_spec(spec: str, bus_port: str, interactive: bool) -> None:
 
     kind, _, arg = spec.partition(":")
     kind = kind.strip().lower()
-    if kind == "encoder" and arg:
-        enc_port = arg.partition("@")[0]
+    if kind == "encoder":
+        enc_port, _ = encoder_port_baud(arg)  # a bad port or baud is refused before anything opens
         if os.path.realpath(enc_port) == os.path.realpath(bus_port):
             raise ArmtoolError(
                 f"--reference encoder:{enc_port} is the servo bus (--port {bus_port})",

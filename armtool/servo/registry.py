@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
-    from armtool.servo.bus import Transport
+    from armtool.servo.transport import Transport
 
 
 class Protocol(str, Enum):

@@ -35,7 +35,7 @@ SINGULAR_SIGMA = 1e-3
 
 
 class PoseSolver(Protocol):
-    """What the path needs of IK: an `armtool.ik` solver, or `armtool.traj.path_ik.PathIK`."""
+    """What the path needs of IK: an `armtool.ik` solver."""
 
     def solve(self, target: Array, seed: Array) -> IKResult: ...
 
@@ -227,21 +227,79 @@ class _Stepper:
         return left + right
 
 
+def _solve_without_limits(chain: Chain, target: Array, seed: Array, iterations: int = 300) -> Array | None:
+    """A configuration reaching `target` with the joint limits ignored (damped least squares from
+    `seed`), or None: tells a pose the limits forbid from one the arm cannot reach at all."""
+    q: Array = np.array(seed, dtype=np.float64)
+    damping = 1e-2
+    for _ in range(iterations):
+        T, J = chain.fk_jacobian(q)
+        err = np.concatenate([target[:3, 3] - T[:3, 3], rotation_error(T[:3, :3], target[:3, :3])])
+        if np.linalg.norm(err[:3]) < 1e-5 and np.linalg.norm(err[3:]) < 1e-4:
+            return q
+        q = q + J.T @ np.linalg.solve(J @ J.T + damping**2 * np.eye(6), err)
+    return None
+
+
+def _limit_blocking(chain: Chain, q: Array) -> tuple[int, float] | None:
+    """The joint of `q` furthest outside its limits (a revolute joint may turn by 2π), and the limit."""
+    worst: tuple[float, int, float] | None = None
+    for j in range(chain.n):
+        if chain.continuous[j]:
+            continue
+        lo, hi, v = float(chain.lower[j]), float(chain.upper[j]), float(q[j])
+        if chain.revolute[j]:  # the same angle one turn away may lie inside
+            v = min((v + k * 2 * math.pi for k in (-2, -1, 0, 1, 2)), key=lambda a: max(lo - a, a - hi, 0.0))
+        excess = max(lo - v, v - hi)
+        if excess > 1e-6 and (worst is None or excess > worst[0]):
+            worst = (excess, j, lo if v < lo else hi)
+    return None if worst is None else (worst[1], worst[2])
+
+
+def _reach_m(chain: Chain) -> float:
+    """An upper bound of the distance from the first joint to the tool: the sum of the offsets."""
+    offsets = [float(np.linalg.norm(j.origin[:3, 3])) for j in chain.joints[1:]]
+    prismatic = [max(abs(float(j.lower)), abs(float(j.upper))) for j in chain.joints if j.kind == "prismatic"]
+    return sum(offsets) + float(np.linalg.norm(chain.tip_offset[:3, 3])) + sum(prismatic)
+
+
 def _why(chain: Chain, q: Array, target: Array, reason: str) -> tuple[StopReason, str]:
+    """Why the pose `target` could not be reached from `q` (the last point of the path)."""
     sigma = float(np.linalg.svd(chain.jacobian(q), compute_uv=False)[-1])
     if sigma < SINGULAR_SIGMA:
-        return "singularity", f"near a singularity (σ_min = {sigma:.2e}); {reason}"
-    if "limit" in reason:
-        return "joint limit", reason
-    # solved without limits? then the limits are what stops it
-    lo, hi = chain.lower, chain.upper
-    near = np.flatnonzero((((q - lo) < 1e-3) | ((hi - q) < 1e-3)) & ~chain.continuous)
-    if near.size:
         return (
-            "joint limit",
-            f"joint '{chain.joint_names[int(near[0])]}' is at its limit ({q[int(near[0])]:.4f}); {reason}",
+            "singularity",
+            f"near a singularity (σ_min of the Jacobian = {sigma:.2e}): the tool cannot move along the path there",
         )
-    return "unreachable", reason or "IK found no solution"
+    free = _solve_without_limits(chain, target, q)
+    if free is not None:
+        blocking = _limit_blocking(chain, free)
+        if blocking is not None:
+            j, limit = blocking
+            unit = "rad" if chain.revolute[j] else "m"
+            return (
+                "joint limit",
+                f"joint '{chain.joint_names[j]}' would have to pass its limit {limit:.4g} {unit} "
+                f"(it is at {q[j]:.4g} {unit}) to follow the path",
+            )
+        return "unreachable", f"the IK solver failed ({reason or 'no solution'}) though the pose is within the limits"
+    at_limit = np.flatnonzero((((q - chain.lower) < 1e-3) | ((chain.upper - q) < 1e-3)) & ~chain.continuous)
+    if at_limit.size:
+        j = int(at_limit[0])
+        return "joint limit", f"joint '{chain.joint_names[j]}' is at its limit ({q[j]:.4g}); {reason}"
+    first = chain.joints[0].origin[:3, 3]
+    distance, reach = float(np.linalg.norm(target[:3, 3] - first)), _reach_m(chain)
+    if distance > reach:
+        return (
+            "unreachable",
+            f"the path leaves the arm's reach: the target is {distance:.3f} m from the first joint, the arm reaches "
+            f"at most {reach:.3f} m",
+        )
+    return (
+        "unreachable",
+        "the pose there is out of the arm's workspace for the tool's orientation along the path: IK finds "
+        "no solution even with the joint limits ignored",
+    )
 
 
 def compute_cartesian(

@@ -55,6 +55,12 @@ CODES: dict[str, Code] = {
         ),
         Code("T303", "jerk-over-limit", Severity.ERROR, "A joint's jerk exceeds its jerk limit."),
         Code(
+            "T304",
+            "velocity-not-checked",
+            Severity.WARNING,
+            'A joint has no positive velocity limit (URDF velocity="0" or none given): its speed was not checked.',
+        ),
+        Code(
             "T401",
             "velocity-inconsistent",
             Severity.ERROR,
@@ -233,8 +239,27 @@ def check(traj: Trajectory, limits: JointLimits, options: CheckOptions = CheckOp
             )
     findings += list(_jumps(sub, names, units, options))
     if sub.times is not None and sub.n_points > 1:
+        findings += list(_unchecked_velocity(sub, lim, names))
         findings += list(_timed(sub, lim, names, units, options))
     return sorted(findings, key=lambda f: (f.line, f.code))
+
+
+def _unchecked_velocity(traj: Trajectory, lim: JointLimits, names: tuple[str, ...]) -> Iterator[Finding]:
+    """One finding for the timed trajectory's joints that have no velocity limit to check against:
+    without it, a URDF with velocity="0" (which MoveIt cannot plan with) would let any speed pass
+    as "All checks passed"."""
+    missing = [j for j in range(len(names)) if not (math.isfinite(lim.velocity[j]) and lim.velocity[j] > 0)]
+    if not missing:
+        return
+    which = ", ".join(f"'{names[j]}' ({lim.sources[j]})" for j in missing)
+    yield _finding(
+        traj,
+        "T304",
+        0,
+        f"no positive velocity limit for joint{'s' if len(missing) > 1 else ''} {which} "
+        "(<limit velocity> is 0 or missing): their velocity was not checked",
+        f"set <limit velocity> in the URDF, max_velocity in joint_limits.yaml, or --vel-limit {names[missing[0]]}=VALUE",
+    )
 
 
 def _first_of_each(traj: Trajectory, known: list[str]) -> Trajectory:

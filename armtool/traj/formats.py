@@ -11,8 +11,6 @@ A path without timing has no `time_s` column (CSV) or every `time_from_start` ze
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
 from pathlib import Path
@@ -91,7 +89,12 @@ def _read_csv(text: str, source: str) -> Trajectory:
     first = 0
     while first < len(lines) and (not lines[first].strip() or lines[first].lstrip().startswith("#")):
         first += 1
-    header = [h.strip() for h in next(csv.reader([lines[first]]))]
+    from armtool.csvrows import csv_rows
+
+    if first == len(lines):
+        raise ArmtoolError("no header row", source, "the first line names the columns, e.g. time_s,joint1_rad")
+    numbered = csv_rows(lines[first:], source, first + 1, "trajectory CSV")
+    header = [h.strip() for h in numbered[0][1]]
     hwhere = f"{source}:{first + 1}"
     columns: dict[str, dict[str, int]] = {}
     prismatic: dict[str, bool] = {}
@@ -138,7 +141,7 @@ def _read_csv(text: str, source: str) -> Trajectory:
             )
     rows: list[list[float]] = []
     line_nos: list[int] = []
-    for offset, row in enumerate(csv.reader(io.StringIO("\n".join(lines[first + 1 :]))), start=first + 2):
+    for offset, row in numbered[1:]:
         if not any(cell.strip() for cell in row) or row[0].lstrip().startswith("#"):
             continue
         where = f"{source}:{offset}"
@@ -169,8 +172,10 @@ def _point_lines(text: str, moveit: bool) -> list[int]:
     """Source line of each item of `points` (YAML marks; JSON is YAML enough for this)."""
     import yaml
 
+    from armtool.yamlload import compose_all
+
     try:
-        docs = [d for d in yaml.compose_all(text, Loader=yaml.SafeLoader) if d is not None]
+        docs = compose_all(text)
     except yaml.YAMLError:
         return []
     if not docs or not isinstance(docs[0], yaml.MappingNode):
@@ -194,8 +199,10 @@ def _load_structured(text: str, source: str, fmt: TrajFormat) -> Any:
             raise ArmtoolError(f"trajectory file is not valid JSON: {exc.msg}", f"{source}:{exc.lineno}") from None
     import yaml
 
+    from armtool.yamlload import safe_load_all
+
     try:
-        docs = [d for d in yaml.safe_load_all(text) if d is not None]
+        docs = safe_load_all(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"{source}:{mark.line + 1}" if mark is not None else source
@@ -300,11 +307,20 @@ def _num(x: float) -> str:
 
 
 def format_trajectory(traj: Trajectory, fmt: TrajFormat) -> str:
-    """The trajectory as text in `fmt`."""
+    """The trajectory as text in `fmt`. An untimed path is refused as a ROS or MoveIt trajectory:
+    every time_from_start would be 0, and ros2_controllers' joint_trajectory_controller rejects the
+    goal ("Time between points 0 and 1 is not strictly increasing", validate_trajectory_msg)."""
     if fmt is TrajFormat.CSV:
         return _csv(traj)
     if fmt is TrajFormat.JSON:
         return _json(traj)
+    if traj.times is None and traj.n_points > 1:
+        raise ArmtoolError(
+            f"an untimed path cannot be written as a {fmt.value} trajectory: every time_from_start would be 0, "
+            "which a joint_trajectory_controller rejects (time must increase strictly from point to point)",
+            hint="time it first (armtool traj time PATH --urdf URDF -o timed.yaml), "
+            "or write the path as CSV or JSON (-o path.csv, --to csv)",
+        )
     return _yaml(traj, fmt)
 
 

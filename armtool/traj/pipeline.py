@@ -64,15 +64,17 @@ def read_input(path: Path) -> LoadedTrajectory:
     return read_trajectory(path)
 
 
-def retime(traj: Trajectory, sources: LimitSources | None) -> tuple[Trajectory, JointLimits | None]:
+def retime(traj: Trajectory, sources: LimitSources | None) -> tuple[Trajectory, JointLimits | None, str]:
     """thin's and join's optional --urdf: the edited path timed within the limits (time-optimal, or
-    jerk-limited when a joint has a jerk limit); unchanged without --urdf."""
+    jerk-limited when a joint has a jerk limit) and the interpolation it follows; unchanged
+    without --urdf."""
     if sources is None:
-        return traj, None
-    from armtool.traj.timing import time_optimal
+        return traj, None, ""
+    from armtool.traj.timing import time_path
 
     limits = sources.load()
-    return time_optimal(traj, limits), limits
+    done = time_path(traj, limits)
+    return done.trajectory, limits, done.interpolation
 
 
 def checked_text(traj: Trajectory, fmt: TrajFormat, limits: JointLimits | None, hint: str = BUG_HINT) -> str:

@@ -4,7 +4,6 @@ The CLI parses flags into a `PathSpec` and prints; everything here raises Armtoo
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -57,6 +56,7 @@ class CartesianPlan:
     chain: Chain
     result: cart.CartesianResult
     trajectory: Trajectory  # the achieved joint path (untimed)
+    start_how: str = "--start"  # where the start configuration came from
 
 
 def floats(text: str, n: int, option: str) -> list[float]:
@@ -70,15 +70,25 @@ def floats(text: str, n: int, option: str) -> list[float]:
     return values
 
 
-def start_configuration(chain: Chain, start: str | None) -> Array:
-    q0 = np.asarray(floats(start, chain.n, "--start"), dtype=np.float64) if start is not None else chain.mid()
+def start_configuration(chain: Chain, start: str | None, urdf: Path | None = None, srdf: Path | None = None) -> Array:
+    """--start, else the default start of `armtool.traj.start` (never a singular one)."""
+    return _start(chain, start, urdf, srdf)[0]
+
+
+def _start(chain: Chain, start: str | None, urdf: Path | None, srdf: Path | None) -> tuple[Array, str]:
+    if start is None:
+        from armtool.traj.start import default_start
+
+        chosen = default_start(chain, urdf or Path("."), srdf, chain.name)
+        return chosen.q, chosen.how
+    q0 = np.asarray(floats(start, chain.n, "--start"), dtype=np.float64)
     if not chain.within_limits(q0):
         raise ArmtoolError(
             "--start is outside the joint limits",
             hint="limits: "
             + ", ".join(f"{n} [{lo:.3g}, {hi:.3g}]" for n, lo, hi in zip(chain.joint_names, chain.lower, chain.upper)),
         )
-    return q0
+    return q0, "--start"
 
 
 def segments(spec: PathSpec, T0: Array) -> list[cart.Segment]:
@@ -112,7 +122,13 @@ def waypoint_segments(path: Path, T0: Array) -> list[cart.Segment]:
     from armtool.fileio import read_text
 
     text = read_text(path, "waypoints file", MAX_WAYPOINT_BYTES)
-    rows = [(i + 1, r) for i, r in enumerate(csv.reader(text.splitlines())) if r and not r[0].lstrip().startswith("#")]
+    from armtool.csvrows import csv_rows
+
+    rows = [
+        (n, r)
+        for n, r in csv_rows(text.splitlines(), str(path), 1, "waypoints CSV")
+        if r and not r[0].lstrip().startswith("#")
+    ]
     if not rows:
         raise ArmtoolError("no waypoints", str(path))
     header = [h.strip() for h in rows[0][1]]
@@ -148,22 +164,27 @@ def plan_cartesian(
     spec: PathSpec,
     options: cart.CartesianOptions,
     solver: str,
+    srdf: Path | None = None,
     xacro_args: Mapping[str, str] | None = None,
     package_paths: Sequence[Path] = (),
 ) -> CartesianPlan:
     """The joint path along `spec` from `start`, as far as it could be followed."""
-    from armtool.traj.path_ik import PathIK
+    from armtool.ik.registry import make_solver
 
     if not urdf.is_file():
         raise ArmtoolError("URDF not found", str(urdf))
     spec.check()
+    if srdf is not None and not srdf.is_file():
+        raise ArmtoolError("SRDF not found", str(srdf))
     chain = load_chain(urdf, base, tip, xacro_args=xacro_args, package_paths=package_paths)
-    q0 = start_configuration(chain, start)
+    q0, how = _start(chain, start, urdf, srdf)
     segs = segments(spec, chain.fk(q0))
-    result = cart.compute_cartesian(chain, PathIK(chain, solver), q0, segs, options)
+    # lm's table of poses is built only if a point needs it: a path's next point is near its seed.
+    ik = make_solver(solver, chain, **({"lazy_table": True} if solver == "lm" else {}))
+    result = cart.compute_cartesian(chain, ik, q0, segs, options)
     prismatic = tuple(not r for r in chain.revolute)
     return CartesianPlan(
-        chain, result, Trajectory(tuple(chain.joint_names), result.q, source=str(urdf), prismatic=prismatic)
+        chain, result, Trajectory(tuple(chain.joint_names), result.q, source=str(urdf), prismatic=prismatic), how
     )
 
 
@@ -178,11 +199,19 @@ def require_fraction(result: cart.CartesianResult, min_fraction: float) -> None:
         )
 
 
-def report_lines(result: cart.CartesianResult) -> list[str]:
-    """What `traj cartesian` tells on stderr: fraction, precision, jumps, and where it stopped (plain text)."""
+def report_lines(result: cart.CartesianResult, plan: CartesianPlan | None = None) -> list[str]:
+    """What `traj cartesian` tells on stderr: the chain and its start, fraction, precision, jumps,
+    and where and why it stopped (plain text)."""
     rel = ", ".join(map(str, result.relative_jumps)) or "none"
     ab = ", ".join(map(str, result.absolute_jumps)) or "none"
-    lines = [
+    lines = []
+    if plan is not None:
+        chain = plan.chain
+        lines += [
+            f"chain: base '{chain.base}' -> tip '{chain.tip}', {chain.n} joints ({', '.join(chain.joint_names)})",
+            f"start: {plan.start_how}: " + ", ".join(f"{v:.4g}" for v in result.q[0]),
+        ]
+    lines += [
         f"fraction {result.fraction:.4f}: {len(result.q)} points ({result.inserted} inserted by the precision check), "
         f"worst deviation {result.max_deviation_m * 1000:.3f} mm / {result.max_deviation_rad:.4f} rad",
         f"jumps (step k: point k → k+1): relative rule {rel}; absolute rule {ab}",

@@ -72,6 +72,8 @@ def parameterize(path: JointPath, velocity: Array, acceleration: Array, s_grid: 
     """The time-optimal rest-to-rest profile of `path` under |q̇_j| ≤ velocity_j, |q̈_j| ≤ acceleration_j."""
     s = grid(path) if s_grid is None else s_grid
     _, dq, ddq = path.eval(s)
+    # A stage's end is reached from the segment before it: a C1 path (PCHIP) may change q'' at a knot.
+    _, dq_end, ddq_end = path.eval(s, side="left")
     n_stages = len(s) - 1
     delta = np.diff(s)
     d2 = 2 * delta
@@ -79,7 +81,7 @@ def parameterize(path: JointPath, velocity: Array, acceleration: Array, s_grid: 
         xv = np.min(np.where(np.abs(dq) > _EPS, (velocity / np.maximum(np.abs(dq), _EPS)) ** 2, np.inf), axis=1)
     # Stage i's acceleration rows, at s_i and at s_{i+1} (with x_{i+1} = x_i + 2Δu: b = q' + 2Δq'').
     a_up, a_lo, a_dup, a_dlo, a_x = _rows(dq[:-1], ddq[:-1], acceleration)
-    b_up, b_lo, b_dup, b_dlo, b_x = _rows(dq[1:] + d2[:, None] * ddq[1:], ddq[1:], acceleration)
+    b_up, b_lo, b_dup, b_dlo, b_x = _rows(dq_end[1:] + d2[:, None] * ddq_end[1:], ddq_end[1:], acceleration)
     up_c, lo_c = np.concatenate([a_up, b_up], axis=1), np.concatenate([a_lo, b_lo], axis=1)
     up_d, lo_d = np.concatenate([a_dup, b_dup], axis=1), np.concatenate([a_dlo, b_dlo], axis=1)
     xcap = np.concatenate([np.minimum(xv[:-1], np.minimum(a_x, b_x)), xv[-1:]])

@@ -1,5 +1,5 @@
-"""benchmarks/ik_bench.py's rounds: the solvers take turns (armtool.ik.bench.time_interleaved), and
-a machine probe is timed after every block."""
+"""benchmarks/ik_bench.py: the solvers take turns in every round (armtool.ik.bench.time_interleaved),
+and the targets are ratios to rtb's median, round by round."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import numpy as np
 
 from armtool.ik import load_chain
 from armtool.ik.bench import BenchConfig, Entry, make_targets
-from armtool.ik.solver import IKResult, Solver
+from armtool.ik.solver import Answer, Solver
 from tests.ik.robots import ARMS, erd
 
 SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "ik_bench.py"
@@ -33,22 +33,42 @@ class Seedy(Solver):
 
     summary = "test double"
 
-    def solve(self, target: np.ndarray, seed: np.ndarray) -> IKResult:
-        return IKResult(False, np.asarray(seed, dtype=float), 1.0, 1.0, 0)
+    def call(self, prepared: Any) -> Answer:
+        return Answer(np.asarray(prepared[1], dtype=float), False)
 
 
-def test_every_round_has_its_probe_and_each_solver_in_probe_units() -> None:
+def test_every_round_times_each_entry_on_its_targets() -> None:
     script = load_script()
     chain = load_chain(erd(ARMS["ur5"][0]))
     targets = make_targets(chain, BenchConfig(samples=10))
     a, b = Seedy(chain), Seedy(chain)
     a.name, b.name = "a", "b"
     entries = [Entry(a), Entry(a, batch=True), Entry(b, limit=3)]
-    machine = script.Machine()
     for r in range(2):
         args = argparse.Namespace(block=4, batch_calls=2)
-        timed = script.interleaved_round(entries, targets, args, r, machine)
+        timed = script.interleaved_round(entries, targets, args, r)
         assert {label: len(t.results) for label, t in timed.items()} == {"a": 10, "a (batch)": 10, "b": 3}
-    assert len(machine.probes) == 2 and min(machine.probes) > 0
-    assert set(machine.relative) == {"a", "b"} and all(len(v) == 2 for v in machine.relative.values())
-    assert all(x > 0 for v in machine.relative.values() for x in v)
+
+
+def row(script: Any, label: str, rounds: tuple[float, ...], success: float = 100.0, per_s: float = 1.0) -> Any:
+    return script.Row(label, label.endswith("(batch)"), 1000, success, rounds[1], 1, rounds[1], per_s, 0, 0, 0, rounds)
+
+
+def test_targets_are_ratios_to_rtb_in_every_round() -> None:
+    script = load_script()
+    rows = {
+        "lm": row(script, "lm", (30.0, 60.0, 33.0)),
+        "lm (batch)": row(script, "lm (batch)", (5.0, 5.0, 5.0), per_s=400.0),
+        "pytracik": row(script, "pytracik", (300.0, 600.0, 330.0)),
+        "rtb-lm": row(script, "rtb-lm", (100.0, 200.0, 110.0), per_s=100.0),
+    }
+    # The machine ran at half speed in round 2: absolute medians doubled, the ratios did not.
+    verdicts = dict((text.split(": ", 1)[1].split(" (")[0], v) for v, text in script.checks("ur5", rows))
+    assert verdicts["lm median <= 1.0× rtb ik_LM's in every round"] == "PASS"
+    steady = [v for t, v in verdicts.items() if t.startswith("lm's ratio to rtb ik_LM's median steady")]
+    assert steady == ["PASS"]
+    # One round above rtb fails the first target, and a ratio that moves by > 20 % the second.
+    rows["lm"] = row(script, "lm", (30.0, 210.0, 33.0))
+    verdicts = dict((text.split(": ", 1)[1].split(" (")[0], v) for v, text in script.checks("ur5", rows))
+    assert verdicts["lm median <= 1.0× rtb ik_LM's in every round"] == "FAIL"
+    assert [v for t, v in verdicts.items() if t.startswith("lm's ratio to rtb ik_LM's median steady")] == ["FAIL"]

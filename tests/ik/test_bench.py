@@ -6,7 +6,7 @@ import numpy as np
 
 from armtool.ik import load_chain
 from armtool.ik.bench import BenchConfig, SeedMode, make_targets, run_solver
-from armtool.ik.solver import IKResult, Solver
+from armtool.ik.solver import Answer, Solver
 from tests.ik.robots import ARMS, erd
 
 
@@ -16,8 +16,8 @@ class Liar(Solver):
     name = "liar"
     summary = "test double"
 
-    def solve(self, target, seed):  # type: ignore[no-untyped-def]
-        return IKResult(True, np.asarray(seed, dtype=float), 0.0, 0.0, 1)
+    def call(self, prepared):  # type: ignore[no-untyped-def]
+        return Answer(prepared[1], True, 1)
 
 
 def test_targets_follow_the_protocol() -> None:
@@ -64,7 +64,7 @@ def test_solver_randomness_is_independent_of_the_target_stream() -> None:
     chain = load_chain(erd(ARMS["ur5"][0]))
     targets = make_targets(chain, BenchConfig(samples=50, rng_seed=0))
     solver = make_solver("lm", chain, seed=0)
-    table = solver._table[0]  # type: ignore[attr-defined]
+    table = solver.table()[3]  # type: ignore[attr-defined]
     nearest = np.abs(table[:, None, :] - targets.q_true[None, :, :]).sum(axis=2).min()
     assert nearest > 1e-3
     assert not np.allclose(
@@ -81,9 +81,9 @@ class Recorder(Liar):
         super().__init__(chain, **kw)
         self.targets: list[np.ndarray] = []
 
-    def solve(self, target, seed):  # type: ignore[no-untyped-def]
-        self.targets.append(np.array(target))
-        return super().solve(target, seed)
+    def call(self, prepared):  # type: ignore[no-untyped-def]
+        self.targets.append(np.array(prepared[0]))
+        return super().call(prepared)
 
 
 def test_warm_up_solves_real_targets_before_the_timed_ones() -> None:
@@ -138,14 +138,14 @@ def test_run_bench_takes_turns_block_by_block() -> None:
     calls: list[tuple[str, int]] = []
 
     class Logged(Liar):
-        def solve(self, target, seed):  # type: ignore[no-untyped-def]
-            hit = np.flatnonzero((targets.poses == target).all(axis=(1, 2)))
+        def call(self, prepared):  # type: ignore[no-untyped-def]
+            hit = np.flatnonzero((targets.poses == prepared[0]).all(axis=(1, 2)))
             calls.append((self.name, int(hit[0]) if hit.size else -1))  # -1: a warm-up target
-            return super().solve(target, seed)
+            return super().call(prepared)
 
-        def solve_batch(self, poses, seeds):  # type: ignore[no-untyped-def]
-            calls.append((self.name + " (batch)", len(poses)))
-            return [super(Logged, self).solve(p, s) for p, s in zip(poses, seeds)]
+        def call_batch(self, prepared):  # type: ignore[no-untyped-def]
+            calls.append((self.name + " (batch)", len(prepared)))
+            return [Liar.call(self, p) for p in prepared]
 
     a, b, c = Logged(chain), Logged(chain), Logged(chain)
     a.name, b.name, c.name = "a", "b", "c"
@@ -174,13 +174,13 @@ def test_batch_calls_are_spread_over_the_blocks() -> None:
     order: list[str] = []
 
     class Logged(Liar):
-        def solve(self, target, seed):  # type: ignore[no-untyped-def]
+        def call(self, prepared):  # type: ignore[no-untyped-def]
             order.append("single")
-            return super().solve(target, seed)
+            return super().call(prepared)
 
-        def solve_batch(self, poses, seeds):  # type: ignore[no-untyped-def]
+        def call_batch(self, prepared):  # type: ignore[no-untyped-def]
             order.append("batch")
-            return [Liar.solve(self, p, s) for p, s in zip(poses, seeds)]
+            return [Liar.call(self, p) for p in prepared]
 
     solver = Logged(chain)
     timed = time_interleaved([Entry(solver), Entry(solver, batch=True)], targets, block=3, batch_calls=2)

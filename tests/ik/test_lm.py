@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -128,7 +130,7 @@ def test_far_seed_starts_from_the_nearest_table_pose() -> None:
     relative, base, tip = ARMS["panda"]
     chain = load_chain(erd(relative), base, tip)
     solver = make_solver("lm", chain, timeout=0.05)
-    table = solver._table[0]  # type: ignore[attr-defined]
+    table = solver.table()[3]  # type: ignore[attr-defined]
     for i in (0, 17, solver.FIRST_TABLE - 1, solver.FIRST_TABLE, 5000, solver.TABLE_SIZE - 1):  # type: ignore[attr-defined]
         target = chain.fk(table[i])
         r = solver.solve(target, chain.mid())
@@ -136,18 +138,31 @@ def test_far_seed_starts_from_the_nearest_table_pose() -> None:
         assert np.allclose(r.q, table[i])
 
 
+def first_tries(solver: Any, target: np.ndarray, seed: np.ndarray) -> tuple[int, np.ndarray]:
+    """lm's compiled first tries on one target: (table row tried or -1, the kernel's out vector)."""
+    from armtool.ik.solvers import lm_kernel
+
+    out = np.empty(lm_kernel.OUT_HEAD + 2 * solver.chain.n)
+    scores, cell_scores, bounds, table_q = solver.table()
+    tried = lm_kernel.first_tries(
+        solver._geometry, solver._settings, scores, cell_scores, bounds, table_q, target, seed, out
+    )
+    return int(tried), out
+
+
 def test_near_seed_is_kept_without_a_table_lookup() -> None:
     # A seed whose pose is already the target is the answer: the table is not consulted.
     relative, base, tip = ARMS["panda"]
     chain = load_chain(erd(relative), base, tip)
     solver = make_solver("lm", chain, timeout=0.05)
-    looked_up = []
-    nearest = solver._nearest  # type: ignore[attr-defined]
-    solver._nearest = lambda t: looked_up.append(1) or nearest(t)  # type: ignore[attr-defined]
     for seed in chain.random(np.random.default_rng(6), 5):
+        tried, out = first_tries(solver, chain.fk(seed), seed)
+        assert tried == -1 and out[0] == 1 and out[1] == 0
         r = solver.solve(chain.fk(seed), seed)
         assert r.success and r.iterations == 0 and np.allclose(r.q, seed)
-    assert not looked_up
+    # A far seed does consult it.
+    target = chain.fk(chain.random(np.random.default_rng(7)))
+    assert first_tries(solver, target, chain.mid())[0] >= 0
 
 
 def test_the_seed_is_tried_when_the_table_pose_fails() -> None:
@@ -155,11 +170,15 @@ def test_the_seed_is_tried_when_the_table_pose_fails() -> None:
     # the second try starts from the seed, so a target next to the seed is still solved next to it.
     relative, base, tip = ARMS["ur5"]
     chain = load_chain(erd(relative), base, tip)
-    solver = make_solver("lm", chain, timeout=0.05)
+    solver: Any = make_solver("lm", chain, timeout=0.05)
     seed = chain.mid()
     target = chain.fk(seed + 0.4)
-    far = chain.lower.copy()  # all joints at their lower limits: far from the answer near the seed
-    solver._nearest = lambda t: (far, 0.0)  # type: ignore[attr-defined]  # "nearer than the seed"
+    scores, cell_scores, bounds, table_q = solver.table()
+    # Every table pose's score says "nearer than the seed", but every configuration is the one with
+    # all joints at their lower limits: far from the answer near the seed.
+    solver._table = (scores, cell_scores, bounds, np.tile(chain.lower, (len(table_q), 1)))
+    tried, _ = first_tries(solver, target, seed)
+    assert tried >= 0  # the table pose was tried first
     r = solver.solve(target, seed)
     assert r.success
     assert np.linalg.norm(r.q - (seed + 0.4)) < 1e-3
@@ -167,22 +186,29 @@ def test_the_seed_is_tried_when_the_table_pose_fails() -> None:
 
 def test_restart_seeds_are_near_the_target() -> None:
     # The cells of the nearest centres hold the target's nearest table poses, or poses almost as near.
+    from armtool.ik.solvers import lm_kernel
+    from armtool.ik.solvers.lm import _pose_features
+
     relative, base, tip = ARMS["panda"]
     chain = load_chain(erd(relative), base, tip)
-    solver = make_solver("lm", chain)
-    _Q, F, _F2 = solver._table  # type: ignore[attr-defined]
+    solver: Any = make_solver("lm", chain)
+    scores, cell_scores, bounds, table_q = solver.table()
+    F = _pose_features(chain.fk_batch(table_q))
     exact_first = 0
     targets = chain.fk_batch(chain.random(np.random.default_rng(8), 40))
     for target in targets:
-        seeds = np.array(solver._restart_seeds(target))  # type: ignore[attr-defined]
+        rows = lm_kernel.restart_rows(scores, cell_scores, bounds, target, solver.RESTART_CELLS, solver.TABLE_SEEDS, -1)
         f = np.concatenate((target[:3, 3], 0.2 * target[:3, :3].reshape(9)))
-        exact = np.sort(np.linalg.norm(F - f, axis=1))[: len(seeds)]
-        T = chain.fk_batch(seeds)
-        got = np.linalg.norm(np.concatenate([T[:, :3, 3], 0.2 * T[:, :3, :3].reshape(-1, 9)], axis=1) - f, axis=1)
-        assert len(seeds) == solver.TABLE_SEEDS  # type: ignore[attr-defined]
+        exact = np.sort(np.linalg.norm(F - f, axis=1))[: len(rows)]
+        got = np.linalg.norm(F[rows] - f, axis=1)
+        assert len(rows) == solver.TABLE_SEEDS
         assert np.all(np.diff(got) >= -1e-12)  # nearest first
         assert got[-1] <= 1.5 * exact[-1]
         exact_first += bool(abs(got[0] - exact[0]) < 1e-9)
+        skipped = lm_kernel.restart_rows(
+            scores, cell_scores, bounds, target, solver.RESTART_CELLS, solver.TABLE_SEEDS, rows[0]
+        )
+        assert rows[0] not in skipped and list(skipped[:3]) == list(rows[1:4])  # the first try's pose is skipped
     assert exact_first >= 0.7 * len(targets)
 
 
@@ -200,3 +226,12 @@ def test_joint_pinned_at_its_limit_is_solved() -> None:
             r = solver.solve(chain.fk(q), chain.mid())
             assert r.success and chain.within_limits(r.q)
             assert verify(chain, r.q, chain.fk(q), 1e-5)[0]
+
+
+def test_the_compiled_kernel_is_cached_on_disk() -> None:
+    # The first run compiles lm's loop (and says so); the machine code is then on disk for later runs.
+    from armtool.ik.solvers.lm import compiled_on_disk
+
+    relative, base, tip = ARMS["ur5"]
+    make_solver("lm", load_chain(erd(relative), base, tip))
+    assert compiled_on_disk() in (True, None)  # None: a Numba that does not say where its cache is

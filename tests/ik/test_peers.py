@@ -141,7 +141,7 @@ def test_pytracik_claiming_a_wrong_answer_is_not_trusted() -> None:
     wrong = solver.chain.mid()
     solver._ik = lambda *args: np.concatenate([[1.0], wrong])  # rc 1: "found"
     result = solver.solve(solver.chain.fk(wrong + 0.3), wrong)
-    assert not result.success and "our FK check rejects" in result.reason
+    assert not result.success and "FK check rejects" in result.reason
 
 
 def test_rtb_claiming_a_wrong_answer_is_not_trusted() -> None:
@@ -151,7 +151,7 @@ def test_rtb_claiming_a_wrong_answer_is_not_trusted() -> None:
         ik_LM=lambda *a, **k: SimpleNamespace(q=wrong, success=True, iterations=1, searches=1)
     )
     result = solver.solve(solver.chain.fk(wrong + 0.3), wrong)
-    assert not result.success and "our FK check rejects" in result.reason
+    assert not result.success and "FK check rejects" in result.reason
 
 
 def test_peer_rejects_a_chain_it_reads_differently() -> None:

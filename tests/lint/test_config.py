@@ -126,3 +126,29 @@ def test_bad_xacro_args_table_is_a_clear_error(tmp_path: Path) -> None:
     with pytest.raises(ArmtoolError) as err:
         load_config(tmp_path / "armtool.toml")
     assert "armtool.toml" in (err.value.where or "")
+
+
+@pytest.mark.parametrize(
+    ("name", "toml", "says"),
+    [
+        ("pyproject.toml", 'tool.armtool = "lint"\n', "[tool.armtool] must be a table"),
+        ("pyproject.toml", '[tool]\narmtool = "lint"\n', "[tool.armtool] must be a table"),
+        ("pyproject.toml", '[tool.armtool]\nlint = "strict"\n', "[tool.armtool.lint] must be a table"),
+        ("armtool.toml", 'lint = "strict"\n', "[lint] must be a table"),
+        ("armtool.toml", 'tool.armtool = "lint"\n', "armtool.toml holds [tool.armtool]"),
+        ("armtool.toml", '[tool.armtool.lint]\nselect = ["U1"]\n', "armtool.toml holds [tool.armtool]"),
+    ],
+)
+def test_armtool_settings_that_are_not_tables_are_a_config_error_exit_2(
+    tmp_path: Path, name: str, toml: str, says: str
+) -> None:
+    from tests.lint.test_hostile_lint import invoke
+
+    (tmp_path / name).write_text(toml)
+    (tmp_path / "r.urdf").write_text(DEGREES)
+    code, _out, err = invoke("lint", "r.urdf", cwd=tmp_path)  # an ArmtoolError: exit 2, as main() makes it
+    assert code == 2, err
+    assert says in err
+    with pytest.raises(ArmtoolError) as info:
+        load_config(tmp_path / name)
+    assert name in (info.value.where or "")

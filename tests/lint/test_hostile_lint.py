@@ -188,15 +188,29 @@ def test_endless_xacro_expression_is_x001_within_the_time_bound(
 ) -> None:
     monkeypatch.setattr(xacro_source, "TIMEOUT_S", 2.0)
     start = time.monotonic()
-    (f,) = lint(_xacro(tmp_path, '  <link name="${str(9**9**9)}"/>'))
+    # An endless loop of small steps, which the expression bounds (armtool/model/xacro_eval.py) let
+    # through: the time bound stops it.
+    endless = "python.sum(x * y for x in python.range(10**7) for y in python.range(10**7))"
+    (f,) = lint(_xacro(tmp_path, f'  <link name="${{{endless}}}"/>'))
     assert f.code == "X001" and "did not finish within 2 s" in f.message
     assert time.monotonic() - start < 20
+
+
+def test_huge_power_in_a_xacro_is_x001_at_once_without_the_time_bound(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # In-process expansion (as where fork is not possible): nothing could stop a C-level 9**387420489.
+    monkeypatch.setattr(xacro_source, "_can_fork", lambda: False)
+    start = time.monotonic()
+    (f,) = lint(_xacro(tmp_path, '  <link name="${str(9**9**9)}"/>'))
+    assert f.code == "X001" and "9 ** 387420489 would have about 1.23e+09 bits" in f.message
+    assert time.monotonic() - start < 10
 
 
 @pytest.mark.skipif(not hasattr(os, "fork") or not Path("/proc/self/statm").exists(), reason="needs fork and /proc")
 def test_xacro_expression_filling_memory_is_x001(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(xacro_source, "MEMORY_HEADROOM_BYTES", 512 * 1024**2)
-    (f,) = lint(_xacro(tmp_path, "  <link name=\"${'x' * 4 * 1024**3}\"/>"))
+    (f,) = lint(_xacro(tmp_path, "  <link name=\"${'x'.ljust(4 * 1024**3)}\"/>"))
     assert f.code == "X001" and ("MemoryError" in f.message or "memory" in f.message)
 
 

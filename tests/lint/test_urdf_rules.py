@@ -284,6 +284,53 @@ def test_three_slash_package_mesh_suggests_the_two_slash_uri_that_exists(tmp_pat
     assert g.hint is not None and "package://PACKAGE/path" in g.hint
 
 
+@pytest.mark.parametrize(
+    ("uri", "suggested"),
+    [
+        # a renamed folder: meshes/visual/ is now meshes/visuals/
+        ("package://pkg/meshes/visual/forearm.stl", "package://pkg/meshes/visuals/forearm.stl"),
+        # a misspelt and a differently cased name, relative to the URDF
+        ("../meshes/visuals/forarm.stl", "../meshes/visuals/forearm.stl"),
+        ("../meshes/visuals/Forearm.STL", "../meshes/visuals/forearm.stl"),
+        # an absolute path inside the package keeps its form
+        ("{pkg}/meshes/visuals/Link_1.stl", "{pkg}/meshes/visuals/link1.stl"),
+        ("file://{pkg}/meshes/visual/link1.stl", "file://{pkg}/meshes/visuals/link1.stl"),
+    ],
+)
+def test_missing_mesh_suggests_the_existing_file_with_the_closest_path(
+    tmp_path: Path, uri: str, suggested: str
+) -> None:
+    pkg = _package(tmp_path)
+    (pkg / "meshes" / "visuals").mkdir()
+    for name in ("forearm.stl", "link1.stl", "link2.stl", "hand.stl"):
+        (pkg / "meshes" / "visuals" / name).write_text("solid\nendsolid\n")
+    real = str(pkg.resolve())
+    (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri.format(pkg=real))))
+    expected = suggested.format(pkg=real)
+    assert (f.code, f.severity) == ("U501", Severity.ERROR)
+    assert f"did you mean '{expected}'?" in f.message
+    assert f.hint == f'write filename="{expected}" (that file exists; file names are case-sensitive)'
+
+
+@pytest.mark.parametrize(
+    "uri",
+    [
+        "package://pkg/meshes/visuals/base.stl",  # only forearm, link1, link2, hand: none is base
+        "package://pkg/meshes/visuals/link3.stl",  # link3 is not a misspelling of link1 or link2
+        "package://pkg/meshes/visual/Base.stl",  # a renamed folder, but no file of that name in it
+    ],
+)
+def test_missing_mesh_suggests_nothing_unrelated(tmp_path: Path, uri: str) -> None:
+    pkg = _package(tmp_path)
+    (pkg / "meshes" / "visuals").mkdir()
+    for name in ("forearm.stl", "link1.stl", "link2.stl", "hand.stl"):
+        (pkg / "meshes" / "visuals" / name).write_text("solid\nendsolid\n")
+    (f,) = lint_text(pkg / "urdf", two_links(revolute("j1", "base", "l1"), _mesh_link(uri)))
+    assert (
+        f.code == "U501" and "did you mean" not in f.message and f.hint == "fix the path; file names are case-sensitive"
+    )
+
+
 def test_package_path_option(tmp_path: Path) -> None:
     (tmp_path / "pkgs" / "meshes_pkg").mkdir(parents=True)
     (tmp_path / "pkgs" / "meshes_pkg" / "package.xml").write_text("<package><name>meshes_pkg</name></package>")

@@ -190,6 +190,19 @@ def test_effort_zero_on_every_joint_is_reported_once_at_info(tmp_path: Path) -> 
     assert [(f.code, f.severity) for f in lint(path)] == [("U204", Severity.INFO)]
 
 
+def test_zero_efforts_beside_real_ones_in_a_model_without_inertials_are_placeholders(tmp_path: Path) -> None:
+    # An arm at effort 0 beside a torso at 100 (a mobile manipulator's planning model): no link has
+    # an <inertial>, so nothing is simulated and the zeros are placeholders like the inertials.
+    path = tmp_path / "mobile_manipulator.urdf"
+    text = arm_urdf(inertial=False, effort="0", joints=7).replace('effort="0"', 'effort="100"', 1)
+    path.write_text(text)
+    found = lint(path)
+    assert [(f.code, f.severity) for f in found] == [("U401", Severity.INFO)]
+    assert 'no link has an <inertial> and 6 of 7 joints have effort="0"' in found[0].message
+    path.write_text(text.replace('effort="0"', 'effort="-5"', 1))  # a negative effort is no placeholder
+    assert sorted((f.code, f.severity) for f in lint(path)) == [("U204", Severity.ERROR), ("U401", Severity.INFO)]
+
+
 def test_one_missing_inertial_or_zero_effort_among_real_ones_stays_reported(tmp_path: Path) -> None:
     path = tmp_path / "arm.urdf"
     path.write_text(

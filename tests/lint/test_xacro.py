@@ -100,6 +100,24 @@ def test_find_package_resolves_through_package_path(tmp_path: Path) -> None:
     assert "X001" not in {f.code for f in found}
 
 
+def test_a_missing_package_suggests_the_closest_package_name_around_the_file(tmp_path: Path) -> None:
+    (tmp_path / "ws" / ".git").mkdir(parents=True)
+    for name in ("foo_description2", "arm_moveit_config"):
+        (tmp_path / "ws" / name).mkdir()
+        (tmp_path / "ws" / name / "package.xml").write_text(f"<package><name>{name}</name></package>")
+    (tmp_path / "ws" / "foo_description2" / "macros.xacro").write_text(MACROS)
+    main = tmp_path / "ws" / "arm_moveit_config" / "robot.urdf.xacro"
+    main.write_text(MAIN.replace('filename="macros.xacro"', 'filename="$(find foo_description)/macros.xacro"'))
+    (f,) = [f for f in lint_paths([main], LintOptions()).findings if f.code == "X001"]
+    assert "package 'foo_description' not found for $(find foo_description) (did you mean 'foo_description2'?)" in (
+        f.message
+    )
+    assert f.hint is not None and f.hint.startswith("write $(find foo_description2) if that is the package meant")
+    main.write_text(MAIN.replace('filename="macros.xacro"', 'filename="$(find gripper_support)/macros.xacro"'))
+    (g,) = [f for f in lint_paths([main], LintOptions()).findings if f.code == "X001"]
+    assert "did you mean" not in g.message and g.hint is not None and g.hint.startswith("pass --package-path")
+
+
 def test_package_uri_in_include_fails_as_in_xacro_and_says_why(tmp_path: Path) -> None:
     # xacro's get_include_files joins a filename that is not absolute to the including file's
     # directory; it has no package:// scheme (hector_description/robots/quadrotor_base.xacro).

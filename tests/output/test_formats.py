@@ -46,7 +46,13 @@ def test_sarif_carries_rule_docs_and_locations() -> None:
     assert all("Why is this bad?" in r["fullDescription"]["text"] and r["helpUri"] for r in rules)
     first = run["results"][0]
     assert first["ruleId"] == "U101" and first["level"] == "error"
-    assert first["locations"][0]["physicalLocation"]["region"] == {"startLine": 3, "startColumn": 5}
+    # a/r.urdf does not exist: the region is the one character the finding points at
+    assert first["locations"][0]["physicalLocation"]["region"] == {
+        "startLine": 3,
+        "startColumn": 5,
+        "endLine": 3,
+        "endColumn": 6,
+    }
     assert run["results"][1]["level"] == "note"
     assert rules[first["ruleIndex"]]["id"] == "U101"
 

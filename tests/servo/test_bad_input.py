@@ -72,6 +72,28 @@ def test_xacro_expression_in_the_urdf() -> None:
             "'baud' must be a whole number",
         ),
         (["servo-lut", "measure", "--port", "/dev/null", "--id", "300", "--reference", "manual"], "300"),
+        (
+            ["servo-lut", "measure", "--port", "/dev/null", "--id", "1", "--reference", "encoder:/dev/ttyS0@0"],
+            "encoder baud rate 0 is outside 1..4000000",
+        ),
+        (
+            [
+                "servo-lut",
+                "check",
+                "t.json",
+                "--port",
+                "/dev/null",
+                "--id",
+                "1",
+                "--reference",
+                "encoder:/dev/ttyS0@-9600",
+            ],
+            "encoder baud rate -9600 is outside",
+        ),
+        (
+            ["servo-lut", "measure", "--port", "/dev/null", "--id", "1", "--reference", "encoder:/dev/ttyS0@"],
+            "encoder baud rate '' is not a whole number",
+        ),
     ],
 )
 def test_cli_exit_2_without_internal_error(tmp_path: Path, args: list[str], what: str) -> None:

@@ -9,9 +9,10 @@ import pytest
 
 from armtool.errors import ArmtoolError
 from armtool.servo import bus as bus_mod
-from armtool.servo.bus import CommError, StatusError, open_bus
+from armtool.servo.bus import StatusError, open_bus
 from armtool.servo.models import by_name
 from armtool.servo.sim import SimBus
+from armtool.servo.transport import CommError
 from tests.servo.conftest import sim_config
 
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from armtool.servo import packets as pk
-from armtool.servo.bus import CommError
 from armtool.servo.protocols.feetech import Feetech
+from armtool.servo.transport import CommError
 
 
 class FakePort:

@@ -7,9 +7,10 @@ import time
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.servo.bus import CommError, PortLost, open_bus
+from armtool.servo.bus import PortLost, open_bus
 from armtool.servo.guard import Terminated, TorqueGuard, TorqueOffFailed
 from armtool.servo.sim import SimBus
+from armtool.servo.transport import CommError
 from tests.servo.conftest import sim_config
 
 

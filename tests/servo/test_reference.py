@@ -83,6 +83,11 @@ def test_bad_specs() -> None:
         open_reference("encoder:")
     with pytest.raises(ArmtoolError, match="baud rate 'fast'"):
         open_reference("encoder:/dev/null@fast")
+    for bad in ("0", "-1", "", "5000000"):  # baud 0 is "hang up" on Linux: the port opens, nothing arrives
+        with pytest.raises(ArmtoolError, match="encoder baud rate"):
+            open_reference(f"encoder:/dev/null@{bad}")
+    with pytest.raises(ArmtoolError, match="without a port"):
+        open_reference("encoder:@115200")
     with pytest.raises(ArmtoolError, match="unknown reference 'laser'"):
         open_reference("laser")
 
@@ -117,4 +122,4 @@ def test_csv_reference(tmp_path: Path) -> None:
     bad.write_text("command_ticks,reference_deg\n1,nan\n")
     with pytest.raises(ArmtoolError) as info:
         CsvReference.load(bad)
-    assert info.value.where == f"{bad}: row 2"
+    assert info.value.where == f"{bad}:2"

@@ -10,10 +10,10 @@ import pytest
 from armtool.errors import ArmtoolError
 from armtool.servo import eeprom, lerobot
 from armtool.servo import limits as L
-from armtool.servo.bus import Transport
 from armtool.servo.limits.auto import _rearm
 from armtool.servo.models import by_name
 from armtool.servo.registry import PROTOCOLS, Protocol, check_protocol, protocol_names, transport_class
+from armtool.servo.transport import Transport
 
 
 class FakeProtocol(Transport):

@@ -75,19 +75,39 @@ def test_arc_through_three_points_ends_at_the_end_point() -> None:
     np.testing.assert_allclose(seg.length_m, math.pi * 0.05, rtol=1e-9)
 
 
-def test_unreachable_line_stops_with_reason_and_fraction() -> None:
-    chain, q0 = clean()
+def _line(chain: object, q0: np.ndarray, offset: list[float], step: float = 0.01) -> cart.CartesianResult:
     T0 = chain.fk(q0)  # type: ignore[attr-defined]
     T1 = T0.copy()
-    T1[:3, 3] += [3.0, 0, 0]  # far outside the arm's reach
-    r = cart.compute_cartesian(
-        chain,
-        make_solver("lm", chain, timeout=0.002),
+    T1[:3, 3] += offset
+    return cart.compute_cartesian(
+        chain,  # type: ignore[arg-type]
+        make_solver("lm", chain, timeout=0.005),  # type: ignore[arg-type]
         q0,
-        [cart.line_segment(T0, T1)],  # type: ignore[arg-type]
-        cart.CartesianOptions(eef_step_m=0.05),
+        [cart.line_segment(T0, T1)],
+        cart.CartesianOptions(eef_step_m=step),
     )
-    assert 0 < r.fraction < 1 and r.reason in ("unreachable", "joint limit", "singularity") and r.detail
+
+
+def test_a_line_out_of_the_workspace_stops_as_unreachable() -> None:
+    chain, q0 = clean()
+    r = _line(chain, q0, [3.0, 0, 0], step=0.05)  # far outside the arm's reach
+    assert 0 < r.fraction < 1 and r.reason == "unreachable"
+    assert "out of the arm's workspace" in r.detail and "even with the joint limits ignored" in r.detail
+
+
+def test_a_line_that_needs_a_joint_past_its_limit_names_the_joint() -> None:
+    chain, q0 = clean()
+    r = _line(chain, q0, [0, 0, -0.8])  # down: joint3 (±2.6 rad) folds until its limit
+    assert 0 < r.fraction < 1 and r.reason == "joint limit"
+    assert r.detail.startswith("joint 'joint3' would have to pass its limit 2.6 rad")
+
+
+def test_a_path_started_at_a_singularity_says_so() -> None:
+    from tests.ik.robots import erd
+
+    chain = load_chain(erd("ur_description/urdf/ur5_robot.urdf"))
+    r = _line(chain, np.array([0.0, -math.pi / 2, 0.0, -math.pi / 2, 0.0, 0.0]), [0.1, 0, 0])  # UR5 upright
+    assert r.fraction == 0.0 and r.reason == "singularity" and "σ_min of the Jacobian" in r.detail
 
 
 def test_ur5_wrist_flip_is_caught_by_both_rules_and_avoided_by_analytic() -> None:

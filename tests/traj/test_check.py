@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -67,6 +68,24 @@ def test_T303_jerk_only_with_a_jerk_limit() -> None:
     assert codes(t) == []
     lim = load_limits(CLEAN_URDF, acc_limits=["10"], jerk_limits=["1"])
     assert "T303" in [f.code for f in check(t, lim)]
+
+
+def test_T304_a_joint_with_velocity_zero_in_the_urdf_is_said_to_be_unchecked(tmp_path: Path) -> None:
+    urdf = tmp_path / "arm.urdf"
+    text = CLEAN_URDF.read_text()
+    joint3 = text.index('name="joint3"')
+    at = text.index('velocity="', joint3)
+    urdf.write_text(text[:at] + 'velocity="0" old_' + text[at:])  # joint3's velocity="0" (unplannable)
+    t = timed()
+    fast = replace(t, times=t.times / 20, velocities=t.velocities * 20, accelerations=None)  # 20× too fast
+    limits = load_limits(urdf, acc_limits=["1e6"])
+    findings = [f for f in check(fast, limits) if f.code == "T304" or "joint3" in f.message]
+    assert [f.code for f in findings] == ["T304"]  # joint3's speed cannot be judged: said, not passed
+    assert findings[0].severity.value == "warning" and "velocity was not checked" in findings[0].message
+    assert "joint 'joint3' (arm.urdf:" in findings[0].message and "--vel-limit joint3=VALUE" in (findings[0].hint or "")
+    assert "T301" in [f.code for f in check(fast, limits)]  # the other joints' speed is still judged
+    assert "T304" not in codes(t)  # every joint has a velocity limit in the clean arm
+    assert "T304" not in [f.code for f in check(t.untimed(), limits)]  # an untimed path has no speed
 
 
 def test_T401_velocities_that_do_not_belong_to_the_positions() -> None:

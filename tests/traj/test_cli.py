@@ -68,6 +68,18 @@ def test_circle_time_check_plot(tmp_path: Path) -> None:
     assert img is not None and img.shape[0] > 500
 
 
+def test_time_follows_a_shape_preserving_cubic_where_the_spline_would_leave_the_limits(tmp_path: Path) -> None:
+    path = tmp_path / "near_limit.csv"
+    rows = ["joint1_rad,joint2_rad,joint3_rad,joint4_rad,joint5_rad,joint6_rad"]
+    rows += [f"{a},{b},0,0,0,0" for a, b in [(0, 0), (0.05, 1.9), (0.3, 1.999), (1.5, 1.0)]]  # joint2's limit: 2
+    path.write_text("\n".join(rows) + "\n")
+    timed = tmp_path / "timed.csv"
+    code, _, err = invoke("time", str(path), "--urdf", U, "--joint-limits", JL, "-o", str(timed))
+    assert code == 0, err  # refused before: "the smooth path ... leaves joint 'joint2' limits"
+    assert "interpolation: shape-preserving cubic (PCHIP) for 'joint2'" in " ".join(err.split())
+    passes_check(timed)
+
+
 def test_thin_retime_and_join_outputs_pass_check(tmp_path: Path) -> None:
     path = circle(tmp_path)
     thinned = tmp_path / "thin.csv"

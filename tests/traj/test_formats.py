@@ -138,6 +138,19 @@ def test_untimed_csv_is_a_path() -> None:
     assert traj.times is None and traj.n_points == 2
 
 
+@pytest.mark.parametrize("fmt", [TrajFormat.ROS2, TrajFormat.ROS1, TrajFormat.MOVEIT])
+def test_an_untimed_path_is_not_written_as_a_ros_or_moveit_trajectory(fmt: TrajFormat) -> None:
+    # Every time_from_start would be 0: ros2_controllers' joint_trajectory_controller rejects the
+    # goal ("Time between points 0 and 1 is not strictly increasing").
+    path = read_trajectory("p.csv", "j1_rad,j2_rad\n0,0\n1,1\n").trajectory
+    with pytest.raises(ArmtoolError) as err:
+        format_trajectory(path, fmt)
+    assert "untimed path cannot be written" in err.value.what and "armtool traj time" in (err.value.hint or "")
+    assert format_trajectory(path, TrajFormat.CSV).startswith("j1_rad,j2_rad")  # as a path, it can
+    timed = read_trajectory("t.csv", "time_s,j1_rad,j2_rad\n0,0,0\n1,1,1\n").trajectory
+    assert "nanosec: 0}" in format_trajectory(timed, TrajFormat.ROS2) or "nsecs: 0}" in format_trajectory(timed, fmt)
+
+
 @pytest.mark.parametrize(
     "text, where, what",
     [

@@ -31,7 +31,18 @@ def cartesian(
     tip: Annotated[str | None, typer.Option(help="Tool link (default: the end of the longest chain).")] = None,
     start_q: Annotated[
         str | None,
-        typer.Option("--start", help="Start configuration, comma-separated joint values (default: mid-range)."),
+        typer.Option(
+            "--start",
+            help="Start configuration, comma-separated joint values (default: the SRDF's home/ready state, "
+            "else mid-range when it is not singular, else a well-conditioned configuration near it).",
+        ),
+    ] = None,
+    srdf: Annotated[
+        Path | None,
+        typer.Option(
+            help="SRDF whose home/ready group state is the default start (default: one beside the URDF "
+            "for the same robot, in its package or a sibling *moveit_config* package)."
+        ),
     ] = None,
     line: Annotated[
         str | None, typer.Option(help="Straight line to X,Y,Z (m, base frame), keeping the orientation.")
@@ -128,7 +139,7 @@ def cartesian(
     package_path: PackagePaths = None,
     config: RobotConfig = None,
 ) -> None:
-    start({"-o": output, "--plot": plot}, [urdf, waypoints])
+    start({"-o": output, "--plot": plot}, [urdf, waypoints, srdf])
     given = robot(urdf, None, moveit_config, xacro_arg, package_path, config, urdf_option="the URDF argument")
     assert given is not None  # a robot is required
     from rich.markup import escape
@@ -148,9 +159,18 @@ def cartesian(
         max_step_m=max_step_m or None,
     )
     done = plan.plan_cartesian(
-        given.urdf, base, tip, start_q, spec, steps, solver.value, dict(given.xacro_args), given.package_paths
+        given.urdf,
+        base,
+        tip,
+        start_q,
+        spec,
+        steps,
+        solver.value,
+        srdf or given.srdf,
+        dict(given.xacro_args),
+        given.package_paths,
     )
-    for text in plan.report_lines(done.result):
+    for text in plan.report_lines(done.result, done):
         stderr().print(escape(text))
     plan.require_fraction(done.result, min_fraction)
     emit(done.trajectory, output, to, TrajFormat.CSV, None)

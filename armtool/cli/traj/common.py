@@ -97,6 +97,7 @@ class Robot:
     joint_limits: Path | None
     xacro_args: tuple[tuple[str, str], ...]
     package_paths: tuple[Path, ...]
+    srdf: Path | None = None  # the --moveit-config package's (cartesian's home/ready start state)
 
 
 def robot(
@@ -118,6 +119,7 @@ def robot(
 
     options = RobotOptions(xacro_arg, package_path, config)
     package_args: dict[str, str] = {}
+    package_srdf: Path | None = None
     if moveit_config is not None:
         from armtool.model.packages import PackageResolver
         from armtool.moveit.package import read_package
@@ -132,12 +134,13 @@ def robot(
                 )
             urdf, package_args = pkg.urdf, pkg.urdf_xacro_args
         joint_limits = joint_limits or pkg.joint_limits
+        package_srdf = pkg.srdf
     if urdf is None:
         if required:
             raise ArmtoolError("no robot given", hint=f"pass {urdf_option} (or a xacro), or --moveit-config DIR")
         return None
     args = options.xacro_args(urdf, package_args)
-    return Robot(urdf, joint_limits, tuple(args.items()), tuple(options.package_paths))
+    return Robot(urdf, joint_limits, tuple(args.items()), tuple(options.package_paths), package_srdf)
 
 
 def sources(

@@ -71,14 +71,16 @@ def time_cmd(
     start({"-o": output}, [path, urdf, joint_limits])
     from armtool.console import stderr
     from armtool.traj.pipeline import read_input
-    from armtool.traj.timing import time_optimal
+    from armtool.traj.timing import time_path
 
     given = robot(urdf, joint_limits, moveit_config, xacro_arg, package_path, config, urdf_option=URDF)
     traj, in_fmt = read_input(path)
     limit_sources = sources(given, vel, acc, jerk, vscale, ascale)
     assert limit_sources is not None  # a robot is required
     limits = limit_sources.load()
-    timed = time_optimal(traj, limits)
+    done = time_path(traj, limits)
+    timed = done.trajectory
+    stderr().print(f"interpolation: {done.interpolation}")
     kind = "jerk-limited" if limits.subset(traj.joint_names).has_jerk_limits() else "time-optimal"
     stderr().print(
         f"{kind}: {timed.duration_s:.4f} s over {timed.n_points} samples "
@@ -194,7 +196,7 @@ def _retime_and_emit(
     from armtool.console import stderr
     from armtool.traj.pipeline import retime
 
-    timed, limits = retime(traj, sources(given, vel, acc))
+    timed, limits, interpolation = retime(traj, sources(given, vel, acc))
     if limits is not None:
-        stderr().print(f"re-timed: {timed.duration_s:.4f} s")
+        stderr().print(f"re-timed: {timed.duration_s:.4f} s ({interpolation})")
     emit(timed, output, to, fallback, limits)

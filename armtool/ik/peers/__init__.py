@@ -3,7 +3,9 @@
 Each adapter is one module with a Solver subclass; PEERS maps its name to the module and
 to the command that installs what it needs. Adapters import their peer library only when
 built, take q in the chain's joint order, and never trust the peer's own success flag:
-`Solver._result` re-verifies every answer with our FK.
+`Solver.judge` re-verifies every answer with our FK. Each adapter's `call` is the peer's own solve
+call and nothing else: converting the target into the peer's form is `prepare`, reading its
+output back is `answer`, both untimed, as armtool's own solvers are timed.
 """
 
 from __future__ import annotations

@@ -24,7 +24,7 @@ from lxml import etree
 
 from armtool.errors import ArmtoolError
 from armtool.ik.peers import check_fk, path_urdf
-from armtool.ik.solver import Array, IKResult, Solver
+from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
 
@@ -65,10 +65,16 @@ class IkPy(Solver):
 
         check_fk(self.name, chain, fk)
 
-    def solve(self, target: Array, seed: Array) -> IKResult:
+    def prepare(self, target: Array, seed: Array) -> tuple[Array, Array]:
+        """ikpy's arguments: the target, and the seed spread over ikpy's links (fixed ones at 0)."""
         full = self._full.copy()
         full[self._mask] = seed
-        out = self._chain.inverse_kinematics_frame(target, initial_position=full, orientation_mode="all")
-        return self._result(
-            np.asarray(out, dtype=float)[self._mask], target, 0, "ikpy's local solve did not reach the target"
-        )
+        return np.asarray(target, dtype=float), full
+
+    def call(self, prepared: tuple[Array, Array]) -> Any:
+        target, full = prepared
+        return self._chain.inverse_kinematics_frame(target, initial_position=full, orientation_mode="all")
+
+    def answer(self, raw: Any) -> Answer:
+        # ikpy returns its local optimum without a verdict: our check is the only one.
+        return Answer(np.asarray(raw, dtype=float)[self._mask], False, 0, "ikpy's local solve did not reach the target")

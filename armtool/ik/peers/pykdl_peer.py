@@ -21,7 +21,7 @@ import numpy as np
 from lxml import etree
 
 from armtool.ik.peers import check_fk
-from armtool.ik.solver import Array, IKResult, Solver
+from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
 _FLT_MAX = float(np.finfo(np.float32).max)
@@ -70,20 +70,26 @@ class PyKdlNrJl(Solver):
             a[i] = float(v)
         return a
 
-    def solve(self, target: Array, seed: Array) -> IKResult:
+    def prepare(self, target: Array, seed: Array) -> tuple[Any, Any, Any]:
+        """KDL's arguments: the target frame, the seed and the result as JntArrays."""
+        return _frame(self._kdl, np.asarray(target, dtype=float)), self._joints(seed), self._kdl.JntArray(self.chain.n)
+
+    def call(self, prepared: tuple[Any, Any, Any]) -> tuple[int, int, Any]:
+        """TRAC-IK's benchmark loop for KDL: CartToJnt from the last result until it succeeds or the time is up."""
+        goal, q, result = prepared
         deadline = self.clock() + self.timeout
-        goal = _frame(self._kdl, target)
-        q, result = self._joints(seed), self._kdl.JntArray(self.chain.n)
         calls = 0
         while True:
             rc = self._ik.CartToJnt(q, goal, result)
             calls += 1
             if rc >= 0 or self.clock() >= deadline:
-                break
+                return rc, calls, result
             q, result = result, q
-        answer = np.array([result[i] for i in range(self.chain.n)])
-        reason = "timeout" if rc < 0 else "KDL's test passed but our FK check did not"
-        return self._result(answer, target, calls * self.ITERATIONS_PER_CALL, reason)
+
+    def answer(self, raw: tuple[int, int, Any]) -> Answer:
+        rc, calls, result = raw
+        q = np.array([result[i] for i in range(self.chain.n)])
+        return Answer(q, rc >= 0, calls * self.ITERATIONS_PER_CALL, "" if rc >= 0 else "timeout")
 
 
 def _frame(kdl: Any, T: Array) -> Any:

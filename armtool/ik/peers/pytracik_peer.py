@@ -29,7 +29,7 @@ from lxml import etree
 
 from armtool.errors import ArmtoolError
 from armtool.ik.peers import check_fk, path_urdf
-from armtool.ik.solver import Array, IKResult, Solver
+from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
 
@@ -56,14 +56,16 @@ class PyTracIK(Solver):
         self._ik = pytracik.ik
         check_fk(self.name, chain, lambda q: pytracik.fk(self._solver, q))
 
-    def solve(self, target: Array, seed: Array) -> IKResult:
+    def prepare(self, target: Array, seed: Array) -> tuple[Any, ...]:
+        """pytracik's arguments: the seed, then the target as x, y, z and a quaternion x, y, z, w."""
+        target = np.asarray(target, dtype=float)
         x, y, z, w = pin.Quaternion(target[:3, :3]).coeffs()
-        out = np.asarray(
-            self._ik(self._solver, seed, target[0, 3], target[1, 3], target[2, 3], x, y, z, w), dtype=float
-        )
-        reason = (
-            f"TRAC-IK found no solution (rc {out[0]:g})"
-            if out[0] < 0
-            else "TRAC-IK reported a solution that our FK check rejects"
-        )
-        return self._result(out[1:], target, 0, reason)
+        return (np.asarray(seed, dtype=float), *target[:3, 3].tolist(), float(x), float(y), float(z), float(w))
+
+    def call(self, prepared: tuple[Any, ...]) -> Any:
+        return self._ik(self._solver, *prepared)
+
+    def answer(self, raw: Any) -> Answer:
+        out = np.asarray(raw, dtype=float)
+        found = bool(out[0] >= 0)
+        return Answer(out[1:], found, 0, "" if found else f"TRAC-IK found no solution (rc {out[0]:g})")

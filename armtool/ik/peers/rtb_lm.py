@@ -24,7 +24,7 @@ from lxml import etree
 
 from armtool.errors import ArmtoolError
 from armtool.ik.peers import check_fk, path_urdf
-from armtool.ik.solver import Array, IKResult, Solver
+from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
 
@@ -50,11 +50,12 @@ class RtbLM(Solver):
         self._tol = 0.5 * self.tolerance**2
         check_fk(self.name, chain, lambda q: self._ets.fkine(q).A)
 
-    def solve(self, target: Array, seed: Array) -> IKResult:
-        sol = self._ets.ik_LM(target, q0=seed, ilimit=self.ILIMIT, slimit=self.SLIMIT, tol=self._tol, joint_limits=True)
-        reason = (
-            f"ik_LM found no solution in {sol.searches} searches"
-            if not sol.success
-            else "ik_LM reported a solution that our FK check rejects"
+    def call(self, prepared: tuple[Array, Array]) -> Any:
+        target, seed = prepared
+        return self._ets.ik_LM(
+            target, q0=seed, ilimit=self.ILIMIT, slimit=self.SLIMIT, tol=self._tol, joint_limits=True
         )
-        return self._result(np.asarray(sol.q, dtype=float), target, int(sol.iterations), reason)
+
+    def answer(self, raw: Any) -> Answer:
+        reason = "" if raw.success else f"ik_LM found no solution in {raw.searches} searches"
+        return Answer(np.asarray(raw.q, dtype=float), bool(raw.success), int(raw.iterations), reason)

@@ -52,8 +52,8 @@ limits is dropped. UR joints with ±2π limits therefore give at most 8 solution
 passes an FK check with the chain's own FK (Pinocchio) at least as strict as `verify()`: each
 position component within the tolerance, and two columns of R_target − R within a bound that
 caps the rotation angle, hence every component of log(R_target·Rᵀ), at the tolerance. They are
-sorted by Euclidean distance to the seed; `q` is the first, success iff there is one, and the
-reported errors are q's exact norms (as `verify()` computes them); `iterations` is 0. This check
+sorted by Euclidean distance to the seed; `q` is the first, claimed iff there is one (`verify()`
+then judges it outside the solve, as every solver's answer); `iterations` is 0. This check
 costs ~2 µs per solution where `verify()` costs ~20 µs: a whole solve on UR5 takes ~42 µs (median,
 7.1 solutions on average), a third of it in the FK checks.
 """
@@ -67,7 +67,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.ik.solver import Array, IKResult, Solver
+from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain, looks_like_gripper_joint
 
 ANGLE_TOL = 1e-6  # rad: axes parallel
@@ -413,9 +413,10 @@ class Analytic(Solver):
         )  # fmt: skip
 
     # ---- per target --------------------------------------------------------------------------------------
-    def solve(self, target: Array, seed: Array) -> IKResult:
+    def call(self, prepared: tuple[Array, Array]) -> Answer:
+        target, seed = prepared
         chain = self.chain
-        t = np.asarray(target, dtype=float)
+        t = target
         tp = self._to_dh.dot(t.ravel()).tolist()
         sd = np.asarray(seed, dtype=float).tolist()
         if len(sd) != 6 or not math.isfinite(sum(sd)):
@@ -425,15 +426,13 @@ class Analytic(Solver):
             )
         qs = self._candidates_ur(tp, sd) if self.geometry.kind == "ur" else self._candidates_wrist(tp, sd)
         if not qs:
-            return self._result(
-                chain.clamp(np.asarray(seed, dtype=float)), t, 0, "out of reach: the closed form has no real solution"
-            )
+            return Answer(chain.clamp(seed), False, 0, "out of reach: the closed form has no real solution")
         fk = chain.fk
         tol, rot_tol2, limits = self.tolerance, self._rot_tol2, self._limits
         (lo0, hi0), (lo1, hi1), (lo2, hi2), (lo3, hi3), (lo4, hi4), (lo5, hi5) = limits
         s0, s1, s2, s3, s4, s5 = sd
-        (t00, t01, t02, tx), (t10, t11, t12, ty), (t20, t21, t22, tz), _ = t.tolist()
-        found: list[tuple[float, Array, list[list[float]]]] = []
+        (t00, t01, _, tx), (t10, t11, _, ty), (t20, t21, _, tz), _ = t.tolist()
+        found: list[tuple[float, Array]] = []
         in_limits = 0
         if self.geometry.near:  # polish only what may end within the limits
             qs = self._polish(
@@ -463,13 +462,13 @@ class Analytic(Solver):
                 u0, u1, u2, v0, v1, v2 = t00 - m00, t10 - m10, t20 - m20, t01 - m01, t11 - m11, t21 - m21
                 if u0 * u0 + u1 * u1 + u2 * u2 + v0 * v0 + v1 * v1 + v2 * v2 <= rot_tol2:
                     u0, u1, u2, v0, v1, v2 = a - s0, b - s1, c - s2, d - s3, e - s4, f - s5
-                    found.append((u0 * u0 + u1 * u1 + u2 * u2 + v0 * v0 + v1 * v1 + v2 * v2, qa, H))
+                    found.append((u0 * u0 + u1 * u1 + u2 * u2 + v0 * v0 + v1 * v1 + v2 * v2, qa))
         if not found:
             if not in_limits:
                 why = f"{len(qs)} closed-form solution(s), none within the joint limits"
             else:
                 why = f"{in_limits} closed-form solution(s) within the limits, none passed the FK check (tolerance {tol:g})"
-            return self._result(chain.clamp(np.asarray(seed, dtype=float)), t, 0, why)
+            return Answer(chain.clamp(seed), False, 0, why)
         found.sort(key=_first)
         if self.geometry.near:  # two model answers may polish into one solution
             found = [
@@ -477,13 +476,7 @@ class Analytic(Solver):
                 for k, item in enumerate(found)
                 if all(float(np.abs(item[1] - other[1]).max()) > 1e-7 for other in found[:k])
             ]
-        _, q_best, H = found[0]
-        (m00, m01, m02, x), (m10, m11, m12, y), (m20, m21, m22, z), _ = H
-        pos = math.sqrt((tx - x) ** 2 + (ty - y) ** 2 + (tz - z) ** 2)
-        frob2 = ((t00 - m00) ** 2 + (t01 - m01) ** 2 + (t02 - m02) ** 2 + (t10 - m10) ** 2 + (t11 - m11) ** 2
-                 + (t12 - m12) ** 2 + (t20 - m20) ** 2 + (t21 - m21) ** 2 + (t22 - m22) ** 2)  # fmt: skip
-        rot = 2.0 * math.asin(min(1.0, math.sqrt(frob2 / 8.0)))  # ‖R_t − R‖_F² = 8 sin²(angle/2)
-        return IKResult(True, q_best, pos, rot, 0, "", tuple([item[1] for item in found]))
+        return Answer(found[0][1], True, 0, "", tuple([item[1] for item in found]))
 
     def _polish(self, qs: list[tuple[float, ...]], target: Array) -> list[tuple[float, ...]]:
         """Newton steps on the real chain from a near-closed-form model's answers (Pinocchio's 6×6 Jacobian,
@@ -706,5 +699,5 @@ def _ur_free_theta6(
     return min((beta + g1, beta - g1, beta + g2, beta - g2), key=lambda t: abs(math.remainder(t - seed6, TAU)))
 
 
-def _first(item: tuple[float, Array, list[list[float]]]) -> float:
+def _first(item: tuple[float, Array]) -> float:
     return item[0]

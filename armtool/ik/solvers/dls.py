@@ -32,7 +32,7 @@ import pinocchio as pin
 from scipy.linalg import lapack
 
 from armtool.errors import ArmtoolError
-from armtool.ik.solver import Array, IKResult, Solver
+from armtool.ik.solver import Answer, Array, Solver
 
 
 def damped_step(J: Array, e: Array, lambda_max: float, singular_region: float, max_step: float) -> tuple[Array, float]:
@@ -78,7 +78,8 @@ class DampedLeastSquares(Solver):
         if not self.opts["max_step"] > 0:
             raise ArmtoolError("solver 'dls' option max_step must be > 0", hint=f"default: {self.options['max_step']}")
 
-    def solve(self, target: Array, seed: Array) -> IKResult:
+    def call(self, prepared: tuple[Array, Array]) -> Answer:
+        target, seed = prepared
         chain = self.chain
         clock = self.clock
         deadline = clock() + self.timeout
@@ -100,9 +101,9 @@ class DampedLeastSquares(Solver):
             np.subtract(p_target, T[:3, 3], out=e[:3])
             e[3:] = log3(R_target @ T[:3, :3].T)
             if float(np.abs(e).max()) < tol:
-                return self._result(q, target, iterations)
+                return Answer(q, True, iterations)
             if clock() > deadline:
-                return self._result(q, target, iterations, "timeout")
+                return Answer(q, False, iterations, "timeout")
             iterations += 1
             dq, _ = damped_step(J, e, lam_max, region, max_step)
             q_raw = q + dq
@@ -110,5 +111,5 @@ class DampedLeastSquares(Solver):
             if wrap_any:
                 q_new = np.where(cont, (q_raw + math.pi) % (2 * math.pi) - math.pi, q_new)
             if not (q_new != q).any():
-                return self._result(q, target, iterations, "stalled at the joint limits")
+                return Answer(q, False, iterations, "stalled at the joint limits")
             q = q_new

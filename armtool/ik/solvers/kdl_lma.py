@@ -25,7 +25,7 @@ deliberate difference: the clock is also checked inside a call, because one 500-
 call costs ~10 ms in Python (about 1 ms in C++), and a solve must not overrun its timeout.
 
 KDL's own success test is on the *weighted* error: ‖(Δp, 0.01·Δω)‖ < eps accepts rotation
-errors up to 100·eps. Our verdict (`_result`: unweighted ‖Δp‖, ‖Δω‖ ≤ tolerance, q within
+errors up to 100·eps. Our verdict (`Solver.judge`: unweighted ‖Δp‖, ‖Δω‖ ≤ tolerance, q within
 limits) rejects those, and rejects every answer outside the joint limits, which this solver
 ignores: that is the point of offering it, to show users what KDL's LMA returns. To meet an
 unweighted tolerance, pass eps = tolerance × min(weights) (1e-7 for the defaults).
@@ -46,7 +46,7 @@ import pinocchio as pin
 from scipy.linalg import lapack
 
 from armtool.errors import ArmtoolError
-from armtool.ik.solver import Array, IKResult, Solver
+from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
 _SUCCESS, _STALLED, _MAX_ITER, _TIMEOUT = range(4)
@@ -75,7 +75,8 @@ class KdlLevenbergMarquardt(Solver):
             )
         self._weights = weights
 
-    def solve(self, target: Array, seed: Array) -> IKResult:
+    def call(self, prepared: tuple[Array, Array]) -> Answer:
+        target, seed = prepared
         chain = self.chain
         deadline = self.clock() + self.timeout
         clock = self.clock
@@ -146,15 +147,18 @@ class KdlLevenbergMarquardt(Solver):
             iterations += used
             calls += 1
             if status == _SUCCESS:
-                return self._result(q, target, iterations, _own_success_reason(chain, q))
+                return Answer(q, True, iterations)
             if status == _TIMEOUT or clock() >= deadline:
-                return self._result(q, target, iterations, "timeout")
+                return Answer(q, False, iterations, "timeout")
             if calls >= max_calls:
-                return self._result(q, target, iterations, f"no convergence in {calls} calls (max_calls)")
+                return Answer(q, False, iterations, f"no convergence in {calls} calls (max_calls)")
+
+    def rejected_claim(self, answer: Answer) -> str:
+        return _own_success_reason(self.chain, np.asarray(answer.q, dtype=float))
 
 
 def _own_success_reason(chain: Chain, q: Array) -> str:
-    """Why KDL's own success can still fail our verification (used only if it does)."""
+    """Why KDL's own success can still fail our verification."""
     if not chain.within_limits(q):
         return "converged outside the joint limits (LMA ignores them)"
-    return "KDL's weighted test (‖L·Δ‖ < eps, rotation weighted 0.01 by default) passed, but the unweighted error exceeds the tolerance"
+    return "KDL's test weights rotation by 0.01: it stops at up to 100× the rotation tolerance (eps=1e-7 meets it)"

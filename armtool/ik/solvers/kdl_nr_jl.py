@@ -32,7 +32,7 @@ equal budgets. Checked against liborocos-kdl 1.5.1 on Panda (1000 targets, TRAC-
 with a 2000-call budget both report rc >= 0 on 64.4 % of targets, and verified answers agree
 on 99 % of targets.
 
-The verdict is ours: `_result` recomputes FK and checks every component of Δ against the
+The verdict is ours: `Solver.judge` recomputes FK and checks every component of Δ against the
 tolerance (the protocol's test, the same as KDL's `Equal`) and the joint limits, so an answer
 KDL accepts is accepted here only if our own FK agrees.
 """
@@ -46,7 +46,7 @@ import numpy as np
 import pinocchio as pin
 from scipy.linalg import lapack
 
-from armtool.ik.solver import Array, IKResult, Solver
+from armtool.ik.solver import Answer, Array, Solver
 
 
 class KdlNewtonRaphsonJL(Solver):
@@ -57,7 +57,8 @@ class KdlNewtonRaphsonJL(Solver):
         "max_calls": None,  # also stop after this many CartToJnt calls (an iteration budget that does not depend on CPU speed)
     }
 
-    def solve(self, target: Array, seed: Array) -> IKResult:
+    def call(self, prepared: tuple[Array, Array]) -> Answer:
+        target, seed = prepared
         chain = self.chain
         deadline = self.clock() + self.timeout
         clock = self.clock
@@ -82,7 +83,7 @@ class KdlNewtonRaphsonJL(Solver):
             e[3:] = log3(R_target @ T[:3, :3].T)
             np.abs(e, out=abs_e)
             if abs_e.max() < eps:  # KDL: Equal(delta_twist, Twist::Zero(), eps) → rc = E_NOERROR
-                return self._result(q, target, iterations, "KDL's test passed but our FK check did not")
+                return Answer(q, True, iterations)
             U, s, Vt, info = dgesvd(J, compute_uv=1, full_matrices=0)
             iterations += 1
             if info == 0:
@@ -98,6 +99,6 @@ class KdlNewtonRaphsonJL(Solver):
                 np.maximum(q, lo, out=q)
                 np.minimum(q, hi, out=q)
             if clock() >= deadline:
-                return self._result(q, target, iterations, "timeout")
+                return Answer(q, False, iterations, "timeout")
             if iterations >= max_calls:
-                return self._result(q, target, iterations, f"no convergence in {iterations} calls (max_calls)")
+                return Answer(q, False, iterations, f"no convergence in {iterations} calls (max_calls)")

@@ -54,12 +54,11 @@ What differs:
   seed ± 2π (TRAC-IK's `runSolver`) in both solvers.
 
 Success is our verdict: every component of [p* − p; log(R* Rᵀ)] within the tolerance, checked
-by our own FK (`Solver._result`).
+by our own FK (`Solver.judge`), outside the solve.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import zlib
 from collections.abc import Callable, Iterator
@@ -71,7 +70,7 @@ import pinocchio as pin
 from scipy.linalg import lapack
 
 from armtool.errors import ArmtoolError
-from armtool.ik.solver import Array, IKResult, Solver
+from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
 TWO_PI = 2.0 * math.pi
@@ -163,8 +162,8 @@ class TracIK(Solver):
         self._lo = np.where(chain.continuous, -np.inf, chain.lower)
         self._hi = np.where(chain.continuous, np.inf, chain.upper)
 
-    def solve(self, target: Array, seed: Array) -> IKResult:
-        search = _Search(self, np.asarray(target, dtype=float), np.asarray(seed, dtype=float))
+    def call(self, prepared: tuple[Array, Array]) -> Answer:
+        search = _Search(self, *prepared)
         try:
             search.run()
         except _Stop:
@@ -241,7 +240,7 @@ class _Search:
         self.deadline = solver.clock() + solver.timeout
         self.tol = solver.tolerance
         self.speed = solver.solve_type is SolveType.SPEED
-        self.solutions: list[IKResult] = []
+        self.solutions: list[Array] = []
         self.scores: list[float] = []
         self.iterations = 0
         self.best_err, self.best_q = math.inf, seed
@@ -260,22 +259,18 @@ class _Search:
     def found(self, q: Array) -> None:
         """Record a solution (normalized as TRAC-IK does); speed stops at the first."""
         q = self.solver.normalize(q.copy(), self.seed)
-        if any(float(np.abs(q - s.q).max()) <= SAME_SOLUTION for s in self.solutions):
+        if any(float(np.abs(q - s).max()) <= SAME_SOLUTION for s in self.solutions):
             return
-        answer = self.solver._result(q, self.target, self.iterations)  # our FK's verdict
-        if not answer.success:
-            return  # our FK disagrees at the last digit: keep searching
-        self.solutions.append(answer)
+        self.solutions.append(q)
         self.scores.append(self.solver.score(q, self.seed))
         if self.speed:
             raise _Stop
 
-    def result(self) -> IKResult:
+    def result(self) -> Answer:
         if self.solutions:
-            best = self.solutions[int(np.argmax(self.scores))]
-            return dataclasses.replace(best, iterations=self.iterations)
+            return Answer(self.solutions[int(np.argmax(self.scores))], True, self.iterations)
         q = self.solver.normalize(self.best_q, self.seed)
-        return self.solver._result(q, self.target, self.iterations, "timeout")
+        return Answer(q, False, self.iterations, "timeout")
 
     def run(self) -> None:
         next(self.newton)  # a first Newton turn: most targets end here, before SLSQP's setup cost

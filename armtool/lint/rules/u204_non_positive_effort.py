@@ -12,8 +12,10 @@ class NonPositiveEffort(Rule):
     """
     What it does:
     Reports a joint limit with effort="0" or a negative effort. When every moving joint has
-    effort="0" (ROS-Industrial's convention for a kinematics-only model), the model is reported
-    once, at info level.
+    effort="0" (ROS-Industrial's convention for a kinematics-only model), or the model has no
+    <inertial> at all (so effort="0" is a placeholder beside real efforts, like the missing
+    inertials), the model is reported once, at info level, not joint by joint. A negative effort
+    is always reported.
 
     Why is this bad?
     Controllers and simulators clamp the commanded torque or force to the effort limit:
@@ -31,16 +33,15 @@ class NonPositiveEffort(Rule):
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         from armtool.lint import kinematics_only
 
-        if kinematics_only.all_efforts_zero(ctx):
-            if not kinematics_only.has_no_inertials(ctx):  # else U401's one finding says it already
-                yield ctx.finding(self, ctx.root, kinematics_only.description(ctx)).with_severity(Severity.INFO)
-            return
+        placeholders = kinematics_only.efforts_are_placeholders(ctx)
+        if placeholders and not kinematics_only.has_no_inertials(ctx):  # else U401's one finding says it
+            yield ctx.finding(self, ctx.root, kinematics_only.description(ctx)).with_severity(Severity.INFO)
         for joint in ctx.joints:
             limit = joint.limit()
             if limit is None or not joint.moves:
                 continue
             value = parse_floats(joint.limits.get("effort"))
-            if value and len(value) == 1 and value[0] <= 0:
+            if value and len(value) == 1 and (value[0] < 0 or (value[0] == 0 and not placeholders)):
                 yield ctx.finding(
                     self,
                     limit,

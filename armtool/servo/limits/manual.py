@@ -37,7 +37,7 @@ class ManualRecorder:
         """One reading per joint. A person records for minutes: a reply lost now and then (noise,
         a loaded machine) skips that joint until the next sample; only an ID silent for more than
         `max_silence_s` ends the session. A lost port ends it at once."""
-        from armtool.servo.bus import CommError
+        from armtool.servo.transport import CommError
 
         t = time.monotonic() - self._t0
         for j in self.joints:

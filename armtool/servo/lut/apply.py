@@ -79,7 +79,10 @@ def apply_csv(
         first += 1
     if first == len(lines):
         raise ArmtoolError("no header row", source, hint="the first line names the columns, e.g. angle_deg")
-    rows = list(csv.reader(io.StringIO("\n".join(lines[first:]))))
+    from armtool.csvrows import csv_rows
+
+    numbered = csv_rows(lines[first:], source, first + 1, "angle CSV")
+    rows = [row for _, row in numbered]
     header = [h.strip() for h in rows[0]]
     angle_cols = [h for h in header if h.endswith(("_deg", "_rad"))]
     if column is None:
@@ -111,8 +114,7 @@ def apply_csv(
     values: list[float] = []
     wheres: list[str] = []
     data_rows = []
-    for offset, row in enumerate(rows[1:], start=2):
-        line = first + offset
+    for line, row in numbered[1:]:
         if not any(cell.strip() for cell in row):
             continue
         where = f"{source}:{line}"

@@ -170,7 +170,10 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
             source,
             hint="the first non-comment line names the columns: command_ticks,reference_deg,...",
         )
-    rows = list(csv.reader(io.StringIO("\n".join(lines[first:]))))
+    from armtool.csvrows import csv_rows
+
+    numbered = csv_rows(lines[first:], source, first + 1, "measurement CSV")
+    rows = [row for _, row in numbered]
     index = _check_header(rows[0], f"{source}:{first + 1}")
     model_name = model or meta.get("servo_model")
     if not model_name:
@@ -184,8 +187,7 @@ def parse_measurements(text: str, source: str, model: str | None = None) -> Meas
     ref_col = "reference_deg" if "reference_deg" in index else "reference_rad"
     samples: list[Sample] = []
     seen: dict[tuple[int, str, int | None], int] = {}
-    for offset, row in enumerate(rows[1:], start=2):
-        line = first + offset
+    for line, row in numbered[1:]:
         where = f"{source}:{line}"
         if not any(cell.strip() for cell in row):
             continue

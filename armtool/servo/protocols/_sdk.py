@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from armtool.servo.bus import CommError, CommErrorKind, Port, Transport
+from armtool.servo.transport import CommError, CommErrorKind, Port, Transport
 
 
 class SdkTransport(Transport):

@@ -10,8 +10,8 @@ from __future__ import annotations
 import time
 from collections.abc import Mapping
 
-from armtool.servo.bus import CommError, CommErrorKind, Port, Transport
 from armtool.servo.packets import BROADCAST, PING, READ, SYNC_WRITE, WRITE, Corrupt, encode1, parse1
+from armtool.servo.transport import CommError, CommErrorKind, Port, Transport
 
 # Status error bits (scservo_sdk protocol_packet_handler)
 _ALARM = {1: "input voltage", 2: "angle sensor", 4: "overheating", 8: "over-current", 32: "overload"}

@@ -7,13 +7,26 @@ hand (only while its torque is off) and rests on each stop for about dwell_s + 2
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Mapping
+from typing import Protocol
 
 from armtool.servo.sim.config import PersonSpec
+from armtool.servo.sim.servo import SimServo
 
-if TYPE_CHECKING:
-    from armtool.servo.sim.bus import SimBus
+
+class Arm(Protocol):
+    """What a person needs of the simulated bus (SimBus): its clock, its servos, and hands on them."""
+
+    @property
+    def servos(self) -> Mapping[int, SimServo]: ...
+
+    def now(self) -> float: ...
+
+    def servo(self, sid: int) -> SimServo: ...
+
+    def true_angle_deg(self, sid: int) -> float: ...
+
+    def set_hand(self, sid: int, fn: Callable[[float], float] | None) -> None: ...
 
 
 def _path(waypoints: list[tuple[float, float]]) -> Callable[[float], float]:
@@ -29,7 +42,7 @@ def _path(waypoints: list[tuple[float, float]]) -> Callable[[float], float]:
 
 
 class Person:
-    def __init__(self, sim: SimBus, spec: PersonSpec | None = None) -> None:
+    def __init__(self, sim: Arm, spec: PersonSpec | None = None) -> None:
         self.sim = sim
         self.spec = spec or PersonSpec()
         self.done_at = 0.0  # sim time when every joint is back in the middle

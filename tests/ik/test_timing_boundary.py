@@ -1,0 +1,168 @@
+"""One timing boundary for every solver: what `ik-bench` times is the solver's own call, nothing of armtool's.
+
+A profiler watches the timed region of the benchmark's own timing code (`time_solves`,
+`time_batch`: between the two clock readings that bound a solve) and records every function that
+runs inside it. armtool's answer check (`verify`, `judge`) must never be among them, for any solver,
+armtool's own or a peer; and a peer's timed region holds nothing but the peer's library (no
+conversion of the target by armtool or Pinocchio, which only that row would pay).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from types import FrameType
+from typing import Any
+
+import numpy as np
+import pytest
+
+from armtool.ik import bench
+from armtool.ik import solver as solver_module
+from armtool.ik.bench import BenchConfig, make_targets, time_batch, time_solves
+from armtool.ik.peers import PEERS, make_peer
+from armtool.ik.registry import SOLVERS, make_solver
+from armtool.ik.solver import Answer, Solver
+from armtool.model.chain import chain_from_xml
+from armtool.model.load import load_robot_xml
+from tests.ik.robots import ARMS, erd
+
+# armtool's check of an answer: never inside the timing.
+CHECKS = {
+    solver_module.verify.__code__,
+    solver_module.verify_batch.__code__,
+    solver_module.pose_error_batch.__code__,
+    solver_module.rotation_error.__code__,
+    Solver.judge.__code__,
+    Solver.judge_batch.__code__,
+    Solver.solve.__code__,
+    Solver.solve_batch.__code__,
+}
+
+
+class Watch:
+    """Records the functions called inside the benchmark's timed regions."""
+
+    def __init__(self) -> None:
+        self.inside = False
+        self.python: list[Any] = []  # code objects of Python functions entered
+        self.native: list[Any] = []  # C functions called (builtins, extension modules)
+
+    def profile(self, frame: FrameType, event: str, arg: Any) -> None:
+        if not self.inside:
+            return
+        if event == "call":
+            self.python.append(frame.f_code)
+        elif event == "c_call":
+            self.native.append(arg)
+
+
+@contextmanager
+def watching(monkeypatch: pytest.MonkeyPatch) -> Iterator[Watch]:
+    """Every perf_counter() read by the benchmark's timing functions opens or closes a timed region."""
+    watch = Watch()
+    real = time.perf_counter
+    timers = {time_solves.__code__, time_batch.__code__}
+
+    def clock() -> float:
+        caller = sys._getframe(1).f_code
+        if caller in timers:
+            watch.inside = not watch.inside
+        return real()
+
+    monkeypatch.setattr(bench.time, "perf_counter", clock)
+    sys.setprofile(watch.profile)
+    try:
+        yield watch
+    finally:
+        sys.setprofile(None)
+        watch.inside = False
+
+
+def targets_for(chain: Any, count: int = 4) -> Any:
+    return make_targets(chain, BenchConfig(samples=count, rng_seed=3))
+
+
+def arm(name: str) -> tuple[Any, Any]:
+    relative, base, tip = ARMS[name]
+    root = load_robot_xml(erd(relative))
+    return root, chain_from_xml(root, base, tip)
+
+
+def timed_functions(monkeypatch: pytest.MonkeyPatch, s: Solver, batch: bool) -> Watch:
+    targets = targets_for(s.chain)
+    s.solve(targets.poses[0], targets.seeds[0])  # loaded and warm: the first call's imports are not the point
+    with watching(monkeypatch) as watch:
+        if batch:
+            time_batch(s, targets.poses, targets.seeds)
+        else:
+            time_solves(s, targets.poses, targets.seeds)
+    assert not watch.inside  # every region that opened closed
+    return watch
+
+
+@pytest.mark.parametrize("name", sorted(SOLVERS))
+def test_armtools_solvers_are_timed_without_the_answer_check(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    _, chain = arm("ur5")
+    s = make_solver(name, chain, timeout=0.002)
+    for batch in (False, True) if s.has_batch() else (False,):
+        watch = timed_functions(monkeypatch, s, batch)
+        assert watch.python, "nothing was timed"
+        checked = [c.co_name for c in watch.python if c in CHECKS]
+        assert not checked, f"{name} runs armtool's answer check inside its timed call: {checked}"
+
+
+@pytest.mark.parametrize("name", sorted(set(PEERS) - {"pykdl"}))
+def test_peers_are_timed_on_their_own_call_only(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    pytest.importorskip(PEERS[name][1])
+    root, chain = arm("ur5")
+    s = make_peer(name, chain, root, timeout=0.002, tolerance=1e-5)
+    assert isinstance(s, Solver)
+    watch = timed_functions(monkeypatch, s, False)
+    ours = {c.co_name for c in watch.python if c.co_filename.startswith(solver_module.__file__.rsplit("/ik/", 1)[0])}
+    # The adapter's call() is the only armtool code inside the timing: no check, no conversion.
+    assert ours == {"call"}, f"{name}: armtool code inside the timed call: {sorted(ours)}"
+    pinocchio = [f for f in watch.native if (getattr(f, "__module__", None) or "").startswith("pinocchio")]
+    assert not pinocchio, f"{name}: Pinocchio converts its inputs inside the timing: {pinocchio}"
+
+
+class Slow(Solver):
+    """Preparing the inputs and reading the output take 20 ms each; the call itself nothing."""
+
+    name = "slow-edges"
+    summary = "test double"
+
+    def prepare(self, target: Any, seed: Any) -> Any:
+        time.sleep(0.02)
+        return target, seed
+
+    def call(self, prepared: Any) -> Answer:
+        return Answer(np.asarray(prepared[1], dtype=float), True)
+
+    def answer(self, raw: Any) -> Answer:
+        time.sleep(0.02)
+        return super().answer(raw)
+
+
+def test_preparing_and_reading_are_outside_the_timing() -> None:
+    _, chain = arm("ur5")
+    s = Slow(chain)
+    targets = targets_for(chain, 3)
+    timed = time_solves(s, targets.poses, targets.seeds)
+    assert timed.wall.max() < 0.005 and timed.cpu.max() < 0.005
+    batch = time_batch(s, targets.poses, targets.seeds)
+    assert batch.wall.max() < 0.005
+
+
+def test_every_answer_is_checked_outside_the_timing_lm_included() -> None:
+    # The report's verdict is armtool's FK check of every answer: a solver (lm too) whose answers
+    # were wrong would be counted as failing, whatever it claimed.
+    _, chain = arm("ur5")
+    config = BenchConfig(samples=6, repeat=0)
+    targets = make_targets(chain, config)
+    lm = make_solver("lm", chain)
+    lm.call: Callable[[Any], Answer] = lambda prepared: Answer(np.asarray(prepared[1]), True, 1)  # type: ignore[method-assign]
+    report = bench.solver_report(chain, lm, targets, config, time_solves(lm, targets.poses, targets.seeds))
+    assert report.success_rate == 0.0 and report.claimed_but_wrong == 6
