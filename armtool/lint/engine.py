@@ -340,7 +340,7 @@ class Linter:
                 )
             )
             return None, findings
-        if _XACRO_HINTS.search(data) and _is_xacro(root):
+        if path != STDIN and _XACRO_HINTS.search(data) and _is_xacro(root):  # stdin: xacro needs the file
             ctx, found = self._load_xacro(path, extra_args)
             note = _file_finding(
                 "X002",

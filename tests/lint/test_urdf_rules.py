@@ -411,3 +411,11 @@ def test_x002_a_xacro_named_urdf_is_expanded(tmp_path: Path) -> None:
     found = lint_text(tmp_path, text, "arm.urdf")
     assert [(f.code, f.severity) for f in found] == [("X002", Severity.INFO)]
     assert "arm.urdf is a xacro" in found[0].message and "arm.urdf.xacro" in (found[0].hint or "")
+
+
+def test_x002_not_for_stdin() -> None:
+    """A document on stdin cannot be expanded (xacro needs its file): it is read as it is."""
+    from armtool.lint.engine import STDIN, LintOptions, lint_paths
+
+    found = lint_paths([STDIN], LintOptions(stdin=b'<robot name="a"><link name="${x}"/></robot>\n')).findings
+    assert [f.code for f in found] == []
