@@ -321,3 +321,22 @@ def test_missing_peer_hint_keeps_its_brackets(tmp_path: Path, monkeypatch: objec
     )
     assert result.exit_code == 0, result.output
     assert "pip install 'armtool[peers]'" in result.stderr
+
+
+MOVEIT_PACKAGE = Path(__file__).resolve().parents[1] / "fixtures" / "robots" / "clean_arm_moveit_config"
+
+
+def test_moveit_config_gives_robot_group_timeout_and_solver() -> None:
+    """--moveit-config: the URDF .setup_assistant names, the only kinematics.yaml group (a ROS 2
+    parameter file), its timeout, and MoveIt's solver (KDL) first among armtool's."""
+    result = runner.invoke(
+        app, ["ik-bench", "--moveit-config", str(MOVEIT_PACKAGE), "--samples", "10", "--format", "json", "--no-batch"]
+    )
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    assert (doc["base"], doc["tip"]) == ("base_link", "tool0")
+    assert doc["config"]["timeout_s"] == 0.01
+    assert doc["solvers"][0]["solver"] == "kdl-nr-jl"
+    assert (
+        "MoveIt's solver kdl_kinematics_plugin/KDLKinematicsPlugin (armtool's kdl-nr-jl stands for it)" in result.stderr
+    )

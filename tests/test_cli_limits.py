@@ -711,3 +711,46 @@ def test_in_place_urdf_keeps_crlf_and_its_backup_is_the_original_bytes(tmp_path:
     new = urdf.read_bytes()
     assert new != original and new.startswith("\ufeff".encode())
     assert new.count(b"\n") == new.count(b"\r\n") == original.count(b"\r\n")
+
+
+def test_urdf_xacro_takes_the_robot_options(tmp_path: Path) -> None:
+    """A xacro --urdf is expanded with --xacro-arg and written whole with --urdf-out; --in-place refuses it."""
+    arm = so_arm(tmp_path, [1, 4])
+    doc = {
+        "shoulder_pan": {"id": 1, "drive_mode": 0, "homing_offset": 0, "range_min": 800, "range_max": 3300},
+        "wrist_flex": {"id": 4, "drive_mode": 0, "homing_offset": 0, "range_min": 850, "range_max": 3250},
+    }
+    cal = tmp_path / "cal.json"
+    cal.write_text(json.dumps(doc))
+    joint = (
+        '<joint name="${{prefix}}{0}" type="revolute"><parent link="${{prefix}}{1}"/><child link="${{prefix}}{2}"/>'
+        '<limit lower="-3" upper="3" effort="1" velocity="1"/></joint>'
+    )
+    xacro = tmp_path / "so.urdf.xacro"
+    xacro.write_text(
+        '<robot name="so" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:property name="prefix" value="$(arg prefix)"/>\n'
+        '<link name="${prefix}a"/><link name="${prefix}b"/><link name="${prefix}c"/>\n'
+        + joint.format("shoulder_pan", "a", "b")
+        + joint.format("wrist_flex", "b", "c")
+        + "\n</robot>\n"
+    )
+    out = tmp_path / "so.urdf"
+    base = (
+        "limits",
+        "--from-lerobot",
+        str(cal),
+        "--arm",
+        str(arm),
+        "-o",
+        str(tmp_path / "l.yaml"),
+        "--urdf",
+        str(xacro),
+    )
+    r = armtool(*base, "--urdf-out", str(out))
+    assert r.returncode == 2 and "--xacro-arg" in r.stderr, r.stderr  # prefix has no value
+    r = armtool(*base, "--urdf-out", str(out), "--xacro-arg", "prefix:=")
+    assert r.returncode == 0, r.stderr
+    assert '<joint name="shoulder_pan"' in out.read_text() and "${" not in out.read_text()
+    r = armtool(*base, "--in-place", "--xacro-arg", "prefix:=")
+    assert r.returncode == 2 and "--in-place cannot edit a xacro" in r.stderr, r.stderr

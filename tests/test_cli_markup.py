@@ -25,6 +25,10 @@ def test_option_help_keeps_brackets() -> None:
     assert "(needs armtool[peers])" in _help("ik-bench")
     assert "[default: 0.005, or the group's in --kinematics-yaml]" in _help("ik-bench")
     assert "gains [default: origins,offsets]" in _help("calibrate", "fit")
+    # options declared as Annotated[..., typer.Option(...)] (the robot options, traj's)
+    assert "whose [tool.armtool.lint] xacro-args" in _help("tree")
+    assert "whose [tool.armtool.lint] xacro-args" in _help("traj", "time")
+    assert "whose [tool.armtool.lint] package-paths" in _help("calibrate", "fit")
 
 
 def test_escaping_is_idempotent() -> None:

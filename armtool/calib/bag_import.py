@@ -71,6 +71,9 @@ class ImportOptions:
     min_still_s: float = 0.5
     max_image_offset: float = 0.8  # of the half-window: beyond, the window's image is refused
     board: BoardSpec | None = None  # the target is this board, not the tag (family, tag_id, tag_size_m unused)
+    # A xacro robot: its arguments and where its packages are (the dataset gets the expansion).
+    xacro_args: tuple[tuple[str, str], ...] = ()
+    package_paths: tuple[Path, ...] = ()
 
 
 WARN_OFFSET_FRACTION = 0.5  # an image farther from its window's centre (fraction of the half-window) is warned about
@@ -485,7 +488,10 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
     if not out.parent.is_dir():
         raise ArmtoolError("the output's parent directory does not exist", str(out), "create it first")
     family_dictionary(options.family)
-    chain = chain_from_xml(load_robot_xml(urdf), options.base, options.flange, source=urdf.name)
+    xacro_args = dict(options.xacro_args)
+    chain = chain_from_xml(
+        load_robot_xml(urdf, xacro_args, options.package_paths), options.base, options.flange, source=urdf.name
+    )
     names = list(chain.joint_names)
     intrinsics_camera = None
     intrinsics_source = str(options.intrinsics)
@@ -620,7 +626,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         for k, (i, _) in chosen.items():
             data, ext = files[k]
             (tmp / "images" / f"{i:04d}{ext}").write_bytes(data)
-        (tmp / "robot.urdf").write_text(expanded_text(urdf), encoding="utf-8")
+        (tmp / "robot.urdf").write_text(expanded_text(urdf, xacro_args, options.package_paths), encoding="utf-8")
         (tmp / "samples.csv").write_text("\n".join(rows) + "\n", encoding="utf-8")
         (tmp / "dataset.yaml").write_text(yaml.safe_dump(manifest, sort_keys=False), encoding="utf-8")
         if intrinsics_camera is not None:

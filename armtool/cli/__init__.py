@@ -66,13 +66,26 @@ def escape_help(app: typer.Typer) -> typer.Typer:
             obj.help = escape(text)  # type: ignore[attr-defined]
             _ESCAPED[id(obj)] = obj  # kept alive, so its id is not reused
 
+    def fix_params(callback: object) -> None:
+        """The options of a command: typer.Option(...) defaults, and Annotated[..., typer.Option(...)]."""
+        import typing
+
+        for param in inspect.signature(callback).parameters.values():  # type: ignore[arg-type]
+            fix(param.default)
+        try:
+            hints = typing.get_type_hints(callback, include_extras=True)
+        except Exception:  # a name only imported for type checking: typer resolves what it needs itself
+            hints = {}
+        for hint in hints.values():
+            for meta in getattr(hint, "__metadata__", ()):
+                fix(meta)
+
     def walk(typer_app: typer.Typer) -> None:
         fix(typer_app.info)
         for command in typer_app.registered_commands:
             fix(command)
             if command.callback is not None:
-                for param in inspect.signature(command.callback).parameters.values():
-                    fix(param.default)
+                fix_params(command.callback)
         if typer_app.registered_callback is not None and typer_app.registered_callback.callback is not None:
             for param in inspect.signature(typer_app.registered_callback.callback).parameters.values():
                 fix(param.default)

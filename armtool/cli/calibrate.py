@@ -4,15 +4,26 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from armtool.calib.choices import Quality, ReportFormat, Setup
 from armtool.calib.limits import MAX_SIMULATED, TAG_SIZE_M
 from armtool.cli import options as opt
+from armtool.cli.options import PackagePaths, RobotConfig, XacroArgs
 from armtool.errors import ExitCode
 from armtool.extras import require
+
+# check and fit: the dataset names its robot and the robot's xacro arguments (robot.xacro_args).
+DatasetConfig = Annotated[
+    Path | None,
+    typer.Option(
+        "--config",
+        help="armtool.toml or pyproject.toml whose [tool.armtool.lint] package-paths apply (default: the nearest "
+        "one; the dataset's robot.xacro_args give the xacro arguments, --xacro-arg overrides them).",
+    ),
+]
 
 if TYPE_CHECKING:
     from armtool.calib.camera import CameraModel
@@ -25,9 +36,6 @@ app = typer.Typer(
     add_completion=False,
     context_settings={"help_option_names": ["-h", "--help"]},
 )
-
-XACRO_ARG_HELP = "xacro argument NAME:=VALUE for a .xacro robot (repeatable; overrides the dataset's robot.xacro_args)."
-PACKAGE_PATH_HELP = "Directory holding ROS packages for package:// and $(find) (repeatable; searched before the dataset's robot.package_paths)."
 
 
 def _detect(ds: Dataset, camera: CameraModel) -> dict[str, Observation]:
@@ -44,16 +52,18 @@ def _detect(ds: Dataset, camera: CameraModel) -> dict[str, Observation]:
 def check(
     dataset: Path = typer.Argument(..., help="Dataset directory (with dataset.yaml)."),
     detect: bool = typer.Option(True, "--detect/--no-detect", help="Also look for the tag in every image."),
-    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
-    package_path: list[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: DatasetConfig = None,
 ) -> None:
     """Validate a dataset: files, joints, units, images, and the tag in every image."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.inputs import detection_problems, load_inputs
-    from armtool.cli.lint import _parse_xacro_args
+    from armtool.cli.options import RobotOptions
     from armtool.output.calibrate import print_check_report
 
-    ds, chain, camera = load_inputs(dataset, _parse_xacro_args(xacro_arg), list(package_path))
+    robot = RobotOptions(xacro_arg, package_path, config)  # --xacro-arg wins over the dataset's robot.xacro_args
+    ds, chain, camera = load_inputs(dataset, robot.given_args, robot.package_paths)
     if detect and chain is not None and camera is not None and ds.samples:
         ds.problems += detection_problems(ds, _detect(ds, camera))
     print_check_report(ds)
@@ -86,8 +96,9 @@ def fit(
     output_format: ReportFormat = typer.Option(
         ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
-    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help=XACRO_ARG_HELP),
-    package_path: list[Path] = typer.Option([], "--package-path", help=PACKAGE_PATH_HELP),
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: DatasetConfig = None,
     ur_kinematics: Path | None = typer.Option(
         None,
         "--ur-kinematics",
@@ -106,10 +117,11 @@ def fit(
     from armtool.calib.params import parse_families
     from armtool.calib.pipeline import FitRequest, fit_files, observe_samples, prepare_fit, run_fit, write_files
     from armtool.calib.report import json_summary
-    from armtool.cli.lint import _parse_xacro_args
+    from armtool.cli.options import RobotOptions
     from armtool.console import say, stderr, write_stdout
     from armtool.output.calibrate import print_fit_report
 
+    robot = RobotOptions(xacro_arg, package_path, config)
     families = parse_families("origins,offsets" if params is None else params)
     opt.check_out_dir(out)
     request = FitRequest(
@@ -121,8 +133,8 @@ def fit(
         seed=seed,
         validation=validation,
         plot=plot,
-        xacro_args=_parse_xacro_args(xacro_arg),
-        package_paths=list(package_path),
+        xacro_args=robot.given_args,
+        package_paths=robot.package_paths,
         ur_kinematics=ur_kinematics,
         ur_kinematics_in=ur_kinematics_in,
     )
@@ -183,22 +195,22 @@ def simulate(
         "charuco:COLSxROWS:SQUARE:MARKER[:DICT] or aprilgrid:COLSxROWS:TAG:GAP[:FAMILY] (metres).",
     ),
     seed: int = typer.Option(0, "--seed", callback=opt.seed(), help="Random seed (any integer)."),
-    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: list[Path] = typer.Option(
-        [], "--package-path", help="Directory holding ROS packages for package:// and $(find) (repeatable)."
-    ),
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
     """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.simulate import SimulationSpec
     from armtool.calib.simulate import simulate as run
     from armtool.calib.targets.spec import fit_board
-    from armtool.cli.lint import _parse_xacro_args
+    from armtool.cli.options import RobotOptions
     from armtool.console import progress_bar, say
 
     opt.check_out_dir(out)
     opt.check_chain_ends(base, flange)
-    args = _parse_xacro_args(xacro_arg)
+    robot = RobotOptions(xacro_arg, package_path, config)
+    args = robot.xacro_args(urdf)
     spec = SimulationSpec(
         samples=samples,
         validation=validation,
@@ -209,7 +221,7 @@ def simulate(
         bad_samples=bad_samples,
         distortion=distortion,
         xacro_args=args,
-        package_paths=tuple(package_path),
+        package_paths=tuple(robot.package_paths),
         board=fit_board(target, "--target") if target is not None else None,
     )
     with progress_bar() as bar:

@@ -153,6 +153,9 @@ def import_bag(
     output_format: ReportFormat = typer.Option(
         ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
+    xacro_arg: opt.XacroArgs = None,
+    package_path: opt.PackagePaths = None,
+    config: opt.RobotConfig = None,
 ) -> None:
     """Turn a ROS bag (images + joint states) into a calibration dataset: one sample per settled pose."""
     require("calib")  # exit 2 with the install command when the extra is missing
@@ -163,6 +166,7 @@ def import_bag(
 
     opt.check_out_dir(out)
     opt.check_chain_ends(base, flange)
+    robot = opt.RobotOptions(xacro_arg, package_path, config)
     if out.exists() and not out.is_dir():
         raise ArmtoolError("--out exists and is not a directory", str(out), "pass a new directory name")
     board = _import_target(target, tag_size)
@@ -183,6 +187,8 @@ def import_bag(
         min_still_s=min_still,
         max_image_offset=max_image_offset,
         board=board,
+        xacro_args=tuple(robot.xacro_args(urdf).items()),
+        package_paths=tuple(robot.package_paths),
     )
     with stderr().status("reading the bag"):
         result = run(bag, urdf, out, options)

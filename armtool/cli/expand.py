@@ -10,6 +10,7 @@ from pathlib import Path
 
 import typer
 
+from armtool.cli.options import PackagePaths, RobotConfig, XacroArgs
 from armtool.errors import ArmtoolError
 
 HELP = "Print a xacro file expanded as armtool expands it for lint and ik-bench (URDF or SRDF xacro)."
@@ -17,17 +18,14 @@ HELP = "Print a xacro file expanded as armtool expands it for lint and ik-bench 
 
 def expand(
     path: Path = typer.Argument(..., help="A .xacro file (URDF or SRDF)."),
-    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: list[Path] = typer.Option(
-        [], "--package-path", help="Directory holding ROS packages, for package:// and $(find) (repeatable)."
-    ),
-    config: Path | None = typer.Option(None, "--config", help="armtool.toml or pyproject.toml (default: nearest one)."),
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
     from lxml import etree
 
-    from armtool.cli.lint import _parse_xacro_args
+    from armtool.cli.options import RobotOptions
     from armtool.console import write_stdout
-    from armtool.lint.config import load_config
     from armtool.model.packages import PackageResolver
     from armtool.model.xacro_source import XacroFailure
     from armtool.model.xacro_source import expand as run_xacro
@@ -35,9 +33,9 @@ def expand(
     if not path.is_file():
         what = "not a regular file (a FIFO, socket or device)" if path.exists() else "no such file"
         raise ArmtoolError(what, str(path), "check the path to the .xacro file")
-    cfg = load_config(config)
-    args = {**cfg.xacro_args_for(path), **_parse_xacro_args(xacro_arg)}
-    resolver = PackageResolver([*package_path, *cfg.package_paths])
+    robot = RobotOptions(xacro_arg, package_path, config)
+    args = robot.xacro_args(path)
+    resolver = PackageResolver(robot.package_paths)
     try:
         expansion = run_xacro(path, args, resolver)
     except XacroFailure as exc:

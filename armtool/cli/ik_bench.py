@@ -3,18 +3,25 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
 from armtool.cli import options as opt
+from armtool.cli.options import MoveItConfig, PackagePaths, RobotConfig, XacroArgs
 from armtool.errors import ArmtoolError
 from armtool.extras import require
 from armtool.ik import MAX_SAMPLES, MAX_TIMEOUT_S
 from armtool.ik.modes import BenchFormat, SeedMode
 
+if TYPE_CHECKING:
+    from armtool.cli.options import RobotOptions
+
 
 def ik_bench(
-    urdf: Path = typer.Argument(..., help="URDF or xacro of the robot."),
+    urdf: Path | None = typer.Argument(
+        None, help="URDF or xacro of the robot (with --moveit-config: the package's, unless given)."
+    ),
     base: str | None = typer.Option(None, "--base", help="Base link of the chain (default: the root link)."),
     tip: str | None = typer.Option(
         None,
@@ -22,7 +29,9 @@ def ik_bench(
         help="Tip link (default: the arm's end before any gripper joint, at a tool frame such as tool0 or *_tcp if there is one).",
     ),
     group: str | None = typer.Option(
-        None, "--group", help="MoveIt group whose chain to use, built as MoveIt builds it (needs --srdf)."
+        None,
+        "--group",
+        help="MoveIt group whose chain to use, built as MoveIt builds it (needs --srdf or --moveit-config).",
     ),
     srdf: Path | None = typer.Option(
         None, "--srdf", help="SRDF (or .srdf.xacro, expanded with --xacro-arg/--package-path) that defines --group."
@@ -65,17 +74,19 @@ def ik_bench(
     ),
     output_format: BenchFormat = typer.Option(BenchFormat.TABLE, "--format", help="table, json or csv on stdout."),
     plot: Path | None = typer.Option(None, "--plot", help="Write a PNG: solve-time CDF and success per solver."),
-    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: list[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages (repeatable)."),
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    robot_config: RobotConfig = None,
+    moveit_config: MoveItConfig = None,
 ) -> None:
     require("ik")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
-    from armtool.cli.lint import _parse_xacro_args
+    from armtool.cli.options import RobotOptions
     from armtool.console import say, stderr, write_stdout
     from armtool.fileio import check_output_paths
     from armtool.ik.bench import BenchConfig, Entry, NotApplicable, SolverReport, make_targets, run_bench
-    from armtool.ik.group import GroupSettings, group_chain, group_settings
+    from armtool.ik.group import GroupSettings, counterpart_solver, group_chain, group_settings
     from armtool.ik.peers import check_peer_name, make_peer, native_stdout_to_stderr, peer_names
     from armtool.ik.registry import solver_class, solver_names
     from armtool.ik.solver import Solver
@@ -83,6 +94,14 @@ def ik_bench(
     from armtool.model.load import load_robot_xml, load_srdf_xml
     from armtool.output.ik_bench import render_csv, render_json, render_table
 
+    robot = RobotOptions(xacro_arg, package_path, robot_config)
+    package_args: dict[str, str] = {}
+    if moveit_config is not None:
+        urdf, srdf, kinematics_yaml, package_args, group = _from_moveit_config(
+            moveit_config, robot, urdf, srdf, kinematics_yaml, group, base, tip
+        )
+    if urdf is None:
+        raise ArmtoolError("no robot given", hint="pass the URDF (or xacro), or --moveit-config DIR")
     names = _names("--solvers", solvers, solver_names())
     wanted = _names("--peers", peers, peer_names(), everything="all", what="peer") if peers is not None else []
     for name in names:
@@ -92,15 +111,18 @@ def ik_bench(
     check_output_paths({"--plot": plot}, inputs=[urdf, srdf, kinematics_yaml])  # before the work, not after it
     if group is not None:
         if srdf is None:
-            raise ArmtoolError("--group needs --srdf", hint="pass the MoveIt SRDF that defines the group")
+            raise ArmtoolError(
+                "--group needs --srdf", hint="pass the MoveIt SRDF that defines the group, or --moveit-config DIR"
+            )
         if base or tip:
             raise ArmtoolError("give either --group or --base/--tip, not both")
-    xacro_args = _parse_xacro_args(xacro_arg)
-    root = load_robot_xml(urdf, xacro_args, package_path)
+    xacro_args = robot.xacro_args(urdf, package_args)
+    root = load_robot_xml(urdf, xacro_args, robot.package_paths)
     settings = GroupSettings()
     how = ""
     if group is not None and srdf is not None:
-        found = group_chain(load_srdf_xml(srdf, xacro_args, package_path), group, root, source=str(srdf))
+        srdf_args = robot.xacro_args(srdf, package_args)
+        found = group_chain(load_srdf_xml(srdf, srdf_args, robot.package_paths), group, root, source=str(srdf))
         base, tip = found.base, found.tip
         how = f"group '{group}' of {srdf.name}"
         if kinematics_yaml is not None:
@@ -108,6 +130,12 @@ def ik_bench(
     elif base is None and tip is None:
         base, tip = default_base_tip(root, source=urdf.name)
         how = "default chain (pass --base/--tip for another)"
+    moveit_solver = counterpart_solver(settings.solver_plugin)
+    if solvers is None and moveit_solver in names:
+        names = [moveit_solver, *(n for n in names if n != moveit_solver)]  # MoveIt's own first
+    if settings.solver_plugin:
+        stand_in = f"armtool's {moveit_solver} stands for it" if moveit_solver else "no built-in solver works like it"
+        how += f"; MoveIt's solver {settings.solver_plugin} ({stand_in})"
     chain = chain_from_xml(root, base, tip, source=urdf.name)
     if timeout is None:
         timeout = settings.timeout_s or 0.005
@@ -201,6 +229,41 @@ def ik_bench(
 
         write_plot(plot, [r for r in reports if isinstance(r, SolverReport)])
         stderr().print(f"wrote {escape(str(plot))}")
+
+
+def _from_moveit_config(
+    directory: Path,
+    robot: RobotOptions,
+    urdf: Path | None,
+    srdf: Path | None,
+    kinematics_yaml: Path | None,
+    group: str | None,
+    base: str | None,
+    tip: str | None,
+) -> tuple[Path | None, Path | None, Path | None, dict[str, str], str | None]:
+    """URDF, SRDF, kinematics.yaml, the URDF's xacro arguments and the group, from a MoveIt
+    config package; what the command line gives wins."""
+    from armtool.ik.group import kinematics_groups
+    from armtool.model.packages import PackageResolver
+    from armtool.moveit.package import read_package
+
+    pkg = read_package(directory, PackageResolver(robot.package_paths))
+    if urdf is None and pkg.urdf is None:
+        raise ArmtoolError("cannot tell the robot of the MoveIt config: " + "; ".join(pkg.problems), str(directory))
+    urdf = urdf or pkg.urdf
+    srdf = srdf or pkg.srdf
+    kinematics_yaml = kinematics_yaml or pkg.kinematics
+    if group is None and base is None and tip is None:
+        configured = kinematics_groups(kinematics_yaml) if kinematics_yaml is not None else []
+        if len(configured) != 1:
+            raise ArmtoolError(
+                f"{len(configured) or 'no'} groups in {kinematics_yaml or 'the package (no kinematics.yaml)'}: "
+                "pass --group NAME",
+                str(directory),
+                "groups: " + (", ".join(configured) or "none"),
+            )
+        group = configured[0]
+    return urdf, srdf, kinematics_yaml, pkg.urdf_xacro_args, group
 
 
 def _names(flag: str, text: str | None, known: list[str], everything: str = "", what: str = "solver") -> list[str]:

@@ -92,7 +92,10 @@ def limits(
     ),
     first_dir: str = typer.Option("-", "--first-dir", help="Auto: seek the low (-) or high (+) end first."),
     urdf: Path | None = typer.Option(
-        None, "--urdf", help="Write <limit lower upper> into this URDF (keeps its text and comments)."
+        None,
+        "--urdf",
+        help="Write <limit lower upper> into this URDF (keeps its text and comments); a xacro is expanded "
+        "(--xacro-arg, --package-path) and written whole with --urdf-out.",
     ),
     in_place: bool = typer.Option(
         False,
@@ -130,16 +133,21 @@ def limits(
         help="Read a LeRobot calibration JSON: without --port, convert its ranges to limits YAML / URDF limits; "
         "with --port and --mode, record the arm and compare each motor's range with the file's (exit 1 when the file reaches past a recorded end).",
     ),
+    xacro_arg: opt.XacroArgs = None,
+    package_path: opt.PackagePaths = None,
+    config: opt.RobotConfig = None,
 ) -> None:
     require("servo")  # exit 2 with the install command when the extra is missing
     from armtool.servo.limits.record import run
     from armtool.servo.limits.request import Request
 
+    robot = opt.RobotOptions(xacro_arg, package_path, config)
     # fmt: off
     request = Request(
         port, mode, protocol, baud, ids, model, arm, output, margin, duration, rate, min_dwell, torque_limit, speed,
         stall_window, stall_load, back_off, max_seek, first_dir, urdf, in_place, urdf_out, allow_widen, write_eeprom,
         yes, dry_run, timeout_ms, lerobot_calibration, lerobot_full_turn, from_lerobot,
+        tuple(robot.xacro_args(urdf).items()) if urdf is not None else (), tuple(robot.package_paths),
     )
     # fmt: on
     if not run(request, _hooks(), sys.stdin.isatty()):

@@ -8,25 +8,17 @@ from pathlib import Path
 
 import typer
 
+from armtool.cli.options import MoveItConfig, PackagePaths, XacroArgs, parse_xacro_args
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.lint.finding import Severity
 from armtool.output.registry import OutputFormat
 
 
-def _parse_xacro_args(items: list[str]) -> dict[str, str]:
-    out = {}
-    for item in items:
-        name, sep, value = item.partition(":=")
-        if not sep or not name:
-            raise typer.BadParameter(f"'{item}' is not NAME:=VALUE", param_hint="--xacro-arg")
-        out[name] = value
-    return out
-
-
 def lint(
-    paths: list[Path] = typer.Argument(
-        ...,
-        help="URDF, xacro, SRDF or kinematics.yaml files, or directories to search; - reads a URDF or SRDF from stdin.",
+    paths: list[Path] | None = typer.Argument(
+        None,
+        help="URDF, xacro, SRDF or MoveIt YAML files, or directories to search; - reads a URDF or SRDF from stdin "
+        "(none with --moveit-config: the package's files).",
     ),
     output_format: OutputFormat | None = typer.Option(
         None, "--format", help="Output format (default: text; github inside GitHub Actions)."
@@ -41,10 +33,9 @@ def lint(
         None, "--select", help="Comma-separated codes or prefixes to check (e.g. U3,S101)."
     ),
     ignore: str | None = typer.Option(None, "--ignore", help="Comma-separated codes or prefixes to skip."),
-    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: list[Path] = typer.Option(
-        [], "--package-path", help="Directory holding ROS packages, for package:// and $(find) (repeatable)."
-    ),
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    moveit_config: MoveItConfig = None,
     urdf: Path | None = typer.Option(None, "--urdf", help="URDF (or xacro) that SRDF files describe."),
     srdf: Path | None = typer.Option(None, "--srdf", help="SRDF that kinematics.yaml files refer to."),
     config: Path | None = typer.Option(
@@ -69,14 +60,18 @@ def lint(
     cfg.ignore += ignored
     if fail_on is not None:
         cfg.fail_on = fail_on
+    paths = list(paths or [])
+    if not paths and moveit_config is None:
+        raise typer.BadParameter("give files or directories to lint, or --moveit-config DIR", param_hint="PATHS")
     stdin = sys.stdin.buffer.read() if any(str(p) == "-" for p in paths) else None
     options = LintOptions(
-        xacro_args=_parse_xacro_args(xacro_arg),
-        package_paths=list(package_path),
+        xacro_args=parse_xacro_args(xacro_arg),
+        package_paths=list(package_path or ()),
         urdf=urdf,
         srdf=srdf,
         config=cfg,
         stdin=stdin,
+        moveit_config=moveit_config,
     )
     result = lint_paths(paths, options)
     findings = result.findings
@@ -123,8 +118,9 @@ _DEFAULTS: dict[str, object] = {
     "diff": False,
     "select": None,
     "ignore": None,
-    "xacro_arg": (),
-    "package_path": (),
+    "xacro_arg": None,
+    "package_path": None,
+    "moveit_config": None,
     "urdf": None,
     "srdf": None,
     "config": None,

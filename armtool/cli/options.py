@@ -35,7 +35,7 @@ import math
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Annotated, Any, TypeVar
 
 import typer
 
@@ -284,3 +284,70 @@ def tick_bound(flag: str, help_text: str) -> Any:
 def yes(help_text: str) -> Any:
     """--yes/-y: answer the safety prompts with yes."""
     return typer.Option(False, "--yes", "-y", help=help_text)
+
+
+# ---- the robot: one set of options for every command that loads a URDF or xacro
+
+
+XacroArgs = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--xacro-arg",
+        help="xacro argument NAME:=VALUE for a .xacro robot (repeatable; wins over the configuration's).",
+    ),
+]
+PackagePaths = Annotated[
+    list[Path] | None,
+    typer.Option(
+        "--package-path",
+        help="Directory holding ROS packages, for package:// and $(find) (repeatable; searched first).",
+    ),
+]
+RobotConfig = Annotated[
+    Path | None,
+    typer.Option(
+        "--config",
+        help="armtool.toml or pyproject.toml whose [tool.armtool.lint] xacro-args and package-paths apply "
+        "(default: the nearest one).",
+    ),
+]
+MoveItConfig = Annotated[
+    Path | None,
+    typer.Option(
+        "--moveit-config",
+        help="MoveIt config package directory: the robot (URDF and xacro arguments from .setup_assistant), "
+        "SRDF and YAML files, as its launch files load them.",
+    ),
+]
+
+
+def parse_xacro_args(items: list[str] | None) -> dict[str, str]:
+    """`--xacro-arg NAME:=VALUE` items as a dict (a malformed item is a usage error)."""
+    out: dict[str, str] = {}
+    for item in items or ():
+        name, sep, value = item.partition(":=")
+        if not sep or not name:
+            raise typer.BadParameter(f"'{item}' is not NAME:=VALUE", param_hint="--xacro-arg")
+        out[name] = value
+    return out
+
+
+class RobotOptions:
+    """What the robot options say: xacro arguments (the configuration's for the file, then the
+    command line's), package paths (the command line's, then the configuration's)."""
+
+    def __init__(
+        self, xacro_arg: list[str] | None, package_path: list[Path] | None, config: Path | None = None
+    ) -> None:
+        from armtool.lint.config import load_config
+
+        if config is not None and not config.is_file():
+            raise ArmtoolError("--config: no such file", str(config))
+        self.given_args = parse_xacro_args(xacro_arg)
+        self.config = load_config(config)
+        self.package_paths = [*(package_path or ()), *self.config.package_paths]
+
+    def xacro_args(self, path: Path, extra: dict[str, str] | None = None) -> dict[str, str]:
+        """The arguments for one file: the configuration's for its glob, then `extra` (a MoveIt
+        package's .setup_assistant), then --xacro-arg."""
+        return {**self.config.xacro_args_for(path), **(extra or {}), **self.given_args}

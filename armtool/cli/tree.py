@@ -7,6 +7,8 @@ from pathlib import Path
 
 import typer
 
+from armtool.cli.options import PackagePaths, RobotConfig, XacroArgs
+
 HELP = "Print a URDF's kinematic tree (links, joints, types, axes, limits), or write it as a dot/Mermaid graph."
 
 
@@ -22,17 +24,19 @@ def tree(
         TreeFormat.TEXT, "--format", help="text (like check_urdf), dot (Graphviz, like urdf_to_graphviz) or mermaid."
     ),
     output: Path | None = typer.Option(None, "--output", "-o", help="Write to this file instead of stdout."),
-    xacro_arg: list[str] = typer.Option([], "--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    package_path: list[Path] = typer.Option([], "--package-path", help="Directory holding ROS packages (repeatable)."),
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
-    from armtool.cli.lint import _parse_xacro_args
+    from armtool.cli.options import RobotOptions
     from armtool.console import write_stdout
     from armtool.fileio import check_output_paths
     from armtool.model.load import load_robot_xml
     from armtool.model.tree import read_tree, render_dot, render_mermaid, render_text
 
     check_output_paths({"--output": output}, inputs=[urdf])  # `-o arm.urdf` must not overwrite the robot
-    model = read_tree(load_robot_xml(urdf, _parse_xacro_args(xacro_arg), package_path))
+    robot = RobotOptions(xacro_arg, package_path, config)
+    model = read_tree(load_robot_xml(urdf, robot.xacro_args(urdf), robot.package_paths))
     render = {TreeFormat.TEXT: render_text, TreeFormat.DOT: render_dot, TreeFormat.MERMAID: render_mermaid}[
         output_format
     ]

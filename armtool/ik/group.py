@@ -14,11 +14,15 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from lxml import etree
 
 from armtool.errors import ArmtoolError
 from armtool.suggest import did_you_mean
+
+if TYPE_CHECKING:
+    from armtool.lint.kinematics_context import GroupSettings as KinematicsGroup
 
 
 @dataclass(frozen=True)
@@ -178,43 +182,50 @@ class GroupSettings:
 
     timeout_s: float | None = None
     position_only: bool = False
+    solver_plugin: str | None = None  # kinematics_solver, as written
+
+
+def kinematics_groups(kinematics_yaml: Path) -> list[str]:
+    """The groups a MoveIt kinematics.yaml configures, in file order (any layout)."""
+    return [g.name for g in _read_groups(kinematics_yaml)]
+
+
+def _read_groups(kinematics_yaml: Path) -> list[KinematicsGroup]:
+    """The file's groups, read as `armtool lint` reads them; errors name the file and line."""
+    from armtool.lint.kinematics_context import NotAMapping, groups_of
+    from armtool.moveit.params import load_document
+
+    try:
+        return groups_of(load_document(kinematics_yaml, "kinematics.yaml"))
+    except NotAMapping as exc:
+        raise ArmtoolError(
+            f"kinematics.yaml is {exc.what}, not a mapping of group names to settings",
+            f"{kinematics_yaml}:{exc.line}",
+            "write `GROUP:` followed by its settings (kinematics_solver, ...)",
+        ) from None
 
 
 def group_settings(kinematics_yaml: Path, group: str) -> GroupSettings:
-    """The group's kinematics_solver_timeout (seconds) and position_only_ik from a MoveIt kinematics.yaml.
+    """The group's kinematics_solver_timeout (seconds), position_only_ik and kinematics_solver
+    from a MoveIt kinematics.yaml (ROS 1 or ROS 2 layout, read as `armtool lint` reads it).
 
     The file must hold the group (the user named both): a group it lacks, a group whose value is
     not a mapping, a timeout that is not a finite number of seconds in (0, MAX_TIMEOUT_S]
     (`.inf` would never end a solve) are errors naming the file and line."""
-    from armtool.fileio import read_yaml
     from armtool.ik import MAX_TIMEOUT_S
-    from armtool.lint.kinematics_context import read_groups
 
-    data = read_yaml(kinematics_yaml, "kinematics.yaml")  # syntax, encoding and nesting errors with file:line
-    for wrapper in ("/**", "ros__parameters", "robot_description_kinematics"):  # the ROS 2 layout, as read_groups
-        if isinstance(data, dict) and wrapper in data:
-            data = data[wrapper]
-    if not isinstance(data, dict):
-        raise ArmtoolError(
-            f"kinematics.yaml is a {type(data).__name__}, not a mapping of group names to settings",
-            str(kinematics_yaml),
-            "write `GROUP:` followed by its settings (kinematics_solver, ...)",
-        )
-    if group not in data:
-        names = sorted(str(k) for k in data)
+    groups = {g.name: g for g in _read_groups(kinematics_yaml)}
+    if group not in groups:
+        names = sorted(groups)
         raise ArmtoolError(
             f"group '{group}' is not in kinematics.yaml{did_you_mean(group, names)}",
             str(kinematics_yaml),
             "groups: " + (", ".join(names) if names else "none") + "; or leave out --kinematics-yaml",
         )
-    groups = {g.name: g for g in read_groups(kinematics_yaml.read_text(encoding="utf-8-sig"))}
     g = groups[group]
-    if data[group] is not None and not isinstance(data[group], dict):
-        shown = (
-            repr(data[group])[:40] if isinstance(data[group], (str, int, float)) else f"a {type(data[group]).__name__}"
-        )
+    if g.not_a_mapping is not None and g.not_a_mapping != "nothing":
         raise ArmtoolError(
-            f"group '{group}' in kinematics.yaml is {shown}, not a mapping of settings",
+            f"group '{group}' in kinematics.yaml is {g.not_a_mapping}, not a mapping of settings",
             f"{kinematics_yaml}:{g.line}",
             "e.g. `kinematics_solver_timeout: 0.005` on the next line, indented",
         )
@@ -250,4 +261,21 @@ def group_settings(kinematics_yaml: Path, group: str) -> GroupSettings:
                 "true or false",
             )
         position_only = flag
-    return GroupSettings(timeout, position_only)
+    plugin = g.settings.get("kinematics_solver")
+    return GroupSettings(timeout, position_only, str(plugin.value) if plugin is not None else None)
+
+
+# MoveIt's IK plugins and the armtool solver that works the same way (None: no counterpart).
+def counterpart_solver(plugin: str | None) -> str | None:
+    """The built-in solver that stands for a MoveIt kinematics plugin in a benchmark: KDL's
+    Newton-Raphson with joint limits, TRAC-IK, or the closed form for an IKFast plugin."""
+    if not plugin:
+        return None
+    lowered = plugin.lower()
+    if lowered.startswith("kdl_kinematics_plugin/"):
+        return "kdl-nr-jl"
+    if lowered.startswith("trac_ik_kinematics_plugin/"):
+        return "trac"
+    if "ikfast" in lowered:
+        return "analytic"
+    return None

@@ -18,6 +18,8 @@ from armtool.errors import ArmtoolError
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.registry import CODES, NAMES
 
+MAX_VARIANTS = 16  # argument sets one file is linted with, at most
+
 _KEYS = {"select", "ignore", "per-file-ignores", "severity", "fail-on", "package-paths", "xacro-args", "urdf", "srdf"}
 CONFIG_NAMES = ("armtool.toml", "pyproject.toml")
 
@@ -44,7 +46,8 @@ class LintConfig:
         self.root = root if root is not None else Path.cwd()
         self.source = source
         self.package_paths: list[Path] = []
-        self.xacro_args: dict[str, dict[str, str]] = {}
+        # glob -> argument sets; more than one set: each is a variant of the file, linted in turn
+        self.xacro_args: dict[str, list[dict[str, str]]] = {}
         self.urdf: dict[str, Path] = {}
         self.srdf: dict[str, Path] = {}
 
@@ -53,12 +56,22 @@ class LintConfig:
         return fnmatch.fnmatch(rel, pattern) or fnmatch.fnmatch(path.name, pattern)
 
     def xacro_args_for(self, path: Path) -> dict[str, str]:
-        """xacro arguments of every glob that matches the file, in the order written."""
+        """xacro arguments of every glob that matches the file, in the order written (of a glob
+        with several argument sets, the first: what commands other than lint expand)."""
         out: dict[str, str] = {}
-        for pattern, args in self.xacro_args.items():
+        for pattern, sets in self.xacro_args.items():
             if self._matches(pattern, path):
-                out.update(args)
+                out.update(sets[0])
         return out
+
+    def xacro_arg_sets(self, path: Path) -> list[dict[str, str]]:
+        """Every argument set the file is linted with: one per combination of the sets of the
+        globs that match it (a single set when no glob lists several)."""
+        combos: list[dict[str, str]] = [{}]
+        for pattern, sets in self.xacro_args.items():
+            if self._matches(pattern, path):
+                combos = [{**done, **more} for done in combos for more in sets][:MAX_VARIANTS]
+        return combos
 
     def urdf_for(self, srdf: Path) -> Path | None:
         """The URDF the config pairs with this SRDF (the first matching glob)."""
@@ -115,17 +128,24 @@ def _paths_table(value: Any, key: str, where: str, root: Path) -> dict[str, Path
     return {str(k): root / v for k, v in value.items()}
 
 
-def _xacro_args(value: Any, where: str) -> dict[str, dict[str, str]]:
-    hint = 'e.g. xacro-args = { "urdf/ur.urdf.xacro" = { name = "ur", ur_type = "ur5e" } }'
+def _xacro_args(value: Any, where: str) -> dict[str, list[dict[str, str]]]:
+    hint = (
+        'e.g. xacro-args = { "urdf/ur.urdf.xacro" = { name = "ur", ur_type = "ur5e" } }, or a list of such '
+        'tables for variants: "robots/gen3.xacro" = [{ dof = "6" }, { dof = "7" }]'
+    )
     if not isinstance(value, dict):
         raise ArmtoolError("'xacro-args' must be a table of glob = { name = value }", where, hint)
-    out: dict[str, dict[str, str]] = {}
+    out: dict[str, list[dict[str, str]]] = {}
     for pattern, args in value.items():
         if isinstance(args, list) and all(isinstance(a, str) and ":=" in a for a in args):
             args = dict(a.split(":=", 1) for a in args)
-        if not isinstance(args, dict) or not all(isinstance(v, (str, int, float, bool)) for v in args.values()):
-            raise ArmtoolError(f"'xacro-args.{pattern}' must be a table of name = value", where, hint)
-        out[str(pattern)] = {str(k): (str(v).lower() if isinstance(v, bool) else str(v)) for k, v in args.items()}
+        sets = args if isinstance(args, list) and args and all(isinstance(a, dict) for a in args) else [args]
+        for one in sets:
+            if not isinstance(one, dict) or not all(isinstance(v, (str, int, float, bool)) for v in one.values()):
+                raise ArmtoolError(f"'xacro-args.{pattern}' must be a table of name = value", where, hint)
+        out[str(pattern)] = [
+            {str(k): (str(v).lower() if isinstance(v, bool) else str(v)) for k, v in one.items()} for one in sets
+        ]
     return out
 
 

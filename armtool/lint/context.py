@@ -124,6 +124,8 @@ class UrdfContext(FileContext):
         self.raw = raw  # the file's bytes, for whole-text prechecks (None after xacro)
         self.resolver = resolver
         self.from_xacro = from_xacro
+        self.xacro_args: dict[str, str] = {}  # what a xacro was expanded with
+        self.source_files: tuple[Path, ...] = ()  # the files its expansion read
         self.links: list[etree._Element] = []
         self.joints: list[JointView] = []
         self.transmissions: list[etree._Element] = []

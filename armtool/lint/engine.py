@@ -37,9 +37,14 @@ class FileKind(str, Enum):
     XACRO = "xacro"
     SRDF = "srdf"
     KINEMATICS = "kinematics"
+    JOINT_LIMITS = "joint_limits"
+    PILZ = "pilz"
+    CONTROLLERS = "controllers"
 
 
 def file_kind(path: Path) -> FileKind | None:
+    """The kind a file's name says; for MoveIt's YAML files its content decides later whether it
+    is MoveIt's (UR's default_kinematics.yaml, Franka's joint_limits.yaml are not)."""
     name = path.name.lower()
     if name.endswith(".srdf") or name.endswith(".srdf.xacro"):
         return FileKind.SRDF
@@ -47,8 +52,17 @@ def file_kind(path: Path) -> FileKind | None:
         return FileKind.URDF
     if name.endswith(".xacro"):
         return FileKind.XACRO
-    if name.endswith(("kinematics.yaml", "kinematics.yml")):
+    if not name.endswith((".yaml", ".yml")):
+        return None
+    stem = name.rsplit(".", 1)[0]
+    if stem.endswith("kinematics"):
         return FileKind.KINEMATICS
+    if "joint_limits" in stem:
+        return FileKind.JOINT_LIMITS
+    if stem.endswith("cartesian_limits"):
+        return FileKind.PILZ
+    if "controller" in stem:
+        return FileKind.CONTROLLERS
     return None
 
 
@@ -62,7 +76,7 @@ def collect_files(paths: Sequence[Path]) -> list[Path]:
             found = sorted(_walk(path))
             if not found:
                 raise ArmtoolError(
-                    "no robot description files (.urdf, .xacro, .srdf, kinematics.yaml) found",
+                    "no robot description files (.urdf, .xacro, .srdf, MoveIt's YAML files) found",
                     str(path),
                     "pass the files themselves, or a directory that holds them",
                 )
@@ -112,8 +126,11 @@ class LintOptions:
         srdf: Path | None = None,
         config: LintConfig | None = None,
         stdin: bytes | None = None,
+        moveit_config: Path | None = None,
     ) -> None:
         self.stdin = stdin  # the bytes of `-`
+        self.moveit_config = moveit_config  # a MoveIt config package checked as a whole
+        self.file_args: dict[Path, dict[str, str]] = {}  # xacro arguments of one file (resolved path)
         self.xacro_args = dict(xacro_args or {})
         self.package_paths = list(package_paths)
         self.urdf = urdf
@@ -138,7 +155,15 @@ _LOADER_CODE: dict[FileKind | None, str] = {
     FileKind.XACRO: "X001",
     FileKind.SRDF: "S001",
     FileKind.KINEMATICS: "K001",
+    FileKind.JOINT_LIMITS: "L001",
+    FileKind.PILZ: "P001",
+    FileKind.CONTROLLERS: "C001",
 }
+
+
+def file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:
+    """A finding a loader reports about a whole file (its code's rule gives name and severity)."""
+    return _file_finding(code, path, line, column, message, hint)
 
 
 def _file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:
@@ -153,12 +178,39 @@ def xacro_finding(exc: XacroFailure) -> Finding:
     return finding._replace(related=related) if related else finding
 
 
+def _cause_hint(path: Path, findings: list[Finding]) -> str:
+    """What fixes a counterpart file that was found but could not be used: its own error's hint
+    (xacro's names the missing argument or package), said of that file."""
+    first = next((f for f in findings if f.severity.value == "error"), None)
+    if first is None or not first.hint:
+        return ""
+    return f"{display_path(path)} was found but cannot be used; {first.hint}"
+
+
 def _cause(path: Path, findings: list[Finding]) -> str:
     """Why a counterpart file could not be used, from the findings its loading produced."""
     first = next((f for f in findings if f.severity.value == "error"), findings[0] if findings else None)
     if first is None:
         return f"{display_path(path)} is not a robot description with links"
     return f"{display_path(path)} could not be loaded: {first.code} {first.message}"
+
+
+_XACRO_HINTS = re.compile(rb"<xacro:|\$\{|\$\((?:arg|find|eval|env|optenv|dirname)\b")
+_XACRO_NAMESPACES = ("http://www.ros.org/wiki/xacro", "http://ros.org/wiki/xacro", "http://wiki.ros.org/xacro")
+
+
+def _is_xacro(root: etree._Element) -> bool:
+    """A document that only xacro can make into a URDF: an element in xacro's namespace, or an
+    attribute with a `${...}` or `$(...)` expression (comments do not count)."""
+    from lxml import etree
+
+    for el in root.iter(etree.Element):
+        tag = el.tag
+        if isinstance(tag, str) and tag.startswith("{") and tag[1:].split("}", 1)[0] in _XACRO_NAMESPACES:
+            return True
+        if any("${" in v or "$(" in v for v in el.attrib.values()):
+            return True
+    return False
 
 
 _SRDF_TAGS = re.compile(rb"<(group|virtual_joint|disable_collisions|group_state|end_effector|passive_joint)[\s/>]")
@@ -171,6 +223,29 @@ def sniff_kind(data: bytes) -> FileKind:
     if _SRDF_TAGS.search(data) and not _LINK_TAG.search(data):
         return FileKind.SRDF
     return FileKind.URDF
+
+
+def _names_srdf(srdf: Path) -> bool:
+    """True when the package's .setup_assistant names this SRDF (its URDF is then this SRDF's
+    by MoveIt's own record, not only the package's)."""
+    from armtool.lint.pairing import read_setup_assistant
+
+    setup = read_setup_assistant(srdf.parent)
+    if setup is None or not setup.srdf_relative:
+        return False
+    return (setup.package_dir / setup.srdf_relative).resolve() == srdf.resolve()
+
+
+def _sniff_yaml(data: bytes) -> FileKind:
+    """The MoveIt file a YAML file named on the command line looks like (the rules then decide
+    from its content whether it is MoveIt's at all)."""
+    if re.search(rb"^\s*joint_limits\s*:", data, re.MULTILINE):
+        return FileKind.JOINT_LIMITS
+    if re.search(rb"^\s*cartesian_limits\s*:", data, re.MULTILINE):
+        return FileKind.PILZ
+    if re.search(rb"^\s*(controller_names|controller_list|controller_manager)\s*:", data, re.MULTILINE):
+        return FileKind.CONTROLLERS
+    return FileKind.KINEMATICS
 
 
 def _read(path: Path) -> bytes:
@@ -193,6 +268,11 @@ class Linter:
         self._urdf_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], tuple[UrdfContext | None, list[Finding]]] = {}
         self._rules: dict[Target, list[Rule]] = {}
         self.suppressions = SuppressionIndex()
+        self._paired: dict[Path, SrdfContext | None] = {}
+        self._urdf_hint: dict[Path, str] = {}  # SRDF -> what fixes the URDF that was found but failed
+        self._variant: dict[Path, dict[str, str]] = {}  # a file being linted with one of its argument sets
+        self._exact_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], UrdfContext | None] = {}
+        self.package_cache: dict[Path, Any] = {}  # MoveIt config package root -> its controllers (moveit_files)
 
     def _read(self, path: Path) -> bytes:
         """The file's bytes; inline ignore comments are read from them too, not from a second read."""
@@ -209,11 +289,17 @@ class Linter:
         self.suppressions.prime(display_path(path), data)
         return data
 
+    def read_text(self, path: Path) -> str:
+        """A YAML file's text (UTF-8; undecodable bytes replaced), read once for ignore comments too."""
+        return self._read(path).decode("utf-8", "replace")
+
     # ---- per-file settings ------------------------------------------------
     def xacro_args_for(self, path: Path, extra: dict[str, str] | None = None) -> dict[str, str]:
         """xacro arguments for one file: the config's for its glob, then `extra` (.setup_assistant),
         then --xacro-arg (the command line wins)."""
-        args = dict(self.options.config.xacro_args_for(path))
+        variant = self._variant.get(path.resolve())
+        args = dict(variant if variant is not None else self.options.config.xacro_args_for(path))
+        args.update(self.options.file_args.get(path.resolve(), {}))
         args.update(extra or {})
         args.update(self.options.xacro_args)
         return args
@@ -254,22 +340,44 @@ class Linter:
                 )
             )
             return None, findings
+        if path != STDIN and _XACRO_HINTS.search(data) and _is_xacro(root):  # stdin: xacro needs the file
+            ctx, found = self._load_xacro(path, extra_args)
+            note = _file_finding(
+                "X002",
+                path,
+                1,
+                1,
+                f"{path.name} is a xacro (xacro elements or ${{...}}/$(...) expressions): expanded as one",
+                f"rename it {path.stem}.urdf.xacro; other tools read a .urdf as plain URDF",
+            )
+            return ctx, [note, *findings, *found]
         return UrdfContext(path, root, Locator(path, data=data), self.resolver, raw=data), findings
 
-    def _expand(self, path: Path, extra_args: dict[str, str] | None = None) -> Expansion | Finding:
-        """xacro's expansion of `path`, or the X001 finding that says why it failed."""
+    def _expand(
+        self, path: Path, extra_args: dict[str, str] | None = None, exact: dict[str, str] | None = None
+    ) -> Expansion | Finding:
+        """xacro's expansion of `path` (with `exact` arguments, else the file's: xacro_args_for),
+        or the X001 finding that says why it failed."""
         from armtool.model.xacro_source import XacroFailure, expand
 
         self._read(path)
         try:
-            return expand(path, self.xacro_args_for(path, extra_args), self.resolver)
+            return expand(path, exact if exact is not None else self.xacro_args_for(path, extra_args), self.resolver)
         except XacroFailure as exc:
             return xacro_finding(exc)
 
+    def load_urdf_with(self, path: Path, args: dict[str, str]) -> UrdfContext | None:
+        """A xacro expanded with exactly these arguments (another variant), or None when it fails."""
+        key = (path.resolve(), tuple(sorted(args.items())))
+        if key not in self._exact_cache:
+            self._exact_cache[key] = self._load_xacro(path, exact=args)[0]
+        return self._exact_cache[key]
+
     def _load_xacro(
-        self, path: Path, extra_args: dict[str, str] | None = None
+        self, path: Path, extra_args: dict[str, str] | None = None, exact: dict[str, str] | None = None
     ) -> tuple[UrdfContext | None, list[Finding]]:
-        expansion = self._expand(path, extra_args)
+        args = exact if exact is not None else self.xacro_args_for(path, extra_args)
+        expansion = self._expand(path, exact=args)
         if isinstance(expansion, Finding):
             return None, [expansion]
         root = expansion.root
@@ -282,15 +390,55 @@ class Linter:
         ctx = UrdfContext(
             path.resolve(), root, Locator(path.resolve(), expansion.origins), self.resolver, from_xacro=True
         )
+        ctx.xacro_args = dict(args)
+        ctx.source_files = tuple(expansion.files)
         return ctx, []
 
     def lint_urdf(self, path: Path) -> list[Finding]:
+        sets = self.options.config.xacro_arg_sets(path) if path != STDIN else [{}]
+        if len(sets) < 2:
+            return self._lint_urdf_once(path)
+        return self._lint_variants(path, sets)
+
+    def _lint_urdf_once(self, path: Path) -> list[Finding]:
         ctx, findings = self.load_urdf(path)
         if ctx is None:
             return findings
         if ctx.from_xacro and not ctx.links and not ctx.joints:
             return findings  # a macro library: nothing to check until a robot uses it
         return findings + list(self._run(ctx, Target.URDF))
+
+    def _lint_variants(self, path: Path, sets: list[dict[str, str]]) -> list[Finding]:
+        """The file linted once per argument set of the configuration. A finding every set gives
+        is reported once; the others say which set gave them ("[xacro args dof:=6]")."""
+        key = path.resolve()
+        differing = sorted({k for s in sets for k in s if len({s.get(k) for s in sets}) > 1})
+        per_set: list[tuple[str, list[Finding]]] = []
+        try:
+            for args in sets:
+                self._variant[key] = args
+                label = " ".join(f"{k}:={args.get(k, '')}" for k in differing) or "(no arguments)"
+                per_set.append((label, self._lint_urdf_once(path)))
+        finally:
+            self._variant.pop(key, None)
+        counts: dict[tuple[str, int, int, str, str], int] = {}
+        for _, found in per_set:
+            for f in dict.fromkeys(found):
+                counts[(f.path, f.line, f.column, f.code, f.message)] = (
+                    counts.get((f.path, f.line, f.column, f.code, f.message), 0) + 1
+                )
+        out: list[Finding] = []
+        seen: set[tuple[str, int, int, str, str]] = set()
+        for label, found in per_set:
+            for f in found:
+                k = (f.path, f.line, f.column, f.code, f.message)
+                if counts[k] == len(per_set):
+                    if k not in seen:
+                        seen.add(k)
+                        out.append(f)
+                else:
+                    out.append(f._replace(message=f"{f.message} [xacro args {label}]"))
+        return out
 
     # ---- SRDF --------------------------------------------------------------
     def _urdf_model(
@@ -301,15 +449,19 @@ class Linter:
             self._urdf_cache[key] = self.load_urdf(path, extra_args)
         return self._urdf_cache[key]
 
-    def _urdf_for_srdf(self, srdf: Path, srdf_root: etree._Element) -> tuple[UrdfContext | None, str | None]:
-        """The URDF an SRDF describes, or None and why not. The first usable candidate, unless it
-        lacks names the SRDF uses and a later candidate found beside it lacks fewer."""
+    def _urdf_for_srdf(self, srdf: Path, srdf_root: etree._Element) -> tuple[UrdfContext | None, str | None, bool]:
+        """The URDF an SRDF describes, or None and why not; and whether the pairing is the user's
+        or MoveIt's own (--urdf, the configuration, .setup_assistant) rather than a guess from the
+        files beside it. The first usable candidate, unless it lacks names the SRDF uses and a
+        later candidate found beside it lacks fewer."""
         from armtool.lint.pairing import srdf_names, unknown_names, urdf_candidates
 
         given = self.options.urdf or self.options.config.urdf_for(srdf)
         if given is not None:
             ctx, findings = self._urdf_model(given)
-            return ctx, None if ctx is not None else _cause(given, findings)
+            if ctx is None:
+                self._urdf_hint[srdf] = _cause_hint(given, findings)
+            return ctx, None if ctx is not None else _cause(given, findings), True
         first_failure: str | None = None
         best: tuple[int, UrdfContext] | None = None
         wanted: tuple[set[str], set[str]] | None = None  # the SRDF's names, read once when first needed
@@ -320,7 +472,7 @@ class Linter:
             ctx, findings = self._urdf_model(cand.path, cand.xacro_args)
             if ctx is not None and ctx.links:
                 if cand.why == "named by .setup_assistant":
-                    return ctx, None  # MoveIt's own record of the pairing
+                    return ctx, None, _names_srdf(srdf)  # MoveIt's own record of the pairing
                 wanted = wanted or srdf_names(srdf_root)
                 missing = unknown_names(wanted, ctx.joint_names, ctx.link_names)
                 if best is None or missing < best[0]:
@@ -329,9 +481,10 @@ class Linter:
                     break
             if ctx is None and findings and first_failure is None:
                 first_failure = _cause(cand.path, findings) + f" ({cand.why})"
+                self._urdf_hint[srdf] = _cause_hint(cand.path, findings)
         if best is not None:
-            return best[1], None
-        return None, first_failure or "no URDF found beside it"
+            return best[1], None, False
+        return None, first_failure or "no URDF found beside it", False
 
     def load_srdf(self, path: Path, *, pair: bool = True) -> tuple[SrdfContext | None, list[Finding]]:
         """The SRDF (a .srdf.xacro expanded like URDF xacros), paired with its URDF. None with no
@@ -362,8 +515,9 @@ class Linter:
             ]
         findings: list[Finding] = []
         urdf: UrdfContext | None = None
+        authoritative = False
         if pair:
-            urdf, why = self._urdf_for_srdf(path, root)
+            urdf, why, authoritative = self._urdf_for_srdf(path, root)
             if urdf is None:
                 findings.append(
                     _file_finding(
@@ -372,11 +526,20 @@ class Linter:
                         root.sourceline or 1,
                         1,
                         f"cannot check names and limits against the robot: {why}",
-                        "pass --urdf PATH (a .urdf or .urdf.xacro), or set it for this file in "
+                        self._urdf_hint.get(path)
+                        or "pass --urdf PATH (a .urdf or .urdf.xacro), or set it for this file in "
                         "[tool.armtool.lint.urdf]",
                     )
                 )
-        return SrdfContext(path, root, locator, urdf), findings
+        if urdf is not None:
+            from armtool.lint.srdf_variant import fit
+
+            urdf, mismatch = fit(self, path, root, urdf)
+            if mismatch is not None:
+                findings.append(_file_finding("S003", path, root.sourceline or 1, 1, mismatch))
+        ctx = SrdfContext(path, root, locator, urdf)
+        ctx.urdf_given = urdf is not None and authoritative
+        return ctx, findings
 
     def lint_srdf(self, path: Path) -> list[Finding]:
         ctx, findings = self.load_srdf(path)
@@ -387,13 +550,23 @@ class Linter:
     # ---- kinematics.yaml -----------------------------------------------------
     def _srdf_for_kinematics(self, path: Path, groups: list[str]) -> tuple[SrdfContext | None, str]:
         """The SRDF whose groups a kinematics.yaml configures, or None and why not."""
+        ctx, why, _ = self._find_srdf(path, groups)
+        return ctx, why
+
+    def _find_srdf(self, path: Path, groups: list[str]) -> tuple[SrdfContext | None, str, str]:
+        """The SRDF of a MoveIt YAML file, or None, why not, and what to do about it: an SRDF that
+        was found but could not be loaded gets its own error's hint (a xacro argument it needs,
+        a package path), not "pass --srdf"."""
         from armtool.lint.pairing import srdf_candidates
 
+        pass_srdf = "pass --srdf PATH, or set it for this file in [tool.armtool.lint.srdf]"
         given = self.options.srdf or self.options.config.srdf_for(path)
         if given is not None:
             ctx, findings = self.load_srdf(given, pair=False)
-            return ctx, "" if ctx is not None else _cause(given, findings)
-        failure = ""
+            if ctx is not None:
+                return ctx, "", ""
+            return None, _cause(given, findings), _cause_hint(given, findings) or pass_srdf
+        failure, hint = "", ""
         for tier in srdf_candidates(path):
             usable: dict[Path, SrdfContext] = {}
             for cand in tier:
@@ -403,15 +576,15 @@ class Linter:
                 if ctx is not None:
                     usable.setdefault(ctx.path, ctx)
                 elif findings and not failure:
-                    failure = _cause(cand.path, findings)
+                    failure, hint = _cause(cand.path, findings), _cause_hint(cand.path, findings)
             if len(usable) == 1:
-                return next(iter(usable.values())), ""
+                return next(iter(usable.values())), "", ""
             covering = [c for c in usable.values() if set(groups) <= set(c.groups)]
             if len(covering) == 1:
-                return covering[0], ""
+                return covering[0], "", ""
             if usable:
-                return None, "several SRDFs beside it: " + ", ".join(sorted(p.name for p in usable))
-        return None, failure or "no SRDF found beside it"
+                return None, "several SRDFs beside it: " + ", ".join(sorted(p.name for p in usable)), pass_srdf
+        return None, failure or "no SRDF found beside it", hint or pass_srdf
 
     def lint_kinematics(self, path: Path) -> list[Finding]:
         import yaml
@@ -456,20 +629,26 @@ class Linter:
                 return []  # `a1: 0.025`: no planning group of that name, so not MoveIt's
             return list(self._run(KinematicsContext(path, groups, srdf_ctx), Target.KINEMATICS))
         findings: list[Finding] = []
-        srdf_ctx, why = self._srdf_for_kinematics(path, names)
+        srdf_ctx, why, hint = self._find_srdf(path, names)
         if srdf_ctx is None:
-            findings.append(
-                _file_finding(
-                    "K002",
-                    path,
-                    1,
-                    1,
-                    f"cannot check group names: {why}",
-                    "pass --srdf PATH, or set it for this file in [tool.armtool.lint.srdf]",
-                )
-            )
+            findings.append(_file_finding("K002", path, 1, 1, f"cannot check group names: {why}", hint))
         ctx = KinematicsContext(path, groups, srdf_ctx)
         return findings + list(self._run(ctx, Target.KINEMATICS))
+
+    # ---- a MoveIt config package's other YAML files ----------------------------------
+    def srdf_for_package_file(self, path: Path) -> tuple[SrdfContext | None, str]:
+        """The SRDF a package YAML file (joint_limits.yaml, controllers) belongs to: as for kinematics.yaml."""
+        return self._srdf_for_kinematics(path, [])
+
+    def paired_srdf(self, path: Path) -> SrdfContext | None:
+        """The SRDF with its URDF (loaded once per run; its own findings are reported when it is linted)."""
+        if path not in self._paired:
+            ctx, _ = self.load_srdf(path)
+            self._paired[path] = ctx
+        return self._paired[path]
+
+    def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]:
+        return self._run(ctx, target)
 
     # ---- common -----------------------------------------------------------------
     def _run(self, ctx: FileContext, target: Target) -> Iterator[Finding]:
@@ -482,13 +661,22 @@ class Linter:
     def lint_file(self, path: Path) -> list[Finding]:
         kind = file_kind(path) if path != STDIN else sniff_kind(self._read(path))
         if kind is None and path.suffix.lower() in (".yaml", ".yml"):
-            kind = FileKind.KINEMATICS  # named on the command line: its content decides (MoveIt's or not)
+            kind = _sniff_yaml(self._read(path))  # named on the command line: its content decides
         elif kind is None and path.is_file():
             kind = sniff_kind(self._read(path))
         if kind is FileKind.SRDF:
             return self.lint_srdf(path)
         if kind is FileKind.KINEMATICS:
             return self.lint_kinematics(path)
+        if kind in (FileKind.JOINT_LIMITS, FileKind.PILZ, FileKind.CONTROLLERS):
+            from armtool.lint import moveit_files
+
+            lint = {
+                FileKind.JOINT_LIMITS: moveit_files.lint_joint_limits,
+                FileKind.PILZ: moveit_files.lint_pilz,
+                FileKind.CONTROLLERS: moveit_files.lint_controllers,
+            }[kind]
+            return lint(self, path)
         return self.lint_urdf(path)
 
     def lint(self, path: Path) -> list[Finding]:
@@ -525,7 +713,13 @@ class Linter:
 # Plain os.fork and pipes, not multiprocessing: its import and Pool cost ~35 ms, a fifth of
 # linting all 69 example-robot-data URDFs; here the parent lints too and one fork costs ~2 ms.
 PARALLEL_MIN_FILES = 16
-_TARGET_OF_KIND: dict[FileKind | None, Target] = {FileKind.SRDF: Target.SRDF, FileKind.KINEMATICS: Target.KINEMATICS}
+_TARGET_OF_KIND: dict[FileKind | None, Target] = {
+    FileKind.SRDF: Target.SRDF,
+    FileKind.KINEMATICS: Target.KINEMATICS,
+    FileKind.JOINT_LIMITS: Target.JOINT_LIMITS,
+    FileKind.PILZ: Target.PILZ,
+    FileKind.CONTROLLERS: Target.CONTROLLERS,
+}
 MAX_WORKERS = 8
 
 
@@ -557,8 +751,8 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
 
     kinds = {file_kind(path) for path in files}
     targets = {_TARGET_OF_KIND.get(kind, Target.URDF) for kind in kinds}
-    if Target.SRDF in targets or Target.KINEMATICS in targets:
-        targets |= {Target.URDF, Target.SRDF}  # an SRDF's URDF, a kinematics.yaml's SRDF
+    if targets - {Target.URDF}:
+        targets |= {Target.URDF, Target.SRDF}  # an SRDF's URDF, a MoveIt YAML file's SRDF
     for target in targets:
         linter._rules.setdefault(target, rules_for(target))  # imported once, before forking
     # Largest files first: a few big robots (Talos, Romeo) dominate the work.
@@ -718,13 +912,39 @@ def _finding_from_row(row: tuple[object, ...]) -> Finding:
     )
 
 
+def _package_files(options: LintOptions) -> list[Path]:
+    """--moveit-config: the package's files as its launch files load them (its URDF, with the
+    .setup_assistant's xacro arguments, is also what its SRDF is checked against)."""
+    from armtool.moveit.package import read_package
+
+    assert options.moveit_config is not None
+    resolver = PackageResolver([*options.package_paths, *options.config.package_paths])
+    pkg = read_package(options.moveit_config, resolver)
+    files = pkg.files()
+    if pkg.urdf is not None and pkg.urdf.is_file():
+        options.file_args[pkg.urdf.resolve()] = dict(pkg.urdf_xacro_args)
+        if options.urdf is None:
+            options.urdf = pkg.urdf
+        files.insert(0, pkg.urdf)
+    if pkg.srdf is not None and options.srdf is None and pkg.srdf.is_file():
+        options.srdf = pkg.srdf
+    return files
+
+
 def lint_paths(paths: Iterable[Path], options: LintOptions) -> LintResult:
-    files = collect_files(list(paths))
+    paths = list(paths)
+    if options.moveit_config is not None:
+        paths += _package_files(options)
+    files = collect_files(paths)
     config = options.config
     findings: list[Finding] = []
     for file_findings in _lint_all(files, options):
         for finding in file_findings:
             if config.keeps(finding):
                 findings.append(config.adjust(finding))
+    if len(files) > 1:
+        from armtool.lint.shared_defects import merge_shared_defects
+
+        findings = merge_shared_defects(findings)
     unique = {(f.path, f.line, f.column, f.code, f.message): f for f in findings}
     return LintResult(sorted(unique.values(), key=lambda f: f.sort_key), files)

@@ -36,22 +36,6 @@ class NotAMapping(Exception):
         self.what, self.line, self.column = what, line, column
 
 
-def _shape(node: Any) -> str:
-    """What a YAML node is, for a message: 'a list', 'a mapping', 'nothing' or the scalar as written."""
-    import yaml
-
-    if isinstance(node, yaml.SequenceNode):
-        return "a list"
-    if isinstance(node, yaml.MappingNode):
-        return "a mapping"
-    if isinstance(node, yaml.ScalarNode):
-        if node.tag == "tag:yaml.org,2002:null":
-            return "nothing"
-        text = node.value if len(node.value) <= 40 else node.value[:37] + "..."
-        return repr(text)
-    return "nothing"
-
-
 class KinematicsContext(FileContext):
     target = Target.KINEMATICS
 
@@ -76,31 +60,33 @@ def _plain(node: Any) -> Any:
 
 
 def read_groups(text: str) -> list[GroupSettings]:
-    """Groups from a MoveIt kinematics.yaml, ROS 1 (`arm: {...}`) or ROS 2 (`/**: ros__parameters:
-    robot_description_kinematics: arm: {...}`) layout. Raises yaml.YAMLError, and NotAMapping when
-    the top level is a list or a scalar (an empty file has no groups)."""
+    """Groups from a MoveIt kinematics.yaml in any layout `armtool.moveit.params` reads (ROS 1
+    `arm: {...}`; ROS 2 `/**` or a node name, `ros__parameters`, `robot_description_kinematics`).
+    Raises yaml.YAMLError, and NotAMapping when the settings are a list or a scalar (an empty
+    file has no groups)."""
+    from armtool.moveit.params import parse
+
+    return groups_of(parse(text))
+
+
+def groups_of(root: Any) -> list[GroupSettings]:
+    """read_groups() of a document already parsed (`armtool.moveit.params.parse`)."""
     import yaml
 
-    from armtool.yamlload import compose
+    from armtool.moveit.params import moveit_section, shape
 
-    node = compose(text)  # refuses a document that aliases blow up (a YAMLError, like any bad YAML)
+    node = moveit_section(root, "robot_description_kinematics").mapping
     if node is None:
         return []
-    for wrapper in ("/**", "ros__parameters", "robot_description_kinematics"):
-        if isinstance(node, yaml.MappingNode):
-            for key, value in node.value:
-                if isinstance(key, yaml.ScalarNode) and key.value == wrapper:
-                    node = value
-                    break
     if not isinstance(node, yaml.MappingNode):
-        if _shape(node) == "nothing":
+        if shape(node) == "nothing":
             return []
-        raise NotAMapping(_shape(node), node.start_mark.line + 1, node.start_mark.column + 1)
+        raise NotAMapping(shape(node), node.start_mark.line + 1, node.start_mark.column + 1)
     groups = []
     for key, value in node.value:
         group = GroupSettings(str(key.value), key.start_mark.line + 1, key.start_mark.column + 1)
         if not isinstance(value, yaml.MappingNode):
-            group.not_a_mapping = _shape(value)
+            group.not_a_mapping = shape(value)
         else:
             for skey, sval in value.value:
                 group.settings[str(skey.value)] = YamlValue(

@@ -45,9 +45,12 @@ RULE_TABLE: tuple[tuple[str, str, str], ...] = (
     ("U502", "unknown-package", "u502_unknown_package:UnknownPackage"),
     ("U503", "transmission-unknown-joint", "u503_transmission_unknown_joint:TransmissionUnknownJoint"),
     ("U504", "non-positive-reduction", "u504_non_positive_reduction:NonPositiveReduction"),
+    ("U505", "ros2-control-unknown-joint", "u505_ros2_control_unknown_joint:Ros2ControlUnknownJoint"),
     ("X001", "xacro-error", "x001_xacro_error:XacroError"),
+    ("X002", "urdf-is-xacro", "x002_urdf_is_xacro:UrdfIsXacro"),
     ("S001", "invalid-srdf", "s001_invalid_srdf:InvalidSrdf"),
     ("S002", "urdf-not-found", "s002_urdf_not_found:UrdfNotFound"),
+    ("S003", "srdf-for-other-variant", "s003_srdf_for_other_variant:SrdfForOtherVariant"),
     ("K001", "invalid-yaml", "k001_invalid_yaml:InvalidYaml"),
     ("K002", "srdf-not-found", "k002_srdf_not_found:SrdfNotFound"),
     ("S101", "srdf-unknown-joint", "s101_srdf_unknown_joint:SrdfUnknownJoint"),
@@ -59,17 +62,47 @@ RULE_TABLE: tuple[tuple[str, str, str], ...] = (
     ("S107", "group-state-missing-joint", "s107_group_state_missing_joint:GroupStateMissingJoint"),
     ("S108", "disable-collisions-unknown-link", "s108_disable_collisions_unknown_link:DisableCollisionsUnknownLink"),
     ("S109", "gripper-joint-in-arm-group", "s109_gripper_joint_in_arm_group:GripperJointInArmGroup"),
+    ("S110", "robot-name-mismatch", "s110_robot_name_mismatch:RobotNameMismatch"),
+    ("S111", "virtual-joint-not-root", "s111_virtual_joint_not_root:VirtualJointNotRoot"),
+    ("S112", "passive-joint-in-group", "s112_passive_joint_in_group:PassiveJointInGroup"),
     ("K101", "kinematics-unknown-group", "k101_kinematics_unknown_group:KinematicsUnknownGroup"),
     ("K102", "unknown-solver-plugin", "k102_unknown_solver_plugin:UnknownSolverPlugin"),
     ("K103", "non-positive-timeout", "k103_non_positive_timeout:NonPositiveTimeout"),
     ("K104", "timeout-below-1ms", "k104_timeout_below_1ms:TimeoutBelow1ms"),
     ("K105", "non-positive-search-resolution", "k105_non_positive_search_resolution:NonPositiveSearchResolution"),
     ("K106", "group-settings-not-a-mapping", "k106_group_settings_not_a_mapping:GroupSettingsNotAMapping"),
+    ("L001", "invalid-joint-limits-yaml", "l001_invalid_joint_limits_yaml:InvalidJointLimitsYaml"),
+    ("L002", "joint-limits-robot-not-found", "l002_joint_limits_robot_not_found:JointLimitsRobotNotFound"),
+    ("L101", "joint-limits-unknown-joint", "l101_joint_limits_unknown_joint:JointLimitsUnknownJoint"),
+    ("L102", "integer-limit", "l102_integer_limit:IntegerLimit"),
+    ("L103", "limit-wrong-type", "l103_limit_wrong_type:LimitWrongType"),
+    ("L104", "missing-acceleration-limit", "l104_missing_acceleration_limit:MissingAccelerationLimit"),
+    ("L105", "non-positive-limit", "l105_non_positive_limit:NonPositiveLimit"),
+    ("L106", "limit-above-urdf", "l106_limit_above_urdf:LimitAboveUrdf"),
+    ("L107", "scaling-factor-out-of-range", "l107_scaling_factor_out_of_range:ScalingFactorOutOfRange"),
+    ("L108", "limit-without-flag", "l108_limit_without_flag:LimitWithoutFlag"),
+    ("P001", "invalid-pilz-yaml", "p001_invalid_pilz_yaml:InvalidPilzYaml"),
+    ("P101", "missing-cartesian-limit", "p101_missing_cartesian_limit:MissingCartesianLimit"),
+    ("P102", "invalid-cartesian-limit", "p102_invalid_cartesian_limit:InvalidCartesianLimit"),
+    ("P103", "integer-cartesian-limit", "p103_integer_cartesian_limit:IntegerCartesianLimit"),
+    ("C001", "invalid-controllers-yaml", "c001_invalid_controllers_yaml:InvalidControllersYaml"),
+    ("C101", "controller-unknown-joint", "c101_controller_unknown_joint:ControllerUnknownJoint"),
+    ("C102", "group-without-controller", "c102_group_without_controller:GroupWithoutController"),
+    ("C103", "controller-not-defined", "c103_controller_not_defined:ControllerNotDefined"),
+    ("C104", "unknown-controller-type", "c104_unknown_controller_type:UnknownControllerType"),
 )
 
 CODES: dict[str, str] = {code: name for code, name, _ in RULE_TABLE}
 NAMES: dict[str, str] = {name: code for code, name, _ in RULE_TABLE}
-_TARGET_OF_LETTER = {"U": Target.URDF, "X": Target.URDF, "S": Target.SRDF, "K": Target.KINEMATICS}
+_TARGET_OF_LETTER = {
+    "U": Target.URDF,
+    "X": Target.URDF,
+    "S": Target.SRDF,
+    "K": Target.KINEMATICS,
+    "L": Target.JOINT_LIMITS,
+    "P": Target.PILZ,
+    "C": Target.CONTROLLERS,
+}
 _loaded: dict[str, type[Rule]] = {}
 
 
@@ -90,7 +123,9 @@ def rules_for(target: Target) -> list[type[Rule]]:
 
 # Reported by the engine while it loads a file (bad XML, no <robot>, xacro failed, no URDF beside
 # an SRDF, ...); their check() finds nothing, so a lint run need not import them to run them.
-LOADER_CODES = frozenset({"U001", "U002", "U003", "X001", "S001", "S002", "K001", "K002"})
+LOADER_CODES = frozenset(
+    {"U001", "U002", "U003", "X001", "X002", "S001", "S002", "S003", "K001", "K002", "L001", "P001", "C001"}
+)
 
 
 def checks_for(target: Target) -> list[type[Rule]]:

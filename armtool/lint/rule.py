@@ -15,6 +15,9 @@ class Target(str, Enum):
     URDF = "urdf"
     SRDF = "srdf"
     KINEMATICS = "kinematics"
+    JOINT_LIMITS = "joint_limits"
+    PILZ = "pilz"
+    CONTROLLERS = "controllers"
 
 
 DOC_SECTIONS = ("What it does", "Why is this bad?", "Example", "Use instead")

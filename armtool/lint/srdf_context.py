@@ -22,6 +22,9 @@ class SrdfContext(FileContext):
         super().__init__(path, locator)
         self.root = root
         self.urdf = urdf
+        # True when the URDF is the user's or MoveIt's choice (--urdf, the configuration,
+        # .setup_assistant), False when armtool picked it among the files beside the SRDF.
+        self.urdf_given = False
         self.groups: dict[str, etree._Element] = {}
         for el in root:
             if local_tag(el) == "group" and el.get("name") and el.get("name") not in self.groups:

@@ -520,7 +520,7 @@ def chain_from_xml(
         if uj.el.find("mimic") is not None:
             raise ArmtoolError(
                 f"joint '{uj.name}' is a mimic joint",
-                hint="IK chains cannot contain mimic joints; choose another --tip",
+                hint="IK chains cannot contain mimic joints; choose a tip link above it",
             )
         axis_el = uj.el.find("axis")
         axis = np.array(

@@ -51,3 +51,14 @@ def load_srdf_xml(
 ) -> etree._Element:
     """The <robot> element of a .srdf, or of a .srdf.xacro after expansion (MoveIt 2 configs use both)."""
     return _load_xml(path, xacro_args, package_paths, "SRDF")
+
+
+def urdf_text(path: Path, xacro_args: Mapping[str, str] | None = None, package_paths: Sequence[Path] = ()) -> str:
+    """A URDF's text: the file as it is, or a xacro's expansion (a whole URDF document)."""
+    if not path.name.lower().endswith(".xacro"):
+        from armtool.fileio import read_text
+
+        return read_text(path, "URDF", keep_bom=True)
+    root = load_robot_xml(path, xacro_args, package_paths)
+    text: str = etree.tostring(root, encoding="unicode", pretty_print=True)
+    return '<?xml version="1.0"?>\n' + text

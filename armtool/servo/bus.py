@@ -276,7 +276,7 @@ class ServoBus:
             if want is not None and want.model_number != number:
                 raise ArmtoolError(
                     f"ID {sid} is a {model.name} (model number {number}), not the {want.name} expected",
-                    hint="fix the model in the arm file or --model, or check which servo has this ID",
+                    hint="check which servo has this ID, and the model named for it",
                 )
             self.servos[sid] = Servo(sid, model)
         return {sid: self.servos[sid] for sid in ids}

@@ -162,7 +162,7 @@ def _over(
                 i,
                 f"{_at(traj, i)}, joint '{names[j]}': {what} {abs(values[k, j]):.6g} {unit[j]} "
                 f"> limit {limit[j]:.6g} {unit[j]} ({ratio[k]:.4f}×, {source}){span}",
-                "re-time it: armtool traj time PATH --urdf URDF (or retime --scale S < 1)",
+                "re-time it: armtool traj time PATH --urdf URDF (or `armtool traj retime --scale S` with S < 1)",
             )
 
 

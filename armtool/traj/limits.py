@@ -13,12 +13,16 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from armtool.errors import ArmtoolError
 from armtool.traj.trajectory import Array
+
+if TYPE_CHECKING:
+    from armtool.moveit.joint_limits import JointEntry
+    from armtool.moveit.params import Scalar
 
 
 @dataclass(frozen=True)
@@ -78,11 +82,13 @@ class JointLimits:
         return self.velocity * self.velocity_scaling, self.acceleration * self.acceleration_scaling
 
 
-def _urdf_joints(urdf: Path) -> dict[str, tuple[str, float, float, float, int]]:
+def _urdf_joints(
+    urdf: Path, xacro_args: Mapping[str, str] | None = None, package_paths: Sequence[Path] = ()
+) -> dict[str, tuple[str, float, float, float, int]]:
     """name -> (type, lower, upper, velocity, line) for every moving joint."""
     from armtool.model.load import load_robot_xml
 
-    root = load_robot_xml(urdf, None, ())
+    root = load_robot_xml(urdf, xacro_args, package_paths)
     out: dict[str, tuple[str, float, float, float, int]] = {}
     for el in root.iter("joint"):
         kind = el.get("type", "")
@@ -144,9 +150,12 @@ def load_limits(
     jerk_limits: Sequence[str] = (),
     velocity_scaling: float | None = None,
     acceleration_scaling: float | None = None,
+    xacro_args: Mapping[str, str] | None = None,
+    package_paths: Sequence[Path] = (),
 ) -> JointLimits:
-    """Limits of every moving joint of the URDF; joint_limits.yaml and options override the URDF."""
-    joints = _urdf_joints(urdf)
+    """Limits of every moving joint of the URDF (or xacro, expanded with `xacro_args`);
+    joint_limits.yaml (any layout MoveIt reads) and options override the URDF."""
+    joints = _urdf_joints(urdf, xacro_args, package_paths)
     names = list(joints)
     lower = np.array([joints[n][1] for n in names], dtype=np.float64)
     upper = np.array([joints[n][2] for n in names], dtype=np.float64)
@@ -156,23 +165,28 @@ def load_limits(
     sources = [f"{urdf.name}:{joints[n][4]}" for n in names]
     file_vs, file_as = None, None
     if joint_limits is not None:
-        from armtool.fileio import read_yaml
+        from armtool.moveit.joint_limits import load_joint_limits
 
-        doc = read_yaml(joint_limits, "joint_limits.yaml")
-        if not isinstance(doc, dict) or not isinstance(doc.get("joint_limits"), dict):
-            raise ArmtoolError(
-                "not MoveIt's joint_limits.yaml: no `joint_limits:` mapping",
-                str(joint_limits),
-                "MoveIt's format: joint_limits: {joint1: {has_acceleration_limits: true, max_acceleration: 5.0}}",
+        doc = load_joint_limits(joint_limits, dict(xacro_args or {}))
+        unknown = sorted({u for e in doc.joints for u in e.name.unknown})
+        if unknown:
+            import logging
+
+            logging.getLogger(__name__).warning(
+                "%s: %s unknown (no xacro argument of that name): its keys were matched to the URDF's joints by "
+                "the rest of the name",
+                joint_limits.name,
+                ", ".join(f"$(var {u})" for u in unknown),
             )
-        file_vs = _factor(doc.get("default_velocity_scaling_factor"), joint_limits)
-        file_as = _factor(doc.get("default_acceleration_scaling_factor"), joint_limits)
-        for name, entry in (doc.get("joint_limits") or {}).items():
-            if name not in joints or not isinstance(entry, dict):
+        file_vs = _factor(doc.scaling.get("default_velocity_scaling_factor"), joint_limits)
+        file_as = _factor(doc.scaling.get("default_acceleration_scaling_factor"), joint_limits)
+        for i, name in enumerate(names):
+            entry = doc.entry_for(name)
+            if entry is None:
                 continue  # limits of joints outside the URDF (or other groups) do not matter here
-            i = names.index(name)
-            _apply(entry, i, lower, upper, vel, acc, jerk, joint_limits)
-            sources[i] += f", {joint_limits.name}"
+            _apply(entry, i, joints[name][0], lower, upper, vel, acc, jerk, joint_limits)
+            note = entry.name.note()
+            sources[i] += f", {joint_limits.name}:{entry.line}" + (f" ({entry.name.written}: {note})" if note else "")
     for values, arr, option in (
         (vel_limits, vel, "--vel-limit"),
         (acc_limits, acc, "--acc-limit"),
@@ -202,35 +216,72 @@ def load_limits(
     )
 
 
-def _factor(value: Any, path: Path) -> float | None:
+def _factor(value: Scalar | None, path: Path) -> float | None:
     if value is None:
         return None
-    try:
-        f = float(value)
-    except (TypeError, ValueError):
-        raise ArmtoolError(f"scaling factor {value!r} is not a number", str(path)) from None
-    return f if f > 0 else None
+    number = value.number()
+    if number is None:
+        raise ArmtoolError(f"scaling factor {value.text!r} is not a number", f"{path}:{value.line}")
+    return number if number > 0 else None
 
 
 def _apply(
-    entry: Mapping[str, Any], i: int, lower: Array, upper: Array, vel: Array, acc: Array, jerk: Array, path: Path
+    entry: JointEntry,
+    i: int,
+    kind: str,
+    lower: Array,
+    upper: Array,
+    vel: Array,
+    acc: Array,
+    jerk: Array,
+    path: Path,
 ) -> None:
-    def num(key: str) -> float:
-        try:
-            value = float(entry[key])
-        except (KeyError, TypeError, ValueError):
-            raise ArmtoolError(f"`{key}` missing or not a number", str(path), f"set {key}: <number>") from None
-        return value
+    """One joint's overrides, as MoveIt's RobotModelLoader applies them: min/max_position when
+    given (not for continuous joints); a velocity, acceleration or jerk limit only when its
+    has_*_limits flag is true, and none at all when the flag is false."""
+    name = entry.name.written
 
-    if entry.get("has_position_limits"):
-        lower[i], upper[i] = num("min_position"), num("max_position")
-    if entry.get("has_velocity_limits"):
-        vel[i] = num("max_velocity")
-    if entry.get("has_acceleration_limits"):
-        value = num("max_acceleration")
-        if value > 0:
-            acc[i] = value
-    if entry.get("has_jerk_limits"):
-        value = num("max_jerk")
-        if value > 0:
-            jerk[i] = value
+    def num(key: str) -> float | None:
+        value = entry.values.get(key)
+        if value is None:
+            if key in entry.not_scalar:
+                shape, line, _ = entry.not_scalar[key]
+                raise ArmtoolError(f"`{key}` of joint '{name}' is {shape}, not a number", f"{path}:{line}")
+            return None
+        number = value.number()
+        if number is None:
+            raise ArmtoolError(
+                f"`{key}` of joint '{name}' is {value.text!r}, not a number",
+                f"{path}:{value.line}",
+                f"set {key}: <number>",
+            )
+        return number
+
+    def flag(key: str) -> bool | None:
+        value = entry.values.get(key)
+        if value is None:
+            return None
+        if value.kind != "bool":
+            raise ArmtoolError(
+                f"`{key}` of joint '{name}' is {value.text!r}, not true or false", f"{path}:{value.line}"
+            )
+        return value.flag()
+
+    if kind != "continuous":
+        for key, arr in (("min_position", lower), ("max_position", upper)):
+            number = num(key)
+            if number is not None:
+                arr[i] = number
+    for key, arr in (("velocity", vel), ("acceleration", acc), ("jerk", jerk)):
+        on = flag(f"has_{key}_limits")
+        if on is False:
+            arr[i] = math.nan  # switched off: no limit (MoveIt drops the URDF's velocity too)
+        elif on:
+            number = num(f"max_{key}")
+            if number is None:
+                raise ArmtoolError(
+                    f"joint '{name}' sets has_{key}_limits but no max_{key}",
+                    f"{path}:{entry.line}",
+                    f"set max_{key}: <number>",
+                )
+            arr[i] = number if number > 0 else math.nan

@@ -33,6 +33,8 @@ class LimitSources:
     jerk: Sequence[str] = ()
     velocity_scaling: float | None = None
     acceleration_scaling: float | None = None
+    xacro_args: tuple[tuple[str, str], ...] = ()  # for a xacro robot
+    package_paths: tuple[Path, ...] = ()
 
     def load(self) -> JointLimits:
         for path, what in ((self.urdf, "URDF"), (self.joint_limits, "joint_limits.yaml")):
@@ -50,6 +52,8 @@ class LimitSources:
             jerk_limits=self.jerk,
             velocity_scaling=self.velocity_scaling,
             acceleration_scaling=self.acceleration_scaling,
+            xacro_args=dict(self.xacro_args),
+            package_paths=self.package_paths,
         )
 
 

@@ -5,6 +5,7 @@ The CLI parses flags into a `PathSpec` and prints; everything here raises Armtoo
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -164,6 +165,8 @@ def plan_cartesian(
     options: cart.CartesianOptions,
     solver: str,
     srdf: Path | None = None,
+    xacro_args: Mapping[str, str] | None = None,
+    package_paths: Sequence[Path] = (),
 ) -> CartesianPlan:
     """The joint path along `spec` from `start`, as far as it could be followed."""
     from armtool.ik.registry import make_solver
@@ -173,7 +176,7 @@ def plan_cartesian(
     spec.check()
     if srdf is not None and not srdf.is_file():
         raise ArmtoolError("SRDF not found", str(srdf))
-    chain = load_chain(urdf, base, tip)
+    chain = load_chain(urdf, base, tip, xacro_args=xacro_args, package_paths=package_paths)
     q0, how = _start(chain, start, urdf, srdf)
     segs = segments(spec, chain.fk(q0))
     # lm's table of poses is built only if a point needs it: a path's next point is near its seed.

@@ -232,3 +232,17 @@ def test_k102_near_misses_are_reported_with_the_real_name(tmp_path: Path, plugin
 def test_k102_no_unrelated_suggestion(tmp_path: Path) -> None:
     (f,) = lint_yaml(tmp_path, "arm:\n  kinematics_solver: OPW\n")  # not a pluginlib name at all
     assert f.code == "K102" and "did you mean" not in f.message
+
+
+def test_k002_hint_names_the_real_cause(tmp_path: Path) -> None:
+    """The SRDF was found but needs a xacro argument: the hint says so, not "pass --srdf"."""
+    config = tmp_path / "config"
+    config.mkdir()
+    (config / "arm.srdf.xacro").write_text(
+        '<robot name="$(arg name)" xmlns:xacro="http://www.ros.org/wiki/xacro"><group name="arm"/></robot>\n'
+    )
+    (config / "kinematics.yaml").write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n")
+    (k002,) = [f for f in lint_paths([config / "kinematics.yaml"], LintOptions()).findings if f.code == "K002"]
+    assert "arm.srdf.xacro could not be loaded" in k002.message
+    assert k002.hint is not None and "arm.srdf.xacro was found but cannot be used" in k002.hint
+    assert "--xacro-arg name:=VALUE" in k002.hint and "--srdf" not in k002.hint

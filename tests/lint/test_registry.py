@@ -16,9 +16,11 @@ def test_codes_and_names_are_unique_and_well_formed() -> None:
     names = [r.name for r in RULES]
     assert len(set(codes)) == len(codes) and len(set(names)) == len(names)
     for rule in RULES:
-        assert re.fullmatch(r"[UXSK]\d{3}", rule.code), rule.code
+        assert re.fullmatch(r"[UXSKLPC]\d{3}", rule.code), rule.code
         assert re.fullmatch(r"[a-z0-9]+(-[a-z0-9]+)*", rule.name), rule.name
-        assert rule.target.value == {"U": "urdf", "X": "urdf", "S": "srdf", "K": "kinematics"}[rule.code[0]]
+        letters = {"U": "urdf", "X": "urdf", "S": "srdf", "K": "kinematics"}
+        letters |= {"L": "joint_limits", "P": "pilz", "C": "controllers"}
+        assert rule.target.value == letters[rule.code[0]]
 
 
 def test_every_rule_is_documented() -> None:
@@ -43,13 +45,14 @@ def test_loader_rules_check_nothing_and_are_the_engines_file_findings() -> None:
     import re
     from pathlib import Path
 
-    from armtool.lint import engine
+    from armtool.lint import engine, moveit_files
     from armtool.lint.registry import LOADER_CODES, checks_for, rule_class, rules_for
     from armtool.lint.rule import Target
 
     for code in LOADER_CODES:
         assert list(rule_class(code)().check(object())) == []
     source = Path(engine.__file__).read_text(encoding="utf-8")
-    assert set(re.findall(r'_file_finding\(\s*"([A-Z]\d{3})"', source)) == LOADER_CODES
+    reported = set(re.findall(r'_file_finding\(\s*"([A-Z]\d{3})"', source)) | set(moveit_files.LOADER_CODE.values())
+    assert reported == LOADER_CODES
     for target in Target:
         assert [r.code for r in checks_for(target)] == [r.code for r in rules_for(target) if r.code not in LOADER_CODES]

@@ -418,16 +418,18 @@ REAL_DEFECTS = {
         ("S105", 68),
         ("S105", 69),
     ],
-    # leg chains start at 'chest' (above the root); group_state sets an undeclared 'root_joint'
+    # leg chains start at 'chest' (above the root); group_state sets an undeclared 'root_joint';
+    # the SRDF's robot is 'icub', the URDF's 'iCub' (srdfdom compares them exactly)
     ("icub_description/srdf/icub.srdf", "icub_description/robots/icub.urdf"): [
         ("S101", 86),
         ("S104", 11),
         ("S104", 20),
+        ("S110", 2),
     ],
     # arm_up puts j2s6s200_joint_3 at -1.5707, below its lower limit 0.33
     ("kinova_description/srdf/kinova.srdf", "kinova_description/robots/kinova.urdf"): [("S106", 19)],
-    # chain base_link 'base' does not exist in z1.urdf
-    ("z1_description/srdf/z1.srdf", "z1_description/urdf/z1.urdf"): [("S102", 11)],
+    # chain base_link 'base' does not exist in z1.urdf; the SRDF's robot is 'z1', the URDF's 'z1_description'
+    ("z1_description/srdf/z1.srdf", "z1_description/urdf/z1.urdf"): [("S102", 11), ("S110", 2)],
     ("panda_description/srdf/panda.srdf", "panda_description/urdf/panda.urdf"): [],
     ("pr2_description/srdf/pr2.srdf", "pr2_description/urdf/pr2.urdf"): [],
     ("ur_description/srdf/ur5_gripper.srdf", "ur_description/urdf/ur5_gripper.urdf"): [],
@@ -454,3 +456,42 @@ def test_real_robot_hyq_subgroups_suggest_leg_groups() -> None:
     found = lint_paths([srdf], LintOptions(urdf=_erd("hyq_description/robots/hyq_no_sensors.urdf"))).findings
     s103 = only(found, "S103")
     assert len(s103) == 16 and s103[0].line == 33 and "did you mean 'lf_leg'" in s103[0].message
+
+
+# ---- S110-S112: what MoveIt and srdfdom do with the pair ---------------------------------------
+
+
+def test_s110_robot_name_differs_from_the_urdf_given(tmp_path: Path) -> None:
+    path = tmp_path / "config" / "arm.srdf"
+    path.parent.mkdir()
+    path.write_text(f'<robot name="arm_v2">\n{ARM}\n</robot>\n', encoding="utf-8")
+    (tmp_path / "arm.urdf").write_text(ARM_URDF, encoding="utf-8")
+    (hit,) = [f for f in lint_paths([path], LintOptions(urdf=tmp_path / "arm.urdf")).findings if f.code == "S110"]
+    assert hit.line == 1 and "SRDF robot 'arm_v2' is not the URDF's robot 'arm'" in hit.message
+    # a URDF armtool picked beside the SRDF may be another variant: no finding
+    (tmp_path / "config" / "arm.urdf").write_text(ARM_URDF, encoding="utf-8")
+    assert "S110" not in [f.code for f in lint_paths([path], LintOptions()).findings]
+
+
+def test_s111_virtual_joint_child_is_not_the_root(tmp_path: Path) -> None:
+    found = lint_srdf(
+        tmp_path,
+        ARM,
+        '<virtual_joint name="world_joint" type="fixed" parent_frame="world" child_link="link1"/>',
+        '<virtual_joint name="ok" type="fixed" parent_frame="world" child_link="base_link"/>',
+    )
+    assert [(f.code, f.line) for f in found if f.code == "S111"] == [("S111", 3)]
+    assert "root link 'base_link'" in next(f for f in found if f.code == "S111").message
+
+
+def test_s112_passive_joint_inside_a_group(tmp_path: Path) -> None:
+    found = lint_srdf(
+        tmp_path,
+        '<group name="arm"><chain base_link="base_link" tip_link="tool0"/>',
+        '<passive_joint name="joint3"/></group>',
+        '<group name="hand"><joint name="left_finger_joint"/>',
+        '<passive_joint name="right_finger_joint"/></group>',
+        '<passive_joint name="joint2"/>',
+    )
+    hits = [(f.line, f.severity) for f in found if f.code == "S112"]
+    assert hits == [(3, Severity.WARNING), (5, Severity.INFO)]  # a mimic joint's entry only does nothing

@@ -370,3 +370,52 @@ def test_u301_text_precheck_never_misses_a_large_angle(value: float, style: str)
 
     text = style.format(value)
     assert _out_of_range(f"0 {text} 0") == (abs(float(text)) > math.pi + TOLERANCE_RAD)
+
+
+def test_u505_ros2_control_joint_not_in_the_urdf(tmp_path: Path) -> None:
+    text = robot(
+        "\n".join(
+            [
+                LINK.format(name="base"),
+                LINK.format(name="l1"),
+                revolute("joint1", "base", "l1"),
+                '<ros2_control name="arm" type="system"><hardware><plugin>mock_components/GenericSystem</plugin></hardware>',
+                '<joint name="joint_1"><command_interface name="position"/></joint>',
+                '<joint name="joint1"><command_interface name="position"/></joint>',
+                '<gpio name="flange_io"><command_interface name="digital_out"/></gpio></ros2_control>',
+            ]
+        )
+    )
+    found = [f for f in lint_text(tmp_path, text) if f.code == "U505"]
+    assert [(f.line, f.message) for f in found] == [
+        (6, "ros2_control 'arm': joint 'joint_1' is not in the URDF (did you mean 'joint1'?)")
+    ]
+
+
+def test_x002_a_xacro_named_urdf_is_expanded(tmp_path: Path) -> None:
+    """Parsed as URDF it gave a U101 (link 'l1' exists only inside the macro definition) and the
+    macro's own `${parent}` joint as a second tree."""
+    text = (
+        '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:macro name="segment" params="name parent">\n'
+        + LINK.format(name="${name}")
+        + "\n"
+        + revolute("${name}_joint", "${parent}", "${name}")
+        + "\n</xacro:macro>\n"
+        + '<link name="base"/>\n<xacro:segment name="l1" parent="base"/>\n'
+        + LINK.format(name="tool")
+        + "\n"
+        + revolute("tool_joint", "l1", "tool")
+        + "\n</robot>\n"
+    )
+    found = lint_text(tmp_path, text, "arm.urdf")
+    assert [(f.code, f.severity) for f in found] == [("X002", Severity.INFO)]
+    assert "arm.urdf is a xacro" in found[0].message and "arm.urdf.xacro" in (found[0].hint or "")
+
+
+def test_x002_not_for_stdin() -> None:
+    """A document on stdin cannot be expanded (xacro needs its file): it is read as it is."""
+    from armtool.lint.engine import STDIN, LintOptions, lint_paths
+
+    found = lint_paths([STDIN], LintOptions(stdin=b'<robot name="a"><link name="${x}"/></robot>\n')).findings
+    assert [f.code for f in found] == []

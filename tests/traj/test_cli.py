@@ -421,3 +421,34 @@ def test_help_shows_brackets_and_solver_choices() -> None:
     cart_help = runner.invoke(app, ["traj", "cartesian", "--help"], env=wide).stdout
     assert "x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad]" in cart_help
     assert "lm|dls|kdl-nr-jl|kdl-lma|trac|analytic" in cart_help
+
+
+MOVEIT_PACKAGE = Path(__file__).resolve().parents[2] / "fixtures" / "robots" / "clean_arm_moveit_config"
+
+
+def test_moveit_config_gives_robot_limits_and_scaling(tmp_path: Path) -> None:
+    path = circle(tmp_path)
+    out = tmp_path / "timed.csv"
+    code, _, err = invoke("time", str(path), "--moveit-config", str(MOVEIT_PACKAGE), "-o", str(out))
+    assert code == 0, err
+    assert "velocity scaling 0.5, acceleration scaling 0.25" in err
+    code, out_text, err = invoke("check", str(out), "--moveit-config", str(MOVEIT_PACKAGE))
+    assert code == 0, out_text + err
+
+
+def test_xacro_robot_takes_its_arguments(tmp_path: Path) -> None:
+    """traj's hint said "pass --xacro-arg", an option traj did not have."""
+    text = CLEAN_URDF.read_text().replace(
+        '<robot name="clean_arm">',
+        '<robot name="clean_arm" xmlns:xacro="http://www.ros.org/wiki/xacro">',
+    )
+    xacro = tmp_path / "arm.urdf.xacro"
+    xacro.write_text(text.replace('velocity="2.0"', 'velocity="$(arg velocity)"', 1))
+    path = circle(tmp_path)
+    out = str(tmp_path / "t.csv")
+    code, _, err = invoke("time", str(path), "--urdf", str(xacro), "--joint-limits", JL, "-o", out)
+    assert code == 2 and "--xacro-arg" in err
+    code, _, err = invoke(
+        "time", str(path), "--urdf", str(xacro), "--joint-limits", JL, "--xacro-arg", "velocity:=1.5", "-o", out
+    )
+    assert code == 0, err

@@ -68,3 +68,39 @@ def test_moveit_resources_panda_limits() -> None:
     lim = load_limits(erd("panda_description/urdf/panda.urdf"), jl)
     i = lim.index("panda_joint1")
     assert lim.acceleration[i] == 3.75 and lim.jerk[i] == 300.0 and lim.velocity[i] == pytest.approx(2.175)
+
+
+MOVEIT_PACKAGE = Path(__file__).resolve().parents[2] / "fixtures" / "robots" / "clean_arm_moveit_config"
+
+
+def test_ros2_parameter_file_reads_as_the_flat_one(tmp_path: Path) -> None:
+    """`/**: ros__parameters: robot_description_planning: joint_limits:` (was "no `joint_limits:`
+    mapping"), keys with `$(var tf_prefix)`: matched by the rest of the name, or substituted."""
+    ros2 = MOVEIT_PACKAGE / "config" / "joint_limits.yaml"
+    lim = load_limits(CLEAN_URDF, ros2)
+    i = lim.index("joint3")
+    assert (lim.velocity[i], lim.acceleration[i]) == (2.5, 5.0)
+    assert (lim.velocity_scaling, lim.acceleration_scaling) == (0.5, 0.25)
+    assert "matched by the rest of the name" in lim.sources[i]
+    prefixed = load_limits(CLEAN_URDF, ros2, xacro_args={"tf_prefix": "left_"})  # no left_joint3 in this URDF
+    assert np.isnan(prefixed.acceleration[prefixed.index("joint3")])
+
+
+def test_moveit_applies_limits_by_their_flags(tmp_path: Path) -> None:
+    """As RobotModelLoader: max_velocity without has_velocity_limits is not read; has_velocity_limits:
+    false drops the URDF's velocity; min/max_position apply without a flag."""
+    f = tmp_path / "joint_limits.yaml"
+    f.write_text(
+        "joint_limits:\n"
+        "  joint1: {max_velocity: 0.1, max_position: 1.0}\n"
+        "  joint2: {has_velocity_limits: false}\n"
+        "  joint3: {has_acceleration_limits: true, max_acceleration: '5'}\n"
+    )
+    with pytest.raises(ArmtoolError, match="max_acceleration` of joint 'joint3' is '5', not a number") as err:
+        load_limits(CLEAN_URDF, f)
+    assert err.value.where == f"{f}:4"
+    f.write_text(f.read_text().replace("'5'", "5"))
+    lim = load_limits(CLEAN_URDF, f)
+    assert lim.velocity[lim.index("joint1")] == 2.0 and lim.upper[lim.index("joint1")] == 1.0
+    assert np.isnan(lim.velocity[lim.index("joint2")])
+    assert lim.acceleration[lim.index("joint3")] == 5.0

@@ -9,12 +9,24 @@ from typing import Annotated
 import typer
 
 from armtool.cli.options import finite_float, positive_float
-from armtool.cli.traj.common import Base, To, emit, start
+from armtool.cli.traj.common import (
+    Base,
+    MoveItConfig,
+    PackagePaths,
+    RobotConfig,
+    To,
+    XacroArgs,
+    emit,
+    robot,
+    start,
+)
 from armtool.traj.choices import PathSolver, TrajFormat
 
 
 def cartesian(
-    urdf: Annotated[Path, typer.Argument(help="URDF or xacro of the arm.")],
+    urdf: Annotated[
+        Path | None, typer.Argument(help="URDF or xacro of the arm (default: the --moveit-config package's).")
+    ] = None,
     base: Base = None,
     tip: Annotated[str | None, typer.Option(help="Tool link (default: the end of the longest chain).")] = None,
     start_q: Annotated[
@@ -122,8 +134,14 @@ def cartesian(
         Path | None,
         typer.Option(help="Also draw the tool path and each step's midpoint deviation from the path (PNG)."),
     ] = None,
+    moveit_config: MoveItConfig = None,
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
     start({"-o": output, "--plot": plot}, [urdf, waypoints, srdf])
+    given = robot(urdf, None, moveit_config, xacro_arg, package_path, config, urdf_option="the URDF argument")
+    assert given is not None  # a robot is required
     from rich.markup import escape
 
     from armtool.console import stderr
@@ -140,7 +158,18 @@ def cartesian(
         max_step_rad=max_step or None,
         max_step_m=max_step_m or None,
     )
-    done = plan.plan_cartesian(urdf, base, tip, start_q, spec, steps, solver.value, srdf)
+    done = plan.plan_cartesian(
+        given.urdf,
+        base,
+        tip,
+        start_q,
+        spec,
+        steps,
+        solver.value,
+        srdf or given.srdf,
+        dict(given.xacro_args),
+        given.package_paths,
+    )
     for text in plan.report_lines(done.result, done):
         stderr().print(escape(text))
     plan.require_fraction(done.result, min_fraction)

@@ -10,7 +10,23 @@ from typing import Annotated
 import typer
 
 from armtool.cli.options import finite_float
-from armtool.cli.traj.common import AccLimit, Base, JerkLimit, JointLimitsYaml, TrajIn, Urdf, VelLimit, start
+from armtool.cli.traj.common import (
+    URDF,
+    AccLimit,
+    Base,
+    JerkLimit,
+    JointLimitsYaml,
+    MoveItConfig,
+    PackagePaths,
+    RobotConfig,
+    TrajIn,
+    Urdf,
+    VelLimit,
+    XacroArgs,
+    robot,
+    sources,
+    start,
+)
 from armtool.errors import ExitCode
 from armtool.extras import require
 from armtool.output.registry import OutputFormat
@@ -18,7 +34,7 @@ from armtool.output.registry import OutputFormat
 
 def check_cmd(
     path: TrajIn,
-    urdf: Urdf,
+    urdf: Urdf = None,
     joint_limits: JointLimitsYaml = None,
     vel: VelLimit = None,
     acc: AccLimit = None,
@@ -39,14 +55,21 @@ def check_cmd(
         typer.Option("--format", help="text (default; github inside GitHub Actions), json, sarif, github."),
     ] = None,
     exit_zero: Annotated[bool, typer.Option("--exit-zero", help="Exit 0 even when problems are found.")] = False,
+    moveit_config: MoveItConfig = None,
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
     require("traj")  # exit 2 with the install command when the extra is missing
     from armtool.console import stderr, write_stdout
     from armtool.traj.check import CheckOptions, check
-    from armtool.traj.pipeline import LimitSources, read_input, render_findings, without_acceleration_limit
+    from armtool.traj.pipeline import read_input, render_findings, without_acceleration_limit
 
+    given = robot(urdf, joint_limits, moveit_config, xacro_arg, package_path, config, urdf_option=URDF)
     traj = read_input(path).trajectory
-    limits = LimitSources(urdf, joint_limits, tuple(vel or ()), tuple(acc or ()), tuple(jerk or ())).load()
+    limit_sources = sources(given, vel, acc, jerk)
+    assert limit_sources is not None  # a robot is required
+    limits = limit_sources.load()
     no_acc = without_acceleration_limit(traj, limits)
     if no_acc:
         stderr().print(
@@ -62,24 +85,32 @@ def check_cmd(
 
 def plot_cmd(
     path: TrajIn,
-    urdf: Urdf,
     output: Annotated[Path, typer.Option("--output", "-o", help="PNG to write.")],
+    urdf: Urdf = None,
     joint_limits: JointLimitsYaml = None,
     acc: AccLimit = None,
     base: Base = None,
     tip: Annotated[str | None, typer.Option(help="Tool link: also draw the tool path (x-y, x-z, y-z).")] = None,
+    moveit_config: MoveItConfig = None,
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
     start({"-o": output}, [path, urdf, joint_limits])
     from armtool.console import stderr
-    from armtool.traj.pipeline import LimitSources, read_input
+    from armtool.traj.pipeline import read_input
     from armtool.traj.plot import write_plot
 
+    given = robot(urdf, joint_limits, moveit_config, xacro_arg, package_path, config, urdf_option=URDF)
+    assert given is not None  # a robot is required
     traj = read_input(path).trajectory
-    limits = LimitSources(urdf, joint_limits, (), tuple(acc or ())).load()
+    limit_sources = sources(given, None, acc)
+    assert limit_sources is not None
+    limits = limit_sources.load()
     chain = None
     if tip is not None:
         from armtool.model.chain import load_chain
 
-        chain = load_chain(urdf, base, tip)
+        chain = load_chain(given.urdf, base, tip, xacro_args=dict(given.xacro_args), package_paths=given.package_paths)
     write_plot(output, traj, limits, chain)
     stderr().print(f"wrote {output}")

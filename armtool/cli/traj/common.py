@@ -3,13 +3,18 @@ declaration per option) and the first and last step of each command. No numpy at
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from armtool.cli.options import MoveItConfig, PackagePaths, RobotConfig, XacroArgs
+from armtool.errors import ArmtoolError
 from armtool.extras import require
 from armtool.traj.choices import TrajFormat
+
+__all__ = ["MoveItConfig", "PackagePaths", "RobotConfig", "XacroArgs"]  # the robot options, for the commands
 
 if TYPE_CHECKING:
     from armtool.traj.limits import JointLimits
@@ -22,15 +27,28 @@ FORMATS_HELP = (
     "YAML, or JSON; detected from the content. - reads stdin."
 )
 
+URDF = "--urdf URDF"  # how the commands with a --urdf option ask for the robot, in hints
 TrajIn = Annotated[Path, typer.Argument(help="Trajectory or joint path; - for stdin.")]
-Urdf = Annotated[Path, typer.Option("--urdf", help="URDF or xacro: joint names, position and velocity limits.")]
+Urdf = Annotated[
+    Path | None,
+    typer.Option(
+        "--urdf", help="URDF or xacro: joint names, position and velocity limits (or the --moveit-config package's)."
+    ),
+]
 OptionalUrdf = Annotated[
     Path | None,
-    typer.Option("--urdf", help="Re-time (thin, join) or check (retime) the result within this URDF's limits."),
+    typer.Option(
+        "--urdf",
+        help="Re-time (thin, join) or check (retime) the result within this URDF's limits (or --moveit-config's).",
+    ),
 ]
 JointLimitsYaml = Annotated[
     Path | None,
-    typer.Option("--joint-limits", help="MoveIt joint_limits.yaml (acceleration and jerk limits, scaling factors)."),
+    typer.Option(
+        "--joint-limits",
+        help="MoveIt joint_limits.yaml, flat or a ROS 2 parameter file (acceleration and jerk limits, scaling "
+        "factors; default: the --moveit-config package's).",
+    ),
 ]
 VelLimit = Annotated[
     list[str] | None,
@@ -70,13 +88,85 @@ def start(outputs: dict[str, Path | None], inputs: list[Path | None]) -> None:
     check_output_paths(outputs, inputs)
 
 
+@dataclass(frozen=True)
+class Robot:
+    """The robot a traj command works on: its URDF or xacro (with the xacro arguments and package
+    paths the robot options give) and MoveIt's joint_limits.yaml."""
+
+    urdf: Path
+    joint_limits: Path | None
+    xacro_args: tuple[tuple[str, str], ...]
+    package_paths: tuple[Path, ...]
+    srdf: Path | None = None  # the --moveit-config package's (cartesian's home/ready start state)
+
+
+def robot(
+    urdf: Path | None,
+    joint_limits: Path | None,
+    moveit_config: Path | None,
+    xacro_arg: list[str] | None,
+    package_path: list[Path] | None,
+    config: Path | None,
+    *,
+    urdf_option: str,
+    required: bool = True,
+) -> Robot | None:
+    """--urdf and --joint-limits, or what --moveit-config's package loads (its URDF with the
+    .setup_assistant's xacro arguments, its config/joint_limits.yaml); given options win. None
+    when no robot is given and none is `required`. `urdf_option` is how the command takes a URDF,
+    for hints ("--urdf URDF", "the URDF argument")."""
+    from armtool.cli.options import RobotOptions
+
+    options = RobotOptions(xacro_arg, package_path, config)
+    package_args: dict[str, str] = {}
+    package_srdf: Path | None = None
+    if moveit_config is not None:
+        from armtool.model.packages import PackageResolver
+        from armtool.moveit.package import read_package
+
+        pkg = read_package(moveit_config, PackageResolver(options.package_paths))
+        if urdf is None:
+            if pkg.urdf is None:
+                raise ArmtoolError(
+                    "cannot tell the robot of the MoveIt config: " + "; ".join(pkg.problems),
+                    str(moveit_config),
+                    f"pass {urdf_option} too",
+                )
+            urdf, package_args = pkg.urdf, pkg.urdf_xacro_args
+        joint_limits = joint_limits or pkg.joint_limits
+        package_srdf = pkg.srdf
+    if urdf is None:
+        if required:
+            raise ArmtoolError("no robot given", hint=f"pass {urdf_option} (or a xacro), or --moveit-config DIR")
+        return None
+    args = options.xacro_args(urdf, package_args)
+    return Robot(urdf, joint_limits, tuple(args.items()), tuple(options.package_paths), package_srdf)
+
+
 def sources(
-    urdf: Path | None, joint_limits: Path | None, vel: list[str] | None, acc: list[str] | None
+    given: Robot | None,
+    vel: list[str] | None,
+    acc: list[str] | None,
+    jerk: list[str] | None = None,
+    velocity_scaling: float | None = None,
+    acceleration_scaling: float | None = None,
 ) -> LimitSources | None:
-    """Where the limits come from (None without --urdf)."""
+    """Where the limits come from (None without a robot)."""
     from armtool.traj.pipeline import LimitSources
 
-    return None if urdf is None else LimitSources(urdf, joint_limits, tuple(vel or ()), tuple(acc or ()))
+    if given is None:
+        return None
+    return LimitSources(
+        given.urdf,
+        given.joint_limits,
+        tuple(vel or ()),
+        tuple(acc or ()),
+        tuple(jerk or ()),
+        velocity_scaling,
+        acceleration_scaling,
+        given.xacro_args,
+        given.package_paths,
+    )
 
 
 def emit(

@@ -10,22 +10,29 @@ import typer
 
 from armtool.cli.options import finite_float, positive_float
 from armtool.cli.traj.common import (
+    URDF,
     AccLimit,
     JerkLimit,
     JointLimitsYaml,
+    MoveItConfig,
     OptionalUrdf,
     Output,
+    PackagePaths,
+    RobotConfig,
     To,
     TrajIn,
     Urdf,
     VelLimit,
+    XacroArgs,
     emit,
+    robot,
     sources,
     start,
 )
 from armtool.traj.choices import TrajFormat
 
 if TYPE_CHECKING:
+    from armtool.cli.traj.common import Robot
     from armtool.traj.trajectory import Trajectory
 
 
@@ -33,7 +40,7 @@ def time_cmd(
     path: Annotated[
         Path, typer.Argument(help="Joint path or trajectory (its times, if any, are ignored); - for stdin.")
     ],
-    urdf: Urdf,
+    urdf: Urdf = None,
     joint_limits: JointLimitsYaml = None,
     vel: VelLimit = None,
     acc: AccLimit = None,
@@ -56,16 +63,21 @@ def time_cmd(
     ] = None,
     output: Output = None,
     to: To = None,
+    moveit_config: MoveItConfig = None,
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
     start({"-o": output}, [path, urdf, joint_limits])
     from armtool.console import stderr
-    from armtool.traj.pipeline import LimitSources, read_input
+    from armtool.traj.pipeline import read_input
     from armtool.traj.timing import time_path
 
+    given = robot(urdf, joint_limits, moveit_config, xacro_arg, package_path, config, urdf_option=URDF)
     traj, in_fmt = read_input(path)
-    limits = LimitSources(
-        urdf, joint_limits, tuple(vel or ()), tuple(acc or ()), tuple(jerk or ()), vscale, ascale
-    ).load()
+    limit_sources = sources(given, vel, acc, jerk, vscale, ascale)
+    assert limit_sources is not None  # a robot is required
+    limits = limit_sources.load()
     done = time_path(traj, limits)
     timed = done.trajectory
     stderr().print(f"interpolation: {done.interpolation}")
@@ -87,13 +99,21 @@ def retime_cmd(
     acc: AccLimit = None,
     output: Output = None,
     to: To = None,
+    moveit_config: MoveItConfig = None,
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
     start({"-o": output}, [path, urdf, joint_limits])
     from armtool.traj.edit import retime
     from armtool.traj.pipeline import read_input
 
     traj, in_fmt = read_input(path)
-    given = sources(urdf, joint_limits, None, acc)
+    given = sources(
+        robot(urdf, joint_limits, moveit_config, xacro_arg, package_path, config, urdf_option=URDF, required=False),
+        None,
+        acc,
+    )
     limits = None if given is None else given.load()
     hint = "a smaller --scale, or leave out --urdf to write it unchecked"
     emit(retime(traj, scale), output, to, in_fmt, limits, hint)
@@ -115,16 +135,21 @@ def thin_cmd(
     acc: AccLimit = None,
     output: Output = None,
     to: To = None,
+    moveit_config: MoveItConfig = None,
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
     start({"-o": output}, [path, urdf, joint_limits])
     from armtool.console import stderr
     from armtool.traj.edit import thin
     from armtool.traj.pipeline import read_input
 
+    given = robot(urdf, joint_limits, moveit_config, xacro_arg, package_path, config, urdf_option=URDF, required=False)
     traj, in_fmt = read_input(path)
     out = thin(traj, every, tolerance)
     stderr().print(f"thinned {traj.n_points} -> {out.n_points} points")
-    _retime_and_emit(out, urdf, joint_limits, vel, acc, output, to, in_fmt)
+    _retime_and_emit(out, given, vel, acc, output, to, in_fmt)
 
 
 def join_cmd(
@@ -141,22 +166,26 @@ def join_cmd(
     acc: AccLimit = None,
     output: Output = None,
     to: To = None,
+    moveit_config: MoveItConfig = None,
+    xacro_arg: XacroArgs = None,
+    package_path: PackagePaths = None,
+    config: RobotConfig = None,
 ) -> None:
     start({"-o": output}, [*paths, urdf, joint_limits])
     from armtool.console import stderr
     from armtool.traj.edit import join
     from armtool.traj.pipeline import read_input
 
+    given = robot(urdf, joint_limits, moveit_config, xacro_arg, package_path, config, urdf_option=URDF, required=False)
     loaded = [read_input(p) for p in paths]
     out = join([lt.trajectory for lt in loaded], tolerance)
     stderr().print(f"joined {len(loaded)} trajectories: {out.n_points} points")
-    _retime_and_emit(out, urdf, joint_limits, vel, acc, output, to, loaded[0].format)
+    _retime_and_emit(out, given, vel, acc, output, to, loaded[0].format)
 
 
 def _retime_and_emit(
     traj: Trajectory,
-    urdf: Path | None,
-    joint_limits: Path | None,
+    given: Robot | None,
     vel: list[str] | None,
     acc: list[str] | None,
     output: Path | None,
@@ -167,7 +196,7 @@ def _retime_and_emit(
     from armtool.console import stderr
     from armtool.traj.pipeline import retime
 
-    timed, limits, interpolation = retime(traj, sources(urdf, joint_limits, vel, acc))
+    timed, limits, interpolation = retime(traj, sources(given, vel, acc))
     if limits is not None:
         stderr().print(f"re-timed: {timed.duration_s:.4f} s ({interpolation})")
     emit(timed, output, to, fallback, limits)

@@ -50,6 +50,13 @@ class Request:
     lerobot_calibration: Path | None
     lerobot_full_turn: str | None
     from_lerobot: Path | None
+    # A xacro --urdf: expanded with these, its expansion is what --urdf-out writes.
+    xacro_args: tuple[tuple[str, str], ...] = ()
+    package_paths: tuple[Path, ...] = ()
+
+    @property
+    def urdf_is_xacro(self) -> bool:
+        return self.urdf is not None and self.urdf.name.lower().endswith(".xacro")
 
     def auto_params(self) -> AutoParams:
         return AutoParams(
@@ -82,6 +89,12 @@ def check_request(r: Request, interactive: bool) -> None:
         raise ArmtoolError("with --urdf pass either --in-place or --urdf-out FILE")
     if r.urdf is None and (r.in_place or r.urdf_out is not None):
         raise ArmtoolError("--in-place and --urdf-out need --urdf")
+    if r.in_place and r.urdf_is_xacro:
+        raise ArmtoolError(
+            "--in-place cannot edit a xacro: its limits are written by macros and expressions",
+            str(r.urdf),
+            "pass --urdf-out FILE to write the expanded URDF (--xacro-arg, --package-path) with the recorded limits",
+        )
     if r.dry_run and not r.write_eeprom:
         raise ArmtoolError("--dry-run applies to --write-eeprom")
     if r.port is not None and r.mode is Mode.MANUAL and r.duration is None and not interactive:
@@ -161,9 +174,14 @@ def read_urdf(r: Request, joints: list[Joint]) -> str | None:
         return None
     from armtool.fileio import read_text
 
-    # Decoded from the bytes as they are: line endings and a byte-order mark stay (Path.read_text
-    # turned CRLF into LF, so the patched URDF and the --in-place backup were not the user's file).
-    text = read_text(r.urdf, "--urdf", keep_bom=True)
+    if r.urdf_is_xacro:
+        from armtool.model.load import urdf_text
+
+        text = urdf_text(r.urdf, dict(r.xacro_args), r.package_paths)
+    else:
+        # Decoded from the bytes as they are: line endings and a byte-order mark stay (Path.read_text
+        # turned CRLF into LF, so the patched URDF and the --in-place backup were not the user's file).
+        text = read_text(r.urdf, "--urdf", keep_bom=True)
     check_urdf_names(text, [j.name for j in joints], str(r.urdf))
     return text
 

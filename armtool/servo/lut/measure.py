@@ -127,7 +127,7 @@ def assert_in_range(commands: list[int], lo: int, hi: int) -> None:
     if outside:
         raise ArmtoolError(
             f"refusing to command {outside[:5]}: outside the range {lo}..{hi} ticks",
-            hint="check --min/--max and --backoff",
+            hint="check the command range (--min/--max or the limits file) and the back-off",
         )
 
 

@@ -126,7 +126,7 @@ def check_planned(commands: list[int], r: CommandRange, backoff: int) -> None:
     if outside:
         raise ArmtoolError(
             f"planned commands {outside[:5]} lie outside the range {r.lo}..{r.hi} ticks",
-            hint=f"with --backoff {backoff} the points must leave room inside --min/--max",
+            hint=f"with a back-off of {backoff} ticks the points must leave room inside the command range",
         )
 
 

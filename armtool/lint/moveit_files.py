@@ -1,0 +1,171 @@
+"""Lint a MoveIt config package's YAML files beyond kinematics.yaml: joint_limits.yaml, the Pilz
+Cartesian limits and the controllers files, each read as MoveIt reads it and checked against the
+robot (the SRDF found as for kinematics.yaml, and the URDF paired with that SRDF).
+
+A file whose content is not MoveIt's (Franka's `joint1: limit:` files, Kinova's `joint_names`
+lists, a controllers file of another tool) is left alone, as kinematics.yaml files are.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from armtool.lint.finding import Finding
+from armtool.lint.rule import Target
+
+if TYPE_CHECKING:
+    import yaml
+
+    from armtool.lint.context import UrdfContext
+    from armtool.lint.engine import Linter
+    from armtool.lint.moveit_context import PackageControllers
+    from armtool.lint.srdf_context import SrdfContext
+
+LOADER_CODE = {Target.JOINT_LIMITS: "L001", Target.PILZ: "P001", Target.CONTROLLERS: "C001"}
+
+
+def _parse(linter: Linter, path: Path, target: Target) -> tuple[yaml.Node | None, list[Finding]]:
+    """The file's YAML nodes, or its loader finding (invalid YAML)."""
+    import yaml
+
+    from armtool.lint.engine import file_finding
+    from armtool.moveit.params import parse
+
+    text = linter.read_text(path)
+    try:
+        return parse(text), []
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
+        problem = getattr(exc, "problem", None) or str(exc)
+        return None, [file_finding(LOADER_CODE[target], path, line, col, f"invalid YAML: {problem}")]
+
+
+def _ros(path: Path, ros2_params: bool) -> int | None:
+    """2 for a ROS 2 package or a ROS 2 parameter file, 1 for a catkin package, else None."""
+    from armtool.moveit.params import ros_version
+
+    version = ros_version(path)
+    return 2 if ros2_params else version
+
+
+def robot_for(linter: Linter, path: Path) -> tuple[SrdfContext | None, UrdfContext | None, dict[str, str]]:
+    """The SRDF a package file belongs to (found as kinematics.yaml's is), the URDF paired with
+    it, and the xacro arguments that URDF is expanded with (for launch substitutions in keys)."""
+    from armtool.lint.pairing import read_setup_assistant
+
+    srdf, _ = linter.srdf_for_package_file(path)
+    if srdf is None:
+        return None, None, {}
+    paired = linter.paired_srdf(srdf.path)
+    if paired is None or paired.urdf is None:
+        return srdf, None, {}
+    setup = read_setup_assistant(path.parent)
+    extra = setup.urdf_xacro_args if setup is not None else {}
+    return paired, paired.urdf, linter.xacro_args_for(paired.urdf.path, extra)
+
+
+def lint_joint_limits(linter: Linter, path: Path) -> list[Finding]:
+    from armtool.lint.moveit_context import JointLimitsContext
+    from armtool.moveit.joint_limits import is_moveit_joint_limits, read_joint_limits
+
+    root, findings = _parse(linter, path, Target.JOINT_LIMITS)
+    if findings or not is_moveit_joint_limits(root):
+        return findings  # not MoveIt's: another tool's limits file
+    srdf, urdf, args = robot_for(linter, path)
+    doc = read_joint_limits(path, root, args)
+    ctx = JointLimitsContext(path, doc, _ros(path, doc.section.ros2_params), srdf, urdf, args)
+    ctx.in_moveit_package = srdf is not None or _moveit_package(path)
+    return list(linter.run_rules(ctx, Target.JOINT_LIMITS))
+
+
+def _moveit_package(path: Path) -> bool:
+    """True when the package holding `path` is a MoveIt config (a .setup_assistant, or an SRDF in
+    it), not a description package whose joint_limits.yaml xacro or ros2_control reads."""
+    from armtool.moveit.package import package_root
+    from armtool.moveit.params import package_xml
+
+    marker = package_xml(path)
+    root = marker.parent if marker is not None else package_root(path)
+    if root is None:
+        return False
+    if (root / ".setup_assistant").is_file():
+        return True
+    places = [root, *(p for p in root.iterdir() if p.is_dir() and not p.name.startswith("."))]
+    return any(any(place.glob("*.srdf")) or any(place.glob("*.srdf.xacro")) for place in places)
+
+
+def lint_pilz(linter: Linter, path: Path) -> list[Finding]:
+    from armtool.lint.moveit_context import PilzContext
+    from armtool.moveit.params import child, key_node, moveit_section, position
+
+    root, findings = _parse(linter, path, Target.PILZ)
+    if findings:
+        return findings
+    section = moveit_section(root, "robot_description_planning")
+    limits = child(section.mapping, "cartesian_limits")
+    if limits is None:
+        return []  # not Pilz's Cartesian limits
+    where = key_node(section.mapping, "cartesian_limits")
+    ctx = PilzContext(path, limits, position(where) if where is not None else None, _ros(path, section.ros2_params))
+    return list(linter.run_rules(ctx, Target.PILZ))
+
+
+def package_controllers(linter: Linter, path: Path) -> PackageControllers | None:
+    """Every controllers file of the MoveIt config package that holds `path`, read once."""
+    from armtool.lint.moveit_context import PackageControllers
+    from armtool.moveit.controllers import read_moveit_controllers, read_robot_controllers
+    from armtool.moveit.package import package_root, read_package
+    from armtool.moveit.params import parse
+
+    root = package_root(path)
+    if root is None or not (root / ".setup_assistant").is_file():
+        return None  # controllers files are cross-checked inside a MoveIt config package only
+    cached = linter.package_cache.get(root)
+    if cached is not None or root in linter.package_cache:
+        return cached
+    import yaml
+
+    from armtool.errors import ArmtoolError
+
+    try:
+        pkg = read_package(root, linter.resolver)
+    except ArmtoolError:
+        linter.package_cache[root] = None
+        return None
+    out = PackageControllers(pkg)
+    for file in pkg.controller_files:
+        try:
+            node = parse(linter.read_text(file))
+        except (yaml.YAMLError, RecursionError):
+            continue
+        moveit = read_moveit_controllers(file, node)
+        if moveit is not None:
+            out.moveit[file] = moveit
+        robot = read_robot_controllers(file, node)
+        if robot is not None:
+            out.robot[file] = robot
+    linter.package_cache[root] = out
+    return out
+
+
+def lint_controllers(linter: Linter, path: Path) -> list[Finding]:
+    from armtool.lint.moveit_context import ControllersContext
+    from armtool.moveit.controllers import read_moveit_controllers, read_robot_controllers
+
+    root, findings = _parse(linter, path, Target.CONTROLLERS)
+    if findings:
+        return findings
+    moveit = read_moveit_controllers(path, root)
+    robot = read_robot_controllers(path, root)
+    if moveit is None and robot is None:
+        return []  # not a controllers file MoveIt or a controller manager reads
+    package = package_controllers(linter, path)
+    srdf, urdf, args = robot_for(linter, path) if package is not None else (None, None, {})
+    from armtool.moveit.params import parameter_nodes
+
+    ctx = ControllersContext(
+        path, moveit, robot, package, _ros(path, parameter_nodes(root) is not None), srdf, urdf, args
+    )
+    return list(linter.run_rules(ctx, Target.CONTROLLERS))

@@ -1,0 +1,115 @@
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterator
+
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.moveit_context import ControllersContext
+from armtool.lint.rule import Rule, Target
+from armtool.moveit.controllers import MOVEIT_TYPES, ROS1_TYPES, ROS2_TYPES
+
+# What a ROS 1 controller type is called in ros2_controllers.
+ROS2_EQUIVALENT = {
+    "position_controllers/JointTrajectoryController": "joint_trajectory_controller/JointTrajectoryController",
+    "velocity_controllers/JointTrajectoryController": "joint_trajectory_controller/JointTrajectoryController",
+    "effort_controllers/JointTrajectoryController": "joint_trajectory_controller/JointTrajectoryController",
+    "pos_vel_controllers/JointTrajectoryController": "joint_trajectory_controller/JointTrajectoryController",
+    "pos_vel_acc_controllers/JointTrajectoryController": "joint_trajectory_controller/JointTrajectoryController",
+    "joint_state_controller/JointStateController": "joint_state_broadcaster/JointStateBroadcaster",
+    "position_controllers/JointPositionController": "position_controllers/JointGroupPositionController",
+    "velocity_controllers/JointVelocityController": "velocity_controllers/JointGroupVelocityController",
+    "effort_controllers/JointEffortController": "effort_controllers/JointGroupEffortController",
+}
+TYPO = 2  # edits (insertion, deletion, substitution, swap of neighbours) that make a misspelling
+
+
+def edits(a: str, b: str) -> int:
+    """Optimal string alignment distance: a typo is one or two of these edits; another real
+    controller (`position_controllers/PilzJointTrajectoryController`) is many more."""
+    if abs(len(a) - len(b)) > TYPO:
+        return TYPO + 1
+    previous2: list[int] = []
+    previous = list(range(len(b) + 1))
+    for i, ca in enumerate(a, 1):
+        current = [i]
+        for j, cb in enumerate(b, 1):
+            cost = 0 if ca == cb else 1
+            best = min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + cost)
+            if i > 1 and j > 1 and ca == b[j - 2] and a[i - 2] == cb:
+                best = min(best, previous2[j - 2] + 1)
+            current.append(best)
+        previous2, previous = previous, current
+    return previous[-1]
+
+
+class UnknownControllerType(Rule):
+    """
+    What it does:
+    Reports a controller type that is one or two letters off a known one: in MoveIt's list (only
+    FollowJointTrajectory and GripperCommand exist there), and in ros2_controllers.yaml /
+    ros_controllers.yaml (the controllers of ros2_controllers / ros_controllers; a ROS 1 type in
+    a ROS 2 parameter file is named with its ROS 2 counterpart). A flat file of controllers is
+    ROS 1's format (ROS 2's controller manager reads `controller_manager: ros__parameters:` only)
+    and is checked against ROS 1's types. Types of other packages that are not close to a known
+    one (`picknik_twist_controller/PicknikTwistController`) and launch substitutions
+    (`$(arg execution_type)`) pass.
+
+    Why is this bad?
+    moveit_simple_controller_manager skips a controller of another type ("Unknown controller
+    type"), so MoveIt has no controller for those joints. The controller manager cannot load a
+    plugin under a misspelt name ("Loader for controller ... not found"), and the controller
+    never starts.
+
+    Example:
+    arm_controller:
+      type: joint_trajectory_controller/JointTrajectroyController
+
+    Use instead:
+    arm_controller:
+      type: joint_trajectory_controller/JointTrajectoryController
+    """
+
+    code, name, severity, target = "C104", "unknown-controller-type", Severity.ERROR, Target.CONTROLLERS
+
+    def check(self, ctx: ControllersContext) -> Iterator[Finding]:
+        if ctx.moveit is not None:
+            for controller in ctx.moveit.controllers.values():
+                ctype = controller.type
+                if ctype is None or ctype.text in MOVEIT_TYPES or "$(" in ctype.text:
+                    continue  # a launch substitution (roslaunch subst_value) is filled in at launch
+                match = difflib.get_close_matches(ctype.text, MOVEIT_TYPES, n=1, cutoff=0.5)
+                yield ctx.finding_at_scalar(
+                    self,
+                    ctype,
+                    f"controller '{controller.name}': type '{ctype.text}' is not one MoveIt knows; it skips the controller"
+                    + (f" (did you mean '{match[0]}'?)" if match else ""),
+                    hint="FollowJointTrajectory (an arm) or GripperCommand (a gripper)",
+                )
+        if ctx.robot is None:
+            return
+        # Only ROS 2's controller manager reads `controller_manager: ros__parameters:`; a flat file of
+        # controllers is ROS 1's ros_controllers format, whatever package holds it.
+        ros2 = ctx.robot.ros2_params
+        known: tuple[str, ...] = ROS2_TYPES if ros2 else ROS1_TYPES
+        for controller in ctx.robot.declared.values():
+            ctype = controller.type
+            if ctype is None or ctype.text in known or "$(" in ctype.text:
+                continue
+            if ros2 and ctype.text in ROS2_EQUIVALENT:
+                yield ctx.finding_at_scalar(
+                    self,
+                    ctype,
+                    f"controller '{controller.name}': '{ctype.text}' is a ROS 1 controller type; ros2_controllers "
+                    f"calls it '{ROS2_EQUIVALENT[ctype.text]}'",
+                    hint=f"type: {ROS2_EQUIVALENT[ctype.text]}",
+                )
+                continue
+            text = ctype.text
+            nearest = min(known, key=lambda k: edits(text, k))
+            if edits(text, nearest) <= TYPO:
+                yield ctx.finding_at_scalar(
+                    self,
+                    ctype,
+                    f"controller '{controller.name}': no controller type '{ctype.text}' (did you mean '{nearest}'?)",
+                    hint=f"type: {nearest}",
+                )

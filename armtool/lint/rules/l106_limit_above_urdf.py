@@ -1,0 +1,76 @@
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.moveit_context import JointLimitsContext
+from armtool.lint.numbers import parse_floats
+from armtool.lint.rule import Rule, Target
+
+if TYPE_CHECKING:
+    from armtool.moveit.joint_limits import JointEntry
+
+
+class LimitAboveUrdf(Rule):
+    """
+    What it does:
+    Reports a joint_limits.yaml limit wider than the URDF's: `max_velocity` above the URDF's
+    `<limit velocity>`, `max_position` above its `upper`, `min_position` below its `lower`.
+
+    Why is this bad?
+    joint_limits.yaml overrides the URDF in MoveIt (RobotModelLoader replaces the bounds), so
+    MoveIt plans motions the URDF says the joint cannot make. The URDF describes the hardware:
+    ros2_control's joint limiters and the drivers enforce its limits, so the controller clips or
+    aborts the trajectory. The file is meant to tighten limits, or to add what the URDF cannot
+    hold (acceleration, jerk).
+
+    Example:
+    <limit lower="-2.0" upper="2.0" effort="150" velocity="2.0"/>   (URDF)
+    joint2: {has_velocity_limits: true, max_velocity: 3.0}          (joint_limits.yaml)
+
+    Use instead:
+    joint2: {has_velocity_limits: true, max_velocity: 2.0}
+    """
+
+    code, name, severity, target = "L106", "limit-above-urdf", Severity.WARNING, Target.JOINT_LIMITS
+
+    def check(self, ctx: JointLimitsContext) -> Iterator[Finding]:
+        if ctx.urdf is None:
+            return
+        for entry in ctx.doc.joints:
+            for joint_name in entry.name.matches(ctx.urdf_joint_names())[:1]:
+                joint = ctx.urdf.joint(joint_name)
+                if joint is None or joint.limit_el is None:
+                    continue
+                urdf = {k: _number(joint.limits.get(k)) for k in ("lower", "upper", "velocity")}
+                checks = [
+                    ("max_velocity", entry.limit("max_velocity"), urdf["velocity"], 1, "velocity"),
+                    ("max_position", _value(entry, "max_position"), urdf["upper"], 1, "upper"),
+                    ("min_position", _value(entry, "min_position"), urdf["lower"], -1, "lower"),
+                ]
+                if joint.type == "continuous":
+                    checks = checks[:1]
+                for key, mine, theirs, sign, attr in checks:
+                    if mine is None or theirs is None or (key == "max_velocity" and theirs <= 0):
+                        continue
+                    if sign * (mine - theirs) > 1e-9 * max(1.0, abs(theirs)):
+                        value = entry.values[key]
+                        yield ctx.finding_at_scalar(
+                            self,
+                            value,
+                            f"joint '{entry.name.written}': {key} {value.text} is beyond the URDF's {attr}="
+                            f'"{joint.limits.get(attr)}"{ctx.urdf_note()}',
+                            hint=f"at most the URDF's {theirs:g} (the hardware's limit), or fix the URDF",
+                        )
+
+
+def _number(text: str | None) -> float | None:
+    values = parse_floats(text or "")
+    return values[0] if values and len(values) == 1 and math.isfinite(values[0]) else None
+
+
+def _value(entry: JointEntry, key: str) -> float | None:
+    value = entry.values.get(key)
+    return value.number() if value is not None else None

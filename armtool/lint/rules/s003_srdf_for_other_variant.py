@@ -1,0 +1,36 @@
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from armtool.lint.finding import Finding, Severity
+from armtool.lint.rule import Rule, Target
+
+
+class SrdfForOtherVariant(Rule):
+    """
+    What it does:
+    Reports, once, an SRDF that was written for another argument set of its URDF's xacro (or for
+    another robot). When the SRDF names joints or links the expansion lacks, armtool tries the
+    argument values written down for that xacro (the configuration's argument sets, the
+    `.setup_assistant` of MoveIt config packages beside this one that name the same URDF, the
+    values its sources compare an argument with). When one gives an expansion with every name, the
+    finding names it (`--xacro-arg dof:=6`) and the SRDF is checked against that expansion, instead
+    of one S101/S102/S108 per name of the other variant. When none does and most names are unknown,
+    the SRDF is for another robot: names and limits are not checked. Reported by the loader.
+
+    Why is this bad?
+    MoveIt loaded with this pair drops every group, state and collision pair that names what the
+    URDF lacks: the planning groups are empty or missing. Usually the launch passes another
+    argument (a 6-DOF Kinova launch passes dof:=6), so the fix is the argument, not the SRDF.
+
+    Example:
+    armtool lint config/gen3.srdf --urdf robots/gen3.xacro --xacro-arg dof:=7   (the SRDF is 6-DOF)
+
+    Use instead:
+    armtool lint config/gen3.srdf --urdf robots/gen3.xacro --xacro-arg dof:=6
+    """
+
+    code, name, severity, target = "S003", "srdf-for-other-variant", Severity.WARNING, Target.SRDF
+
+    def check(self, ctx: object) -> Iterator[Finding]:
+        return iter(())
