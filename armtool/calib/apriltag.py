@@ -346,18 +346,12 @@ def _quality_reason(side: float, sharpness: float, contrast: float, min_side_px:
     return ""
 
 
-# IPPE's two solutions are "similar" when the worse one reprojects within this factor of the
-# better one, or within this many px (both fit the corners to about their noise).
-AMBIGUITY_RATIO = 3.0
-AMBIGUITY_MIN_PX = 0.3
-
-
 def pnp_pose(corners_px: Array, size_m: float, camera: CameraModel) -> tuple[Array, float, bool]:
     """Pose cMt of a square tag from its 4 corners (TL, TR, BR, BL, raw pixels): SOLVEPNP_IPPE_SQUARE.
 
     Returns (cMt, reprojection RMS in px over the 4 corners, ambiguous). IPPE gives two poses
     for a planar square (a tilt one way or the other); `ambiguous` is True when the second
-    reprojects almost as well as the first (within ×AMBIGUITY_RATIO or AMBIGUITY_MIN_PX), i.e.
+    reprojects almost as well as the first (`targets.pose`'s AMBIGUITY_RATIO and AMBIGUITY_MIN_PX), i.e.
     the corners cannot tell them apart: near-fronto-parallel views of small tags. Such a pose
     should not initialise anything on its own (research §2: the 2–9° p99 rotation tail).
     """

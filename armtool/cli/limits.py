@@ -12,10 +12,10 @@ from typing import TYPE_CHECKING
 import typer
 
 from armtool.cli import options as opt
-from armtool.cli.servo_lut import print_summary
 from armtool.console import stderr
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.extras import require
+from armtool.output.summary import print_summary
 from armtool.servo.limits.choices import Mode
 from armtool.servo.registry import Protocol
 
@@ -170,7 +170,7 @@ def _live(first: Summary) -> Iterator[Callable[[Summary], None]]:
     """A table redrawn in place on stderr (the manual recording's extents)."""
     from rich.live import Live
 
-    from armtool.cli.servo_lut import summary_table
+    from armtool.output.summary import summary_table
 
     with Live(summary_table(first), console=stderr(), refresh_per_second=8, transient=False) as live:
         yield lambda table: live.update(summary_table(table))

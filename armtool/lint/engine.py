@@ -12,9 +12,10 @@ from armtool.errors import ArmtoolError
 from armtool.fileio import read_regular
 from armtool.lint.config import LintConfig
 from armtool.lint.context import FileContext, UrdfContext
+from armtool.lint.file_findings import file_finding as _file_finding
+from armtool.lint.file_findings import xacro_finding
 from armtool.lint.finding import Finding
 from armtool.lint.locate import Locator, display_path, local_tag
-from armtool.lint.registry import rule_class
 from armtool.lint.rule import Rule, Target
 from armtool.model.packages import PackageResolver
 from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_xml
@@ -23,7 +24,7 @@ if TYPE_CHECKING:  # imported on use (xacro costs start-up time; SRDF support is
     from lxml import etree
 
     from armtool.lint.srdf_context import SrdfContext
-    from armtool.model.xacro_source import Expansion, XacroFailure
+    from armtool.model.xacro_source import Expansion
 
 SKIP_DIRS = {".git", ".hg", ".svn", ".venv", "venv", "node_modules", "__pycache__", "build", "install", "log"}
 MAX_BYTES = 256 * 1024 * 1024
@@ -159,23 +160,6 @@ _LOADER_CODE: dict[FileKind | None, str] = {
     FileKind.PILZ: "P001",
     FileKind.CONTROLLERS: "C001",
 }
-
-
-def file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:
-    """A finding a loader reports about a whole file (its code's rule gives name and severity)."""
-    return _file_finding(code, path, line, column, message, hint)
-
-
-def _file_finding(code: str, path: Path, line: int, column: int, message: str, hint: str | None = None) -> Finding:
-    rule = rule_class(code)
-    return Finding(display_path(path), line, column, rule.code, rule.name, rule.severity, message, hint)
-
-
-def xacro_finding(exc: XacroFailure) -> Finding:
-    """X001 at the include or macro call of the expanded file that leads to xacro's error."""
-    finding = _file_finding("X001", exc.path, exc.line, 1, f"xacro failed: {exc.message}", exc.hint)
-    related = tuple((display_path(loc.path), loc.line) for loc in exc.trail)
-    return finding._replace(related=related) if related else finding
 
 
 def _cause_hint(path: Path, findings: list[Finding]) -> str:
@@ -534,7 +518,8 @@ class Linter:
         if urdf is not None:
             from armtool.lint.srdf_variant import fit
 
-            urdf, mismatch = fit(self, path, root, urdf)
+            sets = self.options.config.xacro_arg_sets(urdf.path)
+            urdf, mismatch = fit(sets, self.load_urdf_with, path, root, urdf)
             if mismatch is not None:
                 findings.append(_file_finding("S003", path, root.sourceline or 1, 1, mismatch))
         ctx = SrdfContext(path, root, locator, urdf)

@@ -8,19 +8,39 @@ lists, a controllers file of another tool) is left alone, as kinematics.yaml fil
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
+from armtool.lint.file_findings import file_finding
 from armtool.lint.finding import Finding
 from armtool.lint.rule import Target
 
 if TYPE_CHECKING:
     import yaml
 
-    from armtool.lint.context import UrdfContext
-    from armtool.lint.engine import Linter
+    from armtool.lint.context import FileContext, UrdfContext
     from armtool.lint.moveit_context import PackageControllers
     from armtool.lint.srdf_context import SrdfContext
+    from armtool.model.packages import PackageResolver
+
+
+class Linter(Protocol):
+    """What these checks need of the linter (armtool.lint.engine.Linter) that calls them."""
+
+    resolver: PackageResolver
+    package_cache: dict[Path, Any]  # MoveIt config package root -> its controllers, read once per run
+
+    def read_text(self, path: Path) -> str: ...
+
+    def xacro_args_for(self, path: Path, extra: dict[str, str] | None = None) -> dict[str, str]: ...
+
+    def srdf_for_package_file(self, path: Path) -> tuple[SrdfContext | None, str]: ...
+
+    def paired_srdf(self, path: Path) -> SrdfContext | None: ...
+
+    def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]: ...
+
 
 LOADER_CODE = {Target.JOINT_LIMITS: "L001", Target.PILZ: "P001", Target.CONTROLLERS: "C001"}
 
@@ -29,7 +49,6 @@ def _parse(linter: Linter, path: Path, target: Target) -> tuple[yaml.Node | None
     """The file's YAML nodes, or its loader finding (invalid YAML)."""
     import yaml
 
-    from armtool.lint.engine import file_finding
     from armtool.moveit.params import parse
 
     text = linter.read_text(path)

@@ -14,7 +14,7 @@ the xacro sources compare an argument with (`'$(arg robot_type)' == 'lite'`, `${
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -22,7 +22,9 @@ if TYPE_CHECKING:
     from lxml import etree
 
     from armtool.lint.context import UrdfContext
-    from armtool.lint.engine import Linter
+
+    # The linter's expansion of a xacro with exactly these arguments (None when it fails).
+    LoadWith = Callable[[Path, dict[str, str]], UrdfContext | None]
 
 OTHER_ROBOT_SHARE = 0.5  # unknown with no argument to explain it: written for another robot ...
 OTHER_ROBOT_MIN = 5  # ... when that is also many names (two typos in a four-name SRDF are typos)
@@ -39,8 +41,9 @@ def _compared_values(text: str, name: str) -> Iterator[str]:
             yield match.group(1)
 
 
-def candidates(linter: Linter, srdf: Path, urdf: UrdfContext) -> list[dict[str, str]]:
-    """Argument changes to try, each as name -> value, nearest source first."""
+def candidates(arg_sets: Sequence[dict[str, str]], srdf: Path, urdf: UrdfContext) -> list[dict[str, str]]:
+    """Argument changes to try, each as name -> value, nearest source first; `arg_sets` are the
+    configuration's argument sets for the URDF."""
     from armtool.lint.pairing import read_setup_assistant
 
     current = urdf.xacro_args
@@ -51,7 +54,7 @@ def candidates(linter: Linter, srdf: Path, urdf: UrdfContext) -> list[dict[str, 
         if change and change not in out:
             out.append(change)
 
-    for args in linter.options.config.xacro_arg_sets(urdf.path):
+    for args in arg_sets:
         add(args)
     setup = read_setup_assistant(srdf.parent)
     if setup is not None:
@@ -82,7 +85,9 @@ def candidates(linter: Linter, srdf: Path, urdf: UrdfContext) -> list[dict[str, 
     return out
 
 
-def fit(linter: Linter, srdf: Path, root: etree._Element, urdf: UrdfContext) -> tuple[UrdfContext | None, str | None]:
+def fit(
+    arg_sets: Sequence[dict[str, str]], load_with: LoadWith, srdf: Path, root: etree._Element, urdf: UrdfContext
+) -> tuple[UrdfContext | None, str | None]:
     """The URDF to check the SRDF against, and the S003 message when the SRDF was written for
     another argument set (or another robot). The URDF unchanged and None when it fits."""
     from armtool.lint.pairing import srdf_names, unknown_names
@@ -95,8 +100,8 @@ def fit(linter: Linter, srdf: Path, root: etree._Element, urdf: UrdfContext) -> 
     unknown = sorted((wanted[0] - urdf.joint_names) | (wanted[1] - urdf.link_names))
     examples = ", ".join(unknown[:4]) + (", ..." if len(unknown) > 4 else "")
     if urdf.from_xacro:
-        for change in candidates(linter, srdf, urdf)[:MAX_TRIES]:
-            other = linter.load_urdf_with(urdf.path, {**urdf.xacro_args, **change})
+        for change in candidates(arg_sets, srdf, urdf)[:MAX_TRIES]:
+            other = load_with(urdf.path, {**urdf.xacro_args, **change})
             if other is not None and unknown_names(wanted, other.joint_names, other.link_names) == 0:
                 flags = " ".join(f"--xacro-arg {k}:={v}" for k, v in change.items())
                 return other, (

@@ -2,7 +2,7 @@
 
 Every target armtool knows is planar (z = 0 in its frame). IPPE gives the two poses that explain
 a plane's image (a tilt one way or the other); when the second reprojects almost as well as the
-first (within ×AMBIGUITY_RATIO or AMBIGUITY_MIN_PX, as for one tag in `apriltag.pnp_pose`) the
+first (within ×AMBIGUITY_RATIO or AMBIGUITY_MIN_PX; one tag's `apriltag.pnp_pose` asks the same) the
 view cannot tell them apart and is flagged `ambiguous`: such a pose must not start a fit.
 """
 
@@ -10,8 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from armtool.calib.apriltag import AMBIGUITY_MIN_PX, AMBIGUITY_RATIO
 from armtool.calib.camera import Array, CameraModel
+
+# IPPE's two solutions are "similar" when the worse one reprojects within this factor of the
+# better one, or within this many px (both fit the corners to about their noise).
+AMBIGUITY_RATIO = 3.0
+AMBIGUITY_MIN_PX = 0.3
 
 
 def planar_pose(

@@ -15,7 +15,7 @@ would flip between images and bend the fit (see `targets.chessboard`).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -23,8 +23,15 @@ from armtool.calib.boards import BoardKind, BoardSpec, board_points, parse_board
 from armtool.calib.camera import Array
 from armtool.errors import ArmtoolError
 
-if TYPE_CHECKING:
-    from armtool.calib.dataset import Dataset
+
+class DeclaresTarget(Protocol):
+    """What a dataset (armtool.calib.dataset.Dataset) says of its target."""
+
+    family: str
+    tag_id: int
+    size_m: float
+    board: BoardSpec | None
+
 
 _BOARD_TYPES = {k.value for k in BoardKind}
 _BOARD_HINT = "e.g. target: {board: charuco:9x7:0.03:0.022:DICT_5X5_100} or {board: chessboard:10x7:0.025}"
@@ -86,7 +93,7 @@ class Target:
     board: BoardSpec | None = None
 
     @classmethod
-    def of(cls, ds: Dataset) -> Target:
+    def of(cls, ds: DeclaresTarget) -> Target:
         return cls(ds.family, ds.tag_id, ds.size_m, ds.board)
 
     @property

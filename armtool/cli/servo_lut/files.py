@@ -1,82 +1,20 @@
-"""`armtool servo-lut`: measure a servo's real angle per command, fit, export and check a
-compensation table (wanted angle -> command), and apply it to angles or trajectories."""
+"""`armtool servo-lut fit`, `export` and `apply`: the commands that work on files only (no servo)."""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import typer
 
 from armtool.cli import options as opt
+from armtool.cli.servo_lut.common import write_output
 from armtool.console import stderr
 from armtool.errors import ArmtoolError
 from armtool.extras import require
+from armtool.output.summary import print_summary
 from armtool.servo.lut.choices import Approach, ExportFormat, Method
 
-if TYPE_CHECKING:  # numpy and scipy load only when a subcommand runs
-    from rich.table import Table
 
-    from armtool.servo.summary import Summary
-
-HELP = "Build, export and check compensation tables for a servo's non-linear response."
-
-app = typer.Typer(
-    name="servo-lut",
-    help=HELP,
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-    context_settings={"help_option_names": ["-h", "--help"]},
-)
-
-MEAS_FORMAT = """Measurement CSV: '# key: value' metadata lines (servo_model: AX-12A, servo_id, reference), then a header
-with units in the column names: command_ticks,present_ticks,reference_deg,load_pct,temperature_c,voltage_v,approach,repeat.
-command_ticks and reference_deg (or reference_rad, servo frame: 0° at tick 0) are required."""
-
-
-def write_output(text: str, output: Path | None, what: str, rescue: str | None = None) -> None:
-    """To -o or stdout. With `rescue` (the servo has moved), a failed write keeps the text in a spare file."""
-    from armtool.console import write_stdout
-    from armtool.fileio import rescue_write
-    from armtool.servo.lut.csv_format import write_atomic
-
-    if output is None or str(output) == "-":
-        write_stdout(text)
-        return
-    try:
-        write_atomic(output, text)
-    except ArmtoolError as exc:
-        if rescue is None:
-            raise
-        saved = rescue_write(output, text, rescue)
-        raise ArmtoolError(f"{exc.what}; the readings were saved to {saved}", exc.where, exc.hint) from None
-    stderr().print(f"wrote {what} {output}")
-
-
-def summary_table(summary: Summary) -> Table:
-    """A core-built table as rich draws it."""
-    from rich.table import Table
-    from rich.text import Text
-
-    table = Table(title=Text(summary.title), title_justify="left")
-    for col in summary.columns:
-        table.add_column(col, justify="left" if col in summary.left else "right", no_wrap=col in summary.no_wrap)
-    for row in summary.rows:
-        table.add_row(*(Text(cell) if isinstance(cell, str) else Text.assemble(*cell) for cell in row))
-    return table
-
-
-def print_summary(summary: Summary) -> None:
-    """A core-built table, and its notes, on stderr."""
-    stderr().print(summary_table(summary))
-    from armtool.console import say
-
-    for note in summary.notes:
-        say(note)
-
-
-@app.command("fit", help="Fit the table (wanted angle -> command) from a measurement CSV.\n\n" + MEAS_FORMAT)
 def fit(
     measurements: Path = typer.Argument(..., help="Measurement CSV (from `servo-lut measure` or your own)."),
     output: Path | None = typer.Option(None, "--output", "-o", help="Write the table JSON here (default: stdout)."),
@@ -128,7 +66,6 @@ def fit(
     write_output(text, output, "table")
 
 
-@app.command("export", help="Write the table as a C header (uint16_t on a uniform angle grid), CSV, JSON or YAML.")
 def export(
     table_path: Path = typer.Argument(..., metavar="LUT_JSON", help="Table from `servo-lut fit`."),
     output_format: ExportFormat = typer.Option(ExportFormat.C, "--format", help="c, csv, json or yaml."),
@@ -151,7 +88,6 @@ def export(
     write_output(render(table, output_format, step_deg=step, name=name), output, output_format.value)
 
 
-@app.command("apply", help="Turn wanted servo angles (a list, or a CSV column) into compensated commands.")
 def apply(
     table_path: Path = typer.Argument(..., metavar="LUT_JSON", help="Table from `servo-lut fit`."),
     input_csv: Path | None = typer.Argument(None, metavar="[CSV]", help="CSV with an angle column (- for stdin)."),
@@ -198,6 +134,3 @@ def apply(
     if result.clipped:
         stderr().print(f"[yellow]{result.clipped} of {result.rows} angle(s) clamped to the measured range[/yellow]")
     write_output(result.text, output, "commands")
-
-
-from armtool.cli import servo_lut_move  # noqa: E402, F401  (registers `measure` and `check` on `app`)

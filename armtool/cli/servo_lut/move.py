@@ -1,5 +1,5 @@
 """`armtool servo-lut measure` and `check`: the two servo-lut commands that energise a servo.
-They register on `servo_lut.app`; the session (connect, range, energise, run) is
+The session (connect, range, energise, run) is
 `armtool.servo.lut.session`, this module only asks, prints and exits."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import typer
 
 from armtool.cli import options as opt
-from armtool.cli.servo_lut import app, write_output
+from armtool.cli.servo_lut.common import write_output
 from armtool.console import say, stderr
 from armtool.errors import ArmtoolError, ExitCode
 from armtool.extras import require
@@ -67,11 +67,6 @@ def _hooks(yes: bool) -> Hooks:
     )
 
 
-@app.command(
-    "measure",
-    help="Step a servo through its range and log command, present position, reference angle, "
-    "load, temperature and voltage to a measurement CSV. Energises the servo (asks first).",
-)
 def measure(
     port: str = opt.servo_port("Serial port of the servo bus (e.g. /dev/ttyUSB0)."),
     sid: int = opt.servo_id(),
@@ -131,11 +126,6 @@ def measure(
         stderr().print(f"next: armtool servo-lut fit {output} -o lut.json")
 
 
-@app.command(
-    "check",
-    help="Command random angles (not table knots) through the table and through the nominal linear "
-    "map, measure both with the reference, print both errors; exit 1 above --max-err.",
-)
 def check(
     table_path: Path = typer.Argument(..., metavar="LUT_JSON", help="Table from `servo-lut fit`."),
     port: str = opt.servo_port("Serial port of the servo bus."),
