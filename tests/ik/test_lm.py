@@ -235,3 +235,21 @@ def test_the_compiled_kernel_is_cached_on_disk() -> None:
     relative, base, tip = ARMS["ur5"]
     make_solver("lm", load_chain(erd(relative), base, tip))
     assert compiled_on_disk() in (True, None)  # None: a Numba that does not say where its cache is
+
+
+def test_a_seed_or_target_of_the_wrong_shape_or_not_finite_is_refused() -> None:
+    # The compiled loop reads its arrays without bounds checks: they are checked before it runs.
+    relative, base, tip = ARMS["ur5"]
+    chain = load_chain(erd(relative), base, tip)
+    solver = make_solver("lm", chain)
+    target, mid = chain.fk(chain.mid()), chain.mid()
+    for bad_target, bad_seed, match in (
+        (target, mid[:3], "seed values"),
+        (target[:3], mid, "4x4"),
+        (target, np.full(6, np.nan), "finite"),
+        (np.full((4, 4), np.inf), mid, "finite"),
+    ):
+        with pytest.raises(ArmtoolError, match=match):
+            solver.solve(bad_target, bad_seed)
+    with pytest.raises(ArmtoolError, match="finite"):
+        solver.solve_batch(np.stack([target, target]), np.stack([mid, np.full(6, np.nan)]))

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from armtool.errors import ArmtoolError
 from armtool.ik.solver import Answer, Array, Solver
 from armtool.ik.solvers import lm_kernel as kernel
 
@@ -157,7 +158,12 @@ class LevenbergMarquardt(Solver):
 
     # ---- one target -----------------------------------------------------------------------------
     def prepare(self, target: Array, seed: Array) -> tuple[Array, Array]:
-        return np.ascontiguousarray(target, dtype=float), np.ascontiguousarray(seed, dtype=float)
+        """The target and seed as contiguous float arrays, checked: the compiled loop reads them
+        without bounds checks, and a NaN would be clamped to a limit without a word."""
+        target = np.ascontiguousarray(target, dtype=float)
+        seed = np.ascontiguousarray(seed, dtype=float)
+        self._check(target[None], seed[None])
+        return target, seed
 
     def call(self, prepared: tuple[Array, Array]) -> Answer:
         target, seed = prepared
@@ -210,7 +216,18 @@ class LevenbergMarquardt(Solver):
     # ---- many targets ---------------------------------------------------------------------------
     def prepare_batch(self, targets: Array, seeds: Array) -> tuple[Array, Array]:
         targets, seeds = self._batch_arrays(targets, seeds)
-        return np.ascontiguousarray(targets), np.ascontiguousarray(seeds)
+        targets, seeds = np.ascontiguousarray(targets), np.ascontiguousarray(seeds)
+        self._check(targets, seeds)
+        return targets, seeds
+
+    def _check(self, targets: Array, seeds: Array) -> None:
+        n = self._n
+        if targets.shape[1:] != (4, 4) or seeds.shape[1:] != (n,):
+            raise ArmtoolError(
+                f"expected a 4x4 target and {n} seed values, got {targets.shape[1:]} and {seeds.shape[1:]}"
+            )
+        if not (np.isfinite(targets).all() and np.isfinite(seeds).all()):
+            raise ArmtoolError("target and seed must be finite numbers (NaN or inf given)")
 
     def call_batch(self, prepared: tuple[Array, Array]) -> list[Answer]:
         """Every target's first tries, then the unsolved few restart one by one,
