@@ -37,7 +37,8 @@ MODULES: dict[Extra, tuple[str, ...]] = {
         "pinocchio",
         "cv2",
         "rosbags",
-    ),  # pinocchio: fit's URDF check, simulate's IK; rosbags: import-bag
+        "threadpoolctl",
+    ),  # pinocchio: fit's URDF check, simulate's IK; rosbags: import-bag; threadpoolctl: fit's small matrices
     "servo": ("numpy", "scipy", "serial", "dynamixel_sdk"),  # servo-sim needs none of them
     "traj": ("numpy", "scipy", "pinocchio", "threadpoolctl", "cv2"),  # lm for IK, cv2 for the PNGs
 }

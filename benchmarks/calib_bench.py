@@ -53,12 +53,14 @@ def robot_file(relative: str) -> Path:
 def run_case(
     robot: str, seed: int, samples: int, bad: int, workdir: Path, quality: str = "typical", setup: str = "eye_to_hand"
 ) -> dict[str, object]:
+    from armtool.calib.apriltag import tag_object_points
     from armtool.calib.choices import Quality, Setup
     from armtool.calib.dataset import require_ok
     from armtool.calib.fit import FitOptions, calibrate
     from armtool.calib.inputs import load_inputs
     from armtool.calib.model import CalibModel
     from armtool.calib.observations import observe
+    from armtool.calib.problems import CornerMeasurements
     from armtool.calib.simulate import SimulationSpec, simulate
     from armtool.calib.truth import load_truth, score
 
@@ -73,7 +75,9 @@ def run_case(
     obs = observe(ds, camera)
     t1 = time.perf_counter()
     model = CalibModel(chain, ds.setup, np.eye(4), np.eye(4))
-    result = calibrate(model, camera, ds.samples, obs, ds.size_m, FitOptions(), ds.hints)
+    result = calibrate(
+        model, CornerMeasurements(camera, obs, tag_object_points(ds.size_m)), ds.samples, FitOptions(), ds.hints
+    )
     t2 = time.perf_counter()
     truth = load_truth(out, result.model)
     before, after = score(result.model, result.x_handeye, truth), score(result.model, result.x, truth)

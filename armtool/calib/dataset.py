@@ -26,6 +26,7 @@ from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
+    from armtool.calib.measured import MeasurementSpec
     from armtool.model.chain import Chain
 
 FORMAT = "armtool-calib-dataset/1"
@@ -70,6 +71,8 @@ class Dataset:
     problems: list[Problem] = field(default_factory=list)
     xacro_args: dict[str, str] = field(default_factory=dict)  # robot.xacro_args: for a .xacro robot.urdf
     package_paths: list[Path] = field(default_factory=list)  # robot.package_paths, resolved against the dataset
+    measurement: MeasurementSpec | None = None  # `observations:`: measured poses or points instead of images
+    measured_rows: dict[str, tuple[int, Array]] = field(default_factory=dict)  # sample id -> (line, raw values)
 
     def robot_sources(
         self, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None
@@ -208,6 +211,17 @@ def _robot_sources(
     return args, paths
 
 
+def _measurement(doc: dict[str, Any], root: Path, where: str, problems: list[Problem]) -> MeasurementSpec | None:
+    """`observations:` (measured poses or points), or None for a dataset of images or corners."""
+    if "observations" not in doc:
+        return None
+    from armtool.calib.measured import parse_spec
+
+    spec, found = parse_spec(doc["observations"], root)
+    problems += [Problem(where, p.what, p.hint) for p in found]
+    return spec
+
+
 def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *, with_samples: bool = True) -> Dataset:
     """Read the manifest and samples; problems are collected, not raised (see `require_ok`).
 
@@ -254,18 +268,21 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
                 "armtool expects radians: convert the CSV and set `joint_units: rad`",
             )
         )
-    intr_name = _get(doc, "camera.intrinsics", problems, where)
+    measurement = _measurement(doc, root, where, problems)
+    # A dataset of measured poses or points has no camera or image target: their keys are not looked for.
+    image_problems: list[Problem] = [] if "observations" in doc else problems
+    intr_name = _get(doc, "camera.intrinsics", image_problems, where)
     rectified = (
         (doc.get("camera") or {}).get("images_rectified", False) if isinstance(doc.get("camera"), dict) else False
     )
     if not isinstance(rectified, bool):
-        problems.append(Problem(where, f"camera.images_rectified must be true or false, got {rectified!r}"))
+        image_problems.append(Problem(where, f"camera.images_rectified must be true or false, got {rectified!r}"))
         rectified = False
-    family = _get(doc, "target.family", problems, where) or "tag36h11"
-    tag_id = _get(doc, "target.id", problems, where, int)
-    size_m = _get(doc, "target.size_m", problems, where, (int, float))
+    family = _get(doc, "target.family", image_problems, where) or "tag36h11"
+    tag_id = _get(doc, "target.id", image_problems, where, int)
+    size_m = _get(doc, "target.size_m", image_problems, where, (int, float))
     if size_m is not None and not (TAG_SIZE_M[0] <= float(size_m) <= TAG_SIZE_M[1]):  # NaN fails too
-        problems.append(
+        image_problems.append(
             Problem(
                 where,
                 f"target.size_m is {size_m}: the black square's edge in metres, {TAG_SIZE_M[0]:g} to {TAG_SIZE_M[1]:g}",
@@ -274,14 +291,14 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         )
         size_m = None
     if tag_id is not None and not 0 <= tag_id <= MAX_TAG_ID:
-        problems.append(
+        image_problems.append(
             Problem(
                 where, f"target.id is {tag_id}: AprilTag ids are 0 to {MAX_TAG_ID}", "the number printed under the tag"
             )
         )
         tag_id = None
     if not isinstance(family, str):
-        problems.append(Problem(where, f"target.family must be a string, got {family!r}", "e.g. tag36h11"))
+        image_problems.append(Problem(where, f"target.family must be a string, got {family!r}", "e.g. tag36h11"))
         family = "tag36h11"
     bad_joints = [j for j in joints if not isinstance(j, str)]
     if bad_joints:
@@ -328,14 +345,14 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
             problems.append(Problem(where, f"hint '{key}' needs xyz: [x, y, z] and rpy: [r, p, y]", severity="warning"))
         else:
             hints[key] = pose
-    corners_name = doc.get("corners")
+    corners_name = doc.get("corners") if "observations" not in doc else None
     if corners_name is not None and not isinstance(corners_name, str):
         problems.append(
             Problem(where, f"'corners' must be a file name, got {corners_name!r}", "e.g. corners: corners.csv")
         )
         corners_name = None
     corners_file = _resolve(root / corners_name) if corners_name else None
-    if corners_file is None and (root / "corners.csv").is_file():
+    if corners_file is None and "observations" not in doc and (root / "corners.csv").is_file():
         corners_file = _resolve(root / "corners.csv")
 
     ds = Dataset(
@@ -358,6 +375,13 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         package_paths=package_paths,
     )
     ds.samples_file = samples_path
+    ds.measurement = measurement
+    if measurement is not None and (why := unreadable_reason(measurement.file)) is not None:
+        problems.append(
+            Problem(
+                where, f"observations.file '{measurement.file.name}' {why}", f"put the file in {root} or fix the path"
+            )
+        )
     if corners_file is not None and (why := unreadable_reason(corners_file)) is not None:
         problems.append(Problem(where, f"corners file '{corners_name or corners_file.name}' {why}"))
     if with_samples:
@@ -373,6 +397,40 @@ def read_samples(ds: Dataset, chain_joint_names: list[str] | None = None) -> Non
             _check_samples(ds, _rel(ds.root, samples))
     if corners is not None and unreadable_reason(corners) is None:
         _read_csv(ds, corners, lambda handle, where: _corner_rows(ds, handle, where))
+    spec = ds.measurement
+    if spec is not None and unreadable_reason(spec.file) is None:
+        _read_measurements(ds, spec)
+
+
+def _read_measurements(ds: Dataset, spec: MeasurementSpec) -> None:
+    """The measured poses or points (`observations.file`), each bad row a problem at its line,
+    and a warning for each sample that has no row."""
+    import csv as csv_module
+
+    from armtool.calib.measured import read_rows
+
+    where = _rel(ds.root, spec.file)
+    text = _text(spec.file, where, ds.problems)
+    if text is None:
+        return
+    try:
+        rows, found = read_rows(text, spec, {s.id for s in ds.samples})
+    except csv_module.Error as exc:
+        ds.problems.append(_csv_problem(exc, where, text))
+        return
+    ds.problems += [Problem(f"{where}:{p.line}", p.what, p.hint) for p in found]
+    ds.measured_rows = rows
+    missing = [s for s in ds.samples if s.id not in rows]
+    for s in missing[:20]:
+        ds.problems.append(
+            Problem(
+                _rel(ds.root, ds.samples_file) + f":{s.row}" if ds.samples_file else where,
+                f"sample {s.id} has no usable row in {spec.file.name}",
+                severity="warning",
+            )
+        )
+    if len(missing) > 20:
+        ds.problems.append(Problem(where, f"… and {len(missing) - 20} more samples without a row", severity="warning"))
 
 
 def _read_csv(ds: Dataset, path: Path, parse: Callable[[io.StringIO, str], None]) -> bool:
@@ -411,7 +469,8 @@ def _sample_rows(ds: Dataset, handle: io.StringIO, where: str, chain_joint_names
             )
         )
         return
-    unknown = [h for h in header if h not in ("id", "image") and h not in names]
+    measured = set(ds.measurement.columns) if ds.measurement is not None else set()
+    unknown = [h for h in header if h not in ("id", "image") and h not in names and h not in measured]
     if unknown and chain_joint_names is not None:
         from armtool.suggest import did_you_mean
 

@@ -16,6 +16,7 @@ from armtool.calib.choices import Setup
 from armtool.calib.dataset import Sample
 from armtool.calib.model import CalibModel
 from armtool.calib.observations import Observation
+from armtool.calib.problems import CornerMeasurements
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
 from armtool.calib.truth import Truth
 from armtool.model.chain import Chain
@@ -29,6 +30,14 @@ class Synthetic:
     observations: dict[str, Observation]
     truth: Truth
     size_m: float = 0.08
+
+    @property
+    def measurements(self) -> CornerMeasurements:
+        return self.measured(self.observations)
+
+    def measured(self, observations: dict[str, Observation]) -> CornerMeasurements:
+        """These corners, or others (a mislabeled image, a rejected detection), as the fit takes them."""
+        return CornerMeasurements(self.camera, observations, tag_object_points(self.size_m))
 
 
 def make_problem(

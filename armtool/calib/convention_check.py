@@ -1,0 +1,184 @@
+"""Conventions that cannot silently go wrong: when another reading of the file fits far better, say so.
+
+A pose read inverted, a quaternion read in the other order, roll-pitch-yaw multiplied in the other
+order, millimetres read as metres, the camera said to be fixed when it rides on the flange: each
+leaves residuals tens to hundreds of times larger than the sensor's noise (a camera-in-board file
+read as board-in-camera: 75 mm instead of 5 mm on a real Franka). The nominal robot with only the
+measurement frames fitted (a hand-eye calibration) is fast and needs no kinematic errors to be
+right, so every reading (`PoseConvention.alternatives`, both setups) gets one, and a reading that
+fits at least `BETTER` times better than the declared one is named, with the dataset.yaml lines
+that select it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from armtool.calib.choices import Setup
+from armtool.calib.conventions import PointConvention, PoseConvention
+from armtool.calib.dataset import Sample
+from armtool.calib.measured import MeasurementSpec
+from armtool.calib.model import CalibModel
+from armtool.calib.problems import Measurements, PointMeasurements, PoseMeasurements, Problem
+from armtool.calib.se3 import Array
+from armtool.errors import ArmtoolError
+from armtool.model.chain import Chain
+
+BETTER = 3.0  # an alternative must fit this many times better than the declared reading to be named
+SCALE_MM, SCALE_DEG = 1.0, 0.1  # a reading's score: position RMS / 1 mm + rotation RMS / 0.1° (a good sensor's noise)
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One way of reading the file, and how well the nominal robot explains it."""
+
+    convention: PoseConvention | PointConvention
+    setup: Setup
+    changes: list[str]  # dataset.yaml lines that select it ([] for the declared one)
+    position_mm: float  # RMS over the samples, after fitting the measurement frames
+    rotation_deg: float | None  # None for points
+
+    @property
+    def score(self) -> float:
+        rotation = 0.0 if self.rotation_deg is None else self.rotation_deg / SCALE_DEG
+        return self.position_mm / SCALE_MM + rotation
+
+    def describe(self) -> str:
+        if not math.isfinite(self.position_mm):
+            return "no fit at all"
+        rotation = "" if self.rotation_deg is None else f", {self.rotation_deg:.2f}°"
+        return f"{self.position_mm:.2f} mm{rotation} RMS"
+
+
+@dataclass(frozen=True)
+class ConventionCheck:
+    declared: Reading
+    better: Reading | None  # the best reading, when it fits at least BETTER times better
+    tried: int
+
+    def message(self) -> str:
+        """What the check found, for `calibrate check` and `fit`."""
+        if self.better is None:
+            return (
+                f"the declared conventions fit best: hand-eye-only residual {self.declared.describe()} "
+                f"({self.tried} readings tried)"
+            )
+        ratio = self.declared.score / max(self.better.score, 1e-12)
+        return (
+            f"the measurements fit {ratio:.0f} times better read another way: {self.better.describe()} against "
+            f"{self.declared.describe()} as declared (hand-eye only, nominal robot)"
+        )
+
+    def fix(self) -> str:
+        return "in dataset.yaml, set " + "; ".join(self.better.changes) if self.better else ""
+
+
+def check_conventions(
+    chain: Chain, setup: Setup, spec: MeasurementSpec, rows: dict[str, Array], samples: list[Sample]
+) -> ConventionCheck:
+    """Fit the measurement frames to every reading of the rows; name one that fits far better."""
+    usable = [s for s in samples if s.id in rows]
+    values = np.stack([rows[s.id] for s in usable]) if usable else np.zeros((0, len(spec.columns)))
+    declared_setup_first = [setup, Setup.EYE_IN_HAND if setup is Setup.EYE_TO_HAND else Setup.EYE_TO_HAND]
+    conventions = [spec.convention, *spec.convention.alternatives()]
+    readings: list[Reading] = []
+    declared: Reading | None = None
+    for s in declared_setup_first:
+        for convention in conventions:
+            changes = _differences(spec.convention, convention)
+            if s is not setup:
+                changes = [f"setup: {s.value}", *changes]
+            reading = _reading(chain, s, convention, values, usable, changes)
+            if reading is None:
+                continue
+            readings.append(reading)
+            if not changes:
+                declared = reading
+    if declared is None:  # not even a start: every other reading is measured against an impossible one
+        declared = Reading(spec.convention, setup, [], math.inf, None if spec.kind == "point" else math.inf)
+    if not readings:
+        raise ArmtoolError(
+            "the measurement frames could not be fitted to the measurements in any reading",
+            "dataset.yaml",
+            "check that the samples' joints and the measurements belong together (same ids, same poses)",
+        )
+    best = min(readings, key=lambda r: r.score)
+    better = best if best is not declared and best.score * BETTER <= declared.score else None
+    return ConventionCheck(declared, better, len(readings))
+
+
+def _differences(declared: PoseConvention | PointConvention, other: PoseConvention | PointConvention) -> list[str]:
+    if isinstance(declared, PoseConvention) and isinstance(other, PoseConvention):
+        return declared.differences(other)
+    if isinstance(declared, PointConvention) and isinstance(other, PointConvention):
+        return declared.differences(other)
+    raise TypeError("conventions of different kinds")
+
+
+def _reading(
+    chain: Chain,
+    setup: Setup,
+    convention: PoseConvention | PointConvention,
+    values: Array,
+    samples: list[Sample],
+    changes: list[str],
+) -> Reading | None:
+    measurements: Measurements
+    if isinstance(convention, PoseConvention):
+        poses = convention.poses(values)
+        measurements = PoseMeasurements(
+            {s.id: p for s, p in zip(samples, poses)}, convention.frame, "sensor", "target", ""
+        )
+    else:
+        points = convention.points(values)
+        measurements = PointMeasurements({s.id: p for s, p in zip(samples, points)}, "sensor", "target", "")
+    model = CalibModel(chain, setup, np.eye(4), np.eye(4))
+    problem = measurements.problem(model, samples)
+    try:
+        problem = problem.with_model(model.with_frames(*problem.start_frames({})))
+        x = _frames_fit(problem)
+    except (ArmtoolError, np.linalg.LinAlgError, ValueError):
+        return None
+    figures = problem.per_sample(x)
+    position = float(np.sqrt(np.mean(figures["position"] ** 2)))
+    rotation = float(np.sqrt(np.mean(figures["rotation"] ** 2))) if "rotation" in figures else None
+    if not math.isfinite(position):
+        return None
+    return Reading(convention, setup, changes, position, rotation)
+
+
+def _frames_fit(problem: Problem) -> Array:
+    """The measurement frames fitted with the nominal robot, residuals weighted by a good
+    sensor's noise (1 mm, 0.1°) and a soft-L1 loss so that a few bad samples do not decide."""
+    sigma = np.array([SCALE_MM * 1e-3 if b.name == "position" else math.radians(SCALE_DEG) for b in problem.blocks])
+    weighted = problem.with_sigma(sigma)
+    free = weighted.frame_parameters()
+    x0 = np.zeros(weighted.model.size)
+
+    def fun(z: Array) -> Array:
+        x = x0.copy()
+        x[free] = z
+        return weighted.residuals(x)
+
+    def jac(z: Array) -> Array:
+        x = x0.copy()
+        x[free] = z
+        return weighted.jacobian(x, free)
+
+    res = least_squares(
+        fun,
+        x0[free],
+        jac=jac,
+        method="trf",
+        loss="soft_l1",
+        f_scale=3.0,
+        x_scale=np.full(len(free), 1e-3),
+        max_nfev=100,
+    )
+    x: Array = x0.copy()
+    x[free] = res.x
+    return x
