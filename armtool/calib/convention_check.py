@@ -29,6 +29,10 @@ from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 
 BETTER = 3.0  # an alternative must fit this many times better than the declared reading to be named
+TIE = 1e-3  # readings whose scores differ by less than this share are the same fit
+# A right reading converges in a few steps from its closed-form start; a wrong one does not converge
+# at all, and its residual after this many steps is already hundreds of times too large.
+MAX_STEPS = 30
 SCALE_MM, SCALE_DEG = 1.0, 0.1  # a reading's score: position RMS / 1 mm + rotation RMS / 0.1° (a good sensor's noise)
 
 
@@ -59,6 +63,7 @@ class ConventionCheck:
     declared: Reading
     better: Reading | None  # the best reading, when it fits at least BETTER times better
     tried: int
+    equivalent: Reading | None = None  # another reading that fits exactly as well (the data cannot tell them apart)
 
     def message(self) -> str:
         """What the check found, for `calibrate check` and `fit`."""
@@ -74,7 +79,16 @@ class ConventionCheck:
         )
 
     def fix(self) -> str:
-        return "in dataset.yaml, set " + "; ".join(self.better.changes) if self.better else ""
+        if self.better is None:
+            return ""
+        text = "in dataset.yaml, set " + "; ".join(self.better.changes)
+        if self.equivalent is not None:
+            text += (
+                " (the measurements fit exactly as well with "
+                + "; ".join(self.equivalent.changes)
+                + ": check which is true)"
+            )
+        return text
 
 
 def check_conventions(
@@ -106,9 +120,14 @@ def check_conventions(
             "dataset.yaml",
             "check that the samples' joints and the measurements belong together (same ids, same poses)",
         )
-    best = min(readings, key=lambda r: r.score)
+    lowest = min(r.score for r in readings)
+    # A pose read inverted with the other setup is the same fit (C⁻¹ = R⁻¹ F^∓1 L⁻¹): such ties
+    # are settled for the setup the dataset states and the fewest changes.
+    tied = [r for r in readings if r.score <= lowest * (1 + TIE) + 1e-12]
+    best = min(tied, key=lambda r: (r.setup is not setup, len(r.changes)))
+    equivalent = [r for r in tied if r is not best and r.changes and r is not declared]
     better = best if best is not declared and best.score * BETTER <= declared.score else None
-    return ConventionCheck(declared, better, len(readings))
+    return ConventionCheck(declared, better, len(readings), equivalent[0] if better and equivalent else None)
 
 
 def _differences(declared: PoseConvention | PointConvention, other: PoseConvention | PointConvention) -> list[str]:
@@ -177,7 +196,7 @@ def _frames_fit(problem: Problem) -> Array:
         loss="soft_l1",
         f_scale=3.0,
         x_scale=np.full(len(free), 1e-3),
-        max_nfev=100,
+        max_nfev=MAX_STEPS,
     )
     x: Array = x0.copy()
     x[free] = res.x

@@ -116,6 +116,7 @@ class PoseConvention:
     position_columns: tuple[str, ...] = DEFAULT_POSITION_COLUMNS
     rotation_columns: tuple[str, ...] = MATRIX_COLUMNS
     transposed: bool = False  # the check's alternative for a matrix stored column by column
+    columns_listed: bool = True  # the dataset listed rotation_columns (else: the defaults, named by meaning)
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -189,6 +190,10 @@ class PoseConvention:
             out.append(f"observations.position_units: {other.position_units.value}")
         if other.quaternion_order is not self.quaternion_order and other.quaternion_order is not None:
             out.append(f"observations.quaternion_order: {other.quaternion_order.value}")
+            if not self.columns_listed:  # default columns follow the order: name the file's columns to keep them
+                out.append(
+                    f"observations.rotation_columns: [{', '.join(self.rotation_columns)}] (they hold {other.quaternion_order.value})"
+                )
         if other.rpy_order != self.rpy_order and other.rpy_order is not None:
             out.append(f"observations.rpy_order: {other.rpy_order}")
         if other.angle_units is not self.angle_units and other.angle_units is not None:

@@ -112,6 +112,8 @@ class Score:
     parameters: float  # mean over the folds
     mean_square: float  # mean squared noise-weighted RMS of its held-out inliers (for `verdict.poses_needed`)
     failed: int = 0  # folds on which it could not be fitted
+    losses: Array = field(default_factory=lambda: np.zeros(0))  # per held-out sample, in fold order
+    standard_error: float = 0.0  # of its mean loss less the best candidate's (paired over the samples)
 
 
 @dataclass(frozen=True)
@@ -219,7 +221,8 @@ def _scores(problem: Problem, candidates: list[Candidate], folds: list[_Fold], k
     out = []
     for c, candidate in enumerate(candidates):
         z = np.concatenate([f.weighted[c] for f in folds])
-        loss = float(np.mean(_loss(z**2, knee))) if np.isfinite(z).all() else math.inf
+        losses = _loss(z**2, knee) if np.isfinite(z).all() else np.full(len(z), np.inf)
+        loss = float(np.mean(losses))
         rms, maximum, inlier = {}, {}, {}
         for block in problem.blocks:
             values = np.concatenate([f.figures[c][block.name] for f in folds])
@@ -231,14 +234,34 @@ def _scores(problem: Problem, candidates: list[Candidate], folds: list[_Fold], k
         failed = sum(1 for f in folds if f.fits[c].failed)
         keep = ~np.concatenate([f.outlier[c] for f in folds])
         mean_square = float(np.mean(z[keep] ** 2)) if np.isfinite(z).all() and keep.any() else math.inf
-        out.append(Score(candidate, loss, rms, maximum, inlier, parameters, mean_square, failed))
+        out.append(Score(candidate, loss, rms, maximum, inlier, parameters, mean_square, failed, losses))
+    return _with_standard_errors(out)
+
+
+def _with_standard_errors(scores: list[Score]) -> list[Score]:
+    """Each score with the standard error of its difference from the best, paired sample by
+    sample (the same held-out samples score every candidate)."""
+    from dataclasses import replace
+
+    best = min(scores, key=lambda s: s.loss)
+    out = []
+    for s in scores:
+        d = s.losses - best.losses
+        se = float(np.std(d, ddof=1) / math.sqrt(len(d))) if len(d) > 1 and np.isfinite(d).all() else math.inf
+        out.append(replace(s, standard_error=0.0 if s is best else se))
     return out
 
 
 def _choose(scores: list[Score]) -> Candidate:
-    """The lowest held-out loss; among equal losses, the smaller candidate."""
-    best = min(range(len(scores)), key=lambda k: (scores[k].loss, k))
-    return scores[best].candidate
+    """The smallest candidate whose held-out loss is within one standard error of the lowest (the
+    one-standard-error rule; Hastie, Tibshirani & Friedman, The Elements of Statistical Learning,
+    §7.10): a set that only ties with a smaller one on held-out poses is not shown to be better,
+    and the smaller one moves the URDF less."""
+    best = min(s.loss for s in scores)
+    for s in scores:  # smallest first
+        if s.loss <= best + s.standard_error:
+            return s.candidate
+    return min(scores, key=lambda s: s.loss).candidate
 
 
 def _run_folds(problem: Problem, fit_ladder: FitLadder, folds: list[list[int]]) -> list[_Fold]:

@@ -164,7 +164,10 @@ def parse_spec(section: Any, root: Path) -> tuple[MeasurementSpec | None, list[S
             rotation = _columns(
                 section, "rotation_columns", ROTATION_SIZE[form], default_rotation_columns(form, order), problems
             )
-            convention = PoseConvention(frame, units, form, order, rpy, angles, position, rotation)
+            listed = section.get("rotation_columns") is not None
+            convention = PoseConvention(
+                frame, units, form, order, rpy, angles, position, rotation, columns_listed=listed
+            )
     if convention is not None and len(set(convention.columns)) != len(convention.columns):
         problems.append(SpecProblem(f"observations names a column twice: {list(convention.columns)}"))
     if problems or convention is None:

@@ -239,6 +239,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         len(fitted),
         result.coordinates_per_sample,
         result.motion_deg,
+        result.blocks,
     )
     text = expanded_text(ds.urdf, ds.xacro_args, ds.package_paths)
     corrected = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)

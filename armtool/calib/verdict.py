@@ -15,9 +15,11 @@ assumes the errors the candidate models stay what they are), and says so.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from armtool.calib.crossval import CrossValidation, Score
+from armtool.calib.problems import CORNER, Block
 
 WIDE_RANGE_DEG = 90.0  # a joint turned less than this over the poses leaves its parameters weakly determined
 
@@ -38,6 +40,7 @@ def judge(
     fit_samples: int,
     coordinates_per_sample: float,
     motion_deg: dict[str, float],
+    blocks: Sequence[Block] = (CORNER,),
 ) -> Verdict:
     """The verdict on a fit of `chosen_name` (what `calibrate` fitted) given its cross-validation."""
     if crossval is None:
@@ -54,7 +57,12 @@ def judge(
     best = min(kinematic, key=lambda s: s.loss) if kinematic else None
     k = crossval.folds
     if not chosen_is_nominal and chosen.loss < nominal.loss:
-        return Verdict(True, True, f"{chosen_name} predicts held-out poses better than the nominal robot ({k}-fold)")
+        return Verdict(
+            True,
+            True,
+            f"{chosen_name} predicts held-out poses better than the nominal robot ({k}-fold): "
+            f"{_figures(chosen, blocks)} against {_figures(nominal, blocks)} RMS with hand-eye only",
+        )
     if best is None:
         return Verdict(
             False, True, "no kinematic parameter set could be fitted on the training folds", _kind(motion_deg)
@@ -62,12 +70,14 @@ def judge(
     if chosen_is_nominal:
         summary = (
             f"no kinematic calibration beats the nominal robot on held-out poses ({k}-fold): "
-            f"the best, {best.candidate.name}, scores {best.loss:.3g} against {nominal.loss:.3g} for hand-eye only"
+            f"the best, {best.candidate.name}, {_figures(best, blocks)} against {_figures(nominal, blocks)} RMS "
+            f"with hand-eye only (score {best.loss:.3g} against {nominal.loss:.3g}, standard error {best.standard_error:.2g})"
         )
     else:
         summary = (
             f"{chosen_name} predicts held-out poses worse than the nominal robot ({k}-fold): "
-            f"it scores {chosen.loss:.3g} against {nominal.loss:.3g} for hand-eye only"
+            f"{_figures(chosen, blocks)} against {_figures(nominal, blocks)} RMS with hand-eye only "
+            f"(score {chosen.loss:.3g} against {nominal.loss:.3g})"
         )
     needed = poses_needed(nominal, best, fit_samples, k, coordinates_per_sample)
     if needed is None:
@@ -97,6 +107,15 @@ def poses_needed(nominal: Score, best: Score, samples: int, folds: int, per_samp
     coordinates = (p1 * s1 - p0 * s0) / (s0 - s1)  # where s0 (1 + p0/n) = s1 (1 + p1/n)
     fit_poses = coordinates / per_sample
     return max(samples + 1, math.ceil(fit_poses * folds / (folds - 1)))
+
+
+def _figures(score: Score, blocks: Sequence[Block]) -> str:
+    """'1.95 px' or '1.57 mm, 0.22°': a candidate's held-out RMS per block."""
+    parts = []
+    for b in blocks:
+        value = score.rms.get(b.name, math.nan)
+        parts.append(f"{value:.2f}°" if b.unit == "deg" else f"{value:.2f} {b.unit}")
+    return ", ".join(parts)
 
 
 def _kind(motion_deg: dict[str, float]) -> str:
