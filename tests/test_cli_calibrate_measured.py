@@ -139,3 +139,34 @@ def test_a_correct_urdf_is_not_rewritten_and_fit_exits_1(tmp_path: Path) -> None
     )
     assert forced.exit_code == 1 and not (out / "calibrated.urdf").exists()
     assert "predicts held-out poses worse than the nominal robot" in json.loads(forced.stdout)["verdict"]["summary"]
+
+
+def test_a_validation_dataset_in_its_own_conventions(tmp_path: Path) -> None:
+    # A second session of the same setup, written by another script (metres, rotation matrices,
+    # board-in-camera): each file is read in its own conventions, and only the kind must match.
+    m = make_measured(CHAIN, "pose", n=40, noise_mm=0.1, noise_deg=0.02, seed=15)
+    ds = write_dataset(tmp_path / "ds", m, rotation="quaternion", units="mm")
+    other = make_measured(CHAIN, "pose", n=12, noise_mm=0.1, noise_deg=0.02, seed=15)  # the same robot and placements
+    from armtool.calib.conventions import PoseFrame
+
+    vds = write_dataset(tmp_path / "vds", other, rotation="matrix", units="m", frame=PoseFrame.TARGET_IN_SENSOR)
+    args = [
+        "calibrate",
+        "fit",
+        str(ds),
+        "-o",
+        str(tmp_path / "out"),
+        "--validation",
+        str(vds),
+        "--folds",
+        "0",
+        "--format",
+        "json",
+    ]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    metrics = json.loads(result.stdout)["metrics"]
+    assert metrics["holdout_rms_mm"]["calibrated"] < 0.3 < 1.0 < metrics["holdout_rms_mm"]["hand_eye_only"]
+    points = write_dataset(tmp_path / "pts", make_measured(CHAIN, "point", n=12, seed=16))
+    refused = armtool("calibrate", "fit", str(ds), "-o", str(tmp_path / "o2"), "--validation", str(points))
+    assert refused.returncode == 2 and "observations (kind, sensor or target)" in refused.stderr

@@ -7,8 +7,8 @@ guessed; `alternatives` lists the readings that a mistake in one or more of them
 (what `convention_check` tries when the residual is implausible).
 
 Rotations are built with plain matrices so that the order is visible: `rpy_order: zyx` is the
-product R = Rz(yaw)·Ry(pitch)·Rx(roll) (URDF, ROS tf, Pinocchio, KUKA's A B C, Fanuc's W P R),
-`xyz` is R = Rx(roll)·Ry(pitch)·Rz(yaw) (Stäubli). Roll, pitch and yaw always turn about x, y and z.
+product R = Rz(yaw)·Ry(pitch)·Rx(roll) (URDF, ROS tf, Pinocchio, UFactory's xArm manual), `xyz`
+is R = Rx(roll)·Ry(pitch)·Rz(yaw). Roll, pitch and yaw always turn about x, y and z.
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ class RotationForm(str, Enum):
 
 class QuaternionOrder(str, Enum):
     XYZW = "xyzw"  # ROS, Eigen's coeffs(), SciPy
-    WXYZ = "wxyz"  # Eigen's constructor, MATLAB, ABB, Pinocchio's XYZQUAT is xyzw
+    WXYZ = "wxyz"  # Eigen's constructor, MATLAB, ABB (Pinocchio's XYZQUAT is xyzw)
 
 
 RPY_ORDERS = ("zyx", "xyz", "zxy", "yxz", "yzx", "xzy")  # the product's axes, left to right
