@@ -15,7 +15,6 @@ convention check says of the same file read inverted.
 from __future__ import annotations
 
 import argparse
-import glob
 import json
 import math
 import os
@@ -34,24 +33,11 @@ JOINTS = [f"panda_joint{i}" for i in range(1, 8)]
 
 
 def panda_urdf() -> Path:
-    hits = glob.glob(
-        os.path.join(
-            sys.prefix,
-            "lib",
-            "python*",
-            "site-packages",
-            "cmeel.prefix",
-            "share",
-            "example-robot-data",
-            "robots",
-            "panda_description",
-            "urdf",
-            "panda.urdf",
-        )
-    )
-    if not hits:
-        sys.exit("example-robot-data is not installed: pip install example-robot-data")
-    return Path(hits[0])
+    from calib_bench import (
+        robot_file,
+    )  # the benchmarks' way to example-robot-data (this script's directory is on sys.path)
+
+    return robot_file("panda_description/urdf/panda.urdf")
 
 
 def write_manifest(directory: Path, data: Path, pose: str = "sensor_in_target") -> Path:

@@ -16,7 +16,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from armtool.calib.choices import Setup
 from armtool.calib.conventions import PointConvention, PoseConvention
@@ -173,31 +172,11 @@ def _reading(
 def _frames_fit(problem: Problem) -> Array:
     """The measurement frames fitted with the nominal robot, residuals weighted by a good
     sensor's noise (1 mm, 0.1°) and a soft-L1 loss so that a few bad samples do not decide."""
+    from armtool.calib.fit import solve
+
     sigma = np.array([SCALE_MM * 1e-3 if b.name == "position" else math.radians(SCALE_DEG) for b in problem.blocks])
     weighted = problem.with_sigma(sigma)
-    free = weighted.frame_parameters()
-    x0 = np.zeros(weighted.model.size)
-
-    def fun(z: Array) -> Array:
-        x = x0.copy()
-        x[free] = z
-        return weighted.residuals(x)
-
-    def jac(z: Array) -> Array:
-        x = x0.copy()
-        x[free] = z
-        return weighted.jacobian(x, free)
-
-    res = least_squares(
-        fun,
-        x0[free],
-        jac=jac,
-        method="trf",
-        loss="soft_l1",
-        f_scale=3.0,
-        x_scale=np.full(len(free), 1e-3),
-        max_nfev=MAX_STEPS,
+    x, _n = solve(
+        weighted, np.zeros(weighted.model.size), weighted.frame_parameters(), robust=True, knee=3.0, max_nfev=MAX_STEPS
     )
-    x: Array = x0.copy()
-    x[free] = res.x
     return x

@@ -73,6 +73,7 @@ class Dataset:
     package_paths: list[Path] = field(default_factory=list)  # robot.package_paths, resolved against the dataset
     measurement: MeasurementSpec | None = None  # `observations:`: measured poses or points instead of images
     measured_rows: dict[str, tuple[int, Array]] = field(default_factory=dict)  # sample id -> (line, raw values)
+    joint_columns: dict[str, str] = field(default_factory=dict)  # robot.joint_columns: joint -> its column in samples
 
     def robot_sources(
         self, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None
@@ -211,6 +212,25 @@ def _robot_sources(
     return args, paths
 
 
+def _joint_columns(doc: dict[str, Any], where: str, problems: list[Problem]) -> dict[str, str]:
+    """robot.joint_columns: {URDF joint: its column in the samples file}, for files whose columns
+    are named otherwise (q1, q2, ...)."""
+    robot = doc.get("robot") if isinstance(doc.get("robot"), dict) else {}
+    raw = robot.get("joint_columns") if isinstance(robot, dict) else None
+    if raw is None:
+        return {}
+    if not isinstance(raw, dict) or not all(isinstance(k, str) and isinstance(v, (str, int)) for k, v in raw.items()):
+        problems.append(
+            Problem(
+                where,
+                f"robot.joint_columns must map joint names to column names, got {raw!r}",
+                "e.g. joint_columns: {joint1: q1, joint2: q2}",
+            )
+        )
+        return {}
+    return {k: str(v) for k, v in raw.items()}
+
+
 def _measurement(doc: dict[str, Any], root: Path, where: str, problems: list[Problem]) -> MeasurementSpec | None:
     """`observations:` (measured poses or points), or None for a dataset of images or corners."""
     if "observations" not in doc:
@@ -327,6 +347,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     intrinsics = file_in_root(intr_name, "camera.intrinsics")
     samples_path = file_in_root(samples_name, "samples")
     xacro_args, package_paths = _robot_sources(doc, root, where, problems)
+    joint_columns = _joint_columns(doc, where, problems)
     hints: dict[str, Array] = {}
     raw_hints = doc.get("hints") or {}
     if not isinstance(raw_hints, dict):
@@ -376,6 +397,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     )
     ds.samples_file = samples_path
     ds.measurement = measurement
+    ds.joint_columns = joint_columns
     if measurement is not None and (why := unreadable_reason(measurement.file)) is not None:
         problems.append(
             Problem(
@@ -402,6 +424,13 @@ def read_samples(ds: Dataset, chain_joint_names: list[str] | None = None) -> Non
         _read_measurements(ds, spec)
 
 
+def _measured_in_samples(ds: Dataset) -> bool:
+    """The measurements are in the samples file itself: its rows may then go without an id (their
+    line number is one), as FIGAROH's calibration CSVs do."""
+    spec = ds.measurement
+    return spec is not None and ds.samples_file is not None and _resolve(spec.file) == _resolve(ds.samples_file)
+
+
 def _read_measurements(ds: Dataset, spec: MeasurementSpec) -> None:
     """The measured poses or points (`observations.file`), each bad row a problem at its line,
     and a warning for each sample that has no row."""
@@ -414,7 +443,7 @@ def _read_measurements(ds: Dataset, spec: MeasurementSpec) -> None:
     if text is None:
         return
     try:
-        rows, found = read_rows(text, spec, {s.id for s in ds.samples})
+        rows, found = read_rows(text, spec, {s.id for s in ds.samples}, by_line=_measured_in_samples(ds))
     except csv_module.Error as exc:
         ds.problems.append(_csv_problem(exc, where, text))
         return
@@ -455,22 +484,24 @@ def _sample_rows(ds: Dataset, handle: io.StringIO, where: str, chain_joint_names
         ds.problems.append(Problem(where, "samples.csv is empty", "one row per pose: id,image,<joint names>"))
         return
     header = [h.strip() for h in header]
-    if "id" not in header:
+    if "id" not in header and not _measured_in_samples(ds):
         ds.problems.append(Problem(f"{where}:1", "no 'id' column", "the header must start with id,image,<joint names>"))
         return
     names = chain_joint_names if chain_joint_names is not None else ds.joints
-    missing = [n for n in names if n not in header]
+    column_of = {n: ds.joint_columns.get(n, n) for n in names}
+    missing = [column_of[n] for n in names if column_of[n] not in header]
     if missing:
         ds.problems.append(
             Problem(
                 f"{where}:1",
                 f"joint column(s) missing: {', '.join(missing)}",
-                "the header names URDF joints: " + ", ".join(names),
+                "the header names URDF joints: " + ", ".join(names) + " (or map them with robot.joint_columns)",
             )
         )
         return
     measured = set(ds.measurement.columns) if ds.measurement is not None else set()
-    unknown = [h for h in header if h not in ("id", "image") and h not in names and h not in measured]
+    known = {"id", "image", *column_of.values(), *measured}
+    unknown = [h for h in header if h not in known]
     if unknown and chain_joint_names is not None:
         from armtool.suggest import did_you_mean
 
@@ -483,8 +514,8 @@ def _sample_rows(ds: Dataset, handle: io.StringIO, where: str, chain_joint_names
                     severity="warning" if u not in ds.joints else "error",
                 )
             )
-    cols = [header.index(n) for n in names]
-    id_col = header.index("id")
+    cols = [header.index(column_of[n]) for n in names]
+    id_col = header.index("id") if "id" in header else None  # then a row's id is its line number
     image_col = header.index("image") if "image" in header else None
     seen: set[str] = set()
     for line, row in enumerate(reader, start=2):
@@ -502,7 +533,7 @@ def _sample_rows(ds: Dataset, handle: io.StringIO, where: str, chain_joint_names
         if len(row) < len(header):
             ds.problems.append(Problem(f"{where}:{line}", f"{len(row)} values, header has {len(header)}"))
             continue
-        sid = row[id_col].strip()
+        sid = row[id_col].strip() if id_col is not None else str(line)
         if sid in seen:
             ds.problems.append(Problem(f"{where}:{line}", f"duplicate id '{sid}'"))
             continue

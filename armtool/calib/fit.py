@@ -149,7 +149,12 @@ def _floor(problem: Problem, options: FitOptions) -> float:
     return options.outlier_floor_sigma
 
 
-def _solve(problem: Problem, x0: Array, free: list[int], robust: bool, knee: float = 1.0) -> tuple[Array, int]:
+def solve(
+    problem: Problem, x0: Array, free: list[int], robust: bool, knee: float = 1.0, max_nfev: int | None = None
+) -> tuple[Array, int]:
+    """`free` fitted from x0 (the rest held): soft-L1 with the knee (noise-weighted units) when
+    robust, else Levenberg–Marquardt; (x, function evaluations)."""
+
     def fun(z: Array) -> Array:
         x = x0.copy()
         x[free] = z
@@ -172,10 +177,10 @@ def _solve(problem: Problem, x0: Array, free: list[int], robust: bool, knee: flo
             loss="soft_l1" if robust else "linear",
             f_scale=knee,
             x_scale=scale,
-            max_nfev=200,
+            max_nfev=max_nfev or 200,
         )
     else:
-        res = least_squares(fun, x0[free], jac=jac, method="lm", x_scale=scale, max_nfev=400)
+        res = least_squares(fun, x0[free], jac=jac, method="lm", x_scale=scale, max_nfev=max_nfev or 400)
     x = x0.copy()
     x[free] = res.x
     return x, int(res.nfev)
@@ -191,7 +196,7 @@ def _settle(
     scale_free = len(problem.blocks) == 1 and (not robust or problem.blocks == (CORNER,))
     for _round in range(noise.ROUNDS):
         sub = problem if rows is None else problem.subset(rows)
-        x, n = _solve(sub, x, free, robust, _knee(sub, options))
+        x, n = solve(sub, x, free, robust, _knee(sub, options))
         nfev += n
         sigma = noise.estimate(problem, x, len(free), rows)
         done = scale_free or noise.settled(problem.sigma, sigma)
@@ -237,7 +242,7 @@ def fit_set(
     limit = np.full(len(problem.blocks), math.inf)
     for _round in range(ROBUST_ROUNDS):
         sub = problem.subset(inliers)
-        x, n = _solve(sub, x, free, robust=True, knee=_knee(sub, options))
+        x, n = solve(sub, x, free, robust=True, knee=_knee(sub, options))
         nfev += n
         problem = problem.with_sigma(noise.estimate(problem, x, len(free), inliers))
         z = _studentized_block_rms(problem, x, free, inliers)
@@ -418,7 +423,7 @@ def _calibrate(
 
     say("hand-eye-only fit on the inliers")
     final = problem.subset(fitted.inliers)
-    x_he, n = _solve(final, x_start, frames, robust=False)
+    x_he, n = solve(final, x_start, frames, robust=False)
     nfev += n
     sigma = _sigma(final, x, free)
 

@@ -183,18 +183,25 @@ class RowProblem:
 
 
 def read_rows(
-    text: str, spec: MeasurementSpec, sample_ids: set[str]
+    text: str, spec: MeasurementSpec, sample_ids: set[str], by_line: bool = False
 ) -> tuple[dict[str, tuple[int, Array]], list[RowProblem]]:
     """The measurement values of every row (sample id → (line, values in the file's units and
-    column order)), and each bad row's problem. Raises csv.Error on broken CSV syntax."""
+    column order)), and each bad row's problem. Raises csv.Error on broken CSV syntax. With
+    `by_line` (the measurements are in the samples file itself) a file without an `id` column
+    numbers its rows by line, as the samples were."""
     problems: list[RowProblem] = []
     rows: dict[str, tuple[int, Array]] = {}
     with io.StringIO(text, newline="") as handle:
         reader = csv.reader(handle)
         header = [h.strip() for h in next(reader, [])]
-        if "id" not in header:
+        if "id" not in header and not by_line:
             return rows, [
-                RowProblem(1, "no 'id' column", "the header names the sample id column 'id', as in samples.csv")
+                RowProblem(
+                    1,
+                    "no 'id' column",
+                    "name each row's sample in an 'id' column, as in the samples file, or put the measurements "
+                    "in the samples file itself (its rows are then matched by line)",
+                )
             ]
         missing = [c for c in spec.columns if c not in header]
         if missing:
@@ -205,7 +212,8 @@ def read_rows(
                     "name them in observations.position_columns / rotation_columns",
                 )
             ]
-        id_col, cols = header.index("id"), [header.index(c) for c in spec.columns]
+        id_col = header.index("id") if "id" in header else None
+        cols = [header.index(c) for c in spec.columns]
         for line, row in enumerate(reader, start=2):
             if not row or all(not c.strip() for c in row):
                 continue
@@ -215,7 +223,7 @@ def read_rows(
             if len(row) < len(header):
                 problems.append(RowProblem(line, f"{len(row)} values, header has {len(header)}"))
                 continue
-            sid = row[id_col].strip()
+            sid = row[id_col].strip() if id_col is not None else str(line)
             if sid in rows:
                 problems.append(RowProblem(line, f"duplicate id '{sid}'"))
                 continue

@@ -109,3 +109,32 @@ def test_joints_and_measurements_in_one_file(tmp_path: Path, clean_chain: Chain)
     ds, _chain, _camera = load_inputs(path)
     assert not ds.problems, ds.problems
     assert len(ds.measured_rows) == 4
+
+
+def test_one_file_without_ids_and_with_its_own_joint_names(tmp_path: Path, clean_chain: Chain) -> None:
+    # Joints named q1..q6 and the measurement in the same CSV, no id column (FIGAROH's layout):
+    # robot.joint_columns maps the names, and the rows are matched by line.
+    m = make_measured(clean_chain, n=5)
+    path = write_dataset(tmp_path / "ds", m)
+    joints = (path / "joints.csv").read_text().splitlines()
+    poses = (path / "poses.csv").read_text().splitlines()
+    header = ",".join(f"q{i + 1}" for i in range(clean_chain.n)) + "," + ",".join(poses[0].split(",")[1:])
+    body = [",".join(a.split(",")[1:] + b.split(",")[1:]) for a, b in zip(joints[1:], poses[1:])]
+    (path / "all.csv").write_text("\n".join([header, *body]) + "\n")
+    doc = _manifest(path)
+    doc["samples"] = doc["observations"]["file"] = "all.csv"
+    doc["robot"]["joint_columns"] = {name: f"q{i + 1}" for i, name in enumerate(clean_chain.joint_names)}
+    (path / "dataset.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    ds, _chain, _camera = load_inputs(path)
+    assert not ds.problems, ds.problems
+    assert [s.id for s in ds.samples] == ["2", "3", "4", "5", "6"]
+    measured = dataset_measurements(ds.measurement, ds.measured_rows)  # type: ignore[arg-type]
+    assert np.allclose(measured.poses["2"], m.measurements.poses["0"], atol=1e-9)  # type: ignore[attr-defined]
+
+
+def test_two_files_without_ids_are_refused(tmp_path: Path, clean_chain: Chain) -> None:
+    path = write_dataset(tmp_path / "ds", make_measured(clean_chain, n=4))
+    text = (path / "poses.csv").read_text().splitlines()
+    (path / "poses.csv").write_text("\n".join(",".join(line.split(",")[1:]) for line in text) + "\n")
+    ds, _chain, _camera = load_inputs(path)
+    assert any(p.where == "ds/poses.csv:1" and p.what == "no 'id' column" for p in ds.errors)
