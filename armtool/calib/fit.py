@@ -125,6 +125,7 @@ class CalibrationResult:
     crossval: CrossValidation | None = None
     motion_deg: dict[str, float] = field(default_factory=dict)  # each joint's range over the fit poses
     coordinates_per_sample: float = 8.0  # measured coordinates per fit sample (8 for a tag's corners, 6 for a pose)
+    fit_samples: int = 0  # samples the fit (and its cross-validation) used, outliers included
 
     def fitted_frames(self, handeye: bool = False) -> tuple[Array, Array]:
         return self.model.frames(self.x_handeye if handeye else self.x)
@@ -486,9 +487,9 @@ def _calibrate(
         candidate=chosen,
         candidates=candidates,
         crossval=crossval,
-        motion_deg={name: math.degrees(float(m)) for name, m in zip(model.chain.joint_names, np.ptp(Q, axis=0))}
-        if len(Q)
-        else {},
+        motion_deg={name: math.degrees(float(m)) for name, m in zip(model.chain.joint_names, np.ptp(Q, axis=0))},
+        coordinates_per_sample=problem.coordinates / max(problem.samples, 1),
+        fit_samples=problem.samples,
     )
 
 

@@ -229,14 +229,11 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     from armtool.calib.verdict import judge
 
     request, ds = job.request, job.dataset
-    fitted = [
-        r for r in result.residuals if r.role in ("fit", "outlier") and not r.sample_id.startswith(VALIDATION_PREFIX)
-    ]
     verdict = judge(
         result.crossval,
         result.candidate.name,
         result.candidate.is_nominal,
-        len(fitted),
+        result.fit_samples,
         result.coordinates_per_sample,
         result.motion_deg,
         result.blocks,

@@ -82,8 +82,9 @@ def judge(
     needed = poses_needed(nominal, best, fit_samples, k, coordinates_per_sample)
     if needed is None:
         advice = (
-            "more poses of the same kind will not help: the kinematic parameters do not explain the nominal model's "
-            "residual; check the joint readings, the measurements and the nominal URDF"
+            "more poses of the same kind will not help: the kinematic parameters explain nothing the nominal robot "
+            "does not (its URDF may be right within the measurement noise); if the residual is well above your "
+            "sensor's noise, check the joint readings and the measurements"
         )
     else:
         advice = (

@@ -33,6 +33,7 @@ def test_poses_give_the_true_robot_and_their_noise(clean_chain: Chain, setup: Se
     assert result.noise["rotation"] == pytest.approx(0.02, rel=0.2)
     assert len(result.free) == 4 * clean_chain.n + 6  # Everett, Driels & Mooring, as for tag corners
     assert not result.outliers
+    assert (result.coordinates_per_sample, result.fit_samples) == (6.0, 80)  # what the verdict's pose estimate uses
 
 
 def test_the_fitted_placements_are_the_true_ones_within_their_sigma(clean_chain: Chain) -> None:
