@@ -9,15 +9,16 @@ corners in pixels, measured poses, measured points; see `problems`):
 4. Identifiability of the requested parameters on the fit poses (`identify.analyse`); a fit that
    cannot separate the frames, or lacks data, is refused (`_check_identified`, `_check_enough_data`).
 5. Which parameter set to fit: the ladder's candidates are scored by k-fold cross-validation and
-   the best held-out one is chosen (`crossval`); nested, the figure reported is that of the whole
-   procedure on poses it never saw.
+   the smallest within one standard error of the best held-out score is chosen (`crossval`);
+   nested, the figure reported is that of the whole procedure on poses it never saw.
 6. Robust fit (soft-L1) of the chosen set's identifiable parameters; samples whose residual
    stands out are named and removed (`fit_set`); then plain Levenberg–Marquardt on the inliers,
    the noise re-estimated, and the parameters' σ (`_sigma`).
 7. Which zero offsets are physical (`zero_offsets.analyse_offsets`), the held-out samples scored
-   by the same outlier rule (`_score_holdout`), what the numbers cannot say (`_fit_warnings`) and
-   whether the calibration beats the nominal robot at all (`verdict.judge`).
-The Jacobian is by central differences on the model, which is smooth (`Problem.jacobian`).
+   by the same outlier rule (`_score_holdout`) and what the numbers cannot say (`_fit_warnings`);
+   whether the calibration beats the nominal robot at all is `verdict.judge`'s, from the result.
+The Jacobian: the residuals' central differences along the six twists of the measured pose,
+times each parameter's twist (`Problem.jacobian`, `CalibModel.twists`).
 """
 
 from __future__ import annotations
