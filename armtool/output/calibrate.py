@@ -178,12 +178,14 @@ def _nested_text(result: CalibrationResult) -> str:
     if cv is None or cv.nested is None:
         return ""
     n = cv.nested
+    dropped = n.samples - n.inliers
+    outliers = f"the {dropped} outlier{'s' if dropped != 1 else ''}"
     parts = []
     for b in result.blocks:
         u = _unit(b)
         parts.append(
             f"{b.name} {n.rms[b.name]:.3f}{u} RMS (max {n.maximum[b.name]:.3f}{u}; "
-            f"{n.inlier_rms[b.name]:.3f}{u} without the {n.samples - n.inliers} outliers) against {n.hand_eye_rms[b.name]:.3f}{u} hand-eye only"
+            f"{n.inlier_rms[b.name]:.3f}{u} without {outliers}) against {n.hand_eye_rms[b.name]:.3f}{u} hand-eye only"
         )
     from armtool.calib.crossval import describe_choices
 
