@@ -23,6 +23,7 @@ DISTRIBUTIONS: dict[str, str] = {
     "pinocchio": "pin",
     "cv2": "opencv-python-headless",
     "numba": "numba",
+    "threadpoolctl": "threadpoolctl",
     "serial": "pyserial",
     "dynamixel_sdk": "dynamixel-sdk",
     "rosbags": "rosbags",
@@ -37,7 +38,8 @@ MODULES: dict[Extra, tuple[str, ...]] = {
         "pinocchio",
         "cv2",
         "rosbags",
-    ),  # pinocchio: fit's URDF check, simulate's IK; rosbags: import-bag
+        "threadpoolctl",
+    ),  # pinocchio: fit's URDF check, simulate's IK; rosbags: import-bag; threadpoolctl: fit's small matrices
     "servo": ("numpy", "scipy", "serial", "dynamixel_sdk"),  # servo-sim needs none of them
     "traj": ("numpy", "scipy", "pinocchio", "numba", "cv2"),  # lm for IK, cv2 for the PNGs
 }
@@ -46,6 +48,7 @@ MODULES: dict[Extra, tuple[str, ...]] = {
 _HOME: dict[str, Extra] = {
     "pinocchio": "ik",
     "numba": "ik",
+    "threadpoolctl": "calib",
     "cv2": "calib",
     "serial": "servo",
     "dynamixel_sdk": "servo",

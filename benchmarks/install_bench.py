@@ -60,6 +60,7 @@ HEAVY = {
     "dynamixel-sdk",
     "pyserial",
     "numba",
+    "threadpoolctl",
     "llvmlite",
 }
 

@@ -40,6 +40,7 @@ HEAVY_DISTRIBUTIONS = {
     "yourdfpy",
     "trimesh",
     "numba",
+    "threadpoolctl",
     "llvmlite",
     "dynamixel-sdk",
     "pyserial",

@@ -27,6 +27,7 @@ from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
     from armtool.calib.boards import BoardSpec
+    from armtool.calib.measured import MeasurementSpec
     from armtool.model.chain import Chain
 
 FORMAT = "armtool-calib-dataset/1"
@@ -72,6 +73,9 @@ class Dataset:
     xacro_args: dict[str, str] = field(default_factory=dict)  # robot.xacro_args: for a .xacro robot.urdf
     package_paths: list[Path] = field(default_factory=list)  # robot.package_paths, resolved against the dataset
     board: BoardSpec | None = None  # target.board: a board instead of one AprilTag (family, tag_id, size_m unused)
+    measurement: MeasurementSpec | None = None  # `observations:`: measured poses or points instead of images
+    measured_rows: dict[str, tuple[int, Array]] = field(default_factory=dict)  # sample id -> (line, raw values)
+    joint_columns: dict[str, str] = field(default_factory=dict)  # robot.joint_columns: joint -> its column in samples
 
     def robot_sources(
         self, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None
@@ -255,6 +259,36 @@ def _target(
         return None, "", 0, 0.0
 
 
+def _joint_columns(doc: dict[str, Any], where: str, problems: list[Problem]) -> dict[str, str]:
+    """robot.joint_columns: {URDF joint: its column in the samples file}, for files whose columns
+    are named otherwise (q1, q2, ...)."""
+    robot = doc.get("robot") if isinstance(doc.get("robot"), dict) else {}
+    raw = robot.get("joint_columns") if isinstance(robot, dict) else None
+    if raw is None:
+        return {}
+    if not isinstance(raw, dict) or not all(isinstance(k, str) and isinstance(v, (str, int)) for k, v in raw.items()):
+        problems.append(
+            Problem(
+                where,
+                f"robot.joint_columns must map joint names to column names, got {raw!r}",
+                "e.g. joint_columns: {joint1: q1, joint2: q2}",
+            )
+        )
+        return {}
+    return {k: str(v) for k, v in raw.items()}
+
+
+def _measurement(doc: dict[str, Any], root: Path, where: str, problems: list[Problem]) -> MeasurementSpec | None:
+    """`observations:` (measured poses or points), or None for a dataset of images or corners."""
+    if "observations" not in doc:
+        return None
+    from armtool.calib.measured import parse_spec
+
+    spec, found = parse_spec(doc["observations"], root)
+    problems += [Problem(where, p.what, p.hint) for p in found]
+    return spec
+
+
 def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *, with_samples: bool = True) -> Dataset:
     """Read the manifest and samples; problems are collected, not raised (see `require_ok`).
 
@@ -301,14 +335,17 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
                 "armtool expects radians: convert the CSV and set `joint_units: rad`",
             )
         )
-    intr_name = _get(doc, "camera.intrinsics", problems, where)
+    measurement = _measurement(doc, root, where, problems)
+    # A dataset of measured poses or points has no camera or image target: their keys are not looked for.
+    image_problems: list[Problem] = [] if "observations" in doc else problems
+    intr_name = _get(doc, "camera.intrinsics", image_problems, where)
     rectified = (
         (doc.get("camera") or {}).get("images_rectified", False) if isinstance(doc.get("camera"), dict) else False
     )
     if not isinstance(rectified, bool):
-        problems.append(Problem(where, f"camera.images_rectified must be true or false, got {rectified!r}"))
+        image_problems.append(Problem(where, f"camera.images_rectified must be true or false, got {rectified!r}"))
         rectified = False
-    board, family, tag_id, size_m = _target(doc, where, problems)
+    board, family, tag_id, size_m = _target(doc, where, image_problems)
     bad_joints = [j for j in joints if not isinstance(j, str)]
     if bad_joints:
         problems.append(
@@ -336,6 +373,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     intrinsics = file_in_root(intr_name, "camera.intrinsics")
     samples_path = file_in_root(samples_name, "samples")
     xacro_args, package_paths = _robot_sources(doc, root, where, problems)
+    joint_columns = _joint_columns(doc, where, problems)
     hints: dict[str, Array] = {}
     raw_hints = doc.get("hints") or {}
     if not isinstance(raw_hints, dict):
@@ -354,14 +392,14 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
             problems.append(Problem(where, f"hint '{key}' needs xyz: [x, y, z] and rpy: [r, p, y]", severity="warning"))
         else:
             hints[key] = pose
-    corners_name = doc.get("corners")
+    corners_name = doc.get("corners") if "observations" not in doc else None
     if corners_name is not None and not isinstance(corners_name, str):
         problems.append(
             Problem(where, f"'corners' must be a file name, got {corners_name!r}", "e.g. corners: corners.csv")
         )
         corners_name = None
     corners_file = _resolve(root / corners_name) if corners_name else None
-    if corners_file is None and (root / "corners.csv").is_file():
+    if corners_file is None and "observations" not in doc and (root / "corners.csv").is_file():
         corners_file = _resolve(root / "corners.csv")
     if corners_file is not None and board is not None:
         problems.append(
@@ -394,6 +432,14 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
         board=board,
     )
     ds.samples_file = samples_path
+    ds.measurement = measurement
+    ds.joint_columns = joint_columns
+    if measurement is not None and (why := unreadable_reason(measurement.file)) is not None:
+        problems.append(
+            Problem(
+                where, f"observations.file '{measurement.file.name}' {why}", f"put the file in {root} or fix the path"
+            )
+        )
     if corners_file is not None and (why := unreadable_reason(corners_file)) is not None:
         problems.append(Problem(where, f"corners file '{corners_name or corners_file.name}' {why}"))
     if with_samples:
@@ -409,6 +455,47 @@ def read_samples(ds: Dataset, chain_joint_names: list[str] | None = None) -> Non
             _check_samples(ds, _rel(ds.root, samples))
     if corners is not None and unreadable_reason(corners) is None:
         _read_csv(ds, corners, lambda handle, where: _corner_rows(ds, handle, where))
+    spec = ds.measurement
+    if spec is not None and unreadable_reason(spec.file) is None:
+        _read_measurements(ds, spec)
+
+
+def _measured_in_samples(ds: Dataset) -> bool:
+    """The measurements are in the samples file itself: its rows may then go without an id (their
+    line number is one), as FIGAROH's calibration CSVs do."""
+    spec = ds.measurement
+    return spec is not None and ds.samples_file is not None and _resolve(spec.file) == _resolve(ds.samples_file)
+
+
+def _read_measurements(ds: Dataset, spec: MeasurementSpec) -> None:
+    """The measured poses or points (`observations.file`), each bad row a problem at its line,
+    and a warning for each sample that has no row."""
+    import csv as csv_module
+
+    from armtool.calib.measured import read_rows
+
+    where = _rel(ds.root, spec.file)
+    text = _text(spec.file, where, ds.problems)
+    if text is None:
+        return
+    try:
+        rows, found = read_rows(text, spec, {s.id for s in ds.samples}, by_line=_measured_in_samples(ds))
+    except csv_module.Error as exc:
+        ds.problems.append(_csv_problem(exc, where, text))
+        return
+    ds.problems += [Problem(f"{where}:{p.line}", p.what, p.hint) for p in found]
+    ds.measured_rows = rows
+    missing = [s for s in ds.samples if s.id not in rows]
+    for s in missing[:20]:
+        ds.problems.append(
+            Problem(
+                _rel(ds.root, ds.samples_file) + f":{s.row}" if ds.samples_file else where,
+                f"sample {s.id} has no usable row in {spec.file.name}",
+                severity="warning",
+            )
+        )
+    if len(missing) > 20:
+        ds.problems.append(Problem(where, f"… and {len(missing) - 20} more samples without a row", severity="warning"))
 
 
 def _read_csv(ds: Dataset, path: Path, parse: Callable[[io.StringIO, str], None]) -> bool:
@@ -433,21 +520,24 @@ def _sample_rows(ds: Dataset, handle: io.StringIO, where: str, chain_joint_names
         ds.problems.append(Problem(where, "samples.csv is empty", "one row per pose: id,image,<joint names>"))
         return
     header = [h.strip() for h in header]
-    if "id" not in header:
+    if "id" not in header and not _measured_in_samples(ds):
         ds.problems.append(Problem(f"{where}:1", "no 'id' column", "the header must start with id,image,<joint names>"))
         return
     names = chain_joint_names if chain_joint_names is not None else ds.joints
-    missing = [n for n in names if n not in header]
+    column_of = {n: ds.joint_columns.get(n, n) for n in names}
+    missing = [column_of[n] for n in names if column_of[n] not in header]
     if missing:
         ds.problems.append(
             Problem(
                 f"{where}:1",
                 f"joint column(s) missing: {', '.join(missing)}",
-                "the header names URDF joints: " + ", ".join(names),
+                "the header names URDF joints: " + ", ".join(names) + " (or map them with robot.joint_columns)",
             )
         )
         return
-    unknown = [h for h in header if h not in ("id", "image") and h not in names]
+    measured = set(ds.measurement.columns) if ds.measurement is not None else set()
+    known = {"id", "image", *column_of.values(), *measured}
+    unknown = [h for h in header if h not in known]
     if unknown and chain_joint_names is not None:
         from armtool.suggest import did_you_mean
 
@@ -460,8 +550,8 @@ def _sample_rows(ds: Dataset, handle: io.StringIO, where: str, chain_joint_names
                     severity="warning" if u not in ds.joints else "error",
                 )
             )
-    cols = [header.index(n) for n in names]
-    id_col = header.index("id")
+    cols = [header.index(column_of[n]) for n in names]
+    id_col = header.index("id") if "id" in header else None  # then a row's id is its line number
     image_col = header.index("image") if "image" in header else None
     seen: set[str] = set()
     for line, row in enumerate(reader, start=2):
@@ -479,7 +569,7 @@ def _sample_rows(ds: Dataset, handle: io.StringIO, where: str, chain_joint_names
         if len(row) < len(header):
             ds.problems.append(Problem(f"{where}:{line}", f"{len(row)} values, header has {len(header)}"))
             continue
-        sid = row[id_col].strip()
+        sid = row[id_col].strip() if id_col is not None else str(line)
         if sid in seen:
             ds.problems.append(Problem(f"{where}:{line}", f"duplicate id '{sid}'"))
             continue

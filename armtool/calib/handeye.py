@@ -68,3 +68,40 @@ def initial_frames(setup: Setup, flanges: Sequence[Array], tags_in_camera: Seque
     R = solve_ax_xb(As, Bs)
     L = average_pose([C[i] @ se3.inv(R) @ se3.inv(F[i]) for i in range(len(C))])
     return L, R
+
+
+def kabsch(a: Array, b: Array) -> Array:
+    """The rigid transform T (4×4) with b_i ≈ T · a_i for point sets a, b (N, 3), least squares."""
+    ca, cb = a.mean(axis=0), b.mean(axis=0)
+    U, _s, Vt = np.linalg.svd((a - ca).T @ (b - cb))
+    D = np.diag([1.0, 1.0, float(np.sign(np.linalg.det(Vt.T @ U.T))) or 1.0])
+    R = Vt.T @ D @ U.T
+    return se3.make(R, cb - R @ ca)
+
+
+def initial_point_frames(setup: Setup, flanges: Array, points: Array, rounds: int = 100) -> tuple[Array, Array]:
+    """(L, R) with p_i ≈ L · F_i^±1 · R's origin, from nominal flange poses (N, 4, 4) and measured
+    points (N, 3): the sensor frame L by Kabsch, the point (R, a translation) by linear least
+    squares, alternated from the point at the flange (or base) origin until they settle.
+
+    Why alternate: each is a closed form when the other is known, and a reflector sits within
+    centimetres of the flange, so the first Kabsch is already close."""
+    G = flanges if setup is Setup.EYE_TO_HAND else se3.inv(flanges)
+    spread = np.linalg.svd(G[:, :3, 3] - G[:, :3, 3].mean(axis=0), compute_uv=False)
+    if len(points) < 3 or spread[0] < 1e-3 or spread[1] < 1e-2 * spread[0]:
+        raise ArmtoolError(
+            "the flange positions do not span a plane: the sensor frame cannot be started from the points",
+            hint="move the arm so that the flange visits positions spread in at least two directions, or give hints: in dataset.yaml",
+        )
+    p: Array = np.zeros(3)
+    L = np.eye(4)
+    A = G[:, :3, :3].reshape(-1, 3)
+    for _round in range(rounds):
+        L = kabsch(G[:, :3, :3] @ p + G[:, :3, 3], points)
+        local = (points - L[:3, 3]) @ L[:3, :3]  # R_Lᵀ (p_i − t_L), row by row
+        new = np.asarray(np.linalg.lstsq(A, (local - G[:, :3, 3]).reshape(-1), rcond=None)[0], dtype=np.float64)
+        done = float(np.linalg.norm(new - p)) < 1e-9
+        p = new
+        if done:
+            break
+    return L, se3.make(t=p)

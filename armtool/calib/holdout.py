@@ -36,26 +36,36 @@ def split_holdout(ids: list[str], fraction: float, seed: int) -> set[str]:
 def check_same_setup(
     ds: Dataset,
     chain: Chain,
-    camera: CameraModel,
+    camera: CameraModel | None,
     vds: Dataset,
     vchain: Chain | None,
     vcamera: CameraModel | None,
     where: Path,
 ) -> None:
-    """A validation dataset must share the robot chain, setup, camera and tag, or its residuals mean nothing."""
+    """A validation dataset must share the robot chain, setup, camera and tag (or the measured
+    kind and its conventions), or its residuals mean nothing."""
     differences = []
     if vchain is None or vchain.joint_names != chain.joint_names:
         differences.append("robot chain (joints)")
     if vds.setup != ds.setup:
         differences.append(f"setup ({vds.setup.value} vs {ds.setup.value})")
-    if (
+    if ds.measurement is not None or vds.measurement is not None:
+        mine, theirs = ds.measurement, vds.measurement
+        if (
+            mine is None
+            or theirs is None
+            or (mine.kind, mine.sensor, mine.target) != (theirs.kind, theirs.sensor, theirs.target)
+        ):
+            differences.append("observations (kind, sensor or target)")
+    elif camera is None or (
         vcamera is None
         or (vcamera.width, vcamera.height) != (camera.width, camera.height)
         or not np.allclose(vcamera.K, camera.K)
         or not np.allclose(np.resize(vcamera.dist, 5), np.resize(camera.dist, 5))
     ):
         differences.append("camera intrinsics")
-    if (vds.family, vds.tag_id, vds.size_m, vds.board) != (ds.family, ds.tag_id, ds.size_m, ds.board):
+    same_target = (vds.family, vds.tag_id, vds.size_m, vds.board) == (ds.family, ds.tag_id, ds.size_m, ds.board)
+    if ds.measurement is None and not same_target:
         differences.append("target (family, id or size, or board)")
     if differences:
         raise ArmtoolError(

@@ -12,10 +12,12 @@ The parameter vector holds only corrections, so 0 is the nominal robot.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import NDArray
 
 from armtool.calib import se3
 from armtool.calib.choices import Setup
@@ -33,6 +35,8 @@ class CalibModel:
     L0: Array  # nominal left frame: cMb (eye-to-hand) or cMf (eye-in-hand)
     R0: Array  # nominal right frame: fMt (eye-to-hand) or bMt (eye-in-hand)
     params: list[Parameter] = field(default_factory=list)
+    sensor: str = "camera"  # what measures (camera, tracker, ...): names the left frame's parameters
+    target: str = "tag"  # what is measured (tag, board, point, ...): names the right frame's
 
     def __post_init__(self) -> None:
         if not self.params:
@@ -40,11 +44,18 @@ class CalibModel:
 
     @property
     def left_name(self) -> str:
-        return "camera" if self.setup is Setup.EYE_TO_HAND else "camera_in_flange"
+        return self.sensor if self.setup is Setup.EYE_TO_HAND else f"{self.sensor}_in_flange"
 
     @property
     def right_name(self) -> str:
-        return "tag" if self.setup is Setup.EYE_TO_HAND else "tag_in_base"
+        return self.target if self.setup is Setup.EYE_TO_HAND else f"{self.target}_in_base"
+
+    def frame_names(self) -> tuple[str, str]:
+        """The fitted placements as calibration.yaml and the hints name them: the sensor's pose
+        (`camera_in_base`, `camera_in_flange`) and the target's (`tag_in_flange`, `tag_in_base`)."""
+        if self.setup is Setup.EYE_TO_HAND:
+            return f"{self.sensor}_in_base", f"{self.target}_in_flange"
+        return f"{self.sensor}_in_flange", f"{self.target}_in_base"
 
     def _layout(self) -> list[Parameter]:
         joints = [(j.name, j.kind == "prismatic") for j in self.chain.joints]
@@ -105,6 +116,76 @@ class CalibModel:
         out: Array = L @ F @ R
         return out
 
+    def twists(self, x: Array, Q: Array, indices: Sequence[int]) -> tuple[Array, Array]:
+        """cMt (N, 4, 4), and how each parameter moves it, as a twist on its left: (N, 6, len(indices)),
+        per unit of the parameter, (v, ω) as `se3.delta` orders them: cMt(x + dx·e_i) ≈ exp(dx·ε̂_i) · cMt(x).
+
+        Why: every measurement depends on the parameters only through cMt, so the fit's Jacobian
+        is (residuals per left twist of cMt, 6 columns by central differences) × these twists:
+        its cost barely grows with the number of parameters. Each parameter's twist is its
+        factor's derivative carried to the left of the chain by the adjoint of what precedes it.
+        """
+        layout, parts = self.layout, self.split(x)
+        n, N = self.chain.n, Q.shape[0]
+        wanted = np.asarray(indices, dtype=np.intp)
+        origins = [j.origin @ se3.delta(parts.origin[i]) for i, j in enumerate(self.chain.joints)]
+        prefix = [np.broadcast_to(np.eye(4), (N, 4, 4))]  # prefix[i]: the chain up to joint i's origin
+        for i in range(n):
+            prefix.append(prefix[i] @ origins[i] @ self._motion(i, parts.gain_error[i], parts.offset[i], Q[:, i]))
+        F = prefix[n] @ self.chain.tip_offset
+        L, R = self.frames(x)
+        if self.setup is Setup.EYE_TO_HAND:
+            C = L @ F @ R
+            to_c = np.broadcast_to(_adjoint_matrix(L), (N, 6, 6))  # a left twist ψ on F is Ad_L ψ on C
+        else:
+            G = L @ se3.inv(F)
+            C = G @ R
+            to_c = -_adjoint_matrix(G)  # F⁻¹ turns a left twist ψ on F into −Ad_{L F⁻¹} ψ on C
+        out = np.zeros((N, 6, len(wanted)))
+        frame = layout.FRAME_SIZE
+        cols = np.flatnonzero(wanted < frame)
+        if cols.size:
+            xi = _right_derivatives(parts.left, wanted[cols])  # δ(l)⁻¹ ∂δ(l)/∂l_k, so ε = Ad_L ξ
+            out[:, :, cols] = (_adjoint_matrix(L) @ xi)[None]
+        cols = np.flatnonzero((wanted >= frame) & (wanted < 2 * frame))
+        if cols.size:
+            xi = _right_derivatives(parts.right, wanted[cols] - frame)  # a right twist on C
+            out[:, :, cols] = _adjoint_matrix(C) @ xi
+        for i, j in enumerate(self.chain.joints):
+            start = 2 * frame + layout.PER_JOINT * i
+            cols = np.flatnonzero((wanted >= start) & (wanted < start + layout.PER_JOINT))
+            if cols.size == 0:
+                continue
+            components = wanted[cols] - start
+            psi = np.zeros((N, 6, cols.size))
+            origin_cols = components < 6
+            if origin_cols.any():
+                xi = _right_derivatives(parts.origin[i], components[origin_cols])
+                psi[:, :, origin_cols] = _adjoint_matrix(prefix[i] @ origins[i]) @ xi
+            if (~origin_cols).any():
+                unit = np.concatenate([j.axis, np.zeros(3)] if j.kind == "prismatic" else [np.zeros(3), j.axis])
+                moved = _adjoint_matrix(prefix[i + 1]) @ unit  # (N, 6): the joint's own motion, per radian
+                for c in np.flatnonzero(~origin_cols):  # the offset, or the gain (θ moves by q per unit of gain)
+                    psi[:, :, c] = moved * (Q[:, i, None] if components[c] == 7 else 1.0)
+            out[:, :, cols] = to_c @ psi
+        return C, out
+
+    def _motion(self, i: int, gain_error: float, offset: float, q: Array) -> Array:
+        """Joint i's motion transforms for the readings q: (N, 4, 4)."""
+        j = self.chain.joints[i]
+        value = (1.0 + gain_error) * q + offset
+        M = np.broadcast_to(np.eye(4), (len(q), 4, 4)).copy()
+        if j.kind == "prismatic":
+            M[:, :3, 3] = value[:, None] * j.axis
+        else:
+            M[:, :3, :3] = axis_angle_batch(j.axis, value)
+        out: Array = M
+        return out
+
+    def _oriented(self, F: Array) -> Array:
+        """bMf as the measurement chain uses it: inverted when the sensor rides on the flange."""
+        return se3.inv(F) if self.setup is Setup.EYE_IN_HAND else F
+
     def corners_in_camera(self, x: Array, Q: Array, tag_points: Array) -> Array:
         """Tag corners in the camera frame: (N,4,3)."""
         C = self.tag_in_camera(x, Q)
@@ -112,4 +193,36 @@ class CalibModel:
         return out
 
     def with_frames(self, L0: Array, R0: Array) -> CalibModel:
-        return CalibModel(self.chain, self.setup, L0, R0, self.params)
+        return CalibModel(self.chain, self.setup, L0, R0, self.params, self.sensor, self.target)
+
+
+def _right_derivatives(v: Array, components: NDArray[np.intp]) -> Array:
+    """δ(v)⁻¹ ∂δ(v)/∂v_k as twists (6, len(components)): how a correction's component moves the
+    frame, seen from the frame itself. δ(v) = SE3(exp(ω), t): a translation component moves it by
+    Rᵀ e_k, a rotation component turns it by J_r(ω) e_k (the right Jacobian of SO(3))."""
+    R = se3.exp3(v[3:6])
+    w = v[3:6]
+    angle = float(np.linalg.norm(w))
+    K = se3.skew(w)
+    if angle < 1e-6:
+        Jr = np.eye(3) - 0.5 * K + (K @ K) / 6.0
+    else:
+        Jr = np.eye(3) - (1.0 - math.cos(angle)) / angle**2 * K + (angle - math.sin(angle)) / angle**3 * (K @ K)
+    full = np.zeros((6, 6))
+    full[:3, :3] = R.T
+    full[3:, 3:] = Jr
+    out: Array = full[:, components]
+    return out
+
+
+def _adjoint_matrix(T: Array) -> Array:
+    """Ad_T (..., 6, 6) of one or many transforms: (v, ω) ↦ (R v + p × R ω, R ω)."""
+    R, p = T[..., :3, :3], T[..., :3, 3]
+    P = np.zeros((*p.shape[:-1], 3, 3))
+    P[..., 0, 1], P[..., 0, 2], P[..., 1, 2] = -p[..., 2], p[..., 1], -p[..., 0]
+    P[..., 1, 0], P[..., 2, 0], P[..., 2, 1] = p[..., 2], -p[..., 1], p[..., 0]
+    out = np.zeros((*R.shape[:-2], 6, 6))
+    out[..., :3, :3] = R
+    out[..., :3, 3:] = P @ R
+    out[..., 3:, 3:] = R
+    return out

@@ -10,23 +10,28 @@ atomically (`write_files`).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from armtool.calib.camera import CameraModel
 from armtool.calib.dataset import Dataset, Sample, require_ok
 from armtool.calib.fit import CalibrationResult, FitOptions, calibrate
-from armtool.calib.holdout import check_same_setup, holdout_ids, with_validation
+from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, holdout_ids, with_validation
 from armtool.calib.inputs import Inputs, input_files, load_inputs
 from armtool.calib.model import CalibModel
 from armtool.calib.observations import Observation
 from armtool.calib.params import Family
+from armtool.calib.problems import CornerMeasurements, Measurements
 from armtool.calib.ur_kinematics import UrTarget, ur_target
+from armtool.calib.verdict import Verdict
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
+
+if TYPE_CHECKING:
+    from armtool.calib.convention_check import ConventionCheck
 
 Detect = Callable[[Dataset, CameraModel], dict[str, Observation]]  # tag corners of every sample
 
@@ -47,6 +52,10 @@ class FitRequest:
     package_paths: list[Path] = field(default_factory=list)
     ur_kinematics: Path | None = None
     ur_kinematics_in: Path | None = None
+    folds: int = 5  # k-fold cross-validation; below 2: none
+    select: bool = True  # fit the parameter set cross-validation chooses
+    nested: bool = True  # report the whole procedure's held-out residual
+    keep_conventions: bool = False  # do not refuse a dataset whose measurements fit far better read another way
 
 
 @dataclass(frozen=True)
@@ -56,15 +65,16 @@ class FitJob:
     request: FitRequest
     dataset: Dataset
     chain: Chain
-    camera: CameraModel
+    camera: CameraModel | None  # None for measured poses or points
     validation: Inputs | None
     ur: UrTarget | None
+    conventions: ConventionCheck | None = None  # measured poses or points: how the declared reading fits
 
 
 @dataclass(frozen=True)
 class Observed:
     samples: list[Sample]  # the dataset's, then the validation dataset's (ids `validation:<id>`)
-    observations: dict[str, Observation]
+    measurements: Measurements
     holdout_ids: set[str] | None
 
 
@@ -73,6 +83,8 @@ class FitFiles:
     files: dict[Path, str | bytes]  # path -> content, written by `write_files`
     document: dict[str, Any]  # calibration.yaml as data
     truth_warning: str | None  # why a simulated dataset could not be scored against its truth
+    verdict: Verdict
+    skipped: list[str]  # outputs not written because the calibration does not beat the nominal robot
 
 
 def prepare_fit(request: FitRequest) -> FitJob:
@@ -82,7 +94,7 @@ def prepare_fit(request: FitRequest) -> FitJob:
         raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
     ds, chain, camera = load_inputs(request.dataset, request.xacro_args, request.package_paths)
     require_ok(ds)
-    assert chain is not None and camera is not None  # require_ok refused a dataset without them
+    assert chain is not None and (camera is not None or ds.measurement is not None)  # require_ok refused the rest
     validation = None
     if request.validation is not None:
         validation = load_inputs(request.validation, request.xacro_args, request.package_paths)
@@ -92,7 +104,30 @@ def prepare_fit(request: FitRequest) -> FitJob:
     ur = ur_target(ds, chain, request.ur_kinematics, request.ur_kinematics_in)
     inputs = input_files(ds, validation.dataset if validation else None) + ([ur.source] if ur else [])
     _check_outputs(request, inputs)
-    return FitJob(request, ds, chain, camera, validation, ur)
+    conventions = None
+    if ds.measurement is not None:
+        conventions = checked_conventions(ds, chain, refuse=not request.keep_conventions)
+    return FitJob(request, ds, chain, camera, validation, ur, conventions)
+
+
+def checked_conventions(ds: Dataset, chain: Chain, refuse: bool) -> ConventionCheck:
+    """How the nominal robot explains the measurements as declared and in every other reading;
+    with `refuse`, a reading that fits far better is an error that names the dataset.yaml lines to change."""
+    from armtool.calib.convention_check import check_conventions
+
+    assert ds.measurement is not None
+    rows = {sid: values for sid, (_line, values) in ds.measured_rows.items()}
+    from armtool.calib.fit import one_blas_thread
+
+    with one_blas_thread():
+        found = check_conventions(chain, ds.setup, ds.measurement, rows, ds.samples)
+    if refuse and found.better is not None:
+        raise ArmtoolError(
+            found.message(),
+            f"{ds.root.name}/dataset.yaml",
+            found.fix() + " (or pass --keep-conventions to fit as declared)",
+        )
+    return found
 
 
 def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
@@ -113,40 +148,67 @@ def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
 def observe_samples(job: FitJob, detect: Detect) -> Observed:
     """Tag corners of the dataset's samples and of the validation dataset's (prepare_fit checked it
     is of the same setup), and which samples are held out of the fit."""
-    request = job.request
-    observations = detect(job.dataset, job.camera)
-    samples = list(job.dataset.samples)
+    request, ds = job.request, job.dataset
+    samples = list(ds.samples)
     validation_ids = None
+    if ds.measurement is not None:
+        from armtool.calib.measured import dataset_measurements
+
+        measurements = dataset_measurements(ds.measurement, ds.measured_rows)
+        if job.validation is not None and request.validation is not None:
+            vds = job.validation.dataset
+            assert vds.measurement is not None  # check_same_setup refused another kind
+            validation_ids = {f"{VALIDATION_PREFIX}{s.id}" for s in vds.samples}
+            samples += [replace(s, id=f"{VALIDATION_PREFIX}{s.id}") for s in vds.samples]
+            others = dataset_measurements(vds.measurement, vds.measured_rows)  # its own conventions
+            measurements = measurements.merged(others, VALIDATION_PREFIX)
+        usable = [s.id for s in samples if measurements.reason(s.id) is None]
+        return Observed(samples, measurements, _held(usable, request, validation_ids))
+    assert job.camera is not None  # prepare_fit refused an image dataset without intrinsics
+    observations = detect(ds, job.camera)
     if job.validation is not None and request.validation is not None:
         vds, _vchain, vcamera = job.validation
         vobs = detect(vds, vcamera or job.camera)  # prepare_fit refused a missing or different camera
         samples, observations, validation_ids = with_validation(samples, observations, vds.samples, vobs)
     held = holdout_ids(samples, observations, request.holdout, request.seed, validation_ids)
-    return Observed(samples, observations, held)
+    from armtool.calib.targets.spec import Target
+
+    return Observed(samples, CornerMeasurements(job.camera, observations, Target.of(ds).points_m), held)
+
+
+def _held(usable: list[str], request: FitRequest, validation: set[str] | None) -> set[str] | None:
+    """The validation dataset's samples and a random `--holdout` share of the others."""
+    from armtool.calib.holdout import split_holdout
+
+    if not request.holdout:
+        return validation
+    already = validation or set()
+    return already | split_holdout([u for u in usable if u not in already], request.holdout, request.seed)
 
 
 def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | None = None) -> CalibrationResult:
-    from armtool.calib.boards import board_points
-
     request, ds = job.request, job.dataset
     options = FitOptions(
         families=request.families,
         families_explicit=request.families_explicit,
         holdout=request.holdout,
         seed=request.seed,
+        folds=request.folds,
+        select=request.select,
+        nested=request.nested,
     )
-    model = CalibModel(job.chain, ds.setup, np.eye(4), np.eye(4))
+    measurements = observed.measurements
+    model = CalibModel(
+        job.chain, ds.setup, np.eye(4), np.eye(4), sensor=measurements.sensor, target=measurements.target
+    )
     return calibrate(
         model,
-        job.camera,
+        measurements,
         observed.samples,
-        observed.observations,
-        ds.size_m,
         options,
         ds.hints,
         holdout_ids=observed.holdout_ids,
         progress=progress,
-        target_points=board_points(ds.board) if ds.board is not None else None,
     )
 
 
@@ -164,30 +226,46 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         joint_corrections,
         relocate_meshes,
     )
+    from armtool.calib.verdict import judge
 
     request, ds = job.request, job.dataset
+    verdict = judge(
+        result.crossval,
+        result.candidate.name,
+        result.candidate.is_nominal,
+        result.fit_samples,
+        result.coordinates_per_sample,
+        result.motion_deg,
+        result.blocks,
+    )
     text = expanded_text(ds.urdf, ds.xacro_args, ds.package_paths)
     corrected = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)
     new_urdf = relocate_meshes(corrected, ds.urdf.parent, request.out)
     check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)
-    document = calibration_document(result, str(request.dataset), ds.urdf.name)
+    document = calibration_document(result, str(request.dataset), ds.urdf.name, verdict, job.conventions)
     warning = None
     if has_truth(request.dataset):
         try:
             document["against_truth"] = truth_scores(request.dataset, result)
         except ArmtoolError as exc:  # only a score: never lose the fit for it
             warning = f"not scored against the truth: {exc}"
-    files: dict[Path, str | bytes] = {
-        request.out / "calibrated.urdf": new_urdf,
-        request.out / "calibration.yaml": yaml.safe_dump(document, sort_keys=False, allow_unicode=True),
-    }
+    files: dict[Path, str | bytes] = {}
+    skipped: list[str] = []
+    if verdict.improves:
+        files[request.out / "calibrated.urdf"] = new_urdf
+    else:
+        skipped.append(str(request.out / "calibrated.urdf"))
+    files[request.out / "calibration.yaml"] = yaml.safe_dump(document, sort_keys=False, allow_unicode=True)
     if request.plot is not None:
         files[request.plot] = residual_plot_png(result)
     if request.ur_kinematics is not None and job.ur is not None:
-        from armtool.calib.ur_kinematics import ur_kinematics_yaml
+        if verdict.improves:
+            from armtool.calib.ur_kinematics import ur_kinematics_yaml
 
-        files[request.ur_kinematics] = ur_kinematics_yaml(new_urdf, job.ur.joints, job.ur.hash, "calibrated.urdf")
-    return FitFiles(files, document, warning)
+            files[request.ur_kinematics] = ur_kinematics_yaml(new_urdf, job.ur.joints, job.ur.hash, "calibrated.urdf")
+        else:
+            skipped.append(str(request.ur_kinematics))
+    return FitFiles(files, document, warning, verdict, skipped)
 
 
 def write_files(files: dict[Path, str | bytes], out: Path) -> None:

@@ -48,6 +48,47 @@ def log3(R: Array) -> Array:
     return (angle / (2.0 * math.sin(angle))) * w
 
 
+def exp3_batch(r: Array) -> Array:
+    """`exp3` of many rotation vectors r (..., 3): (..., 3, 3). Why: the fit's Jacobian evaluates
+    the model for every perturbed parameter at once, and a Python loop over them was most of its time."""
+    angle = np.sqrt(np.einsum("...i,...i->...", r, r))
+    small = angle < 1e-8
+    safe = np.where(small, 1.0, angle)
+    a = np.where(small, 1.0, np.sin(safe) / safe)[..., None, None]
+    b = np.where(small, 0.5, (1.0 - np.cos(safe)) / safe**2)[..., None, None]
+    K = np.zeros((*r.shape[:-1], 3, 3))
+    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -r[..., 2], r[..., 1], -r[..., 0]
+    K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = r[..., 2], -r[..., 1], r[..., 0]
+    out: Array = np.eye(3) + a * K + b * (K @ K)
+    return out
+
+
+def log3_batch(R: Array) -> Array:
+    """`log3` of many rotation matrices (..., 3, 3): (..., 3); the same branches, vectorised."""
+    cos = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
+    angle = np.arccos(cos)
+    w = np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]], axis=-1)
+    sin = np.sin(angle)
+    factor = np.where(angle < 1e-6, 0.5, angle / (2.0 * np.where(sin > 1e-12, sin, 1.0)))
+    out: Array = factor[..., None] * w
+    near_pi = math.pi - angle < 1e-4
+    if np.any(near_pi):
+        flat_R, flat_out = R.reshape(-1, 3, 3), out.reshape(-1, 3)
+        for k in np.flatnonzero(near_pi.ravel()):
+            flat_out[k] = log3(flat_R[k])
+        out = flat_out.reshape(out.shape)
+    return out
+
+
+def delta_batch(v: Array) -> Array:
+    """`delta` of many corrections v (..., 6): (..., 4, 4)."""
+    out = np.zeros((*v.shape[:-1], 4, 4))
+    out[..., :3, :3] = exp3_batch(v[..., 3:6])
+    out[..., :3, 3] = v[..., :3]
+    out[..., 3, 3] = 1.0
+    return out
+
+
 def make(R: Array | None = None, t: Array | None = None) -> Array:
     T = np.eye(4)
     if R is not None:

@@ -126,7 +126,7 @@ def build_app() -> typer.Typer:
     full.add_typer(
         calibrate_cmd.app,
         name="calibrate",
-        help="Fit a real arm's kinematic errors from AprilTag images and write a corrected URDF.",
+        help="Fit a real arm's kinematic errors from images (an AprilTag or a board) or measured poses and points; write a corrected URDF.",
     )
     from armtool.cli import servo_lut as servo_lut_cmd
 

@@ -29,9 +29,10 @@ if TYPE_CHECKING:
     from armtool.calib.camera import CameraModel
     from armtool.calib.dataset import Dataset
     from armtool.calib.observations import Observation
+    from armtool.model.chain import Chain
 
 app = typer.Typer(
-    help="Fit a real arm's kinematic errors from images of an AprilTag or a board and write a corrected URDF.",
+    help="Fit a real arm's kinematic errors from images of an AprilTag or a board, or from measured poses and points, and write a corrected URDF.",
     no_args_is_help=True,
     add_completion=False,
     context_settings={"help_option_names": ["-h", "--help"]},
@@ -56,19 +57,45 @@ def check(
     package_path: PackagePaths = None,
     config: DatasetConfig = None,
 ) -> None:
-    """Validate a dataset: files, joints, units, images, and the tag in every image."""
+    """Validate a dataset: files, joints, units, images and the tag in every image, or measured poses and points and their conventions."""
     require("calib")  # exit 2 with the install command when the extra is missing
+    from rich.markup import escape
+
     from armtool.calib.inputs import detection_problems, load_inputs
     from armtool.cli.options import RobotOptions
+    from armtool.console import stderr
     from armtool.output.calibrate import print_check_report
 
     robot = RobotOptions(xacro_arg, package_path, config)  # --xacro-arg wins over the dataset's robot.xacro_args
     ds, chain, camera = load_inputs(dataset, robot.given_args, robot.package_paths)
     if detect and chain is not None and camera is not None and ds.samples:
         ds.problems += detection_problems(ds, _detect(ds, camera))
+    note = _check_conventions(ds, chain) if chain is not None else None
     print_check_report(ds)
+    if note:
+        stderr().print(f"[dim]conventions:[/dim] {escape(note)}")
     if ds.errors:
         raise typer.Exit(ExitCode.FINDINGS)
+
+
+def _check_conventions(ds: Dataset, chain: Chain) -> str | None:
+    """Measured poses or points: whether another reading of the file fits far better (an error
+    naming the dataset.yaml lines to change), or how well the declared one fits."""
+    from armtool.calib.dataset import Problem
+    from armtool.calib.pipeline import checked_conventions
+    from armtool.errors import ArmtoolError
+
+    if ds.measurement is None or ds.errors or len(ds.measured_rows) < 3:
+        return None
+    try:
+        found = checked_conventions(ds, chain, refuse=False)
+    except ArmtoolError as exc:
+        ds.problems.append(Problem(exc.where or "dataset.yaml", exc.what, exc.hint or ""))
+        return None
+    if found.better is not None:
+        ds.problems.append(Problem("dataset.yaml", found.message(), found.fix()))
+        return None
+    return found.message()
 
 
 @app.command("fit")
@@ -109,8 +136,35 @@ def fit(
         "--ur-kinematics-in",
         help="The robot's current UR kinematics YAML, whose hash is kept [default: the dataset's kinematics_params xacro argument].",
     ),
+    folds: int = typer.Option(
+        5,
+        "--folds",
+        callback=opt.int_range(0, 20),
+        help="k of the k-fold cross-validation that chooses the parameter set and scores it (0 or 1: none).",
+    ),
+    select: bool = typer.Option(
+        True,
+        "--select/--no-select",
+        help="Fit the parameter set that cross-validation chooses among hand-eye only, zero offsets, "
+        "offsets + origin rotations and all of --params; --no-select fits --params as given.",
+    ),
+    nested: bool = typer.Option(
+        True,
+        "--nested/--no-nested",
+        help="Also score the choice itself on poses it never saw (nested cross-validation, about k times slower).",
+    ),
+    allow_nominal: bool = typer.Option(
+        False,
+        "--allow-nominal",
+        help="Exit 0 when nothing beats the nominal robot on held-out poses (calibrated.urdf is still not written).",
+    ),
+    keep_conventions: bool = typer.Option(
+        False,
+        "--keep-conventions",
+        help="Fit measured poses or points as declared even when another reading of the file fits far better.",
+    ),
 ) -> None:
-    """Calibrate: per-joint origin corrections and zero offsets, with the camera and tag frames."""
+    """Calibrate: per-joint origin corrections and zero offsets, with the sensor and target frames."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
@@ -137,6 +191,10 @@ def fit(
         package_paths=robot.package_paths,
         ur_kinematics=ur_kinematics,
         ur_kinematics_in=ur_kinematics_in,
+        folds=folds,
+        select=select,
+        nested=nested,
+        keep_conventions=keep_conventions,
     )
     job = prepare_fit(request)
     observed = observe_samples(job, _detect)
@@ -149,9 +207,20 @@ def fit(
     write_files(written.files, out)
     if output_format is ReportFormat.JSON:
         write_stdout(json.dumps(json_summary(written.document), indent=2))
-    print_fit_report(result, written.document.get("against_truth"), out, plot)
-    if ur_kinematics is not None:
+    print_fit_report(
+        result,
+        written.document.get("against_truth"),
+        out,
+        plot,
+        written.verdict,
+        [p for p in written.files if p != ur_kinematics],
+        written.skipped,
+        job.conventions,
+    )
+    if ur_kinematics is not None and ur_kinematics in written.files:
         say(f"wrote {ur_kinematics}: pass it to the UR description as kinematics_params:={ur_kinematics}")
+    if not written.verdict.improves and not allow_nominal:
+        raise typer.Exit(ExitCode.FINDINGS)
 
 
 @app.command("simulate")

@@ -15,9 +15,12 @@ from armtool.console import stderr
 if TYPE_CHECKING:  # each command imports only what it uses
     from armtool.calib.bag_import import ImportResult
     from armtool.calib.boards import BoardSpec
+    from armtool.calib.convention_check import ConventionCheck
     from armtool.calib.dataset import Dataset
     from armtool.calib.fit import CalibrationResult
     from armtool.calib.intrinsics import IntrinsicsResult
+    from armtool.calib.problems import Block
+    from armtool.calib.verdict import Verdict
 
 
 def print_check_report(ds: Dataset) -> None:
@@ -33,13 +36,32 @@ def print_check_report(ds: Dataset) -> None:
     out.print(f"{len(ds.samples)} samples, {errors} error(s), {warnings} warning(s)")
 
 
-def print_fit_report(result: CalibrationResult, truth: dict[str, Any] | None, out: Path, plot: Path | None) -> None:
-    """The fit report on stderr: residuals before and after, identifiability, zero offsets, outliers, warnings."""
+def print_fit_report(
+    result: CalibrationResult,
+    truth: dict[str, Any] | None,
+    out: Path,
+    plot: Path | None,
+    verdict: Verdict | None = None,
+    written: list[Path] | None = None,
+    skipped: list[str] | None = None,
+    conventions: ConventionCheck | None = None,
+) -> None:
+    """The fit report on stderr: residuals before and after, noise, cross-validation, the verdict,
+    identifiability, zero offsets, outliers, warnings."""
     con = stderr()
     ident = result.identifiability
+    if conventions is not None:
+        con.print(f"[dim]conventions:[/dim] {escape(conventions.message())}")
     con.print(_residual_table(result, truth))
+    con.print("estimated noise (σ per coordinate): " + escape(_noise_text(result)))
+    if result.crossval is not None:
+        con.print(_crossval_table(result))
+        nested = _nested_text(result)
+        if nested:
+            con.print(escape(nested))
+    con.print(_frames_text(result))
     con.print(
-        f"identified {len(result.free)} of {len(result.free) + len(ident.dropped)} parameters; "
+        f"fitted {escape(result.candidate.name)}: {len(result.free)} of {len(result.free) + len(ident.dropped)} parameters identified; "
         f"condition number {ident.condition_number:.1f}, observability index {ident.observability_index:.3g}"
     )
     shown = list(ident.dropped.items())[:6]
@@ -60,35 +82,138 @@ def print_fit_report(result: CalibrationResult, truth: dict[str, Any] | None, ou
         con.print(f"[yellow]rejected[/yellow] sample {escape(sid)}: {escape(why)}")
     for w in result.warnings:
         con.print(f"[yellow]warning:[/yellow] {escape(w)}")
+    if verdict is not None:
+        color = "green" if verdict.improves else "red"
+        con.print(f"[{color}]verdict:[/{color}] {escape(verdict.summary)}")
+        if verdict.advice:
+            con.print(f"  {escape(verdict.advice)}")
+    for path in skipped or []:
+        con.print(
+            f"[yellow]not written:[/yellow] {escape(path)} (it would be worse than the nominal URDF on held-out poses)"
+        )
+        if Path(path).exists():
+            con.print(
+                f"  [yellow]{escape(path)} already exists from an earlier run: it is not this run's result[/yellow]"
+            )
+    files = written if written is not None else [out / "calibrated.urdf", out / "calibration.yaml"]
     con.print(
-        escape(f"wrote {out / 'calibrated.urdf'} and {out / 'calibration.yaml'}" + (f" and {plot}" if plot else ""))
+        escape("wrote " + " and ".join(str(f) for f in files) + (f" and {plot}" if plot and plot not in files else ""))
     )
 
 
+def _noise_text(result: CalibrationResult) -> str:
+    parts = []
+    for b in result.blocks:
+        value = result.noise.get(b.name, math.nan)
+        parts.append(f"{b.name} {value:.3g} {b.unit}")
+    return ", ".join(parts)
+
+
+def _unit(b: Block) -> str:
+    return "°" if b.unit == "deg" else f" {b.unit}"
+
+
 def _residual_table(result: CalibrationResult, truth: dict[str, Any] | None) -> Table:
-    """Corner RMS of fit and held-out samples, hand-eye only against calibrated (and against the truth when known)."""
-    table = Table(title="corner reprojection RMS (px)", title_justify="left")
+    """Residual RMS of fit and held-out samples per block, hand-eye only against calibrated (and against the truth when known)."""
+    single = len(result.blocks) == 1 and result.blocks[0].unit == "px"
+    table = Table(title="corner reprojection RMS (px)" if single else "residual RMS", title_justify="left")
     table.add_column("")
     table.add_column("hand-eye only", justify="right")
     table.add_column("calibrated", justify="right")
-    table.add_row("fit samples", f"{result.fit_rms_px[0]:.3f}", f"{result.fit_rms_px[1]:.3f}")
-    if not math.isnan(result.holdout_rms_px[0]):
-        table.add_row("held-out samples", f"{result.holdout_rms_px[0]:.3f}", f"{result.holdout_rms_px[1]:.3f}")
-        if result.holdout_inlier_rms_px != result.holdout_rms_px and not math.isnan(result.holdout_inlier_rms_px[0]):
-            table.add_row(
-                "held-out, outliers left out",
-                f"{result.holdout_inlier_rms_px[0]:.3f}",
-                f"{result.holdout_inlier_rms_px[1]:.3f}",
-            )
+    sets = [("fit samples", result.fit), ("held-out samples", result.holdout)]
+    if (
+        result.holdout_inliers is not None
+        and result.holdout is not None
+        and result.holdout_inliers.samples != result.holdout.samples
+    ):
+        sets.append(("held-out, outliers left out", result.holdout_inliers))
+    for label, comparison in sets:
+        if comparison is None:
+            continue
+        for b in result.blocks:
+            before, after = comparison.rms[b.name]
+            name = label if single else f"{label}: {b.name} ({b.unit})"
+            table.add_row(name, f"{before:.3f}", f"{after:.3f}")
     if truth:
-        b, a = truth["hand_eye_only"], truth["calibrated"]
+        bt, at = truth["hand_eye_only"], truth["calibrated"]
         table.add_row(
             "vs truth: position RMS / max (mm)",
-            f"{b['position_rms_mm']:.3f} / {b['position_max_mm']:.3f}",
-            f"{a['position_rms_mm']:.3f} / {a['position_max_mm']:.3f}",
+            f"{bt['position_rms_mm']:.3f} / {bt['position_max_mm']:.3f}",
+            f"{at['position_rms_mm']:.3f} / {at['position_max_mm']:.3f}",
         )
-        table.add_row("vs truth: rotation RMS (°)", f"{b['rotation_rms_deg']:.4f}", f"{a['rotation_rms_deg']:.4f}")
+        table.add_row("vs truth: rotation RMS (°)", f"{bt['rotation_rms_deg']:.4f}", f"{at['rotation_rms_deg']:.4f}")
     return table
+
+
+def _crossval_table(result: CalibrationResult) -> Table:
+    """Each candidate's k-fold held-out residual and score; the chosen one marked."""
+    cv = result.crossval
+    assert cv is not None
+    table = Table(title=f"parameter sets on held-out poses ({cv.folds}-fold cross-validation)", title_justify="left")
+    table.add_column("parameter set")
+    table.add_column("fitted", justify="right")
+    for b in result.blocks:
+        table.add_column(f"{b.name} RMS / max ({b.unit})", justify="right")
+    table.add_column("score", justify="right")
+    table.add_column("")
+    for score in cv.scores:
+        cells = [escape(score.candidate.name), "-" if math.isnan(score.parameters) else f"{score.parameters:.0f}"]
+        cells += [f"{score.rms[b.name]:.3f} / {score.maximum[b.name]:.3f}" for b in result.blocks]
+        cells.append(f"{score.loss:.3g}")
+        marks = []
+        if score.candidate == cv.chosen:
+            marks.append("[green]chosen[/green]")
+        if score.candidate == result.candidate and score.candidate != cv.chosen:
+            marks.append("fitted (--no-select)")
+        if score.failed:
+            marks.append(f"[yellow]failed on {score.failed} fold(s)[/yellow]")
+        cells.append(", ".join(marks))
+        table.add_row(*cells)
+    return table
+
+
+def _nested_text(result: CalibrationResult) -> str:
+    """The whole procedure's held-out residual (nested cross-validation), against hand-eye only."""
+    cv = result.crossval
+    if cv is None or cv.nested is None:
+        return ""
+    n = cv.nested
+    dropped = n.samples - n.inliers
+    outliers = f"the {dropped} outlier{'s' if dropped != 1 else ''}"
+    parts = []
+    for b in result.blocks:
+        u = _unit(b)
+        parts.append(
+            f"{b.name} {n.rms[b.name]:.3f}{u} RMS (max {n.maximum[b.name]:.3f}{u}; "
+            f"{n.inlier_rms[b.name]:.3f}{u} without {outliers}) against {n.hand_eye_rms[b.name]:.3f}{u} hand-eye only"
+        )
+    from armtool.calib.crossval import describe_choices
+
+    return (
+        f"whole procedure on held-out poses (nested {cv.folds}-fold, choosing {describe_choices(n.chosen)}): "
+        + "; ".join(parts)
+    )
+
+
+def _frames_text(result: CalibrationResult) -> str:
+    """The two fitted placements, position in mm and rpy in degrees, with σ."""
+    from armtool.calib.report import frames_section
+
+    frames = frames_section(result, dict(zip(result.free, result.sigma)))
+    lines = []
+    for name, pose in frames.items():
+        xyz = ", ".join(f"{v * 1e3:.2f}" for v in pose["xyz"])
+        sig = pose.get("sigma_xyz_mm") or []
+        pm = (
+            " ± (" + ", ".join("-" if v is None else f"{v:.2f}" for v in sig) + ") mm"
+            if sig and any(v is not None for v in sig)
+            else " mm"
+        )
+        text = f"{name}: xyz ({xyz}){pm}"
+        if "rpy" in pose:
+            text += ", rpy (" + ", ".join(f"{math.degrees(v):.3f}" for v in pose["rpy"]) + ")°"
+        lines.append(text)
+    return escape("; ".join(lines))
 
 
 def _zero_offset_table(result: CalibrationResult) -> Table:

@@ -14,9 +14,10 @@ from typer.testing import CliRunner
 from armtool.calib.boards import board_points, parse_board
 from armtool.calib.choices import Setup
 from armtool.calib.dataset import Sample
-from armtool.calib.fit import calibrate
+from armtool.calib.fit import FitOptions, calibrate
 from armtool.calib.model import CalibModel
 from armtool.calib.observations import Observation
+from armtool.calib.problems import CornerMeasurements
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
 from armtool.calib.truth import Truth, score
 from armtool.cli import app
@@ -45,14 +46,16 @@ def test_partial_views_fit_the_true_robot_from_the_corners_they_show(clean_chain
     uv[hidden] = np.nan
     samples = [Sample(str(i), i + 2, Q[i].copy(), None) for i in range(30)]
     observations = {s.id: Observation(s.id, uv[i]) for i, s in enumerate(samples)}
-    result = calibrate(nominal, camera, samples, observations, 0.0, target_points=points)
+    measurements = CornerMeasurements(camera, observations, points)
+    result = calibrate(nominal, measurements, samples, FitOptions(holdout=0.0, folds=0))
     truth = Truth(x_true, Q_val, {})
     before, after = score(result.model, result.x_handeye, truth), score(result.model, result.x, truth)
     assert before.position_rms_mm > 2.0 and after.position_rms_mm < 0.1
     assert not result.outliers
     # The residual RMS is over the corners each view showed: the 0.05 px noise per coordinate. A
     # hidden corner counted as a zero residual would pull it down to √0.6 of that, 0.039 px.
-    assert 0.045 < result.fit_rms_px[1] < 0.055, result.fit_rms_px
+    after_px = result.fit.rms["corner"][1]
+    assert 0.045 < after_px < 0.055, result.fit.rms
 
 
 @pytest.mark.parametrize(

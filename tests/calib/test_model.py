@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from armtool.calib import se3
 from armtool.calib.choices import Setup
@@ -60,3 +61,22 @@ def test_families_select_candidates(clean_chain: Chain) -> None:
     kinds = {model.params[i].kind for i in model.indices([Family.OFFSETS])}
     assert kinds == {"frame", "offset"}
     assert len(model.indices([Family.ORIGINS, Family.OFFSETS, Family.GAINS])) == model.size == 12 + 8 * clean_chain.n
+
+
+@pytest.mark.parametrize("setup", list(Setup))
+def test_twists_move_the_pose_as_the_parameters_do(clean_chain: Chain, setup: Setup) -> None:
+    # The fit's Jacobian rests on this: changing parameter i by dx moves cMt by exp(dx·ε_i) on the
+    # left, for every kind of parameter (both frames, origins, offsets, gains) and both setups.
+    rng = np.random.default_rng(3)
+    model = CalibModel(clean_chain, setup, se3.delta(rng.normal(size=6) * 0.3), se3.delta(rng.normal(size=6) * 0.3))
+    x = rng.normal(size=model.size) * 0.01
+    Q = clean_chain.random(rng, 7)
+    C, eps = model.twists(x, Q, list(range(model.size)))
+    assert np.allclose(C, model.tag_in_camera(x, Q), atol=1e-12)
+    for i in range(model.size):
+        for dx in (1e-4, -1e-4):
+            xp = x.copy()
+            xp[i] += dx
+            moved = model.tag_in_camera(xp, Q) @ se3.inv(C)
+            seen = np.stack([np.concatenate([m[:3, 3], se3.log3(m[:3, :3])]) for m in moved])
+            assert np.allclose(seen / dx, eps[:, :, i], atol=2e-3 * max(1.0, float(np.abs(eps[:, :, i]).max())))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from armtool.calib.fit import calibrate
+from armtool.calib.fit import FitOptions, calibrate
 from armtool.calib.truth import score
 from armtool.model.chain import load_chain
 from tests.calib.synthetic import make_problem
@@ -21,7 +21,7 @@ def test_real_arm_calibrates_to_the_truth(robot: str) -> None:
     path, base, flange, count = CASES[robot]
     chain = load_chain(erd(path), base, flange)
     p = make_problem(chain, n=40, seed=11)
-    result = calibrate(p.model, p.camera, p.samples, p.observations, p.size_m)
+    result = calibrate(p.model, p.measurements, p.samples, FitOptions(folds=0))
     assert len(result.free) == count
     after = score(result.model, result.x, p.truth)
     assert after.position_rms_mm < 0.15 and after.rotation_rms_deg < 0.03
@@ -32,10 +32,12 @@ def test_every_bad_sample_is_named_on_rendered_images(tmp_path) -> None:  # type
     the earlier rule (max(2 px, 5 × median)) missed a wrist reading error here."""
     import numpy as np
 
+    from armtool.calib.apriltag import tag_object_points
     from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import load_dataset
     from armtool.calib.model import CalibModel
     from armtool.calib.observations import observe
+    from armtool.calib.problems import CornerMeasurements
     from armtool.calib.simulate import SimulationSpec, simulate
     from armtool.calib.truth import load_truth
 
@@ -46,7 +48,12 @@ def test_every_bad_sample_is_named_on_rendered_images(tmp_path) -> None:  # type
     chain = load_chain(ds.urdf, ds.base_link, ds.flange_link)
     camera = load_intrinsics(ds.intrinsics)
     model = CalibModel(chain, ds.setup, np.eye(4), np.eye(4))
-    result = calibrate(model, camera, ds.samples, observe(ds, camera), ds.size_m)
+    result = calibrate(
+        model,
+        CornerMeasurements(camera, observe(ds, camera), tag_object_points(ds.size_m)),
+        ds.samples,
+        FitOptions(folds=0),
+    )
     truth = load_truth(out, model)
     assert len(truth.bad_samples) == 6
     assert set(result.outliers) == set(truth.bad_samples)

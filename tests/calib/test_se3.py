@@ -42,3 +42,18 @@ def test_inverse_of_many() -> None:
     rng = np.random.default_rng(0)
     Ts = np.stack([se3.delta(rng.normal(size=6)) for _ in range(5)])
     assert np.allclose(se3.inv(Ts) @ Ts, np.eye(4), atol=1e-12)
+
+
+def test_batched_maps_equal_the_single_ones() -> None:
+    rng = np.random.default_rng(1)
+    r = rng.normal(size=(4, 5, 3))
+    r[0, 0] = 0.0  # the identity
+    r[0, 1] = [1e-9, 0.0, 0.0]  # below the small-angle switch
+    r[0, 2] = [0.0, 0.0, math.pi - 1e-7]  # near π: the axis comes from the symmetric part
+    r[1] *= 3.0 / np.linalg.norm(r[1], axis=-1, keepdims=True)  # large angles, below π
+    R = se3.exp3_batch(r)
+    for idx in np.ndindex(4, 5):
+        assert np.allclose(R[idx], se3.exp3(r[idx]), atol=1e-12)
+        assert np.allclose(se3.log3_batch(R)[idx], se3.log3(R[idx]), atol=1e-9)
+    v = rng.normal(size=(3, 6))
+    assert np.allclose(se3.delta_batch(v), np.stack([se3.delta(row) for row in v]), atol=1e-12)

@@ -9,7 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from armtool.calib.choices import Setup
-from armtool.calib.fit import calibrate
+from armtool.calib.fit import FitOptions, calibrate
 from armtool.calib.model import CalibModel
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera
 from armtool.calib.truth import score
@@ -44,7 +44,7 @@ def test_eye_in_hand_5_dof_calibrates() -> None:
     SO-101's fit works too but is slow, its 3-6 cm wrist makes the problem nearly degenerate)."""
     chain = load_chain(CLEAN_ARM, "base_link", "link5")
     p = make_problem(chain, n=40, seed=0, setup=Setup.EYE_IN_HAND)
-    result = calibrate(p.model, p.camera, p.samples, p.observations, p.size_m)
+    result = calibrate(p.model, p.measurements, p.samples, FitOptions(folds=0))
     before, after = score(result.model, result.x_handeye, p.truth), score(result.model, result.x, p.truth)
     assert before.position_rms_mm > 2 and after.position_rms_mm < 0.1
 

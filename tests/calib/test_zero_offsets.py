@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from armtool.calib.fit import calibrate
+from armtool.calib.fit import FitOptions, calibrate
 from armtool.calib.report import calibration_document
 from armtool.calib.truth import score
 from armtool.model.chain import load_chain
@@ -29,7 +29,7 @@ def test_so101_offsets_that_trade_with_origin_errors_are_not_presented_as_physic
     chain = load_chain(erd("so_arm_description/urdf/so101.urdf"), "base_link", "gripper_frame_link")
     assert chain.n == 5
     p = make_problem(chain, n=40, seed=0)
-    result = calibrate(p.model, p.camera, p.samples, p.observations, p.size_m)
+    result = calibrate(p.model, p.measurements, p.samples, FitOptions(folds=0))
     assert score(result.model, result.x, p.truth).position_rms_mm < 0.1  # the URDF as a whole is right
     identified = [z for z in result.zero_offsets if z.identified]
     assert len(identified) == 3
@@ -52,7 +52,7 @@ def test_so101_offsets_that_trade_with_origin_errors_are_not_presented_as_physic
 def test_ur5_offsets_are_physical_and_near_the_truth(seed: int) -> None:
     chain = load_chain(erd("ur_description/urdf/ur5_robot.urdf"), "base_link", "tool0")
     p = make_problem(chain, n=40, seed=seed)
-    result = calibrate(p.model, p.camera, p.samples, p.observations, p.size_m)
+    result = calibrate(p.model, p.measurements, p.samples, FitOptions(folds=0))
     identified = [z for z in result.zero_offsets if z.identified]
     assert [z.joint for z in identified] == ["shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint"]
     assert all(z.physical for z in identified)
@@ -66,7 +66,7 @@ def test_partner_coefficients_predict_the_offset_error() -> None:
     """fitted offset − true zero = Σ coefficient × (true value of the dropped origin parameter)."""
     chain = load_chain(erd("ur_description/urdf/ur5_robot.urdf"), "base_link", "tool0")
     p = make_problem(chain, n=40, seed=11, noise_px=0.0)
-    result = calibrate(p.model, p.camera, p.samples, p.observations, p.size_m)
+    result = calibrate(p.model, p.measurements, p.samples, FitOptions(folds=0))
     names = [q.name for q in result.model.params]
     for z in (z for z in result.zero_offsets if z.identified):
         predicted = sum(q.coefficient * p.truth.x[names.index(q.parameter)] for q in z.partners)
