@@ -125,7 +125,7 @@ def checked_conventions(ds: Dataset, chain: Chain, refuse: bool) -> ConventionCh
         raise ArmtoolError(
             found.message(),
             f"{ds.root.name}/dataset.yaml",
-            found.fix() + " (or pass --keep-conventions to fit as declared)",
+            found.fix() + " (or fit as declared with `armtool calibrate fit --keep-conventions`)",
         )
     return found
 
