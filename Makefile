@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 DEMO_TMP := build/demo
 
-.PHONY: demo test check bench clean
+.PHONY: demo test check docs bench clean
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -96,6 +96,10 @@ check: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/python -m mypy armtool
+
+docs: $(STAMP)
+	$(BIN)/python -m mkdocs build --strict --site-dir build/site
+	@echo "the manual is in build/site/index.html (python tools/docs_examples.py refreshes its shown output)"
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/lint_bench.py

@@ -73,7 +73,7 @@ def tag_bits(family: str, tag_id: int) -> NDArray[np.bool_]:
     return np.asarray(image > 127)
 
 
-# Detection thresholds (keyword arguments of detect_tag); see the README for how they were chosen.
+# Detection thresholds (keyword arguments of detect_tag); see docs/calibrate.md for how they were chosen.
 MIN_SIDE_PX = 20.0
 MIN_SHARPNESS = 0.12
 _ROI_PAD_FRACTION = 0.25  # of the tag side, around the rough corners

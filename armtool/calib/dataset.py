@@ -146,7 +146,9 @@ def _get(
     for key in dotted.split("."):
         if not isinstance(cur, dict) or key not in cur:
             problems.append(
-                Problem(where, f"missing key '{dotted}'", f"add `{dotted}:` (see the dataset format in the README)")
+                Problem(
+                    where, f"missing key '{dotted}'", f"add `{dotted}:` (see the dataset format in docs/calibrate.md)"
+                )
             )
             return None
         cur = cur[key]

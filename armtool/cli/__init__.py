@@ -147,14 +147,33 @@ def build_app() -> typer.Typer:
         "limits",
         help="Record each joint's real range over a Dynamixel/Feetech bus; write limits YAML, URDF limits, EEPROM.",
     )(limits_cmd.limits)
-    return escape_help(full)
+    return escape_help(add_manual_links(full))
+
+
+def add_manual_links(app: typer.Typer) -> typer.Typer:
+    """End the help of armtool, of every command and of every subcommand with its manual page's URL."""
+    from armtool.docs_links import manual_link
+
+    app.info.epilog = manual_link()
+    for command in app.registered_commands:
+        command.epilog = manual_link(command.name)
+    for group in app.registered_groups:
+        link = manual_link(group.name)
+        group.epilog = link
+        if group.typer_instance is not None:
+            group.typer_instance.info.epilog = link
+            for command in group.typer_instance.registered_commands:
+                command.epilog = link
+    return app
 
 
 def _lint_only_app(show_help: bool = True) -> typer.Typer:
     """`armtool lint` alone: pre-commit runs it on every commit, and importing and building the
     parsers of every other subcommand first would add ~10 ms to each run."""
     single = typer.Typer(add_completion=False, pretty_exceptions_enable=False, context_settings=_CONTEXT)
-    single.command(help=LINT_HELP)(lint_cmd.lint)
+    from armtool.docs_links import manual_link
+
+    single.command(help=LINT_HELP, epilog=manual_link("lint"))(lint_cmd.lint)
     return escape_help(single) if show_help else single  # rich.markup costs ~20 ms: only when help is shown
 
 

@@ -30,12 +30,13 @@ from pathlib import Path
 from urllib.parse import quote
 
 from armtool import __version__
+from armtool.docs_links import DOCS_URL
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.registry import RULES
 from armtool.output.base import LintReport
 
 _LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
-HELP_URI = "https://github.com/armtool/armtool/blob/main/docs/rules.md#{code}"
+HELP_URI = DOCS_URL + "rules.md#{code}"
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from armtool.docs_links import DOCS_URL
 from armtool.lint.finding import Finding, Severity
 from armtool.traj.limits import JointLimits
 from armtool.traj.trajectory import Array, Trajectory
@@ -94,11 +95,11 @@ CODES: dict[str, Code] = {
     )
 }
 
-HELP_URI = "https://github.com/armtool/armtool/blob/main/README.md#armtool-traj-cartesian-paths-time-optimal-timing-and-a-trajectory-checker"
+HELP_URI = DOCS_URL + "traj.md#check-codes"
 
 
 def sarif_tool() -> SarifTool:
-    """`traj check`'s SARIF driver: the T codes, documented in the README's traj section."""
+    """`traj check`'s SARIF driver: the T codes, documented in the manual's traj page."""
     from armtool.output.sarif import SarifRule, SarifTool
 
     return SarifTool(
