@@ -244,7 +244,7 @@ class LevenbergMarquardt(Solver):
             for t, s, out in zip(targets, seeds, outs)
         ]
         solved = outs[:, 0] == kernel.SOLVED
-        Q = self._wrap(outs[:, head : head + n])
+        Q = self._wrap(outs[:, head : head + n].copy())  # the unsolved rows of outs are reused below
         answers = [Answer(q, True, int(i)) for q, i in zip(Q, outs[:, 1].tolist())]
         unsolved = np.flatnonzero(~solved).tolist()
         for j, i in enumerate(unsolved):
