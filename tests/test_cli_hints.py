@@ -19,7 +19,7 @@ from typing import Any
 
 import typer.main
 
-from armtool.cli import build_app
+from armtool.cli.typer_app import build_app
 
 ROOT = Path(__file__).resolve().parents[1] / "armtool"
 RULES_DIR = ROOT / "lint" / "rules"

@@ -7,7 +7,8 @@ import re
 
 from typer.testing import CliRunner
 
-from armtool.cli import build_app, report_error
+from armtool.cli import report_error
+from armtool.cli.typer_app import build_app
 from armtool.errors import ArmtoolError
 
 runner = CliRunner()

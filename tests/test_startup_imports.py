@@ -75,7 +75,9 @@ def test_no_heavy_imports(command: str, tmp_path: Path) -> None:
         args = ("--help",)
     exit_code, modules = _imported_after(*args)
     assert exit_code == 0
-    assert "armtool" in modules and "typer" in modules  # the probe did run the CLI
+    assert "armtool" in modules  # the probe did run the CLI
+    # `armtool lint PATH...` (pre-commit's call) never builds the parser; --help does.
+    assert ("typer" in modules) == (command == "help")
     assert sorted(modules.intersection(HEAVY)) == []
 
 
