@@ -70,6 +70,20 @@ def test_check_passes_on_a_good_dataset(dataset: Path) -> None:
     assert result.exit_code == 0, result.output
 
 
+def test_check_of_an_image_dataset_leaves_the_fit_alone(dataset: Path) -> None:
+    # Only measured poses or points need the convention check's fits; images do not (SciPy's
+    # optimizer doubled check's CPU time when it came in regardless).
+    probe = (
+        "import sys\nfrom armtool.cli import main\n"
+        f"sys.argv = ['armtool', 'calibrate', 'check', {str(dataset)!r}, '--no-detect']\n"
+        "try:\n    main()\nexcept SystemExit as e:\n    assert not e.code, e.code\n"
+        "print(sorted(m for m in ('armtool.calib.fit', 'armtool.calib.pipeline', 'scipy.optimize') if m in sys.modules))\n"
+    )
+    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip().splitlines()[-1] == "[]"
+
+
 def test_fit_end_to_end(dataset: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
     result = runner.invoke(

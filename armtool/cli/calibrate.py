@@ -81,12 +81,12 @@ def check(
 def _check_conventions(ds: Dataset, chain: Chain) -> str | None:
     """Measured poses or points: whether another reading of the file fits far better (an error
     naming the dataset.yaml lines to change), or how well the declared one fits."""
+    if ds.measurement is None or ds.errors or len(ds.measured_rows) < 3:
+        return None  # before the imports: the pipeline brings the fit and SciPy's optimizer
     from armtool.calib.dataset import Problem
     from armtool.calib.pipeline import checked_conventions
     from armtool.errors import ArmtoolError
 
-    if ds.measurement is None or ds.errors or len(ds.measured_rows) < 3:
-        return None
     try:
         found = checked_conventions(ds, chain, refuse=False)
     except ArmtoolError as exc:
