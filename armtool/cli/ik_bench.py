@@ -244,13 +244,8 @@ def _from_moveit_config(
     """URDF, SRDF, kinematics.yaml, the URDF's xacro arguments and the group, from a MoveIt
     config package; what the command line gives wins."""
     from armtool.ik.group import kinematics_groups
-    from armtool.model.packages import PackageResolver
-    from armtool.moveit.package import read_package
 
-    pkg = read_package(directory, PackageResolver(robot.package_paths))
-    if urdf is None and pkg.urdf is None:
-        raise ArmtoolError("cannot tell the robot of the MoveIt config: " + "; ".join(pkg.problems), str(directory))
-    urdf = urdf or pkg.urdf
+    pkg, urdf = robot.moveit_package(directory, urdf, "the URDF argument")
     srdf = srdf or pkg.srdf
     kinematics_yaml = kinematics_yaml or pkg.kinematics
     if group is None and base is None and tip is None:

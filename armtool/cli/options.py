@@ -35,11 +35,14 @@ import math
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated, Any, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
 
 from armtool.errors import ArmtoolError
+
+if TYPE_CHECKING:
+    from armtool.moveit.package import MoveItPackage
 
 T = TypeVar("T")
 
@@ -346,6 +349,24 @@ class RobotOptions:
         self.given_args = parse_xacro_args(xacro_arg)
         self.config = load_config(config)
         self.package_paths = [*(package_path or ()), *self.config.package_paths]
+
+    def moveit_package(self, directory: Path, urdf: Path | None, urdf_option: str) -> tuple[MoveItPackage, Path]:
+        """--moveit-config DIR read as its launch files load it, and the robot's URDF: the given one,
+        else the package's. The package's xacro arguments (`urdf_xacro_args`, its .setup_assistant's)
+        describe its robot and go to a given URDF too (one the file does not declare is ignored, as
+        xacro does; --xacro-arg wins). `urdf_option` names how the command takes a URDF, for the hint."""
+        from armtool.model.packages import PackageResolver
+        from armtool.moveit.package import read_package
+
+        pkg = read_package(directory, PackageResolver(self.package_paths))
+        chosen = urdf or pkg.urdf
+        if chosen is None:
+            raise ArmtoolError(
+                "cannot tell the robot of the MoveIt config: " + "; ".join(pkg.problems),
+                str(directory),
+                f"pass {urdf_option} too",
+            )
+        return pkg, chosen
 
     def xacro_args(self, path: Path, extra: dict[str, str] | None = None) -> dict[str, str]:
         """The arguments for one file: the configuration's for its glob, then `extra` (a MoveIt

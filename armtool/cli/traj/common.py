@@ -111,28 +111,18 @@ def robot(
     urdf_option: str,
     required: bool = True,
 ) -> Robot | None:
-    """--urdf and --joint-limits, or what --moveit-config's package loads (its URDF with the
-    .setup_assistant's xacro arguments, its config/joint_limits.yaml); given options win. None
-    when no robot is given and none is `required`. `urdf_option` is how the command takes a URDF,
-    for hints ("--urdf URDF", "the URDF argument")."""
+    """--urdf and --joint-limits, or what --moveit-config's package loads (its URDF, its
+    config/joint_limits.yaml); given options win, and the package's xacro arguments apply either
+    way (RobotOptions.moveit_package). None when no robot is given and none is `required`.
+    `urdf_option` is how the command takes a URDF, for hints ("--urdf URDF", "the URDF argument")."""
     from armtool.cli.options import RobotOptions
 
     options = RobotOptions(xacro_arg, package_path, config)
     package_args: dict[str, str] = {}
     package_srdf: Path | None = None
     if moveit_config is not None:
-        from armtool.model.packages import PackageResolver
-        from armtool.moveit.package import read_package
-
-        pkg = read_package(moveit_config, PackageResolver(options.package_paths))
-        if urdf is None:
-            if pkg.urdf is None:
-                raise ArmtoolError(
-                    "cannot tell the robot of the MoveIt config: " + "; ".join(pkg.problems),
-                    str(moveit_config),
-                    f"pass {urdf_option} too",
-                )
-            urdf, package_args = pkg.urdf, pkg.urdf_xacro_args
+        pkg, urdf = options.moveit_package(moveit_config, urdf, urdf_option)
+        package_args = pkg.urdf_xacro_args
         joint_limits = joint_limits or pkg.joint_limits
         package_srdf = pkg.srdf
     if urdf is None:
