@@ -61,7 +61,9 @@ def test_ik_bench_and_traj_read_the_package_alike(package_and_xacro: tuple[Path,
     )
     assert bench.exit_code == 0, bench.output
     path = tmp_path / "path.csv"
-    path.write_text("joint1_rad,joint2_rad,joint3_rad,joint4_rad,joint5_rad,joint6_rad\n0,-0.6,1.2,0,0.9,0\n0.2,-0.5,1.2,0,0.9,0\n")
+    path.write_text(
+        "joint1_rad,joint2_rad,joint3_rad,joint4_rad,joint5_rad,joint6_rad\n0,-0.6,1.2,0,0.9,0\n0.2,-0.5,1.2,0,0.9,0\n"
+    )
     timed = runner.invoke(
         app,
         ["traj", "time", str(path), "--urdf", str(xacro), "--moveit-config", str(pkg), "-o", str(tmp_path / "t.csv")],
