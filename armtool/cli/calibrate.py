@@ -31,8 +31,10 @@ if TYPE_CHECKING:
     from armtool.calib.observations import Observation
     from armtool.model.chain import Chain
 
+HELP = "Fit a real arm's kinematic errors from images (an AprilTag or a board) or measured poses and points; write a corrected URDF."
+
 app = typer.Typer(
-    help="Fit a real arm's kinematic errors from images of an AprilTag or a board, or from measured poses and points, and write a corrected URDF.",
+    help=HELP,
     no_args_is_help=True,
     add_completion=False,
     context_settings={"help_option_names": ["-h", "--help"]},

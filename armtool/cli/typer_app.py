@@ -75,8 +75,7 @@ def escape_help(app: typer.Typer) -> typer.Typer:
             if command.callback is not None:
                 fix_params(command.callback)
         if typer_app.registered_callback is not None and typer_app.registered_callback.callback is not None:
-            for param in inspect.signature(typer_app.registered_callback.callback).parameters.values():
-                fix(param.default)
+            fix_params(typer_app.registered_callback.callback)
         for group in typer_app.registered_groups:
             fix(group)
             if group.typer_instance is not None:
@@ -114,7 +113,7 @@ def build_app() -> typer.Typer:
     full.add_typer(
         calibrate_cmd.app,
         name="calibrate",
-        help="Fit a real arm's kinematic errors from images (an AprilTag or a board) or measured poses and points; write a corrected URDF.",
+        help=calibrate_cmd.HELP,
     )
     from armtool.cli import servo_lut as servo_lut_cmd
 
@@ -149,13 +148,12 @@ def add_manual_links(app: typer.Typer) -> typer.Typer:
         link = manual_link(group.name)
         group.epilog = link
         if group.typer_instance is not None:
-            group.typer_instance.info.epilog = link
             for command in group.typer_instance.registered_commands:
                 command.epilog = link
     return app
 
 
-def lint_only_app(show_help: bool = True) -> typer.Typer:
+def lint_only_app(show_help: bool) -> typer.Typer:
     """`armtool lint` alone: pre-commit runs it on every commit, and importing and building the
     parsers of every other subcommand first would add ~10 ms to each run."""
     single = typer.Typer(add_completion=False, pretty_exceptions_enable=False, context_settings=_CONTEXT)
