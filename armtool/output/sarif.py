@@ -31,6 +31,7 @@ from urllib.parse import quote
 
 from armtool import __version__
 from armtool.docs_links import DOCS_URL
+from armtool.fileio import read_regular
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.registry import RULES
 from armtool.output.base import LintReport
@@ -110,9 +111,8 @@ class _Sources:
 
     def lines(self, path: str) -> list[str] | None:
         if path not in self._lines:
-            try:
-                with open(path, encoding="utf-8", errors="replace", newline="") as handle:
-                    self._lines[path] = handle.read().splitlines()
+            try:  # as the engine reads it: a regular file, never blocking on a FIFO
+                self._lines[path] = read_regular(path).decode("utf-8", errors="replace").splitlines()
             except (OSError, ValueError):
                 self._lines[path] = None
         return self._lines[path]
@@ -178,7 +178,11 @@ def _artifact(path: str, root: str) -> dict[str, str]:
     if path == "-":  # stdin
         return {"uri": "-"}
     real = os.path.realpath(path)
-    if os.path.commonpath([real, root]) == root:
+    try:
+        inside = os.path.commonpath([real, root]) == root
+    except ValueError:  # another drive (Windows): not under the root
+        inside = False
+    if inside:
         relative = os.path.relpath(real, root).replace(os.sep, "/")
         return {"uri": quote(relative, safe="/"), "uriBaseId": SRCROOT}
     return {"uri": Path(real).as_uri()}
