@@ -263,9 +263,14 @@ def _reach_m(chain: Chain) -> float:
     return sum(offsets) + float(np.linalg.norm(chain.tip_offset[:3, 3])) + sum(prismatic)
 
 
+def sigma_min(chain: Chain, q: Array) -> float:
+    """The smallest singular value of the chain's Jacobian at q: 0 at a singularity."""
+    return float(np.linalg.svd(chain.jacobian(q), compute_uv=False)[-1])
+
+
 def _why(chain: Chain, q: Array, target: Array, reason: str) -> tuple[StopReason, str]:
     """Why the pose `target` could not be reached from `q` (the last point of the path)."""
-    sigma = float(np.linalg.svd(chain.jacobian(q), compute_uv=False)[-1])
+    sigma = sigma_min(chain, q)
     if sigma < SINGULAR_SIGMA:
         return (
             "singularity",

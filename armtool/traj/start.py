@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from armtool.model.chain import Chain
-from armtool.traj.cartesian import SINGULAR_SIGMA
+from armtool.traj.cartesian import SINGULAR_SIGMA, sigma_min
 from armtool.traj.trajectory import Array
 
 WELL_CONDITIONED_SIGMA = 10 * SINGULAR_SIGMA
@@ -38,11 +38,6 @@ _SAMPLES = 512
 class Start:
     q: Array
     how: str  # where the start came from, for the user
-
-
-def sigma_min(chain: Chain, q: Array) -> float:
-    """The smallest singular value of the chain's Jacobian at q: 0 at a singularity."""
-    return float(np.linalg.svd(chain.jacobian(q), compute_uv=False)[-1])
 
 
 def srdf_beside(urdf: Path, robot: str | None) -> list[Path]:

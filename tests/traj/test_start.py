@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from armtool.model.chain import load_chain
-from armtool.traj.start import WELL_CONDITIONED_SIGMA, default_start, home_state, sigma_min, srdf_beside
+from armtool.traj.cartesian import sigma_min
+from armtool.traj.start import WELL_CONDITIONED_SIGMA, default_start, home_state, srdf_beside
 from tests.ik.robots import erd
 
 from .helpers import CLEAN_URDF
