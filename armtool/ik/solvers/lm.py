@@ -170,9 +170,17 @@ class LevenbergMarquardt(Solver):
         deadline = self.clock() + self.timeout
         out = np.empty(kernel.OUT_HEAD + 2 * self._n)
         tried = kernel.first_tries(self._geometry, self._settings, *self._table_or_none(), target, seed, out)
+        if self._table is None and (tried == kernel.NEED_TABLE or out[0] != kernel.SOLVED):
+            deadline += self._build_table()  # lazy_table: the table's first build is no solve's budget
         if tried == kernel.NEED_TABLE:
             tried = kernel.first_tries(self._geometry, self._settings, *self.table(), target, seed, out)
         return self._restarts(target, out, tried, deadline)
+
+    def _build_table(self) -> float:
+        """Build the table now (lazy_table); the seconds it took."""
+        start = self.clock()
+        self.table()
+        return self.clock() - start
 
     def _table_or_none(self) -> tuple[Array, Array, NDArray[np.int64], Array]:
         """The table, or an empty one while it is not built (first_tries then says if it needs it)."""
@@ -235,8 +243,8 @@ class LevenbergMarquardt(Solver):
         timeouts each: one unreachable target must not hold up the whole batch."""
         targets, seeds = prepared
         N, n, head = targets.shape[0], self._n, kernel.OUT_HEAD
+        scores, cell_scores, bounds, table_q = self.table()  # before the clock: lazy_table builds it here
         deadline = self.clock() + self.timeout * N
-        scores, cell_scores, bounds, table_q = self.table()
         outs = np.empty((N, head + 2 * n))
         first_tries, geometry, settings = kernel.first_tries, self._geometry, self._settings
         tried = [
