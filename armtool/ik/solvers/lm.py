@@ -101,7 +101,6 @@ class LevenbergMarquardt(Solver):
             ],
             dtype=float,
         )
-        self._wrap_any = bool(chain.continuous.any())
         self._table: tuple[Array, Array, NDArray[np.int64], Array] | None = None
         self._NO_TABLE = (np.zeros((0, 16)), np.zeros((0, 16)), np.zeros(1, dtype=np.int64), np.zeros((0, n)))
         self._load_kernel()
@@ -165,7 +164,10 @@ class LevenbergMarquardt(Solver):
         self._check(target[None], seed[None])
         return target, seed
 
-    def call(self, prepared: tuple[Array, Array]) -> Answer:
+    def call(self, prepared: tuple[Array, Array]) -> Array:
+        """The solve: the first tries, then restarts until solved or out of time. Returns the
+        kernel's `out` vector: [SOLVED or 0, iterations, best ‖e‖², q (the answer, continuous joints
+        wrapped), best q]; `answer` reads it."""
         target, seed = prepared
         deadline = self.clock() + self.timeout
         out = np.empty(kernel.OUT_HEAD + 2 * self._n)
@@ -174,7 +176,14 @@ class LevenbergMarquardt(Solver):
             deadline += self._build_table()  # lazy_table: the table's first build is no solve's budget
         if tried == kernel.NEED_TABLE:
             tried = kernel.first_tries(self._geometry, self._settings, *self.table(), target, seed, out)
-        return self._restarts(target, out, tried, deadline)
+        self._restarts(target, out, tried, deadline)
+        return out
+
+    def answer(self, raw: Array) -> Answer:
+        n, head = self._n, kernel.OUT_HEAD
+        if raw[0] == kernel.SOLVED:
+            return Answer(raw[head : head + n].copy(), True, int(raw[1]))
+        return Answer(raw[head : head + n].copy(), False, int(raw[1]), "timeout")
 
     def _build_table(self) -> float:
         """Build the table now (lazy_table); the seconds it took."""
@@ -188,13 +197,14 @@ class LevenbergMarquardt(Solver):
             return self._NO_TABLE
         return self._table
 
-    def _restarts(self, target: Array, out: Array, tried: int, deadline: float) -> Answer:
+    def _restarts(self, target: Array, out: Array, tried: int, deadline: float) -> None:
         """Go on from the first tries' result in `out` until solved or past the deadline: the table's
-        poses nearest the target, then uniform random ones, RESTARTS_PER_CALL tries at a time."""
+        poses nearest the target, then uniform random ones, RESTARTS_PER_CALL tries at a time. Leaves
+        the result in `out`: the status, every try's iterations, and the answer (or the best q found)."""
         n, head = self._n, kernel.OUT_HEAD
-        iterations = int(out[1])
         if out[0] == kernel.SOLVED:
-            return Answer(self._wrap(out[head : head + n].copy()), True, iterations)
+            return
+        iterations = int(out[1])
         best_err, best_q = float(out[2]), out[head + n :].copy()
         scores, cell_scores, bounds, table_q = self.table()
         rows = kernel.restart_rows(scores, cell_scores, bounds, target, self.RESTART_CELLS, self.TABLE_SEEDS, tried)
@@ -210,16 +220,12 @@ class LevenbergMarquardt(Solver):
             kernel.run_tries(self._geometry, self._settings, target, group, stall, out)
             iterations += int(out[1])
             if out[0] == kernel.SOLVED:
-                return Answer(self._wrap(out[head : head + n].copy()), True, iterations)
+                out[1] = iterations
+                return
             if out[2] < best_err:
                 best_err, best_q = float(out[2]), out[head + n :].copy()
-        return Answer(self._wrap(best_q), False, iterations, "timeout")
-
-    def _wrap(self, q: Array) -> Array:
-        """Continuous joints into [-π, π)."""
-        if self._wrap_any:
-            q = np.where(self.chain.continuous, (q + math.pi) % (2 * math.pi) - math.pi, q)
-        return q
+        out[1] = iterations
+        out[head : head + n] = best_q
 
     # ---- many targets ---------------------------------------------------------------------------
     def prepare_batch(self, targets: Array, seeds: Array) -> tuple[Array, Array]:
@@ -237,10 +243,11 @@ class LevenbergMarquardt(Solver):
         if not (np.isfinite(targets).all() and np.isfinite(seeds).all()):
             raise ArmtoolError("target and seed must be finite numbers (NaN or inf given)")
 
-    def call_batch(self, prepared: tuple[Array, Array]) -> list[Answer]:
+    def call_batch(self, prepared: tuple[Array, Array]) -> Array:
         """Every target's first tries, then the unsolved few restart one by one,
         sharing what is left of the call's budget (`timeout` per target), up to TAIL_TIMEOUTS
-        timeouts each: one unreachable target must not hold up the whole batch."""
+        timeouts each: one unreachable target must not hold up the whole batch. Returns one `out`
+        row per target (see `call`); `answer_batch` reads them."""
         targets, seeds = prepared
         N, n, head = targets.shape[0], self._n, kernel.OUT_HEAD
         scores, cell_scores, bounds, table_q = self.table()  # before the clock: lazy_table builds it here
@@ -251,15 +258,20 @@ class LevenbergMarquardt(Solver):
             first_tries(geometry, settings, scores, cell_scores, bounds, table_q, t, s, out)
             for t, s, out in zip(targets, seeds, outs)
         ]
-        solved = outs[:, 0] == kernel.SOLVED
-        Q = self._wrap(outs[:, head : head + n].copy())  # the unsolved rows of outs are reused below
-        answers = [Answer(q, True, int(i)) for q, i in zip(Q, outs[:, 1].tolist())]
-        unsolved = np.flatnonzero(~solved).tolist()
+        unsolved = np.flatnonzero(outs[:, 0] != kernel.SOLVED).tolist()
         for j, i in enumerate(unsolved):
             left = (deadline - self.clock()) / (len(unsolved) - j)
             budget = min(self.TAIL_TIMEOUTS * self.timeout, max(left, 0.0))
-            answers[i] = self._restarts(targets[i], outs[i], int(tried[i]), self.clock() + budget)
-        return answers
+            self._restarts(targets[i], outs[i], int(tried[i]), self.clock() + budget)
+        return outs
+
+    def answer_batch(self, raw: Array) -> list[Answer]:
+        n, head = self._n, kernel.OUT_HEAD
+        Q = raw[:, head : head + n].copy()
+        return [
+            Answer(q, True, i) if solved else Answer(q, False, i, "timeout")
+            for q, solved, i in zip(Q, (raw[:, 0] == kernel.SOLVED).tolist(), raw[:, 1].astype(int).tolist())
+        ]
 
 
 def compiled_on_disk() -> bool | None:
@@ -272,9 +284,10 @@ def compiled_on_disk() -> bool | None:
 
 
 def chain_geometry(chain: Chain) -> Array:
-    """The chain as lm_kernel reads it: (n + 1, 18) rows of origin rotation (9), translation (3),
-    axis (3), prismatic flag, lower and upper limit (±inf for continuous joints); the tip offset last."""
-    rows = np.zeros((chain.n + 1, 18))
+    """The chain as lm_kernel reads it: (n + 1, 19) rows of origin rotation (9), translation (3),
+    axis (3), prismatic flag, lower and upper limit (±inf for continuous joints), continuous flag;
+    the tip offset last."""
+    rows = np.zeros((chain.n + 1, 19))
     for i, joint in enumerate(chain.joints):
         rows[i, :9] = joint.origin[:3, :3].reshape(9)
         rows[i, 9:12] = joint.origin[:3, 3]
@@ -282,6 +295,7 @@ def chain_geometry(chain: Chain) -> Array:
         rows[i, 15] = 1.0 if joint.kind == "prismatic" else 0.0
         rows[i, 16] = -math.inf if joint.kind == "continuous" else joint.lower
         rows[i, 17] = math.inf if joint.kind == "continuous" else joint.upper
+        rows[i, 18] = 1.0 if joint.kind == "continuous" else 0.0
     rows[chain.n, :9] = chain.tip_offset[:3, :3].reshape(9)
     rows[chain.n, 9:12] = chain.tip_offset[:3, 3]
     return rows
