@@ -281,3 +281,24 @@ def test_a_lazy_table_is_built_outside_the_solve_budget() -> None:
         lazy = make_solver("lm", chain, timeout=0.05, lazy_table=True)
         lazy._settings[7] = far
         assert all(r.success for r in lazy.solve_batch(hard, np.tile(mid, (len(hard), 1))))
+
+
+def test_the_input_check_is_part_of_the_timed_call() -> None:
+    # lm's check of its inputs (the compiled loop reads them without bounds checks) is its own work,
+    # as roboticstoolbox's checks are inside its ik_LM: `prepare` only converts, `call` refuses.
+    relative, base, tip = ARMS["ur5"]
+    chain = load_chain(erd(relative), base, tip)
+    solver = make_solver("lm", chain)
+    target, mid = chain.fk(chain.mid()), chain.mid()
+    for bad_target, bad_seed, match in (
+        (target, mid[:3], "seed values"),
+        (target[:3], mid, "4x4"),
+        (target, np.full(6, np.nan), "finite"),
+        (np.where(np.eye(4) > 0, np.inf, target), mid, "finite"),
+    ):
+        prepared = solver.prepare(bad_target, bad_seed)
+        with pytest.raises(ArmtoolError, match=match):
+            solver.call(prepared)
+    prepared = solver.prepare_batch(np.stack([target, target]), np.stack([mid, np.full(6, -np.inf)]))
+    with pytest.raises(ArmtoolError, match="finite"):
+        solver.call_batch(prepared)

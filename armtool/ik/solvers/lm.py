@@ -28,7 +28,7 @@ from __future__ import annotations
 import logging
 import math
 import os
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, NoReturn
 
 import numpy as np
 
@@ -157,21 +157,22 @@ class LevenbergMarquardt(Solver):
 
     # ---- one target -----------------------------------------------------------------------------
     def prepare(self, target: Array, seed: Array) -> tuple[Array, Array]:
-        """The target and seed as contiguous float arrays, checked: the compiled loop reads them
-        without bounds checks, and a NaN would be clamped to a limit without a word."""
-        target = np.ascontiguousarray(target, dtype=float)
-        seed = np.ascontiguousarray(seed, dtype=float)
-        self._check(target[None], seed[None])
-        return target, seed
+        """The target and seed as contiguous float arrays (a conversion only: `call` checks them)."""
+        return np.ascontiguousarray(target, dtype=float), np.ascontiguousarray(seed, dtype=float)
 
     def call(self, prepared: tuple[Array, Array]) -> Array:
-        """The solve: the first tries, then restarts until solved or out of time. Returns the
-        kernel's `out` vector: [SOLVED or 0, iterations, best ‖e‖², q (the answer, continuous joints
-        wrapped), best q]; `answer` reads it."""
+        """The solve: its inputs checked (the compiled loop reads them without bounds checks, and
+        would clamp a NaN to a limit without a word), the first tries, then restarts until solved or
+        out of time. Returns the kernel's `out` vector: [SOLVED or 0, iterations, best ‖e‖², q (the
+        answer, continuous joints wrapped), best q]; `answer` reads it."""
         target, seed = prepared
+        if target.shape != (4, 4) or seed.shape != (self._n,):
+            self._refuse(target.shape, seed.shape)
         deadline = self.clock() + self.timeout
         out = np.empty(kernel.OUT_HEAD + 2 * self._n)
         tried = kernel.first_tries(self._geometry, self._settings, *self._table_or_none(), target, seed, out)
+        if tried == kernel.NOT_FINITE:
+            self._refuse()
         if self._table is None and (tried == kernel.NEED_TABLE or out[0] != kernel.SOLVED):
             deadline += self._build_table()  # lazy_table: the table's first build is no solve's budget
         if tried == kernel.NEED_TABLE:
@@ -184,6 +185,14 @@ class LevenbergMarquardt(Solver):
         if raw[0] == kernel.SOLVED:
             return Answer(raw[head : head + n].copy(), True, int(raw[1]))
         return Answer(raw[head : head + n].copy(), False, int(raw[1]), "timeout")
+
+    def _refuse(
+        self, target_shape: tuple[int, ...] | None = None, seed_shape: tuple[int, ...] | None = None
+    ) -> NoReturn:
+        """Raise the error for inputs the compiled loop must not read: wrong shapes, or not finite."""
+        if target_shape is not None and seed_shape is not None:
+            raise ArmtoolError(f"expected a 4x4 target and {self._n} seed values, got {target_shape} and {seed_shape}")
+        raise ArmtoolError("target and seed must be finite numbers (NaN or inf given)")
 
     def _build_table(self) -> float:
         """Build the table now (lazy_table); the seconds it took."""
@@ -230,18 +239,7 @@ class LevenbergMarquardt(Solver):
     # ---- many targets ---------------------------------------------------------------------------
     def prepare_batch(self, targets: Array, seeds: Array) -> tuple[Array, Array]:
         targets, seeds = self._batch_arrays(targets, seeds)
-        targets, seeds = np.ascontiguousarray(targets), np.ascontiguousarray(seeds)
-        self._check(targets, seeds)
-        return targets, seeds
-
-    def _check(self, targets: Array, seeds: Array) -> None:
-        n = self._n
-        if targets.shape[1:] != (4, 4) or seeds.shape[1:] != (n,):
-            raise ArmtoolError(
-                f"expected a 4x4 target and {n} seed values, got {targets.shape[1:]} and {seeds.shape[1:]}"
-            )
-        if not (np.isfinite(targets).all() and np.isfinite(seeds).all()):
-            raise ArmtoolError("target and seed must be finite numbers (NaN or inf given)")
+        return np.ascontiguousarray(targets), np.ascontiguousarray(seeds)
 
     def call_batch(self, prepared: tuple[Array, Array]) -> Array:
         """Every target's first tries, then the unsolved few restart one by one,
@@ -250,6 +248,8 @@ class LevenbergMarquardt(Solver):
         row per target (see `call`); `answer_batch` reads them."""
         targets, seeds = prepared
         N, n, head = targets.shape[0], self._n, kernel.OUT_HEAD
+        if targets.shape[1:] != (4, 4) or seeds.shape != (N, n):
+            self._refuse(targets.shape[1:], seeds.shape[1:])
         scores, cell_scores, bounds, table_q = self.table()  # before the clock: lazy_table builds it here
         deadline = self.clock() + self.timeout * N
         outs = np.empty((N, head + 2 * n))
@@ -258,6 +258,8 @@ class LevenbergMarquardt(Solver):
             first_tries(geometry, settings, scores, cell_scores, bounds, table_q, t, s, out)
             for t, s, out in zip(targets, seeds, outs)
         ]
+        if kernel.NOT_FINITE in tried:
+            self._refuse()
         unsolved = np.flatnonzero(outs[:, 0] != kernel.SOLVED).tolist()
         for j, i in enumerate(unsolved):
             left = (deadline - self.clock()) / (len(unsolved) - j)

@@ -30,6 +30,7 @@ from numba import njit
 
 SOLVED = 1.0  # out[0] of a try run
 NEED_TABLE = -2  # first_tries: the seed is far and no table was given
+NOT_FINITE = -3  # first_tries: the target or the seed holds a NaN or an infinity (nothing tried)
 OUT_HEAD = 3  # out = [status, iterations, best ‖e‖², q (n), best q (n)]
 
 _LOWER, _UPPER, _PRISMATIC, _CONTINUOUS = 16, 17, 15, 18  # geometry columns
@@ -328,8 +329,17 @@ def first_tries(geometry, settings, scores, cell_scores, cell_bounds, table_q, t
     """A solve's first try: from the seed or, when the seed's pose is farther than settings[7] and
     the nearest table pose is nearer the target, from that table pose and then from the seed.
     Returns the table row tried (−1: none), which the restarts skip, or NEED_TABLE without trying
-    when the seed is far and the table is empty (not built yet: `cell_bounds` of length < 2)."""
+    when the seed is far and the table is empty (not built yet: `cell_bounds` of length < 2), or
+    NOT_FINITE without trying when the target or the seed holds a NaN or an infinity (the loop
+    would clamp a NaN to a limit without a word). Shapes are the caller's to check."""
     n = seed.shape[0]
+    for a in range(4):
+        for b in range(4):
+            if not math.isfinite(target[a, b]):
+                return NOT_FINITE
+    for i in range(n):
+        if not math.isfinite(seed[i]):
+            return NOT_FINITE
     from_seed, both = np.empty((1, n)), np.empty((2, n))  # [seed] or [table pose, seed]
     for i in range(n):
         from_seed[0, i] = both[1, i] = min(max(seed[i], geometry[i, _LOWER]), geometry[i, _UPPER])
