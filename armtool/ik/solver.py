@@ -6,8 +6,9 @@ A solve has three steps, so that a benchmark times every solver the same way (TR
 roboticstoolbox time the solve call only):
 - `prepare(target, seed)`: the inputs in the form the solver's own call takes (a peer's quaternion,
   a contiguous array). Not timed.
-- `call(prepared)`: the solver's own work, and nothing else. This is what `ik-bench` times.
-- `answer(raw)`: its output as an `Answer` (q, the solver's own claim, iterations). Not timed.
+- `call(prepared)`: the solver's own work, and nothing else. This is what `ik-bench` times. It
+  returns the solver's raw output (armtool's own solvers: a tuple or a buffer, never an `Answer`).
+- `answer(raw)`: that output as an `Answer` (q, the solver's own claim, iterations). Not timed.
 Then `judge` checks the answer with armtool's own forward kinematics (`verify`), the same for every
 solver and outside the timing: a solver's claim is never trusted.
 """
@@ -136,8 +137,8 @@ class Solver:
     """Base class: options, and the prepare → call → answer → judge steps of a solve.
 
     Subclasses implement `call` (and `prepare` / `answer` when their own call takes or returns
-    something other than float arrays and an `Answer`); `call_batch` when they solve many targets
-    at once in their own way."""
+    something other than float arrays and a tuple (q, claimed, iterations, reason)); `call_batch`
+    when they solve many targets at once in their own way."""
 
     name: ClassVar[str]
     summary: ClassVar[str]
@@ -178,9 +179,13 @@ class Solver:
         raise NotImplementedError
 
     def answer(self, raw: Any) -> Answer:
-        """call()'s output as an Answer (untimed); armtool's own solvers return one already."""
-        assert isinstance(raw, Answer)
-        return raw
+        """call()'s output as an Answer (untimed): by default call() returns (q, claimed, iterations,
+        reason). An Answer is passed on as it is (a solver whose call builds it: armtool's own do not,
+        since that would be timed in their row and in no other)."""
+        if isinstance(raw, Answer):
+            return raw
+        q, claimed, iterations, reason = raw
+        return Answer(q, claimed, iterations, reason)
 
     def solve(self, target: Array, seed: Array) -> IKResult:
         """Solve one target and judge the answer by armtool's FK."""

@@ -133,6 +133,8 @@ def test_armtools_solvers_are_timed_without_the_answer_check(name: str, monkeypa
         assert watch.python, "nothing was timed"
         checked = [c.co_name for c in watch.python if c in CHECKS]
         assert not checked, f"{name} runs armtool's answer check inside its timed call: {checked}"
+        built = builds(watch)
+        assert not built, f"{name} builds armtool's answer inside its timed call (the peers do not): {built}"
 
 
 @pytest.mark.parametrize("arm_name", ["ur5", "kinova"])  # Kinova: continuous joints, which lm wraps
