@@ -150,7 +150,7 @@ def test_lm_builds_no_answer_inside_its_timed_call(arm_name: str, monkeypatch: p
         assert watch.python and not builds(watch), builds(watch)
 
 
-@pytest.mark.parametrize("name", sorted(set(PEERS) - {"pykdl"}))
+@pytest.mark.parametrize("name", sorted(PEERS))
 def test_peers_are_timed_on_their_own_call_only(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
     pytest.importorskip(PEERS[name][1])
     root, chain = arm("ur5")
@@ -158,8 +158,10 @@ def test_peers_are_timed_on_their_own_call_only(name: str, monkeypatch: pytest.M
     assert isinstance(s, Solver)
     watch = timed_functions(monkeypatch, s, False)
     ours = {c.co_name for c in armtool_code(watch)}
-    # The adapter's call() is the only armtool code inside the timing: no check, no conversion.
-    assert ours == {"call"}, f"{name}: armtool code inside the timed call: {sorted(ours)}"
+    # The adapter's call() is the only armtool code inside the timing: no check, no conversion; a
+    # peer looped until its timeout (pykdl, as TRAC-IK's benchmark runs KDL) reads the clock.
+    assert ours - {"clock"} == {"call"}, f"{name}: armtool code inside the timed call: {sorted(ours)}"
+    assert not builds(watch), f"{name}: armtool builds its answer inside the timed call: {builds(watch)}"
     pinocchio = [f for f in watch.native if (getattr(f, "__module__", None) or "").startswith("pinocchio")]
     assert not pinocchio, f"{name}: Pinocchio converts its inputs inside the timing: {pinocchio}"
 
