@@ -25,9 +25,10 @@ from armtool.model.chain import Chain
 
 # What the timings mean, for the table's footer and the JSON report.
 TIMING = (
-    "time = the solver's own solve call only, the same boundary for every row; converting the target "
-    "into a solver's input form, reading its output and checking every answer with armtool's forward "
-    "kinematics (success = that check, never the solver's own flag) happen outside the timed region"
+    "time = the solver's own solve call only (with the solver's own checks of its inputs), the same "
+    "boundary for every row; converting the target into a solver's input form, reading its output into "
+    "armtool's answer and checking every answer with armtool's forward kinematics (success = that check, "
+    "never the solver's own flag) happen outside the timed region"
 )
 
 
@@ -74,7 +75,7 @@ def _summary(values: Array) -> dict[str, float]:
 @dataclass
 class SolverReport:
     solver: str
-    mode: str  # "single" (one solve() per target) or "batch" (one solve_batch() call)
+    mode: str  # "single" (one timed call() per target) or "batch" (timed call_batch() over every target)
     samples: int
     success_rate: float
     wall_us: dict[str, float]
@@ -275,7 +276,6 @@ def time_interleaved(
     targets: Targets,
     block: int = BLOCK,
     rotate: int = 0,
-    after_block: Callable[[dict[str, Timed]], None] | None = None,
     progress: Callable[[str, int], None] | None = None,
     batch_calls: int = 1,
 ) -> dict[str, Timed]:
@@ -286,7 +286,7 @@ def time_interleaved(
     (the development VM: 2x, every 2.5-8 s); run whole one after the other, one solver would be
     timed fast and the next slow. A batch row's answers are its first call's; its time per
     target is the mean over its calls, so it samples the machine across the run as the
-    one-at-a-time rows do. `after_block` gets each block's timings by label."""
+    one-at-a-time rows do."""
     labels = [e.label for e in entries]
     if len(set(labels)) < len(labels) or block < 1 or batch_calls < 1:
         raise ValueError(f"entries need distinct labels ({labels}), block and batch_calls >= 1")
@@ -306,15 +306,11 @@ def time_interleaved(
                     if progress and len(calls[e.label]) == 1:
                         progress(e.label, N)
         shift = (k + rotate) % len(singles) if singles else 0
-        here: dict[str, Timed] = {}
         for e in singles[shift:] + singles[:shift]:
             stop = min(start + block, N if e.limit is None else min(e.limit, N))
             if start < stop:
                 tick = (lambda n, label=e.label: progress(label, n)) if progress else None
-                here[e.label] = time_solves(e.solver, targets.poses[start:stop], targets.seeds[start:stop], tick)
-                parts[e.label].append(here[e.label])
-        if after_block:
-            after_block(here)
+                parts[e.label].append(time_solves(e.solver, targets.poses[start:stop], targets.seeds[start:stop], tick))
     timed = {label: join_timed(blocks) for label, blocks in parts.items() if blocks}
     for label, made in calls.items():
         wall = np.mean([c.wall for c in made], axis=0)

@@ -18,7 +18,7 @@ check will accept its answer (with a 0.99 margin on the tolerance).
 `settings` (8,): first try's patience, later tries' patience, progress, iterations per try, error
 damping k, damping bias, tolerance, and the seed's feature distance beyond which the table is asked
 (see LevenbergMarquardt). The table (`scores`, `cell_scores`, `cell_bounds`, `table_q`) is described
-in LevenbergMarquardt._build_table; `table_q` is in cell order, so a cell row is a table row.
+in LevenbergMarquardt.table(); `table_q` is in cell order, so a cell row is a table row.
 """
 
 from __future__ import annotations
