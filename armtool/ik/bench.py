@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from armtool.ik.modes import SeedMode
-from armtool.ik.solver import Answer, Array, Solver, verify_batch
+from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
 # What the timings mean, for the table's footer and the JSON report.
@@ -208,19 +208,25 @@ def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchC
     results, wall, cpu, batch = timed.results, timed.wall, timed.cpu, timed.batch
     N = targets.poses.shape[0]
     total_wall = float(wall.sum())
-    Q = np.array([np.asarray(r.q, dtype=float).reshape(chain.n) for r in results])
-    ok, pos, rot = verify_batch(chain, Q, targets.poses, config.tolerance, position_only=config.position_only)
+    tol, position_only = config.tolerance, config.position_only
+    judged = solver.judge_batch(results, targets.poses, tolerance=tol, position_only=position_only)
+    Q = np.array([r.q for r in judged])
+    ok = np.array([r.success for r in judged], dtype=bool)
+    pos = np.array([r.position_error_m for r in judged])
+    rot = np.array([r.orientation_error_rad for r in judged])
     claimed = np.array([r.claimed for r in results])
     reasons: dict[str, int] = {}
-    for i in np.flatnonzero(~ok).tolist():
-        why = solver.failure_reason(results[i])
-        reasons[why] = reasons.get(why, 0) + 1
+    for r in judged:
+        if not r.success:
+            reasons[r.reason] = reasons.get(r.reason, 0) + 1
     repeat = None
     if config.repeat > 0 and not batch:
         m = min(config.repeat, N)
-        again = [solver.solve(targets.poses[i], targets.seeds[i]) for i in range(m)]
-        Q2 = np.array([np.asarray(r.q, dtype=float) for r in again])
-        ok2, _, _ = verify_batch(chain, Q2, targets.poses[:m], config.tolerance, position_only=config.position_only)
+        prepare, call, answer = solver.prepare, solver.call, solver.answer
+        again = [answer(call(prepare(targets.poses[i], targets.seeds[i]))) for i in range(m)]
+        judged2 = solver.judge_batch(again, targets.poses[:m], tolerance=tol, position_only=position_only)
+        Q2 = np.array([r.q for r in judged2])
+        ok2 = np.array([r.success for r in judged2], dtype=bool)
         both = ok[:m] & ok2
         same = both & (_joint_distance(chain, Q[:m], Q2) < 1e-6)
         repeat = float(same.sum() / both.sum()) if both.any() else None  # nothing to compare

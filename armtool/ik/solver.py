@@ -226,16 +226,25 @@ class Solver:
         return cls.call_batch is not Solver.call_batch
 
     def solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
-        """Solve every target and judge the answers by armtool's FK."""
-        targets, seeds = self._batch_arrays(targets, seeds)
+        """Solve every target and judge the answers by armtool's FK (prepare_batch checks the shapes)."""
         answers = self.answer_batch(self.call_batch(self.prepare_batch(targets, seeds)))
         return self.judge_batch(answers, targets)
 
-    def judge_batch(self, answers: list[Answer], targets: Array) -> list[IKResult]:
+    def judge_batch(
+        self, answers: list[Answer], targets: Array, *, tolerance: float | None = None, position_only: bool = False
+    ) -> list[IKResult]:
+        """judge() for many answers at once (verify_batch); by default at the solver's own tolerance,
+        and on the whole pose (position_only: on the position, see verify_batch)."""
         if not answers:
             return []
         Q = np.array([np.asarray(a.q, dtype=float).reshape(self.chain.n) for a in answers])
-        ok, pos, rot = verify_batch(self.chain, Q, np.asarray(targets, dtype=float), self.tolerance)
+        ok, pos, rot = verify_batch(
+            self.chain,
+            Q,
+            np.asarray(targets, dtype=float),
+            self.tolerance if tolerance is None else tolerance,
+            position_only=position_only,
+        )
         return [
             IKResult(o, q, p, r, a.iterations, "" if o else self.failure_reason(a), a.solutions)
             for o, q, p, r, a in zip(ok.tolist(), Q, pos.tolist(), rot.tolist(), answers)
