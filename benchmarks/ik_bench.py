@@ -7,13 +7,14 @@ real-repository corpus (xarm_ros2's xarm_device.urdf.xacro with dof:=6 / dof:=7,
 an arm whose files are absent is skipped with a message). N configurations uniform within the
 limits → FK → targets; every solve from the mid-range seed; 5 ms timeout; success = every twist
 component within 1e-5 and q within the limits, by armtool's FK (`armtool.ik.bench.solver_report`),
-whatever the solver claims. All solvers see the same targets; `lm` also runs batched (one
-`solve_batch` call). ikpy is slow (~10 ms a solve) and runs on the first --ikpy-samples targets
+whatever the solver claims. All solvers see the same targets; `lm` also runs batched (its
+`call_batch` over every target, --batch-calls calls per round). ikpy is slow (~10 ms a solve) and runs on the first --ikpy-samples targets
 only. A peer that is not installed is skipped with its install command (`pip install 'armtool[peers]'`).
 
-What is timed (armtool.ik.bench.TIMING): each solver's own solve call and nothing else, for every
-row alike. Putting the target into a solver's input form (a peer's quaternion, KDL frames),
-reading its output, and checking every answer with armtool's FK happen outside the timed region.
+What is timed (armtool.ik.bench.TIMING): each solver's own solve call (with its own checks of its
+inputs) and nothing else, for every row alike. Putting the target into a solver's input form (a
+peer's quaternion, KDL frames, lm's contiguous arrays), reading its output into armtool's answer,
+and checking every answer with armtool's FK happen outside the timed region.
 
 Before round 1, every solver but ikpy solves the first --warmup targets (default 100) untimed, so that
 round 1 runs in the same state as the rounds after it (lm's first round was often its slowest).

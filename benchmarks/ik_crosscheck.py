@@ -1,8 +1,12 @@
 """A cross-check of `benchmarks/ik_bench.py` that shares none of its timing or checking code.
 
 Each solver's raw call is timed with `time.perf_counter` around that call alone: armtool's `lm`
-through `solver.call` on inputs prepared beforehand, roboticstoolbox's C++ `ETS.ik_LM` and
-TRAC-IK's `pytracik.ik` directly (the quaternion computed beforehand). Answers are checked
+through `solver.call` (its own check of its inputs included) on inputs converted beforehand
+(`solver.prepare`), roboticstoolbox's C++ `ETS.ik_LM` and TRAC-IK's `pytracik.ik` directly, with the
+settings and the input form of armtool's adapters (`RtbLM.ILIMIT`, `SLIMIT` and its tolerance;
+`PyTracIK.prepare`'s position and quaternion, computed beforehand), so that the two cannot drift
+apart. The answer is each call's own raw output; nothing of armtool reads it inside the timing.
+Answers are checked
 afterwards by Pinocchio's own model of the whole URDF (`pin.buildModelFromXML`, the tip's frame
 relative to the base's), not by armtool's chain: every component of [Δp; log(R* Rᵀ)] within 1e-5
 and every joint within the URDF's limits. The solvers take turns on blocks of 50 targets (the
@@ -72,25 +76,37 @@ class IndependentCheck:
 
 
 def callers(root: Any, chain: Any, targets: np.ndarray, seed: np.ndarray) -> dict[str, Any]:
-    """Per solver: a function of the target index that makes the raw call and returns q."""
-    import pinocchio as pin
-
+    """Per solver: a function of the target index that makes the raw call and returns its raw output."""
     from armtool.ik.peers import make_peer
     from armtool.ik.registry import make_solver
 
     lm = make_solver("lm", chain, timeout=TIMEOUT, tolerance=TOLERANCE)
-    lm_inputs = [lm.prepare(t, seed) for t in targets]
-    out: dict[str, Any] = {"lm": lambda i: lm.call(lm_inputs[i]).q}
+    lm_inputs = [lm.prepare(t, seed) for t in targets]  # contiguous arrays only: lm checks them in its call
+    out: dict[str, Any] = {"lm": lambda i: lm.call(lm_inputs[i])}
     rtb = make_peer("rtb-lm", chain, root, timeout=TIMEOUT, tolerance=TOLERANCE)
     if not isinstance(rtb, str):
-        ets, tol = rtb._ets, 0.5 * TOLERANCE**2  # type: ignore[attr-defined]
-        out["rtb-lm"] = lambda i: ets.ik_LM(targets[i], q0=seed, ilimit=30, slimit=100, tol=tol, joint_limits=True).q
+        ets, tol = rtb._ets, rtb._tol  # type: ignore[attr-defined]
+        ilimit, slimit = type(rtb).ILIMIT, type(rtb).SLIMIT  # type: ignore[attr-defined]
+        out["rtb-lm"] = lambda i: ets.ik_LM(
+            targets[i], q0=seed, ilimit=ilimit, slimit=slimit, tol=tol, joint_limits=True
+        )
     trac = make_peer("pytracik", chain, root, timeout=TIMEOUT, tolerance=TOLERANCE)
     if not isinstance(trac, str):
         ik, handle = trac._ik, trac._solver  # type: ignore[attr-defined]
-        args = [(*t[:3, 3].tolist(), *(float(c) for c in pin.Quaternion(t[:3, :3]).coeffs())) for t in targets]
-        out["pytracik"] = lambda i: ik(handle, seed, *args[i])[1:]
+        args = [trac.prepare(t, seed) for t in targets]  # (seed, x, y, z, quaternion x, y, z, w)
+        out["pytracik"] = lambda i: ik(handle, *args[i])
     return out
+
+
+def answer_q(label: str, chain: Any, raw: Any) -> np.ndarray:
+    """q from a call's raw output (untimed): lm's out vector, rtb's IKSolution, pytracik's [rc, q...]."""
+    if label == "lm":
+        from armtool.ik.solvers.lm_kernel import OUT_HEAD
+
+        return np.asarray(raw[OUT_HEAD : OUT_HEAD + chain.n], dtype=float)
+    if label == "rtb-lm":
+        return np.asarray(raw.q, dtype=float)
+    return np.asarray(raw, dtype=float)[1:]
 
 
 def run_arm(name: str, samples: int, corpus: Path) -> dict[str, tuple[float, float]] | None:
@@ -114,14 +130,14 @@ def run_arm(name: str, samples: int, corpus: Path) -> dict[str, tuple[float, flo
             f = calls[label]
             for i in range(start, min(start + BLOCK, samples)):
                 t0 = time.perf_counter()
-                q = f(i)
+                raw = f(i)
                 times[label].append(time.perf_counter() - t0)
-                answers[label][i] = q
+                answers[label][i] = raw
     return {
         label: (
             statistics.median(times[label]) * 1e6,
             100.0
-            * sum(check.ok(np.asarray(q, dtype=float), targets[i]) for i, q in enumerate(answers[label]))
+            * sum(check.ok(answer_q(label, chain, raw), targets[i]) for i, raw in enumerate(answers[label]))
             / samples,
         )
         for label in calls

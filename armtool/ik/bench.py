@@ -20,14 +20,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from armtool.ik.modes import SeedMode
-from armtool.ik.solver import Answer, Array, Solver, verify_batch
+from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
 # What the timings mean, for the table's footer and the JSON report.
 TIMING = (
-    "time = the solver's own solve call only, the same boundary for every row; converting the target "
-    "into a solver's input form, reading its output and checking every answer with armtool's forward "
-    "kinematics (success = that check, never the solver's own flag) happen outside the timed region"
+    "time = the solver's own solve call only (with the solver's own checks of its inputs), the same "
+    "boundary for every row; converting the target into a solver's input form, reading its output into "
+    "armtool's answer and checking every answer with armtool's forward kinematics (success = that check, "
+    "never the solver's own flag) happen outside the timed region"
 )
 
 
@@ -74,7 +75,7 @@ def _summary(values: Array) -> dict[str, float]:
 @dataclass
 class SolverReport:
     solver: str
-    mode: str  # "single" (one solve() per target) or "batch" (one solve_batch() call)
+    mode: str  # "single" (one timed call() per target) or "batch" (timed call_batch() over every target)
     samples: int
     success_rate: float
     wall_us: dict[str, float]
@@ -207,19 +208,25 @@ def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchC
     results, wall, cpu, batch = timed.results, timed.wall, timed.cpu, timed.batch
     N = targets.poses.shape[0]
     total_wall = float(wall.sum())
-    Q = np.array([np.asarray(r.q, dtype=float).reshape(chain.n) for r in results])
-    ok, pos, rot = verify_batch(chain, Q, targets.poses, config.tolerance, position_only=config.position_only)
+    tol, position_only = config.tolerance, config.position_only
+    judged = solver.judge_batch(results, targets.poses, tolerance=tol, position_only=position_only)
+    Q = np.array([r.q for r in judged])
+    ok = np.array([r.success for r in judged], dtype=bool)
+    pos = np.array([r.position_error_m for r in judged])
+    rot = np.array([r.orientation_error_rad for r in judged])
     claimed = np.array([r.claimed for r in results])
     reasons: dict[str, int] = {}
-    for i in np.flatnonzero(~ok).tolist():
-        why = solver.failure_reason(results[i])
-        reasons[why] = reasons.get(why, 0) + 1
+    for r in judged:
+        if not r.success:
+            reasons[r.reason] = reasons.get(r.reason, 0) + 1
     repeat = None
     if config.repeat > 0 and not batch:
         m = min(config.repeat, N)
-        again = [solver.solve(targets.poses[i], targets.seeds[i]) for i in range(m)]
-        Q2 = np.array([np.asarray(r.q, dtype=float) for r in again])
-        ok2, _, _ = verify_batch(chain, Q2, targets.poses[:m], config.tolerance, position_only=config.position_only)
+        prepare, call, answer = solver.prepare, solver.call, solver.answer
+        again = [answer(call(prepare(targets.poses[i], targets.seeds[i]))) for i in range(m)]
+        judged2 = solver.judge_batch(again, targets.poses[:m], tolerance=tol, position_only=position_only)
+        Q2 = np.array([r.q for r in judged2])
+        ok2 = np.array([r.success for r in judged2], dtype=bool)
         both = ok[:m] & ok2
         same = both & (_joint_distance(chain, Q[:m], Q2) < 1e-6)
         repeat = float(same.sum() / both.sum()) if both.any() else None  # nothing to compare
@@ -275,7 +282,6 @@ def time_interleaved(
     targets: Targets,
     block: int = BLOCK,
     rotate: int = 0,
-    after_block: Callable[[dict[str, Timed]], None] | None = None,
     progress: Callable[[str, int], None] | None = None,
     batch_calls: int = 1,
 ) -> dict[str, Timed]:
@@ -286,7 +292,7 @@ def time_interleaved(
     (the development VM: 2x, every 2.5-8 s); run whole one after the other, one solver would be
     timed fast and the next slow. A batch row's answers are its first call's; its time per
     target is the mean over its calls, so it samples the machine across the run as the
-    one-at-a-time rows do. `after_block` gets each block's timings by label."""
+    one-at-a-time rows do."""
     labels = [e.label for e in entries]
     if len(set(labels)) < len(labels) or block < 1 or batch_calls < 1:
         raise ValueError(f"entries need distinct labels ({labels}), block and batch_calls >= 1")
@@ -306,15 +312,11 @@ def time_interleaved(
                     if progress and len(calls[e.label]) == 1:
                         progress(e.label, N)
         shift = (k + rotate) % len(singles) if singles else 0
-        here: dict[str, Timed] = {}
         for e in singles[shift:] + singles[:shift]:
             stop = min(start + block, N if e.limit is None else min(e.limit, N))
             if start < stop:
                 tick = (lambda n, label=e.label: progress(label, n)) if progress else None
-                here[e.label] = time_solves(e.solver, targets.poses[start:stop], targets.seeds[start:stop], tick)
-                parts[e.label].append(here[e.label])
-        if after_block:
-            after_block(here)
+                parts[e.label].append(time_solves(e.solver, targets.poses[start:stop], targets.seeds[start:stop], tick))
     timed = {label: join_timed(blocks) for label, blocks in parts.items() if blocks}
     for label, made in calls.items():
         wall = np.mean([c.wall for c in made], axis=0)

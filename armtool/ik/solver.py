@@ -6,8 +6,9 @@ A solve has three steps, so that a benchmark times every solver the same way (TR
 roboticstoolbox time the solve call only):
 - `prepare(target, seed)`: the inputs in the form the solver's own call takes (a peer's quaternion,
   a contiguous array). Not timed.
-- `call(prepared)`: the solver's own work, and nothing else. This is what `ik-bench` times.
-- `answer(raw)`: its output as an `Answer` (q, the solver's own claim, iterations). Not timed.
+- `call(prepared)`: the solver's own work, and nothing else. This is what `ik-bench` times. It
+  returns the solver's raw output (armtool's own solvers: a tuple or a buffer, never an `Answer`).
+- `answer(raw)`: that output as an `Answer` (q, the solver's own claim, iterations). Not timed.
 Then `judge` checks the answer with armtool's own forward kinematics (`verify`), the same for every
 solver and outside the timing: a solver's claim is never trusted.
 """
@@ -136,8 +137,8 @@ class Solver:
     """Base class: options, and the prepare → call → answer → judge steps of a solve.
 
     Subclasses implement `call` (and `prepare` / `answer` when their own call takes or returns
-    something other than float arrays and an `Answer`); `call_batch` when they solve many targets
-    at once in their own way."""
+    something other than float arrays and a tuple (q, claimed, iterations, reason)); `call_batch`
+    when they solve many targets at once in their own way."""
 
     name: ClassVar[str]
     summary: ClassVar[str]
@@ -178,9 +179,13 @@ class Solver:
         raise NotImplementedError
 
     def answer(self, raw: Any) -> Answer:
-        """call()'s output as an Answer (untimed); armtool's own solvers return one already."""
-        assert isinstance(raw, Answer)
-        return raw
+        """call()'s output as an Answer (untimed): by default call() returns (q, claimed, iterations,
+        reason). An Answer is passed on as it is (a solver whose call builds it: armtool's own do not,
+        since that would be timed in their row and in no other)."""
+        if isinstance(raw, Answer):
+            return raw
+        q, claimed, iterations, reason = raw
+        return Answer(q, claimed, iterations, reason)
 
     def solve(self, target: Array, seed: Array) -> IKResult:
         """Solve one target and judge the answer by armtool's FK."""
@@ -221,16 +226,25 @@ class Solver:
         return cls.call_batch is not Solver.call_batch
 
     def solve_batch(self, targets: Array, seeds: Array) -> list[IKResult]:
-        """Solve every target and judge the answers by armtool's FK."""
-        targets, seeds = self._batch_arrays(targets, seeds)
+        """Solve every target and judge the answers by armtool's FK (prepare_batch checks the shapes)."""
         answers = self.answer_batch(self.call_batch(self.prepare_batch(targets, seeds)))
         return self.judge_batch(answers, targets)
 
-    def judge_batch(self, answers: list[Answer], targets: Array) -> list[IKResult]:
+    def judge_batch(
+        self, answers: list[Answer], targets: Array, *, tolerance: float | None = None, position_only: bool = False
+    ) -> list[IKResult]:
+        """judge() for many answers at once (verify_batch); by default at the solver's own tolerance,
+        and on the whole pose (position_only: on the position, see verify_batch)."""
         if not answers:
             return []
         Q = np.array([np.asarray(a.q, dtype=float).reshape(self.chain.n) for a in answers])
-        ok, pos, rot = verify_batch(self.chain, Q, np.asarray(targets, dtype=float), self.tolerance)
+        ok, pos, rot = verify_batch(
+            self.chain,
+            Q,
+            np.asarray(targets, dtype=float),
+            self.tolerance if tolerance is None else tolerance,
+            position_only=position_only,
+        )
         return [
             IKResult(o, q, p, r, a.iterations, "" if o else self.failure_reason(a), a.solutions)
             for o, q, p, r, a in zip(ok.tolist(), Q, pos.tolist(), rot.tolist(), answers)

@@ -4,9 +4,6 @@ and the targets are ratios to rtb's median, round by round."""
 from __future__ import annotations
 
 import argparse
-import importlib.util
-import sys
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -14,18 +11,8 @@ import numpy as np
 from armtool.ik import load_chain
 from armtool.ik.bench import BenchConfig, Entry, make_targets
 from armtool.ik.solver import Answer, Solver
+from tests.benchmarks import load_script
 from tests.ik.robots import ARMS, erd
-
-SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "ik_bench.py"
-
-
-def load_script() -> Any:
-    spec = importlib.util.spec_from_file_location("ik_bench_script", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses look their module up by name
-    spec.loader.exec_module(module)
-    return module
 
 
 class Seedy(Solver):
@@ -38,7 +25,7 @@ class Seedy(Solver):
 
 
 def test_every_round_times_each_entry_on_its_targets() -> None:
-    script = load_script()
+    script = load_script("ik_bench")
     chain = load_chain(erd(ARMS["ur5"][0]))
     targets = make_targets(chain, BenchConfig(samples=10))
     a, b = Seedy(chain), Seedy(chain)
@@ -55,7 +42,7 @@ def row(script: Any, label: str, rounds: tuple[float, ...], success: float = 100
 
 
 def test_targets_are_ratios_to_rtb_in_every_round() -> None:
-    script = load_script()
+    script = load_script("ik_bench")
     rows = {
         "lm": row(script, "lm", (30.0, 60.0, 33.0)),
         "lm (batch)": row(script, "lm (batch)", (5.0, 5.0, 5.0), per_s=400.0),

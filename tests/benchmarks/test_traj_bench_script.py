@@ -3,25 +3,12 @@ armtool's resampling and interpolation of it."""
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from armtool.traj.limits import JointLimits
-
-SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "traj_bench.py"
-
-
-def load_script() -> Any:
-    spec = importlib.util.spec_from_file_location("traj_bench_script", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
+from tests.benchmarks import load_script
 
 
 def limits(v: float, a: float) -> JointLimits:
@@ -49,7 +36,7 @@ def test_a_peer_at_its_limit_is_not_judged_over_it() -> None:
     # Sampled at 100 Hz and re-interpolated with a cubic Hermite (what armtool's checker assumes of its
     # own output), an exact bang-bang profile appears up to ~1.5x over its acceleration limit at the
     # switch; by its own evaluation it is exactly at the limit.
-    script = load_script()
+    script = load_script("traj_bench")
     lim = limits(v=10.0, a=2.0)
     v, a = script.worst_exact(bang_bang(2.0, 1.0), 1.0, lim)
     assert a <= 1.0 + 1e-12 and v <= 0.11
@@ -57,7 +44,7 @@ def test_a_peer_at_its_limit_is_not_judged_over_it() -> None:
 
 def test_a_peer_over_its_limit_between_samples_is_caught() -> None:
     # 1.3x the limit for 2 ms, between two 100 Hz samples: the exact grid sees it.
-    script = load_script()
+    script = load_script("traj_bench")
     lim = limits(v=10.0, a=2.0)
     _, a = script.worst_exact(bang_bang(2.0, 1.0, spike=(0.2031, 0.2051, 2.6)), 1.0, lim)
     assert abs(a - 1.3) < 1e-12
@@ -70,7 +57,7 @@ def test_toppra_is_judged_by_its_own_trajectory() -> None:
     pytest.importorskip("toppra")
     from armtool.traj.path import joint_path
 
-    script = load_script()
+    script = load_script("traj_bench")
     lim = limits(v=1.0, a=2.0)
     path = joint_path(np.array([[0.0], [0.5], [0.2], [1.0]]))
     for parametrizer in script.TOPPRA_PARAMETRIZERS:

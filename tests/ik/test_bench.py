@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+import pytest
 
 from armtool.ik import load_chain
 from armtool.ik.bench import BenchConfig, SeedMode, make_targets, run_solver
@@ -204,3 +207,60 @@ def test_interleaving_refuses_entries_it_would_mix_up() -> None:
             time_interleaved(entries, targets)
     with pytest.raises(ValueError):
         time_interleaved([Entry(a)], targets, batch_calls=0)
+
+
+def test_solve_batch_reads_its_inputs_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    # solve_batch's inputs are converted and their shapes checked once, by prepare_batch.
+    from armtool.ik import make_solver
+
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    targets = make_targets(chain, BenchConfig(samples=4))
+    for solver in (Liar(chain), make_solver("lm", chain)):
+        seen: list[int] = []
+        real = solver._batch_arrays
+
+        def counted(t: np.ndarray, s: np.ndarray, real: Any = real) -> Any:
+            seen.append(len(t))
+            return real(t, s)
+
+        monkeypatch.setattr(solver, "_batch_arrays", counted)
+        assert len(solver.solve_batch(targets.poses, targets.seeds)) == 4
+        assert seen == [4], solver.name
+
+
+def test_the_report_checks_every_answer_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Every timed answer and every repeated one is checked by armtool's FK once (verify_batch), and
+    # the report's verdicts and failure reasons are judge_batch's.
+    from armtool.ik import bench, make_solver
+    from armtool.ik import solver as solver_module
+    from armtool.ik.bench import solver_report, time_solves
+
+    chain = load_chain(erd(ARMS["ur5"][0]))
+    config = BenchConfig(samples=8, repeat=3, timeout=0.02)
+    targets = make_targets(chain, config)
+    rows: list[int] = []
+    real_batch, real_one = solver_module.verify_batch, solver_module.verify
+
+    def verify_batch(chain: Any, Q: np.ndarray, *args: Any, **kwargs: Any) -> Any:
+        rows.append(len(Q))
+        return real_batch(chain, Q, *args, **kwargs)
+
+    def verify(*args: Any, **kwargs: Any) -> Any:
+        rows.append(1)
+        return real_one(*args, **kwargs)
+
+    monkeypatch.setattr(solver_module, "verify_batch", verify_batch)
+    monkeypatch.setattr(solver_module, "verify", verify)
+    monkeypatch.setattr(bench, "verify_batch", verify_batch, raising=False)
+    for solver in (make_solver("lm", chain, timeout=0.02), Liar(chain)):
+        timed = time_solves(solver, targets.poses, targets.seeds)
+        rows.clear()
+        report = solver_report(chain, solver, targets, config, timed)
+        assert sum(rows) == 8 + 3, solver.name
+        judged = solver.judge_batch(timed.results, targets.poses)
+        assert report.solved == [r.success for r in judged]
+        reasons: dict[str, int] = {}
+        for r in judged:
+            if not r.success:
+                reasons[r.reason] = reasons.get(r.reason, 0) + 1
+        assert report.failure_reasons == reasons

@@ -253,3 +253,52 @@ def test_a_seed_or_target_of_the_wrong_shape_or_not_finite_is_refused() -> None:
             solver.solve(bad_target, bad_seed)
     with pytest.raises(ArmtoolError, match="finite"):
         solver.solve_batch(np.stack([target, target]), np.stack([mid, np.full(6, np.nan)]))
+
+
+def test_a_lazy_table_is_built_outside_the_solve_budget() -> None:
+    # lazy_table (`traj cartesian`) builds the table on the first solve that needs it, ~1 s of CPU:
+    # that solve's budget starts after the build, so its restarts still run. Targets whose first tries
+    # fail, from a far seed (the table is asked for a start) and from a near one (the seed is tried
+    # as it is, and only the restarts need the table); one at a time and in a batch.
+    from armtool.ik.solvers import lm_kernel
+
+    relative, base, tip = ARMS["panda"]
+    chain = load_chain(erd(relative), base, tip)
+    mid = chain.mid()
+    targets = chain.fk_batch(chain.random(np.random.default_rng(5), 400))
+    for far in (1e-3, np.inf):  # lm's FAR, and "every seed is near"
+        eager: Any = make_solver("lm", chain, timeout=0.05)
+        eager._settings[7] = far
+        hard = np.array([t for t in targets if first_tries(eager, t, mid)[1][0] != lm_kernel.SOLVED][:3])
+        assert len(hard) == 3
+        for target in hard:
+            lazy: Any = make_solver("lm", chain, timeout=0.05, lazy_table=True)
+            lazy._settings[7] = far
+            assert lazy._table is None
+            r, e = lazy.solve(target, mid), eager.solve(target, mid)
+            assert r.success and e.success, (r.reason, r.iterations, e.iterations)
+            assert lazy._table is not None
+        lazy = make_solver("lm", chain, timeout=0.05, lazy_table=True)
+        lazy._settings[7] = far
+        assert all(r.success for r in lazy.solve_batch(hard, np.tile(mid, (len(hard), 1))))
+
+
+def test_the_input_check_is_part_of_the_timed_call() -> None:
+    # lm's check of its inputs (the compiled loop reads them without bounds checks) is its own work,
+    # as roboticstoolbox's checks are inside its ik_LM: `prepare` only converts, `call` refuses.
+    relative, base, tip = ARMS["ur5"]
+    chain = load_chain(erd(relative), base, tip)
+    solver = make_solver("lm", chain)
+    target, mid = chain.fk(chain.mid()), chain.mid()
+    for bad_target, bad_seed, match in (
+        (target, mid[:3], "seed values"),
+        (target[:3], mid, "4x4"),
+        (target, np.full(6, np.nan), "finite"),
+        (np.where(np.eye(4) > 0, np.inf, target), mid, "finite"),
+    ):
+        prepared = solver.prepare(bad_target, bad_seed)
+        with pytest.raises(ArmtoolError, match=match):
+            solver.call(prepared)
+    prepared = solver.prepare_batch(np.stack([target, target]), np.stack([mid, np.full(6, -np.inf)]))
+    with pytest.raises(ArmtoolError, match="finite"):
+        solver.call_batch(prepared)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import numpy as np
 
@@ -58,8 +59,13 @@ def test_far_seeds_start_from_the_nearest_table_pose() -> None:
     seeds = np.concatenate([np.tile(chain.mid(), (40, 1)), near])
     results = solver.solve_batch(targets, seeds)
     assert all(r.success and r.iterations == 0 for r in results)
-    assert np.allclose([r.q for r in results[:40]], solver._wrap(table))  # type: ignore[attr-defined]
-    assert np.allclose([r.q for r in results[40:]], solver._wrap(near))  # type: ignore[attr-defined]
+    assert np.allclose([r.q for r in results[:40]], wrap(chain, table))
+    assert np.allclose([r.q for r in results[40:]], wrap(chain, near))
+
+
+def wrap(chain: Any, Q: np.ndarray) -> np.ndarray:
+    """Continuous joints into [-π, π), as lm returns them."""
+    return np.where(chain.continuous, (Q + np.pi) % (2 * np.pi) - np.pi, Q)
 
 
 def test_batch_answers_equal_single_solves() -> None:

@@ -3,8 +3,10 @@
 A profiler watches the timed region of the benchmark's own timing code (`time_solves`,
 `time_batch`: between the two clock readings that bound a solve) and records every function that
 runs inside it. armtool's answer check (`verify`, `judge`) must never be among them, for any solver,
-armtool's own or a peer; and a peer's timed region holds nothing but the peer's library (no
-conversion of the target by armtool or Pinocchio, which only that row would pay).
+armtool's own or a peer; nor the building of armtool's answer from a solver's output (`Answer`,
+`answer`, wrapping continuous joints), which every peer's adapter does outside the timing; and a
+peer's timed region holds nothing but the peer's library (no conversion of the target by armtool
+or Pinocchio, which only that row would pay).
 """
 
 from __future__ import annotations
@@ -22,9 +24,11 @@ import pytest
 from armtool.ik import bench
 from armtool.ik import solver as solver_module
 from armtool.ik.bench import BenchConfig, make_targets, time_batch, time_solves
+from armtool.ik.modes import SeedMode
 from armtool.ik.peers import PEERS, make_peer
 from armtool.ik.registry import SOLVERS, make_solver
-from armtool.ik.solver import Answer, Solver
+from armtool.ik.solver import Answer, IKResult, Solver
+from armtool.ik.solvers import lm_kernel
 from armtool.model.chain import chain_from_xml
 from armtool.model.load import load_robot_xml
 from tests.ik.robots import ARMS, erd
@@ -40,6 +44,23 @@ CHECKS = {
     Solver.solve.__code__,
     Solver.solve_batch.__code__,
 }
+# armtool's building of an answer from a solver's own output: never inside the timing either.
+BUILDS = {Answer.__init__.__code__: "Answer(...)", IKResult.__init__.__code__: "IKResult(...)"}
+BUILD_NAMES = {"answer", "answer_batch", "_wrap"}  # armtool's result-reading methods, by name
+ARMTOOL = solver_module.__file__.rsplit("/ik/", 1)[0]
+
+
+def armtool_code(watch: Watch) -> list[Any]:
+    return [c for c in watch.python if c.co_filename.startswith(ARMTOOL)]
+
+
+def builds(watch: Watch) -> list[str]:
+    """armtool's answer building seen inside the timed regions."""
+    found = {BUILDS[c] for c in watch.python if c in BUILDS}
+    found |= {
+        f"{c.co_name} ({c.co_filename.rsplit('/', 1)[-1]})" for c in armtool_code(watch) if c.co_name in BUILD_NAMES
+    }
+    return sorted(found)
 
 
 class Watch:
@@ -112,18 +133,35 @@ def test_armtools_solvers_are_timed_without_the_answer_check(name: str, monkeypa
         assert watch.python, "nothing was timed"
         checked = [c.co_name for c in watch.python if c in CHECKS]
         assert not checked, f"{name} runs armtool's answer check inside its timed call: {checked}"
+        built = builds(watch)
+        assert not built, f"{name} builds armtool's answer inside its timed call (the peers do not): {built}"
 
 
-@pytest.mark.parametrize("name", sorted(set(PEERS) - {"pykdl"}))
+@pytest.mark.parametrize("arm_name", ["ur5", "kinova"])  # Kinova: continuous joints, which lm wraps
+def test_lm_builds_no_answer_inside_its_timed_call(arm_name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    # Targets that need restarts too (from a random seed), whose answer lm's restarts assemble.
+    _, chain = arm(arm_name)
+    s = make_solver("lm", chain, timeout=0.002)
+    targets = make_targets(chain, BenchConfig(samples=12, rng_seed=5, seed_mode=SeedMode.RANDOM))
+    s.solve(targets.poses[0], targets.seeds[0])
+    for batch in (False, True):
+        with watching(monkeypatch) as watch:
+            (time_batch if batch else time_solves)(s, targets.poses, targets.seeds)
+        assert watch.python and not builds(watch), builds(watch)
+
+
+@pytest.mark.parametrize("name", sorted(PEERS))
 def test_peers_are_timed_on_their_own_call_only(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
     pytest.importorskip(PEERS[name][1])
     root, chain = arm("ur5")
     s = make_peer(name, chain, root, timeout=0.002, tolerance=1e-5)
     assert isinstance(s, Solver)
     watch = timed_functions(monkeypatch, s, False)
-    ours = {c.co_name for c in watch.python if c.co_filename.startswith(solver_module.__file__.rsplit("/ik/", 1)[0])}
-    # The adapter's call() is the only armtool code inside the timing: no check, no conversion.
-    assert ours == {"call"}, f"{name}: armtool code inside the timed call: {sorted(ours)}"
+    ours = {c.co_name for c in armtool_code(watch)}
+    # The adapter's call() is the only armtool code inside the timing: no check, no conversion; a
+    # peer looped until its timeout (pykdl, as TRAC-IK's benchmark runs KDL) reads the clock.
+    assert ours - {"clock"} == {"call"}, f"{name}: armtool code inside the timed call: {sorted(ours)}"
+    assert not builds(watch), f"{name}: armtool builds its answer inside the timed call: {builds(watch)}"
     pinocchio = [f for f in watch.native if (getattr(f, "__module__", None) or "").startswith("pinocchio")]
     assert not pinocchio, f"{name}: Pinocchio converts its inputs inside the timing: {pinocchio}"
 
@@ -163,6 +201,14 @@ def test_every_answer_is_checked_outside_the_timing_lm_included() -> None:
     config = BenchConfig(samples=6, repeat=0)
     targets = make_targets(chain, config)
     lm = make_solver("lm", chain)
-    lm.call: Callable[[Any], Answer] = lambda prepared: Answer(np.asarray(prepared[1]), True, 1)  # type: ignore[method-assign]
+
+    def claims_the_seed(prepared: Any) -> np.ndarray:  # lm's raw output: solved, 1 iteration, q = the seed
+        n = chain.n
+        out = np.zeros(lm_kernel.OUT_HEAD + 2 * n)
+        out[0], out[1] = lm_kernel.SOLVED, 1
+        out[lm_kernel.OUT_HEAD : lm_kernel.OUT_HEAD + n] = prepared[1]
+        return out
+
+    lm.call: Callable[[Any], Any] = claims_the_seed  # type: ignore[method-assign]
     report = bench.solver_report(chain, lm, targets, config, time_solves(lm, targets.poses, targets.seeds))
     assert report.success_rate == 0.0 and report.claimed_but_wrong == 6

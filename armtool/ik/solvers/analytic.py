@@ -413,7 +413,10 @@ class Analytic(Solver):
         )  # fmt: skip
 
     # ---- per target --------------------------------------------------------------------------------------
-    def call(self, prepared: tuple[Array, Array]) -> Answer:
+    def call(self, prepared: tuple[Array, Array]) -> tuple[list[tuple[float, Array]], int, int, Array]:
+        """(the solutions that pass, as (squared distance to the seed, q), nearest first; how many
+        closed-form solutions were checked (-1: the closed form has none, the target is out of
+        reach); how many of those were within the limits; the seed). `answer` reads them."""
         target, seed = prepared
         chain = self.chain
         t = target
@@ -426,7 +429,7 @@ class Analytic(Solver):
             )
         qs = self._candidates_ur(tp, sd) if self.geometry.kind == "ur" else self._candidates_wrist(tp, sd)
         if not qs:
-            return Answer(chain.clamp(seed), False, 0, "out of reach: the closed form has no real solution")
+            return [], -1, 0, seed
         fk = chain.fk
         tol, rot_tol2, limits = self.tolerance, self._rot_tol2, self._limits
         (lo0, hi0), (lo1, hi1), (lo2, hi2), (lo3, hi3), (lo4, hi4), (lo5, hi5) = limits
@@ -464,11 +467,7 @@ class Analytic(Solver):
                     u0, u1, u2, v0, v1, v2 = a - s0, b - s1, c - s2, d - s3, e - s4, f - s5
                     found.append((u0 * u0 + u1 * u1 + u2 * u2 + v0 * v0 + v1 * v1 + v2 * v2, qa))
         if not found:
-            if not in_limits:
-                why = f"{len(qs)} closed-form solution(s), none within the joint limits"
-            else:
-                why = f"{in_limits} closed-form solution(s) within the limits, none passed the FK check (tolerance {tol:g})"
-            return Answer(chain.clamp(seed), False, 0, why)
+            return found, len(qs), in_limits, seed
         found.sort(key=_first)
         if self.geometry.near:  # two model answers may polish into one solution
             found = [
@@ -476,7 +475,19 @@ class Analytic(Solver):
                 for k, item in enumerate(found)
                 if all(float(np.abs(item[1] - other[1]).max()) > 1e-7 for other in found[:k])
             ]
-        return Answer(found[0][1], True, 0, "", tuple([item[1] for item in found]))
+        return found, len(qs), in_limits, seed
+
+    def answer(self, raw: tuple[list[tuple[float, Array]], int, int, Array]) -> Answer:
+        found, candidates, in_limits, seed = raw
+        if found:
+            return Answer(found[0][1], True, 0, "", tuple([item[1] for item in found]))
+        if candidates < 0:
+            why = "out of reach: the closed form has no real solution"
+        elif not in_limits:
+            why = f"{candidates} closed-form solution(s), none within the joint limits"
+        else:
+            why = f"{in_limits} closed-form solution(s) within the limits, none passed the FK check (tolerance {self.tolerance:g})"
+        return Answer(self.chain.clamp(seed), False, 0, why)
 
     def _polish(self, qs: list[tuple[float, ...]], target: Array) -> list[tuple[float, ...]]:
         """Newton steps on the real chain from a near-closed-form model's answers (Pinocchio's 6×6 Jacobian,

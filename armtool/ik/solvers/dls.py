@@ -32,7 +32,7 @@ import pinocchio as pin
 from scipy.linalg import lapack
 
 from armtool.errors import ArmtoolError
-from armtool.ik.solver import Answer, Array, Solver
+from armtool.ik.solver import Array, Solver
 
 
 def damped_step(J: Array, e: Array, lambda_max: float, singular_region: float, max_step: float) -> tuple[Array, float]:
@@ -78,7 +78,7 @@ class DampedLeastSquares(Solver):
         if not self.opts["max_step"] > 0:
             raise ArmtoolError("solver 'dls' option max_step must be > 0", hint=f"default: {self.options['max_step']}")
 
-    def call(self, prepared: tuple[Array, Array]) -> Answer:
+    def call(self, prepared: tuple[Array, Array]) -> tuple[Array, bool, int, str]:
         target, seed = prepared
         chain = self.chain
         clock = self.clock
@@ -101,9 +101,9 @@ class DampedLeastSquares(Solver):
             np.subtract(p_target, T[:3, 3], out=e[:3])
             e[3:] = log3(R_target @ T[:3, :3].T)
             if float(np.abs(e).max()) < tol:
-                return Answer(q, True, iterations)
+                return q, True, iterations, ""
             if clock() > deadline:
-                return Answer(q, False, iterations, "timeout")
+                return q, False, iterations, "timeout"
             iterations += 1
             dq, _ = damped_step(J, e, lam_max, region, max_step)
             q_raw = q + dq
@@ -111,5 +111,5 @@ class DampedLeastSquares(Solver):
             if wrap_any:
                 q_new = np.where(cont, (q_raw + math.pi) % (2 * math.pi) - math.pi, q_new)
             if not (q_new != q).any():
-                return Answer(q, False, iterations, "stalled at the joint limits")
+                return q, False, iterations, "stalled at the joint limits"
             q = q_new

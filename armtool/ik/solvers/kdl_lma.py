@@ -49,7 +49,7 @@ from armtool.errors import ArmtoolError
 from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
-_SUCCESS, _STALLED, _MAX_ITER, _TIMEOUT = range(4)
+_SUCCESS, _STALLED, _MAX_ITER, _TIMEOUT, _MAX_CALLS = range(5)
 
 
 class KdlLevenbergMarquardt(Solver):
@@ -75,7 +75,8 @@ class KdlLevenbergMarquardt(Solver):
             )
         self._weights = weights
 
-    def call(self, prepared: tuple[Array, Array]) -> Answer:
+    def call(self, prepared: tuple[Array, Array]) -> tuple[Array, int, int, int]:
+        """(q, status, iterations, CartToJnt calls): `answer` reads them."""
         target, seed = prepared
         chain = self.chain
         deadline = self.clock() + self.timeout
@@ -147,11 +148,19 @@ class KdlLevenbergMarquardt(Solver):
             iterations += used
             calls += 1
             if status == _SUCCESS:
-                return Answer(q, True, iterations)
+                return q, _SUCCESS, iterations, calls
             if status == _TIMEOUT or clock() >= deadline:
-                return Answer(q, False, iterations, "timeout")
+                return q, _TIMEOUT, iterations, calls
             if calls >= max_calls:
-                return Answer(q, False, iterations, f"no convergence in {calls} calls (max_calls)")
+                return q, _MAX_CALLS, iterations, calls
+
+    def answer(self, raw: tuple[Array, int, int, int]) -> Answer:
+        q, status, iterations, calls = raw
+        if status == _SUCCESS:
+            return Answer(q, True, iterations)
+        if status == _TIMEOUT:
+            return Answer(q, False, iterations, "timeout")
+        return Answer(q, False, iterations, f"no convergence in {calls} calls (max_calls)")
 
     def rejected_claim(self, answer: Answer) -> str:
         return _own_success_reason(self.chain, np.asarray(answer.q, dtype=float))

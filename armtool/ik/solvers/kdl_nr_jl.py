@@ -48,6 +48,8 @@ from scipy.linalg import lapack
 
 from armtool.ik.solver import Answer, Array, Solver
 
+_SOLVED, _TIMEOUT, _MAX_CALLS = range(3)
+
 
 class KdlNewtonRaphsonJL(Solver):
     name = "kdl-nr-jl"
@@ -57,7 +59,8 @@ class KdlNewtonRaphsonJL(Solver):
         "max_calls": None,  # also stop after this many CartToJnt calls (an iteration budget that does not depend on CPU speed)
     }
 
-    def call(self, prepared: tuple[Array, Array]) -> Answer:
+    def call(self, prepared: tuple[Array, Array]) -> tuple[Array, int, int]:
+        """(q, status, iterations): `answer` reads them."""
         target, seed = prepared
         chain = self.chain
         deadline = self.clock() + self.timeout
@@ -83,7 +86,7 @@ class KdlNewtonRaphsonJL(Solver):
             e[3:] = log3(R_target @ T[:3, :3].T)
             np.abs(e, out=abs_e)
             if abs_e.max() < eps:  # KDL: Equal(delta_twist, Twist::Zero(), eps) → rc = E_NOERROR
-                return Answer(q, True, iterations)
+                return q, _SOLVED, iterations
             U, s, Vt, info = dgesvd(J, compute_uv=1, full_matrices=0)
             iterations += 1
             if info == 0:
@@ -99,6 +102,14 @@ class KdlNewtonRaphsonJL(Solver):
                 np.maximum(q, lo, out=q)
                 np.minimum(q, hi, out=q)
             if clock() >= deadline:
-                return Answer(q, False, iterations, "timeout")
+                return q, _TIMEOUT, iterations
             if iterations >= max_calls:
-                return Answer(q, False, iterations, f"no convergence in {iterations} calls (max_calls)")
+                return q, _MAX_CALLS, iterations
+
+    def answer(self, raw: tuple[Array, int, int]) -> Answer:
+        q, status, iterations = raw
+        if status == _SOLVED:
+            return Answer(q, True, iterations)
+        if status == _TIMEOUT:
+            return Answer(q, False, iterations, "timeout")
+        return Answer(q, False, iterations, f"no convergence in {iterations} calls (max_calls)")

@@ -28,7 +28,7 @@ from __future__ import annotations
 import logging
 import math
 import os
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, NoReturn
 
 import numpy as np
 
@@ -101,7 +101,6 @@ class LevenbergMarquardt(Solver):
             ],
             dtype=float,
         )
-        self._wrap_any = bool(chain.continuous.any())
         self._table: tuple[Array, Array, NDArray[np.int64], Array] | None = None
         self._NO_TABLE = (np.zeros((0, 16)), np.zeros((0, 16)), np.zeros(1, dtype=np.int64), np.zeros((0, n)))
         self._load_kernel()
@@ -158,21 +157,48 @@ class LevenbergMarquardt(Solver):
 
     # ---- one target -----------------------------------------------------------------------------
     def prepare(self, target: Array, seed: Array) -> tuple[Array, Array]:
-        """The target and seed as contiguous float arrays, checked: the compiled loop reads them
-        without bounds checks, and a NaN would be clamped to a limit without a word."""
-        target = np.ascontiguousarray(target, dtype=float)
-        seed = np.ascontiguousarray(seed, dtype=float)
-        self._check(target[None], seed[None])
-        return target, seed
+        """The target and seed as contiguous float arrays (a conversion only: `call` checks them)."""
+        return np.ascontiguousarray(target, dtype=float), np.ascontiguousarray(seed, dtype=float)
 
-    def call(self, prepared: tuple[Array, Array]) -> Answer:
+    def call(self, prepared: tuple[Array, Array]) -> Array:
+        """The solve: its inputs checked (the compiled loop reads them without bounds checks, and
+        would clamp a NaN to a limit without a word), the first tries, then restarts until solved or
+        out of time. Returns the kernel's `out` vector: [SOLVED or 0, iterations, best ‖e‖², q (the
+        answer, continuous joints wrapped), best q]; `answer` reads it."""
         target, seed = prepared
+        if target.shape != (4, 4) or seed.shape != (self._n,):
+            self._refuse(target.shape, seed.shape)
         deadline = self.clock() + self.timeout
         out = np.empty(kernel.OUT_HEAD + 2 * self._n)
         tried = kernel.first_tries(self._geometry, self._settings, *self._table_or_none(), target, seed, out)
+        if tried == kernel.NOT_FINITE:
+            self._refuse()
+        if self._table is None and (tried == kernel.NEED_TABLE or out[0] != kernel.SOLVED):
+            deadline += self._build_table()  # lazy_table: the table's first build is no solve's budget
         if tried == kernel.NEED_TABLE:
             tried = kernel.first_tries(self._geometry, self._settings, *self.table(), target, seed, out)
-        return self._restarts(target, out, tried, deadline)
+        self._restarts(target, out, tried, deadline)
+        return out
+
+    def answer(self, raw: Array) -> Answer:
+        n, head = self._n, kernel.OUT_HEAD
+        if raw[0] == kernel.SOLVED:
+            return Answer(raw[head : head + n].copy(), True, int(raw[1]))
+        return Answer(raw[head : head + n].copy(), False, int(raw[1]), "timeout")
+
+    def _refuse(
+        self, target_shape: tuple[int, ...] | None = None, seed_shape: tuple[int, ...] | None = None
+    ) -> NoReturn:
+        """Raise the error for inputs the compiled loop must not read: wrong shapes, or not finite."""
+        if target_shape is not None and seed_shape is not None:
+            raise ArmtoolError(f"expected a 4x4 target and {self._n} seed values, got {target_shape} and {seed_shape}")
+        raise ArmtoolError("target and seed must be finite numbers (NaN or inf given)")
+
+    def _build_table(self) -> float:
+        """Build the table now (lazy_table); the seconds it took."""
+        start = self.clock()
+        self.table()
+        return self.clock() - start
 
     def _table_or_none(self) -> tuple[Array, Array, NDArray[np.int64], Array]:
         """The table, or an empty one while it is not built (first_tries then says if it needs it)."""
@@ -180,13 +206,14 @@ class LevenbergMarquardt(Solver):
             return self._NO_TABLE
         return self._table
 
-    def _restarts(self, target: Array, out: Array, tried: int, deadline: float) -> Answer:
+    def _restarts(self, target: Array, out: Array, tried: int, deadline: float) -> None:
         """Go on from the first tries' result in `out` until solved or past the deadline: the table's
-        poses nearest the target, then uniform random ones, RESTARTS_PER_CALL tries at a time."""
+        poses nearest the target, then uniform random ones, RESTARTS_PER_CALL tries at a time. Leaves
+        the result in `out`: the status, every try's iterations, and the answer (or the best q found)."""
         n, head = self._n, kernel.OUT_HEAD
-        iterations = int(out[1])
         if out[0] == kernel.SOLVED:
-            return Answer(self._wrap(out[head : head + n].copy()), True, iterations)
+            return
+        iterations = int(out[1])
         best_err, best_q = float(out[2]), out[head + n :].copy()
         scores, cell_scores, bounds, table_q = self.table()
         rows = kernel.restart_rows(scores, cell_scores, bounds, target, self.RESTART_CELLS, self.TABLE_SEEDS, tried)
@@ -202,56 +229,51 @@ class LevenbergMarquardt(Solver):
             kernel.run_tries(self._geometry, self._settings, target, group, stall, out)
             iterations += int(out[1])
             if out[0] == kernel.SOLVED:
-                return Answer(self._wrap(out[head : head + n].copy()), True, iterations)
+                out[1] = iterations
+                return
             if out[2] < best_err:
                 best_err, best_q = float(out[2]), out[head + n :].copy()
-        return Answer(self._wrap(best_q), False, iterations, "timeout")
-
-    def _wrap(self, q: Array) -> Array:
-        """Continuous joints into [-π, π)."""
-        if self._wrap_any:
-            q = np.where(self.chain.continuous, (q + math.pi) % (2 * math.pi) - math.pi, q)
-        return q
+        out[1] = iterations
+        out[head : head + n] = best_q
 
     # ---- many targets ---------------------------------------------------------------------------
     def prepare_batch(self, targets: Array, seeds: Array) -> tuple[Array, Array]:
         targets, seeds = self._batch_arrays(targets, seeds)
-        targets, seeds = np.ascontiguousarray(targets), np.ascontiguousarray(seeds)
-        self._check(targets, seeds)
-        return targets, seeds
+        return np.ascontiguousarray(targets), np.ascontiguousarray(seeds)
 
-    def _check(self, targets: Array, seeds: Array) -> None:
-        n = self._n
-        if targets.shape[1:] != (4, 4) or seeds.shape[1:] != (n,):
-            raise ArmtoolError(
-                f"expected a 4x4 target and {n} seed values, got {targets.shape[1:]} and {seeds.shape[1:]}"
-            )
-        if not (np.isfinite(targets).all() and np.isfinite(seeds).all()):
-            raise ArmtoolError("target and seed must be finite numbers (NaN or inf given)")
-
-    def call_batch(self, prepared: tuple[Array, Array]) -> list[Answer]:
+    def call_batch(self, prepared: tuple[Array, Array]) -> Array:
         """Every target's first tries, then the unsolved few restart one by one,
         sharing what is left of the call's budget (`timeout` per target), up to TAIL_TIMEOUTS
-        timeouts each: one unreachable target must not hold up the whole batch."""
+        timeouts each: one unreachable target must not hold up the whole batch. Returns one `out`
+        row per target (see `call`); `answer_batch` reads them."""
         targets, seeds = prepared
         N, n, head = targets.shape[0], self._n, kernel.OUT_HEAD
+        if targets.shape[1:] != (4, 4) or seeds.shape != (N, n):
+            self._refuse(targets.shape[1:], seeds.shape[1:])
+        scores, cell_scores, bounds, table_q = self.table()  # before the clock: lazy_table builds it here
         deadline = self.clock() + self.timeout * N
-        scores, cell_scores, bounds, table_q = self.table()
         outs = np.empty((N, head + 2 * n))
         first_tries, geometry, settings = kernel.first_tries, self._geometry, self._settings
         tried = [
             first_tries(geometry, settings, scores, cell_scores, bounds, table_q, t, s, out)
             for t, s, out in zip(targets, seeds, outs)
         ]
-        solved = outs[:, 0] == kernel.SOLVED
-        Q = self._wrap(outs[:, head : head + n].copy())  # the unsolved rows of outs are reused below
-        answers = [Answer(q, True, int(i)) for q, i in zip(Q, outs[:, 1].tolist())]
-        unsolved = np.flatnonzero(~solved).tolist()
+        if kernel.NOT_FINITE in tried:
+            self._refuse()
+        unsolved = np.flatnonzero(outs[:, 0] != kernel.SOLVED).tolist()
         for j, i in enumerate(unsolved):
             left = (deadline - self.clock()) / (len(unsolved) - j)
             budget = min(self.TAIL_TIMEOUTS * self.timeout, max(left, 0.0))
-            answers[i] = self._restarts(targets[i], outs[i], int(tried[i]), self.clock() + budget)
-        return answers
+            self._restarts(targets[i], outs[i], int(tried[i]), self.clock() + budget)
+        return outs
+
+    def answer_batch(self, raw: Array) -> list[Answer]:
+        n, head = self._n, kernel.OUT_HEAD
+        Q = raw[:, head : head + n].copy()
+        return [
+            Answer(q, True, i) if solved else Answer(q, False, i, "timeout")
+            for q, solved, i in zip(Q, (raw[:, 0] == kernel.SOLVED).tolist(), raw[:, 1].astype(int).tolist())
+        ]
 
 
 def compiled_on_disk() -> bool | None:
@@ -264,9 +286,10 @@ def compiled_on_disk() -> bool | None:
 
 
 def chain_geometry(chain: Chain) -> Array:
-    """The chain as lm_kernel reads it: (n + 1, 18) rows of origin rotation (9), translation (3),
-    axis (3), prismatic flag, lower and upper limit (±inf for continuous joints); the tip offset last."""
-    rows = np.zeros((chain.n + 1, 18))
+    """The chain as lm_kernel reads it: (n + 1, 19) rows of origin rotation (9), translation (3),
+    axis (3), prismatic flag, lower and upper limit (±inf for continuous joints), continuous flag;
+    the tip offset last."""
+    rows = np.zeros((chain.n + 1, 19))
     for i, joint in enumerate(chain.joints):
         rows[i, :9] = joint.origin[:3, :3].reshape(9)
         rows[i, 9:12] = joint.origin[:3, 3]
@@ -274,6 +297,7 @@ def chain_geometry(chain: Chain) -> Array:
         rows[i, 15] = 1.0 if joint.kind == "prismatic" else 0.0
         rows[i, 16] = -math.inf if joint.kind == "continuous" else joint.lower
         rows[i, 17] = math.inf if joint.kind == "continuous" else joint.upper
+        rows[i, 18] = 1.0 if joint.kind == "continuous" else 0.0
     rows[chain.n, :9] = chain.tip_offset[:3, :3].reshape(9)
     rows[chain.n, 9:12] = chain.tip_offset[:3, 3]
     return rows

@@ -7,9 +7,10 @@ Why compiled: in Python each iteration was a dozen calls into Pinocchio, SciPy's
 compiles these functions on first use (~15 s) and caches the machine code beside this file (or in
 the user's cache directory when that is read-only), so later processes load it in a fraction of a second.
 
-The chain is one float array, `geometry` (n + 1, 18): per moving joint the origin's rotation (9,
+The chain is one float array, `geometry` (n + 1, 19): per moving joint the origin's rotation (9,
 row-major) and translation (3) from the previous joint's frame, the unit axis (3), 1.0 for a
-prismatic joint, and the lower and upper limits used while stepping (±inf for a continuous joint);
+prismatic joint, the lower and upper limits used while stepping (±inf for a continuous joint),
+and 1.0 for a continuous joint (wrapped into [-π, π) where a try writes its answer into `out`);
 the last row holds the tip offset's rotation and translation. The pose error is verify()'s,
 e = [p_target − p; log(R_target Rᵀ)] in the base frame, so a try stops exactly where the independent
 check will accept its answer (with a 0.99 margin on the tolerance).
@@ -17,7 +18,7 @@ check will accept its answer (with a 0.99 margin on the tolerance).
 `settings` (8,): first try's patience, later tries' patience, progress, iterations per try, error
 damping k, damping bias, tolerance, and the seed's feature distance beyond which the table is asked
 (see LevenbergMarquardt). The table (`scores`, `cell_scores`, `cell_bounds`, `table_q`) is described
-in LevenbergMarquardt._build_table; `table_q` is in cell order, so a cell row is a table row.
+in LevenbergMarquardt.table(); `table_q` is in cell order, so a cell row is a table row.
 """
 
 from __future__ import annotations
@@ -29,9 +30,22 @@ from numba import njit
 
 SOLVED = 1.0  # out[0] of a try run
 NEED_TABLE = -2  # first_tries: the seed is far and no table was given
+NOT_FINITE = -3  # first_tries: the target or the seed holds a NaN or an infinity (nothing tried)
 OUT_HEAD = 3  # out = [status, iterations, best ‖e‖², q (n), best q (n)]
 
-_LOWER, _UPPER, _PRISMATIC = 16, 17, 15  # geometry columns
+_LOWER, _UPPER, _PRISMATIC, _CONTINUOUS = 16, 17, 15, 18  # geometry columns
+TWO_PI = 2.0 * math.pi
+
+
+@njit(cache=True, error_model="numpy")
+def _write_answer(geometry, q, out):  # type: ignore[no-untyped-def]
+    """q into both of out's configuration slots, continuous joints wrapped into [-π, π)."""
+    n = q.shape[0]
+    for i in range(n):
+        v = q[i]
+        if geometry[i, _CONTINUOUS] != 0.0:
+            v = (v + math.pi) % TWO_PI - math.pi
+        out[OUT_HEAD + i] = out[OUT_HEAD + n + i] = v
 
 
 @njit(cache=True, error_model="numpy")
@@ -190,7 +204,8 @@ def run_tries(geometry, settings, target, starts, first_patience, out):  # type:
     step pushes further out leave the step. Success: ‖Δp‖ and ‖Δω‖ each within 0.99·tolerance.
 
     `out` (3 + 2n,): [SOLVED or 0, iterations, best ‖e‖², q, best q]; on success q is the answer,
-    otherwise q and best q are both the best configuration of these tries.
+    otherwise q and best q are both the best configuration of these tries; continuous joints are
+    wrapped into [-π, π) in both.
     """
     n = starts.shape[1]
     patience, progress, per_try = int(settings[1]), settings[2], int(settings[3])
@@ -219,8 +234,7 @@ def run_tries(geometry, settings, target, starts, first_patience, out):  # type:
             err = pos2 + e[3] * e[3] + e[4] * e[4] + e[5] * e[5]
             if err < near and pos2 <= tol2 and err - pos2 <= tol2:
                 out[0], out[1], out[2] = SOLVED, iterations, err
-                for i in range(n):
-                    out[OUT_HEAD + i] = out[OUT_HEAD + n + i] = q[i]
+                _write_answer(geometry, q, out)
                 return
             if err < try_err * progress:
                 since = 0
@@ -261,8 +275,7 @@ def run_tries(geometry, settings, target, starts, first_patience, out):  # type:
             for i in range(n):
                 q[i] = q_next[i]
     out[0], out[1], out[2] = 0.0, iterations, best_err
-    for i in range(n):
-        out[OUT_HEAD + i] = out[OUT_HEAD + n + i] = best_q[i]
+    _write_answer(geometry, best_q, out)
 
 
 @njit(cache=True, error_model="numpy")
@@ -316,8 +329,17 @@ def first_tries(geometry, settings, scores, cell_scores, cell_bounds, table_q, t
     """A solve's first try: from the seed or, when the seed's pose is farther than settings[7] and
     the nearest table pose is nearer the target, from that table pose and then from the seed.
     Returns the table row tried (−1: none), which the restarts skip, or NEED_TABLE without trying
-    when the seed is far and the table is empty (not built yet: `cell_bounds` of length < 2)."""
+    when the seed is far and the table is empty (not built yet: `cell_bounds` of length < 2), or
+    NOT_FINITE without trying when the target or the seed holds a NaN or an infinity (the loop
+    would clamp a NaN to a limit without a word). Shapes are the caller's to check."""
     n = seed.shape[0]
+    for a in range(4):
+        for b in range(4):
+            if not math.isfinite(target[a, b]):
+                return NOT_FINITE
+    for i in range(n):
+        if not math.isfinite(seed[i]):
+            return NOT_FINITE
     from_seed, both = np.empty((1, n)), np.empty((2, n))  # [seed] or [table pose, seed]
     for i in range(n):
         from_seed[0, i] = both[1, i] = min(max(seed[i], geometry[i, _LOWER]), geometry[i, _UPPER])

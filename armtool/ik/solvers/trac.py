@@ -162,13 +162,21 @@ class TracIK(Solver):
         self._lo = np.where(chain.continuous, -np.inf, chain.lower)
         self._hi = np.where(chain.continuous, np.inf, chain.upper)
 
-    def call(self, prepared: tuple[Array, Array]) -> Answer:
+    def call(self, prepared: tuple[Array, Array]) -> tuple[Array, bool, int, Array]:
+        """(the chosen solution or the best q found, whether it is a solution, iterations, the seed)."""
         search = _Search(self, *prepared)
         try:
             search.run()
         except _Stop:
             pass
         return search.result()
+
+    def answer(self, raw: tuple[Array, bool, int, Array]) -> Answer:
+        """A failed search's best q normalized as its solutions are (by 2π nearest the seed)."""
+        q, found, iterations, seed = raw
+        if found:
+            return Answer(q, True, iterations)
+        return Answer(self.normalize(q, seed), False, iterations, "timeout")
 
     # ---- helpers shared by both solvers -------------------------------------------------------------
     def into_limits(self, q: Array) -> Array:
@@ -266,11 +274,11 @@ class _Search:
         if self.speed:
             raise _Stop
 
-    def result(self) -> Answer:
+    def result(self) -> tuple[Array, bool, int, Array]:
+        """The best-scored solution, or the best q found (TracIK.answer normalizes it)."""
         if self.solutions:
-            return Answer(self.solutions[int(np.argmax(self.scores))], True, self.iterations)
-        q = self.solver.normalize(self.best_q, self.seed)
-        return Answer(q, False, self.iterations, "timeout")
+            return self.solutions[int(np.argmax(self.scores))], True, self.iterations, self.seed
+        return self.best_q, False, self.iterations, self.seed
 
     def run(self) -> None:
         next(self.newton)  # a first Newton turn: most targets end here, before SLSQP's setup cost
