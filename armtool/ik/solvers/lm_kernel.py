@@ -2,8 +2,8 @@
 tries on a target, with no Python between iterations.
 
 Why compiled: in Python each iteration was a dozen calls into Pinocchio, SciPy's LAPACK and numpy
-(~10 µs of call overhead for a 6×7 problem whose arithmetic takes well under 1 µs), and `lm` ran at
-1.3–1.9× the median time of roboticstoolbox's C++ `ik_LM` once both were timed the same way. Numba
+(~10 µs of call overhead for a 6×7 problem whose arithmetic takes well under 1 µs), and `lm` ran
+slower than roboticstoolbox's C++ `ik_LM` once both were timed the same way. Numba
 compiles these functions on first use (~15 s) and caches the machine code beside this file (or in
 the user's cache directory when that is read-only), so later processes load it in a fraction of a second.
 
