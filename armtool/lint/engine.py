@@ -252,7 +252,8 @@ class Linter:
         self._urdf_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], tuple[UrdfContext | None, list[Finding]]] = {}
         self._rules: dict[Target, list[Rule]] = {}
         self.suppressions = SuppressionIndex()
-        self._paired: dict[Path, SrdfContext | None] = {}
+        # (resolved path, path as findings show it, paired with its URDF) -> the SRDF: loaded once per run
+        self._srdf_cache: dict[tuple[Path, str, bool], tuple[SrdfContext | None, list[Finding]]] = {}
         self._urdf_hint: dict[Path, str] = {}  # SRDF -> what fixes the URDF that was found but failed
         self._variant: dict[Path, dict[str, str]] = {}  # a file being linted with one of its argument sets
         self._exact_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], UrdfContext | None] = {}
@@ -472,7 +473,20 @@ class Linter:
 
     def load_srdf(self, path: Path, *, pair: bool = True) -> tuple[SrdfContext | None, list[Finding]]:
         """The SRDF (a .srdf.xacro expanded like URDF xacros), paired with its URDF. None with no
-        findings for an SRDF xacro that only defines macros: nothing to check on its own."""
+        findings for an SRDF xacro that only defines macros: nothing to check on its own.
+
+        Loaded once per run for each way of asking: every MoveIt YAML file of a package looks for
+        its SRDF (pair=False), and the SRDF's own lint and the files checked against its URDF ask
+        for it paired. The key holds the path as findings show it as well as the file: a symlink,
+        or a path outside the working directory written another way, is loaded as it is written."""
+        key = (path.resolve(), display_path(path), pair)
+        cached = self._srdf_cache.get(key)
+        if cached is None:
+            cached = self._srdf_cache[key] = self._load_srdf(path, pair)
+        ctx, findings = cached
+        return ctx, list(findings)
+
+    def _load_srdf(self, path: Path, pair: bool) -> tuple[SrdfContext | None, list[Finding]]:
         from armtool.lint.srdf_context import SrdfContext
 
         if path.name.lower().endswith(".xacro"):
@@ -627,10 +641,7 @@ class Linter:
 
     def paired_srdf(self, path: Path) -> SrdfContext | None:
         """The SRDF with its URDF (loaded once per run; its own findings are reported when it is linted)."""
-        if path not in self._paired:
-            ctx, _ = self.load_srdf(path)
-            self._paired[path] = ctx
-        return self._paired[path]
+        return self.load_srdf(path)[0]
 
     def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]:
         return self._run(ctx, target)
