@@ -258,6 +258,7 @@ class Linter:
         self._variant: dict[Path, dict[str, str]] = {}  # a file being linted with one of its argument sets
         self._exact_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], UrdfContext | None] = {}
         self.package_cache: dict[Path, Any] = {}  # MoveIt config package root -> its controllers (moveit_files)
+        self.yaml_documents: dict[Path, Any] = {}  # resolved path -> its YAML nodes or parse error (moveit_files)
 
     def _read(self, path: Path) -> bytes:
         """The file's bytes; inline ignore comments are read from them too, not from a second read."""

@@ -30,6 +30,7 @@ class Linter(Protocol):
 
     resolver: PackageResolver
     package_cache: dict[Path, Any]  # MoveIt config package root -> its controllers, read once per run
+    yaml_documents: dict[Path, Any]  # resolved path -> its YAML nodes or the error parsing them, once per run
 
     def read_text(self, path: Path) -> str: ...
 
@@ -45,15 +46,34 @@ class Linter(Protocol):
 LOADER_CODE = {Target.JOINT_LIMITS: "L001", Target.PILZ: "P001", Target.CONTROLLERS: "C001"}
 
 
-def _parse(linter: Linter, path: Path, target: Target) -> tuple[yaml.Node | None, list[Finding]]:
-    """The file's YAML nodes, or its loader finding (invalid YAML)."""
+def _document(linter: Linter, path: Path) -> yaml.Node | None:
+    """The file's YAML nodes, parsed once per run (a controllers file is read for its package's
+    controllers and again when it is linted). Raises yaml.YAMLError or RecursionError as
+    params.parse does, each time it is asked."""
     import yaml
 
     from armtool.moveit.params import parse
 
-    text = linter.read_text(path)
+    key = path.resolve()
+    known = linter.yaml_documents.get(key)
+    if known is None:
+        try:
+            known = (parse(linter.read_text(path)), None)
+        except (yaml.YAMLError, RecursionError) as exc:
+            known = (None, exc)
+        linter.yaml_documents[key] = known
+    node, error = known
+    if error is not None:
+        raise error
+    return node
+
+
+def _parse(linter: Linter, path: Path, target: Target) -> tuple[yaml.Node | None, list[Finding]]:
+    """The file's YAML nodes, or its loader finding (invalid YAML)."""
+    import yaml
+
     try:
-        return parse(text), []
+        return _document(linter, path), []
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
@@ -136,7 +156,6 @@ def package_controllers(linter: Linter, path: Path) -> PackageControllers | None
     from armtool.lint.moveit_context import PackageControllers
     from armtool.moveit.controllers import read_moveit_controllers, read_robot_controllers
     from armtool.moveit.package import package_root, read_package
-    from armtool.moveit.params import parse
 
     root = package_root(path)
     if root is None or not (root / ".setup_assistant").is_file():
@@ -156,7 +175,7 @@ def package_controllers(linter: Linter, path: Path) -> PackageControllers | None
     out = PackageControllers(pkg)
     for file in pkg.controller_files:
         try:
-            node = parse(linter.read_text(file))
+            node = _document(linter, file)
         except (yaml.YAMLError, RecursionError):
             continue
         moveit = read_moveit_controllers(file, node)

@@ -90,3 +90,24 @@ def test_an_srdf_linked_under_another_name_is_linted_under_each_name(tmp_path: P
     (tmp_path / "copy.srdf").symlink_to(tmp_path / "arm.srdf")
     found = lint_paths([tmp_path], LintOptions()).findings
     assert sorted(Path(f.path).name for f in found if f.code == "S101") == ["arm.srdf", "copy.srdf"]
+
+
+def test_each_yaml_file_of_a_package_is_parsed_once(package: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A controllers file is read for the package's controllers (C102, C103 compare the files)
+    and when it is linted itself: one parse serves both."""
+    from armtool.moveit import params
+
+    parsed: Counter[str] = Counter()
+    real = params.parse
+
+    def counting(text: str) -> object:
+        parsed[text] += 1
+        return real(text)
+
+    monkeypatch.setattr(params, "parse", counting)
+    assert lint_paths([package], LintOptions()).findings == []
+    controllers = sorted((package / "config").glob("*controllers.yaml"))
+    assert len(controllers) == 2
+    for path in controllers:
+        assert parsed[path.read_text(encoding="utf-8")] == 1, path.name  # was 2
+    assert set(parsed.values()) == {1}
