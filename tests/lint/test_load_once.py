@@ -111,3 +111,23 @@ def test_each_yaml_file_of_a_package_is_parsed_once(package: Path, monkeypatch: 
     for path in controllers:
         assert parsed[path.read_text(encoding="utf-8")] == 1, path.name  # was 2
     assert set(parsed.values()) == {1}
+
+
+def test_the_setup_assistant_is_parsed_once(package: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every file of the package asks for .setup_assistant (pairing, SRDF lookup, the package's
+    controllers, the xacro arguments of the URDF): 12 parses in one lint of this package before, one now."""
+    from armtool import yamlload
+    from armtool.lint import pairing
+
+    text = (package / ".setup_assistant").read_text(encoding="utf-8")
+    parsed: list[str] = []
+    real = yamlload.safe_load
+
+    def counting(source: str) -> object:
+        parsed.append(source)
+        return real(source)
+
+    monkeypatch.setattr(yamlload, "safe_load", counting)
+    pairing._setup_fields.cache_clear()  # parsed by earlier tests (the same text)
+    assert lint_paths([package], LintOptions()).findings == []
+    assert parsed.count(text) == 1
