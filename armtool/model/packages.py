@@ -51,10 +51,11 @@ _NEAR_LEVELS = 3
 _MAX_DIRS = 20_000  # directories one scan may visit: a search that climbed too high stays bounded
 
 
-def package_name(directory: Path) -> str | None:
-    """The `<name>` in directory/package.xml, or None when there is no readable package.xml."""
+def package_name(directory: Path, limit: int = 8192) -> str | None:
+    """The `<name>` in directory/package.xml (in its first `limit` bytes), or None when there is
+    no readable package.xml."""
     try:
-        data = read_regular(directory / "package.xml", 8192)
+        data = read_regular(directory / "package.xml", limit)
     except OSError:
         return None
     m = _NAME_RE.search(data)
