@@ -122,11 +122,11 @@ def lint_joint_limits(linter: Linter, path: Path) -> list[Finding]:
 def _moveit_package(path: Path) -> bool:
     """True when the package holding `path` is a MoveIt config (a .setup_assistant, or an SRDF in
     it), not a description package whose joint_limits.yaml xacro or ros2_control reads."""
+    from armtool.model.packages import package_root as ros_package
     from armtool.moveit.package import package_root
-    from armtool.moveit.params import package_xml
+    from armtool.moveit.params import ROS_PACKAGE_LEVELS
 
-    marker = package_xml(path)
-    root = marker.parent if marker is not None else package_root(path)
+    root = ros_package(path.parent, ROS_PACKAGE_LEVELS) or package_root(path)
     if root is None:
         return False
     if (root / ".setup_assistant").is_file():

@@ -62,9 +62,10 @@ def package_name(directory: Path, limit: int = 8192) -> str | None:
     return m.group(1).decode("utf-8", "replace") if m else None
 
 
-def package_root(path: Path) -> Path | None:
-    """The nearest directory at or above `path` that holds a package.xml."""
-    for directory in [path, *path.parents]:
+def package_root(path: Path, levels: int | None = None) -> Path | None:
+    """The nearest directory at or above `path` that holds a package.xml (looking at `levels`
+    directories at most: `path` and its parents)."""
+    for directory in [path, *path.parents][:levels]:
         if (directory / "package.xml").is_file():
             return directory
     return None

@@ -25,7 +25,7 @@ from pathlib import Path
 
 from armtool.errors import ArmtoolError
 from armtool.model.packages import PackageResolver, package_name
-from armtool.moveit.params import package_xml, ros_version
+from armtool.moveit.params import ros_version
 
 _BUILDER = re.compile(r"MoveItConfigsBuilder\(\s*[\"']([^\"']+)[\"']")
 
@@ -123,7 +123,7 @@ def read_package(directory: Path, resolver: PackageResolver) -> MoveItPackage:
         )
     name = package_name(root, limit=1 << 20)
     robot = _robot_name(root, name)
-    ros = ros_version(root) if package_xml(root) is not None else None
+    ros = ros_version(root)
     pkg = MoveItPackage(root, name, robot, ros)
     setup = read_setup_assistant(root)
     # URDF
