@@ -25,8 +25,10 @@ if TYPE_CHECKING:
 
 def as_double(value: Scalar) -> str:
     """An integer scalar written as the same number in double form (`1` -> `1.0`, `0x10` -> `16.0`)."""
+    from armtool.moveit.params import is_octal
+
     text = value.text.strip()
-    if text.lstrip("+-").isdigit() and not (len(text.lstrip("+-")) > 1 and text.lstrip("+-")[0] == "0"):
+    if text.lstrip("+-").isdigit() and not is_octal(text):
         return text + ".0"
     number = value.number()
     return repr(float(number)) if number is not None else text

@@ -81,7 +81,7 @@ class Scalar(NamedTuple):
 
     def _number(self) -> float | None:
         if self.kind == "int":
-            return float(int(self.text.strip(), 0) if not _is_octal(self.text) else int(self.text.strip(), 8))
+            return float(int(self.text.strip(), 0) if not is_octal(self.text) else int(self.text.strip(), 8))
         if self.kind == "double":
             text = self.text.strip()
             if text in _YAML_SPECIAL_DOUBLES:
@@ -98,7 +98,8 @@ class Scalar(NamedTuple):
         return self.text in _TRUE
 
 
-def _is_octal(text: str) -> bool:
+def is_octal(text: str) -> bool:
+    """`010`: an integer strtoll reads as octal (a leading 0 and more digits; sign and spaces allowed)."""
     digits = text.strip().lstrip("+-")
     return len(digits) > 1 and digits[0] == "0" and digits[1:].isdigit()
 
