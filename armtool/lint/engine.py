@@ -12,8 +12,8 @@ from armtool.errors import ArmtoolError
 from armtool.fileio import read_regular
 from armtool.lint.config import LintConfig
 from armtool.lint.context import FileContext, UrdfContext
+from armtool.lint.file_findings import LOADER_CODE, invalid_yaml, xacro_finding
 from armtool.lint.file_findings import file_finding as _file_finding
-from armtool.lint.file_findings import xacro_finding
 from armtool.lint.finding import Finding
 from armtool.lint.locate import Locator, display_path, local_tag
 from armtool.lint.rule import Rule, Target
@@ -149,17 +149,6 @@ def rules_for(target: Target) -> list[Rule]:
     from armtool.lint.registry import checks_for
 
     return [rule() for rule in checks_for(target)]
-
-
-_LOADER_CODE: dict[FileKind | None, str] = {
-    FileKind.URDF: "U001",
-    FileKind.XACRO: "X001",
-    FileKind.SRDF: "S001",
-    FileKind.KINEMATICS: "K001",
-    FileKind.JOINT_LIMITS: "L001",
-    FileKind.PILZ: "P001",
-    FileKind.CONTROLLERS: "C001",
-}
 
 
 def _cause_hint(path: Path, findings: list[Finding]) -> str:
@@ -597,14 +586,11 @@ class Linter:
             read_groups,
         )
 
-        text = self._read(path).decode("utf-8", "replace")
+        text = self.read_text(path)
         try:
             groups = read_groups(text)
         except yaml.YAMLError as exc:
-            mark = getattr(exc, "problem_mark", None)
-            line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
-            problem = getattr(exc, "problem", None) or str(exc)
-            return [_file_finding("K001", path, line, col, f"invalid YAML: {problem}")]
+            return [invalid_yaml("K001", path, exc)]
         except NotAMapping as exc:
             if self._srdf_for_kinematics(path, [])[0] is None:
                 return []  # a list of something else (DH rows?) with no MoveIt config around it: not MoveIt's
@@ -688,7 +674,8 @@ class Linter:
             raise
         except (RecursionError, MemoryError) as exc:
             what = "nested too deeply" if isinstance(exc, RecursionError) else "too large"
-            code = _LOADER_CODE.get(file_kind(path) if path != STDIN else None, "U001")
+            kind = file_kind(path) if path != STDIN else None
+            code = LOADER_CODE[kind.value] if kind is not None else "U001"
             found = [
                 _file_finding(
                     code,

@@ -12,7 +12,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
-from armtool.lint.file_findings import file_finding
+from armtool.lint.file_findings import LOADER_CODE, invalid_yaml
 from armtool.lint.finding import Finding
 from armtool.lint.rule import Target
 
@@ -41,9 +41,6 @@ class Linter(Protocol):
     def paired_srdf(self, path: Path) -> SrdfContext | None: ...
 
     def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]: ...
-
-
-LOADER_CODE = {Target.JOINT_LIMITS: "L001", Target.PILZ: "P001", Target.CONTROLLERS: "C001"}
 
 
 def _document(linter: Linter, path: Path) -> yaml.Node | None:
@@ -75,10 +72,7 @@ def _parse(linter: Linter, path: Path, target: Target) -> tuple[yaml.Node | None
     try:
         return _document(linter, path), []
     except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
-        problem = getattr(exc, "problem", None) or str(exc)
-        return None, [file_finding(LOADER_CODE[target], path, line, col, f"invalid YAML: {problem}")]
+        return None, [invalid_yaml(LOADER_CODE[target.value], path, exc)]
 
 
 def _ros(path: Path, ros2_params: bool) -> int | None:
