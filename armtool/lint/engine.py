@@ -537,11 +537,6 @@ class Linter:
         return findings + list(self._run(ctx, Target.SRDF))
 
     # ---- kinematics.yaml -----------------------------------------------------
-    def _srdf_for_kinematics(self, path: Path, groups: list[str]) -> tuple[SrdfContext | None, str]:
-        """The SRDF whose groups a kinematics.yaml configures, or None and why not."""
-        ctx, why, _ = self._find_srdf(path, groups)
-        return ctx, why
-
     def _find_srdf(self, path: Path, groups: list[str]) -> tuple[SrdfContext | None, str, str]:
         """The SRDF of a MoveIt YAML file, or None, why not, and what to do about it: an SRDF that
         was found but could not be loaded gets its own error's hint (a xacro argument it needs,
@@ -592,7 +587,7 @@ class Linter:
         except yaml.YAMLError as exc:
             return [invalid_yaml("K001", path, exc)]
         except NotAMapping as exc:
-            if self._srdf_for_kinematics(path, [])[0] is None:
+            if self._find_srdf(path, [])[0] is None:
                 return []  # a list of something else (DH rows?) with no MoveIt config around it: not MoveIt's
             return [
                 _file_finding(
@@ -610,7 +605,7 @@ class Linter:
         if not is_moveit_kinematics(groups):
             if not may_be_unusable_moveit(groups):
                 return []  # named *kinematics.yaml, but not MoveIt's (UR's calibration, Franka's parameters)
-            srdf_ctx, _ = self._srdf_for_kinematics(path, names)
+            srdf_ctx = self._find_srdf(path, names)[0]
             if srdf_ctx is None or not set(names) & set(srdf_ctx.groups):
                 return []  # `a1: 0.025`: no planning group of that name, so not MoveIt's
             return list(self._run(KinematicsContext(path, groups, srdf_ctx), Target.KINEMATICS))
@@ -622,9 +617,9 @@ class Linter:
         return findings + list(self._run(ctx, Target.KINEMATICS))
 
     # ---- a MoveIt config package's other YAML files ----------------------------------
-    def srdf_for_package_file(self, path: Path) -> tuple[SrdfContext | None, str]:
+    def srdf_for_package_file(self, path: Path) -> SrdfContext | None:
         """The SRDF a package YAML file (joint_limits.yaml, controllers) belongs to: as for kinematics.yaml."""
-        return self._srdf_for_kinematics(path, [])
+        return self._find_srdf(path, [])[0]
 
     def paired_srdf(self, path: Path) -> SrdfContext | None:
         """The SRDF with its URDF (loaded once per run; its own findings are reported when it is linted)."""

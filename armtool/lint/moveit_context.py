@@ -166,11 +166,6 @@ class ControllersContext(YamlContext):
         self.robot = robot
         self.package = package
 
-    @property
-    def is_trajectory_execution_file(self) -> bool:
-        """True for the controllers file MoveIt's launch loads (MoveItConfigsBuilder's choice)."""
-        return self.package is not None and self.package.package.moveit_controllers == self.path
-
     def robot_controllers(self) -> RobotControllers | None:
         """The package's ros2_controllers.yaml (ROS 1: ros_controllers.yaml), when it has one."""
         if self.package is None or self.package.package.robot_controllers is None:

@@ -36,7 +36,7 @@ class Linter(Protocol):
 
     def xacro_args_for(self, path: Path, extra: dict[str, str] | None = None) -> dict[str, str]: ...
 
-    def srdf_for_package_file(self, path: Path) -> tuple[SrdfContext | None, str]: ...
+    def srdf_for_package_file(self, path: Path) -> SrdfContext | None: ...
 
     def paired_srdf(self, path: Path) -> SrdfContext | None: ...
 
@@ -79,8 +79,7 @@ def _ros(path: Path, ros2_params: bool) -> int | None:
     """2 for a ROS 2 package or a ROS 2 parameter file, 1 for a catkin package, else None."""
     from armtool.moveit.params import ros_version
 
-    version = ros_version(path)
-    return 2 if ros2_params else version
+    return 2 if ros2_params else ros_version(path)
 
 
 def robot_for(linter: Linter, path: Path) -> tuple[SrdfContext | None, UrdfContext | None, dict[str, str]]:
@@ -88,7 +87,7 @@ def robot_for(linter: Linter, path: Path) -> tuple[SrdfContext | None, UrdfConte
     it, and the xacro arguments that URDF is expanded with (for launch substitutions in keys)."""
     from armtool.lint.pairing import read_setup_assistant
 
-    srdf, _ = linter.srdf_for_package_file(path)
+    srdf = linter.srdf_for_package_file(path)
     if srdf is None:
         return None, None, {}
     paired = linter.paired_srdf(srdf.path)

@@ -97,10 +97,6 @@ class _TreeScan:
         self._listings: dict[Path, _Listing] = {}
         self._complete: dict[Path, dict[str, Path]] = {}  # subtrees scanned to the bottom
 
-    @property
-    def visited(self) -> int:
-        return len(self._listings)
-
     def index(self, directory: Path, depth: int = _SCAN_DEPTH) -> dict[str, Path]:
         return self._scan(directory, depth, [_MAX_DIRS])[0]
 
@@ -166,11 +162,6 @@ class PackageResolver:
                 for name, path in self._trees.index(root).items():
                     index.setdefault(name, path)
         return index
-
-    @property
-    def directories_scanned(self) -> int:
-        """How many directories the tree scans have read so far (each at most once)."""
-        return self._trees.visited
 
     def find(self, name: str, near: Path | None = None) -> Path | None:
         """The directory of package `name`, or None."""
