@@ -265,3 +265,20 @@ def test_ros1_package_controller_list_and_ros_controllers(package: Path) -> None
     findings = lint(config)
     assert [(f.code, f.line) for f in findings] == [("C103", 6)]
     assert "'gripper_controller' is not declared in ros_controllers.yaml" in findings[0].message
+
+
+@pytest.mark.parametrize("name", ["moveit_controllers.yaml", "simple_moveit_controllers.yaml"])
+def test_c103_settings_controller_names_does_not_list_whatever_the_file_name(package: Path, name: str) -> None:
+    """moveit_simple_controller_manager ignores settings of a controller controller_names does not
+    list; the file's format says so, not its name (a ROS 1 controller_list lists every controller)."""
+    path = package / "config" / name
+    text = (package / "config" / "moveit_controllers.yaml").read_text()
+    path.write_text(text.replace("    - gripper_controller\n", "", 1))
+    findings = found(lint(path), "C103")
+    assert [(f.line, f.severity, f.message) for f in findings] == [
+        (
+            19,  # gripper_controller: in the file, less the line that listed it
+            Severity.WARNING,
+            "controller 'gripper_controller' has settings but controller_names does not list it: MoveIt ignores it",
+        )
+    ]
