@@ -125,6 +125,8 @@ class JointLimitsContext(YamlContext):
 
 class PilzContext(YamlContext):
     target = Target.PILZ
+    # The limits Pilz reads from cartesian_limits (its CartesianLimit), all four required.
+    KEYS = ("max_trans_vel", "max_trans_acc", "max_trans_dec", "max_rot_vel")
 
     def __init__(
         self,

@@ -175,6 +175,19 @@ def test_p101_p102_p103(package: Path) -> None:
     )
 
 
+def test_p102_one_aliased_value_gives_its_findings_in_key_order(package: Path) -> None:
+    """One node, two keys: the velocity's finding, then the deceleration's (output order of ties)."""
+    path = package / "config" / "pilz_cartesian_limits.yaml"
+    path.write_text(
+        "cartesian_limits:\n  max_trans_vel: 1.0\n  max_trans_acc: 2.25\n  max_rot_vel: &zero 0.0\n"
+        "  max_trans_dec: *zero\n"
+    )
+    assert [(f.line, f.column, f.message.split(":")[0]) for f in found(lint(path), "P102")] == [
+        (4, 16, "max_rot_vel is 0.0"),
+        (4, 16, "max_trans_dec is 0.0"),
+    ]
+
+
 # ---- controllers ------------------------------------------------------------------------
 
 
