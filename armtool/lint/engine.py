@@ -151,21 +151,20 @@ def rules_for(target: Target) -> list[Rule]:
     return [rule() for rule in checks_for(target)]
 
 
-def _cause_hint(path: Path, findings: list[Finding]) -> str:
-    """What fixes a counterpart file that was found but could not be used: its own error's hint
-    (xacro's names the missing argument or package), said of that file."""
-    first = next((f for f in findings if f.severity.value == "error"), None)
-    if first is None or not first.hint:
-        return ""
-    return f"{display_path(path)} was found but cannot be used; {first.hint}"
-
-
-def _cause(path: Path, findings: list[Finding]) -> str:
-    """Why a counterpart file could not be used, from the findings its loading produced."""
-    first = next((f for f in findings if f.severity.value == "error"), findings[0] if findings else None)
-    if first is None:
-        return f"{display_path(path)} is not a robot description with links"
-    return f"{display_path(path)} could not be loaded: {first.code} {first.message}"
+def _cause(path: Path, findings: list[Finding]) -> tuple[str, str]:
+    """Why a counterpart file that was found could not be used, from the findings its loading
+    produced; and what fixes it: its own error's hint (xacro's names the missing argument or
+    package), said of that file ("" when its error has none)."""
+    error = next((f for f in findings if f.severity.value == "error"), None)
+    first = error if error is not None else (findings[0] if findings else None)
+    shown = display_path(path)
+    why = (
+        f"{shown} is not a robot description with links"
+        if first is None
+        else f"{shown} could not be loaded: {first.code} {first.message}"
+    )
+    hint = f"{shown} was found but cannot be used; {error.hint}" if error is not None and error.hint else ""
+    return why, hint
 
 
 _XACRO_HINTS = re.compile(rb"<xacro:|\$\{|\$\((?:arg|find|eval|env|optenv|dirname)\b")
@@ -434,9 +433,10 @@ class Linter:
         given = self.options.urdf or self.options.config.urdf_for(srdf)
         if given is not None:
             ctx, findings = self._urdf_model(given)
-            if ctx is None:
-                self._urdf_hint[srdf] = _cause_hint(given, findings)
-            return ctx, None if ctx is not None else _cause(given, findings), True
+            if ctx is not None:
+                return ctx, None, True
+            why, self._urdf_hint[srdf] = _cause(given, findings)
+            return None, why, True
         first_failure: str | None = None
         best: tuple[int, UrdfContext] | None = None
         wanted: tuple[set[str], set[str]] | None = None  # the SRDF's names, read once when first needed
@@ -455,8 +455,8 @@ class Linter:
                 if missing == 0:
                     break
             if ctx is None and findings and first_failure is None:
-                first_failure = _cause(cand.path, findings) + f" ({cand.why})"
-                self._urdf_hint[srdf] = _cause_hint(cand.path, findings)
+                why, self._urdf_hint[srdf] = _cause(cand.path, findings)
+                first_failure = f"{why} ({cand.why})"
         if best is not None:
             return best[1], None, False
         return None, first_failure or "no URDF found beside it", False
@@ -549,7 +549,8 @@ class Linter:
             ctx, findings = self.load_srdf(given, pair=False)
             if ctx is not None:
                 return ctx, "", ""
-            return None, _cause(given, findings), _cause_hint(given, findings) or pass_srdf
+            why, hint = _cause(given, findings)
+            return None, why, hint or pass_srdf
         failure, hint = "", ""
         for tier in srdf_candidates(path):
             usable: dict[Path, SrdfContext] = {}
@@ -560,7 +561,7 @@ class Linter:
                 if ctx is not None:
                     usable.setdefault(ctx.path, ctx)
                 elif findings and not failure:
-                    failure, hint = _cause(cand.path, findings), _cause_hint(cand.path, findings)
+                    failure, hint = _cause(cand.path, findings)
             if len(usable) == 1:
                 return next(iter(usable.values())), "", ""
             covering = [c for c in usable.values() if set(groups) <= set(c.groups)]
