@@ -13,6 +13,7 @@ from armtool.lint.finding import Finding
 from armtool.lint.locate import Locator, display_path
 from armtool.lint.numbers import all_plain, numeric_texts, numeric_values, parse_floats
 from armtool.lint.rule import Rule, Target
+from armtool.model.display import note_suffix
 from armtool.model.packages import PackageResolver
 
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -74,7 +75,7 @@ class FileContext:
     ) -> Finding:
         place = self.locator.place(el, attr)
         if place.note:
-            message = f"{message} ({place.note})"
+            message += note_suffix(place.note)
         edit = self.locator.edit(el, attr, fix_value) if (attr and fix_value is not None) else None
         shown = self.locator.display
         return Finding(

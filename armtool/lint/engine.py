@@ -12,8 +12,8 @@ from armtool.errors import ArmtoolError
 from armtool.fileio import read_regular
 from armtool.lint.config import LintConfig
 from armtool.lint.context import FileContext, UrdfContext
+from armtool.lint.file_findings import LOADER_CODE, invalid_yaml, xacro_finding
 from armtool.lint.file_findings import file_finding as _file_finding
-from armtool.lint.file_findings import xacro_finding
 from armtool.lint.finding import Finding
 from armtool.lint.locate import Locator, display_path, local_tag
 from armtool.lint.rule import Rule, Target
@@ -151,32 +151,20 @@ def rules_for(target: Target) -> list[Rule]:
     return [rule() for rule in checks_for(target)]
 
 
-_LOADER_CODE: dict[FileKind | None, str] = {
-    FileKind.URDF: "U001",
-    FileKind.XACRO: "X001",
-    FileKind.SRDF: "S001",
-    FileKind.KINEMATICS: "K001",
-    FileKind.JOINT_LIMITS: "L001",
-    FileKind.PILZ: "P001",
-    FileKind.CONTROLLERS: "C001",
-}
-
-
-def _cause_hint(path: Path, findings: list[Finding]) -> str:
-    """What fixes a counterpart file that was found but could not be used: its own error's hint
-    (xacro's names the missing argument or package), said of that file."""
-    first = next((f for f in findings if f.severity.value == "error"), None)
-    if first is None or not first.hint:
-        return ""
-    return f"{display_path(path)} was found but cannot be used; {first.hint}"
-
-
-def _cause(path: Path, findings: list[Finding]) -> str:
-    """Why a counterpart file could not be used, from the findings its loading produced."""
-    first = next((f for f in findings if f.severity.value == "error"), findings[0] if findings else None)
-    if first is None:
-        return f"{display_path(path)} is not a robot description with links"
-    return f"{display_path(path)} could not be loaded: {first.code} {first.message}"
+def _cause(path: Path, findings: list[Finding]) -> tuple[str, str]:
+    """Why a counterpart file that was found could not be used, from the findings its loading
+    produced; and what fixes it: its own error's hint (xacro's names the missing argument or
+    package), said of that file ("" when its error has none)."""
+    error = next((f for f in findings if f.severity.value == "error"), None)
+    first = error if error is not None else (findings[0] if findings else None)
+    shown = display_path(path)
+    why = (
+        f"{shown} is not a robot description with links"
+        if first is None
+        else f"{shown} could not be loaded: {first.code} {first.message}"
+    )
+    hint = f"{shown} was found but cannot be used; {error.hint}" if error is not None and error.hint else ""
+    return why, hint
 
 
 _XACRO_HINTS = re.compile(rb"<xacro:|\$\{|\$\((?:arg|find|eval|env|optenv|dirname)\b")
@@ -252,11 +240,13 @@ class Linter:
         self._urdf_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], tuple[UrdfContext | None, list[Finding]]] = {}
         self._rules: dict[Target, list[Rule]] = {}
         self.suppressions = SuppressionIndex()
-        self._paired: dict[Path, SrdfContext | None] = {}
+        # (resolved path, path as findings show it, paired with its URDF) -> the SRDF: loaded once per run
+        self._srdf_cache: dict[tuple[Path, str, bool], tuple[SrdfContext | None, list[Finding]]] = {}
         self._urdf_hint: dict[Path, str] = {}  # SRDF -> what fixes the URDF that was found but failed
         self._variant: dict[Path, dict[str, str]] = {}  # a file being linted with one of its argument sets
         self._exact_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], UrdfContext | None] = {}
         self.package_cache: dict[Path, Any] = {}  # MoveIt config package root -> its controllers (moveit_files)
+        self.yaml_documents: dict[Path, Any] = {}  # resolved path -> its YAML nodes or parse error (moveit_files)
 
     def _read(self, path: Path) -> bytes:
         """The file's bytes; inline ignore comments are read from them too, not from a second read."""
@@ -443,9 +433,10 @@ class Linter:
         given = self.options.urdf or self.options.config.urdf_for(srdf)
         if given is not None:
             ctx, findings = self._urdf_model(given)
-            if ctx is None:
-                self._urdf_hint[srdf] = _cause_hint(given, findings)
-            return ctx, None if ctx is not None else _cause(given, findings), True
+            if ctx is not None:
+                return ctx, None, True
+            why, self._urdf_hint[srdf] = _cause(given, findings)
+            return None, why, True
         first_failure: str | None = None
         best: tuple[int, UrdfContext] | None = None
         wanted: tuple[set[str], set[str]] | None = None  # the SRDF's names, read once when first needed
@@ -464,15 +455,28 @@ class Linter:
                 if missing == 0:
                     break
             if ctx is None and findings and first_failure is None:
-                first_failure = _cause(cand.path, findings) + f" ({cand.why})"
-                self._urdf_hint[srdf] = _cause_hint(cand.path, findings)
+                why, self._urdf_hint[srdf] = _cause(cand.path, findings)
+                first_failure = f"{why} ({cand.why})"
         if best is not None:
             return best[1], None, False
         return None, first_failure or "no URDF found beside it", False
 
     def load_srdf(self, path: Path, *, pair: bool = True) -> tuple[SrdfContext | None, list[Finding]]:
         """The SRDF (a .srdf.xacro expanded like URDF xacros), paired with its URDF. None with no
-        findings for an SRDF xacro that only defines macros: nothing to check on its own."""
+        findings for an SRDF xacro that only defines macros: nothing to check on its own.
+
+        Loaded once per run for each way of asking: every MoveIt YAML file of a package looks for
+        its SRDF (pair=False), and the SRDF's own lint and the files checked against its URDF ask
+        for it paired. The key holds the path as findings show it as well as the file: a symlink,
+        or a path outside the working directory written another way, is loaded as it is written."""
+        key = (path.resolve(), display_path(path), pair)
+        cached = self._srdf_cache.get(key)
+        if cached is None:
+            cached = self._srdf_cache[key] = self._load_srdf(path, pair)
+        ctx, findings = cached
+        return ctx, list(findings)
+
+    def _load_srdf(self, path: Path, pair: bool) -> tuple[SrdfContext | None, list[Finding]]:
         from armtool.lint.srdf_context import SrdfContext
 
         if path.name.lower().endswith(".xacro"):
@@ -533,11 +537,6 @@ class Linter:
         return findings + list(self._run(ctx, Target.SRDF))
 
     # ---- kinematics.yaml -----------------------------------------------------
-    def _srdf_for_kinematics(self, path: Path, groups: list[str]) -> tuple[SrdfContext | None, str]:
-        """The SRDF whose groups a kinematics.yaml configures, or None and why not."""
-        ctx, why, _ = self._find_srdf(path, groups)
-        return ctx, why
-
     def _find_srdf(self, path: Path, groups: list[str]) -> tuple[SrdfContext | None, str, str]:
         """The SRDF of a MoveIt YAML file, or None, why not, and what to do about it: an SRDF that
         was found but could not be loaded gets its own error's hint (a xacro argument it needs,
@@ -550,7 +549,8 @@ class Linter:
             ctx, findings = self.load_srdf(given, pair=False)
             if ctx is not None:
                 return ctx, "", ""
-            return None, _cause(given, findings), _cause_hint(given, findings) or pass_srdf
+            why, hint = _cause(given, findings)
+            return None, why, hint or pass_srdf
         failure, hint = "", ""
         for tier in srdf_candidates(path):
             usable: dict[Path, SrdfContext] = {}
@@ -561,7 +561,7 @@ class Linter:
                 if ctx is not None:
                     usable.setdefault(ctx.path, ctx)
                 elif findings and not failure:
-                    failure, hint = _cause(cand.path, findings), _cause_hint(cand.path, findings)
+                    failure, hint = _cause(cand.path, findings)
             if len(usable) == 1:
                 return next(iter(usable.values())), "", ""
             covering = [c for c in usable.values() if set(groups) <= set(c.groups)]
@@ -582,16 +582,13 @@ class Linter:
             read_groups,
         )
 
-        text = self._read(path).decode("utf-8", "replace")
+        text = self.read_text(path)
         try:
             groups = read_groups(text)
         except yaml.YAMLError as exc:
-            mark = getattr(exc, "problem_mark", None)
-            line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
-            problem = getattr(exc, "problem", None) or str(exc)
-            return [_file_finding("K001", path, line, col, f"invalid YAML: {problem}")]
+            return [invalid_yaml("K001", path, exc)]
         except NotAMapping as exc:
-            if self._srdf_for_kinematics(path, [])[0] is None:
+            if self._find_srdf(path, [])[0] is None:
                 return []  # a list of something else (DH rows?) with no MoveIt config around it: not MoveIt's
             return [
                 _file_finding(
@@ -609,7 +606,7 @@ class Linter:
         if not is_moveit_kinematics(groups):
             if not may_be_unusable_moveit(groups):
                 return []  # named *kinematics.yaml, but not MoveIt's (UR's calibration, Franka's parameters)
-            srdf_ctx, _ = self._srdf_for_kinematics(path, names)
+            srdf_ctx = self._find_srdf(path, names)[0]
             if srdf_ctx is None or not set(names) & set(srdf_ctx.groups):
                 return []  # `a1: 0.025`: no planning group of that name, so not MoveIt's
             return list(self._run(KinematicsContext(path, groups, srdf_ctx), Target.KINEMATICS))
@@ -621,16 +618,13 @@ class Linter:
         return findings + list(self._run(ctx, Target.KINEMATICS))
 
     # ---- a MoveIt config package's other YAML files ----------------------------------
-    def srdf_for_package_file(self, path: Path) -> tuple[SrdfContext | None, str]:
+    def srdf_for_package_file(self, path: Path) -> SrdfContext | None:
         """The SRDF a package YAML file (joint_limits.yaml, controllers) belongs to: as for kinematics.yaml."""
-        return self._srdf_for_kinematics(path, [])
+        return self._find_srdf(path, [])[0]
 
     def paired_srdf(self, path: Path) -> SrdfContext | None:
         """The SRDF with its URDF (loaded once per run; its own findings are reported when it is linted)."""
-        if path not in self._paired:
-            ctx, _ = self.load_srdf(path)
-            self._paired[path] = ctx
-        return self._paired[path]
+        return self.load_srdf(path)[0]
 
     def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]:
         return self._run(ctx, target)
@@ -676,7 +670,8 @@ class Linter:
             raise
         except (RecursionError, MemoryError) as exc:
             what = "nested too deeply" if isinstance(exc, RecursionError) else "too large"
-            code = _LOADER_CODE.get(file_kind(path) if path != STDIN else None, "U001")
+            kind = file_kind(path) if path != STDIN else None
+            code = LOADER_CODE[kind.value] if kind is not None else "U001"
             found = [
                 _file_finding(
                     code,

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, NamedTuple
 from lxml import etree
 
 from armtool.lint.finding import Edit
-from armtool.model.display import display_path
+from armtool.model.display import display_path, macro_body_note
 from armtool.model.xmlsource import SourceText
 
 if TYPE_CHECKING:  # the origin types are only named here; importing them costs lint start-up
@@ -80,7 +80,7 @@ class Locator:
             line, col = self.text(call.path).locate(call.line, None)
             note = None
             if origin.source is not None:
-                note = f"from the macro body at {display_path(origin.source.path)}:{origin.source.line}"
+                note = macro_body_note(display_path(origin.source.path), origin.source.line)
             related = origin.calls + ((origin.source,) if origin.source else ())
             return Place(call.path, line, col, note, related)
         assert origin.source is not None

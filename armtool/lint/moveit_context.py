@@ -25,8 +25,10 @@ if TYPE_CHECKING:
 
 def as_double(value: Scalar) -> str:
     """An integer scalar written as the same number in double form (`1` -> `1.0`, `0x10` -> `16.0`)."""
+    from armtool.moveit.params import is_octal
+
     text = value.text.strip()
-    if text.lstrip("+-").isdigit() and not (len(text.lstrip("+-")) > 1 and text.lstrip("+-")[0] == "0"):
+    if text.lstrip("+-").isdigit() and not is_octal(text):
         return text + ".0"
     number = value.number()
     return repr(float(number)) if number is not None else text
@@ -123,6 +125,8 @@ class JointLimitsContext(YamlContext):
 
 class PilzContext(YamlContext):
     target = Target.PILZ
+    # The limits Pilz reads from cartesian_limits (its CartesianLimit), all four required.
+    KEYS = ("max_trans_vel", "max_trans_acc", "max_trans_dec", "max_rot_vel")
 
     def __init__(
         self,
@@ -163,11 +167,6 @@ class ControllersContext(YamlContext):
         self.moveit = moveit
         self.robot = robot
         self.package = package
-
-    @property
-    def is_trajectory_execution_file(self) -> bool:
-        """True for the controllers file MoveIt's launch loads (MoveItConfigsBuilder's choice)."""
-        return self.package is not None and self.package.package.moveit_controllers == self.path
 
     def robot_controllers(self) -> RobotControllers | None:
         """The package's ros2_controllers.yaml (ROS 1: ros_controllers.yaml), when it has one."""

@@ -12,7 +12,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
-from armtool.lint.file_findings import file_finding
+from armtool.lint.file_findings import LOADER_CODE, invalid_yaml
 from armtool.lint.finding import Finding
 from armtool.lint.rule import Target
 
@@ -30,43 +30,56 @@ class Linter(Protocol):
 
     resolver: PackageResolver
     package_cache: dict[Path, Any]  # MoveIt config package root -> its controllers, read once per run
+    yaml_documents: dict[Path, Any]  # resolved path -> its YAML nodes or the error parsing them, once per run
 
     def read_text(self, path: Path) -> str: ...
 
     def xacro_args_for(self, path: Path, extra: dict[str, str] | None = None) -> dict[str, str]: ...
 
-    def srdf_for_package_file(self, path: Path) -> tuple[SrdfContext | None, str]: ...
+    def srdf_for_package_file(self, path: Path) -> SrdfContext | None: ...
 
     def paired_srdf(self, path: Path) -> SrdfContext | None: ...
 
     def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]: ...
 
 
-LOADER_CODE = {Target.JOINT_LIMITS: "L001", Target.PILZ: "P001", Target.CONTROLLERS: "C001"}
+def _document(linter: Linter, path: Path) -> yaml.Node | None:
+    """The file's YAML nodes, parsed once per run (a controllers file is read for its package's
+    controllers and again when it is linted). Raises yaml.YAMLError or RecursionError as
+    params.parse does, each time it is asked."""
+    import yaml
+
+    from armtool.moveit.params import parse
+
+    key = path.resolve()
+    known = linter.yaml_documents.get(key)
+    if known is None:
+        try:
+            known = (parse(linter.read_text(path)), None)
+        except (yaml.YAMLError, RecursionError) as exc:
+            known = (None, exc)
+        linter.yaml_documents[key] = known
+    node, error = known
+    if error is not None:
+        raise error
+    return node
 
 
 def _parse(linter: Linter, path: Path, target: Target) -> tuple[yaml.Node | None, list[Finding]]:
     """The file's YAML nodes, or its loader finding (invalid YAML)."""
     import yaml
 
-    from armtool.moveit.params import parse
-
-    text = linter.read_text(path)
     try:
-        return parse(text), []
+        return _document(linter, path), []
     except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
-        problem = getattr(exc, "problem", None) or str(exc)
-        return None, [file_finding(LOADER_CODE[target], path, line, col, f"invalid YAML: {problem}")]
+        return None, [invalid_yaml(LOADER_CODE[target.value], path, exc)]
 
 
 def _ros(path: Path, ros2_params: bool) -> int | None:
     """2 for a ROS 2 package or a ROS 2 parameter file, 1 for a catkin package, else None."""
     from armtool.moveit.params import ros_version
 
-    version = ros_version(path)
-    return 2 if ros2_params else version
+    return 2 if ros2_params else ros_version(path)
 
 
 def robot_for(linter: Linter, path: Path) -> tuple[SrdfContext | None, UrdfContext | None, dict[str, str]]:
@@ -74,7 +87,7 @@ def robot_for(linter: Linter, path: Path) -> tuple[SrdfContext | None, UrdfConte
     it, and the xacro arguments that URDF is expanded with (for launch substitutions in keys)."""
     from armtool.lint.pairing import read_setup_assistant
 
-    srdf, _ = linter.srdf_for_package_file(path)
+    srdf = linter.srdf_for_package_file(path)
     if srdf is None:
         return None, None, {}
     paired = linter.paired_srdf(srdf.path)
@@ -102,11 +115,11 @@ def lint_joint_limits(linter: Linter, path: Path) -> list[Finding]:
 def _moveit_package(path: Path) -> bool:
     """True when the package holding `path` is a MoveIt config (a .setup_assistant, or an SRDF in
     it), not a description package whose joint_limits.yaml xacro or ros2_control reads."""
+    from armtool.model.packages import package_root as ros_package
     from armtool.moveit.package import package_root
-    from armtool.moveit.params import package_xml
+    from armtool.moveit.params import ROS_PACKAGE_LEVELS
 
-    marker = package_xml(path)
-    root = marker.parent if marker is not None else package_root(path)
+    root = ros_package(path.parent, ROS_PACKAGE_LEVELS) or package_root(path)
     if root is None:
         return False
     if (root / ".setup_assistant").is_file():
@@ -136,7 +149,6 @@ def package_controllers(linter: Linter, path: Path) -> PackageControllers | None
     from armtool.lint.moveit_context import PackageControllers
     from armtool.moveit.controllers import read_moveit_controllers, read_robot_controllers
     from armtool.moveit.package import package_root, read_package
-    from armtool.moveit.params import parse
 
     root = package_root(path)
     if root is None or not (root / ".setup_assistant").is_file():
@@ -156,7 +168,7 @@ def package_controllers(linter: Linter, path: Path) -> PackageControllers | None
     out = PackageControllers(pkg)
     for file in pkg.controller_files:
         try:
-            node = parse(linter.read_text(file))
+            node = _document(linter, file)
         except (yaml.YAMLError, RecursionError):
             continue
         moveit = read_moveit_controllers(file, node)

@@ -12,6 +12,7 @@ SRDF describes the URDF whose joints and links it names (`unknown_names`).
 
 from __future__ import annotations
 
+import functools
 import re
 from pathlib import Path
 from typing import NamedTuple
@@ -88,7 +89,9 @@ def _section(data: dict[object, object], name: str) -> dict[object, object]:
 
 
 def read_setup_assistant(start: Path) -> SetupAssistant | None:
-    """The .setup_assistant of the MoveIt config package that holds `start` (a directory)."""
+    """The .setup_assistant of the MoveIt config package that holds `start` (a directory); None
+    when there is none, or it cannot be read as YAML (an alias bomb included: it is read with
+    armtool.yamlload's guard). Parsed once per content: every file of a package asks for it."""
     for directory in [start, *start.parents][:4]:
         marker = directory / ".setup_assistant"
         if marker.is_file():
@@ -97,19 +100,35 @@ def read_setup_assistant(start: Path) -> SetupAssistant | None:
             return None  # the package root, and no .setup_assistant in it
     else:
         return None
+    try:
+        text = marker.read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return None
+    fields = _setup_fields(text)
+    if fields is None:
+        return None
+    urdf_package, urdf_relative, urdf_xacro_args, srdf_relative = fields
+    return SetupAssistant(directory, urdf_package, urdf_relative, dict(urdf_xacro_args), srdf_relative)
+
+
+@functools.lru_cache(maxsize=64)  # keyed on the text: a file changed since is parsed again
+def _setup_fields(text: str) -> tuple[str | None, str | None, dict[str, str], str | None] | None:
+    """The URDF's package, relative path and xacro arguments and the SRDF's relative path that a
+    .setup_assistant's text names; None when it is not YAML or not a mapping."""
     import yaml
 
+    from armtool.yamlload import safe_load
+
     try:
-        data = yaml.safe_load(marker.read_text(encoding="utf-8", errors="replace"))
-    except (OSError, yaml.YAMLError):
+        data = safe_load(text)
+    except yaml.YAMLError:
         return None
     if not isinstance(data, dict):
         return None
     config = _section(data, "moveit_setup_assistant_config")
     urdf, srdf = _section(config, "urdf"), _section(config, "srdf")
     args = urdf.get("xacro_args")
-    return SetupAssistant(
-        directory,
+    return (
         str(urdf["package"]) if urdf.get("package") else None,
         str(urdf["relative_path"]) if urdf.get("relative_path") else None,
         parse_xacro_args(str(args)) if args else {},

@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections import defaultdict
 
 from armtool.lint.finding import Finding
+from armtool.model.display import included_file_note, macro_body_note, note_suffix
 
 MAX_NAMED = 5  # files named in the message; the rest are counted
 
@@ -29,9 +30,10 @@ def _anchor(finding: Finding) -> tuple[str, int] | None:
 def _without_place(message: str, anchor: tuple[str, int]) -> str:
     """The message without the note that names the anchor (it becomes the finding's place)."""
     path, line = anchor
-    for note in (f" (from the macro body at {path}:{line})", f" (at {path}:{line})"):
-        if note in message:
-            return message.replace(note, "")
+    for note in (macro_body_note(path, line), included_file_note(path, line)):
+        written = note_suffix(note)
+        if written in message:
+            return message.replace(written, "")
     return message
 
 

@@ -51,19 +51,21 @@ _NEAR_LEVELS = 3
 _MAX_DIRS = 20_000  # directories one scan may visit: a search that climbed too high stays bounded
 
 
-def package_name(directory: Path) -> str | None:
-    """The `<name>` in directory/package.xml, or None when there is no readable package.xml."""
+def package_name(directory: Path, limit: int = 8192) -> str | None:
+    """The `<name>` in directory/package.xml (in its first `limit` bytes), or None when there is
+    no readable package.xml."""
     try:
-        data = read_regular(directory / "package.xml", 8192)
+        data = read_regular(directory / "package.xml", limit)
     except OSError:
         return None
     m = _NAME_RE.search(data)
     return m.group(1).decode("utf-8", "replace") if m else None
 
 
-def package_root(path: Path) -> Path | None:
-    """The nearest directory at or above `path` that holds a package.xml."""
-    for directory in [path, *path.parents]:
+def package_root(path: Path, levels: int | None = None) -> Path | None:
+    """The nearest directory at or above `path` that holds a package.xml (looking at `levels`
+    directories at most: `path` and its parents)."""
+    for directory in [path, *path.parents][:levels]:
         if (directory / "package.xml").is_file():
             return directory
     return None
@@ -94,10 +96,6 @@ class _TreeScan:
     def __init__(self) -> None:
         self._listings: dict[Path, _Listing] = {}
         self._complete: dict[Path, dict[str, Path]] = {}  # subtrees scanned to the bottom
-
-    @property
-    def visited(self) -> int:
-        return len(self._listings)
 
     def index(self, directory: Path, depth: int = _SCAN_DEPTH) -> dict[str, Path]:
         return self._scan(directory, depth, [_MAX_DIRS])[0]
@@ -164,11 +162,6 @@ class PackageResolver:
                 for name, path in self._trees.index(root).items():
                     index.setdefault(name, path)
         return index
-
-    @property
-    def directories_scanned(self) -> int:
-        """How many directories the tree scans have read so far (each at most once)."""
-        return self._trees.visited
 
     def find(self, name: str, near: Path | None = None) -> Path | None:
         """The directory of package `name`, or None."""

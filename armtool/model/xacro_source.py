@@ -30,7 +30,7 @@ from typing import Any
 from lxml import etree
 
 from armtool.fileio import NotRegularFile, read_regular
-from armtool.model.display import display_path
+from armtool.model.display import display_path, included_file_note, note_suffix
 from armtool.model.origin import Origin, SourceLine
 from armtool.model.packages import PackageResolver
 from armtool.model.xacro_eval import bounded_eval
@@ -322,7 +322,7 @@ def _failure(exc: BaseException, top: Path, files: list[Path]) -> XacroFailure:
     in_top = [loc for loc in trail if loc.path == top]
     line = in_top[-1].line if in_top else 1
     if inner is not None:
-        message += f" (at {display_path(inner.path)}:{inner.line})"
+        message += note_suffix(included_file_note(display_path(inner.path), inner.line))
     package = _cause(exc, _MissingPackage)
     arg = _cause(exc, ArgException)
     return XacroFailure(

@@ -129,10 +129,6 @@ class MoveItControllers:
     listed_at: tuple[int, int]  # where the list is written
     controllers: dict[str, Controller] = field(default_factory=dict)  # names with settings
 
-    def all_joints(self) -> set[str]:
-        listed = {s.text for s in self.listed}
-        return {j.text for name, c in self.controllers.items() if name in listed for j in (c.joints or [])}
-
 
 @dataclass
 class RobotControllers:

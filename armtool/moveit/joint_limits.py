@@ -15,7 +15,18 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from armtool.moveit.params import NameRef, Scalar, Section, as_scalar, child, items, key_node, moveit_section, name_ref
+from armtool.moveit.params import (
+    NameRef,
+    Scalar,
+    Section,
+    as_scalar,
+    child,
+    is_mapping,
+    items,
+    key_node,
+    moveit_section,
+    name_ref,
+)
 
 if TYPE_CHECKING:
     import yaml
@@ -117,7 +128,7 @@ def read_joint_limits(path: Path, root: yaml.Node | None, known_args: dict[str, 
     for name, knode, value in items(limits):
         line, column = position(knode)
         entry = JointEntry(name_ref(name, known_args), line, column)
-        if not items_or_none(value):
+        if not is_mapping(value):
             entry.not_a_mapping = shape(value)
         for key, _, setting in items(value):
             scalar = as_scalar(setting)
@@ -140,13 +151,6 @@ def read_joint_limits(path: Path, root: yaml.Node | None, known_args: dict[str, 
     return JointLimitsFile(
         path, section, position(limits_key) if limits_key is not None else None, joints, scaling, scaling_bad
     )
-
-
-def items_or_none(node: yaml.Node | None) -> bool:
-    """True for a mapping (even an empty one)."""
-    from armtool.moveit.params import is_mapping
-
-    return is_mapping(node)
 
 
 def load_joint_limits(path: Path, known_args: dict[str, str] | None = None) -> JointLimitsFile:

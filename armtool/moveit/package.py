@@ -24,11 +24,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from armtool.errors import ArmtoolError
-from armtool.model.packages import PackageResolver
-from armtool.moveit.params import package_xml, ros_version
+from armtool.model.packages import PackageResolver, package_name
+from armtool.moveit.params import ros_version
 
 _BUILDER = re.compile(r"MoveItConfigsBuilder\(\s*[\"']([^\"']+)[\"']")
-_PACKAGE_NAME = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 
 
 @dataclass
@@ -73,15 +72,6 @@ def package_root(start: Path) -> Path | None:
         if (candidate / "package.xml").is_file():
             return candidate if (candidate / "config").is_dir() else None
     return None
-
-
-def _package_name(root: Path) -> str | None:
-    marker = root / "package.xml"
-    try:
-        match = _PACKAGE_NAME.search(marker.read_bytes()[: 1 << 20])
-    except OSError:
-        return None
-    return match.group(1).decode("utf-8", "replace") if match else None
 
 
 def _robot_name(root: Path, package: str | None) -> str | None:
@@ -131,9 +121,9 @@ def read_package(directory: Path, resolver: PackageResolver) -> MoveItPackage:
             str(directory),
             "pass the directory the Setup Assistant generated (it holds .setup_assistant and config/)",
         )
-    name = _package_name(root) if (root / "package.xml").is_file() else None
+    name = package_name(root, limit=1 << 20)
     robot = _robot_name(root, name)
-    ros = ros_version(root) if package_xml(root) is not None else None
+    ros = ros_version(root)
     pkg = MoveItPackage(root, name, robot, ros)
     setup = read_setup_assistant(root)
     # URDF

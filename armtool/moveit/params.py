@@ -81,7 +81,7 @@ class Scalar(NamedTuple):
 
     def _number(self) -> float | None:
         if self.kind == "int":
-            return float(int(self.text.strip(), 0) if not _is_octal(self.text) else int(self.text.strip(), 8))
+            return float(int(self.text.strip(), 0) if not is_octal(self.text) else int(self.text.strip(), 8))
         if self.kind == "double":
             text = self.text.strip()
             if text in _YAML_SPECIAL_DOUBLES:
@@ -98,7 +98,8 @@ class Scalar(NamedTuple):
         return self.text in _TRUE
 
 
-def _is_octal(text: str) -> bool:
+def is_octal(text: str) -> bool:
+    """`010`: an integer strtoll reads as octal (a leading 0 and more digits; sign and spaces allowed)."""
     digits = text.strip().lstrip("+-")
     return len(digits) > 1 and digits[0] == "0" and digits[1:].isdigit()
 
@@ -343,28 +344,21 @@ def name_ref(written: str, known: dict[str, str] | None = None) -> NameRef:
 # ---- which ROS --------------------------------------------------------------------------
 
 _BUILDTOOL = re.compile(rb"<(?:buildtool_depend|build_type)>\s*([\w-]+)\s*</")
-
-
-def package_xml(start: Path, levels: int = 6) -> Path | None:
-    """The package.xml of the ROS package that holds `start` (a file or directory)."""
-    directory = start if start.is_dir() else start.parent
-    for candidate in [directory, *directory.parents][:levels]:
-        marker = candidate / "package.xml"
-        if marker.is_file():
-            return marker
-    return None
+ROS_PACKAGE_LEVELS = 6  # directories looked at for the package.xml of a MoveIt file: its own and 5 above
 
 
 def ros_version(start: Path) -> int | None:
     """1 for a catkin package, 2 for an ament one (package.xml's buildtool_depend or export
-    build_type), None when no package.xml says."""
-    marker = package_xml(start)
-    if marker is None:
-        return None
+    build_type), None when no package.xml says. `start` is a file or a directory of the package
+    (package.xml is looked for in ROS_PACKAGE_LEVELS directories at most)."""
     from armtool.fileio import read_regular
+    from armtool.model.packages import package_root
 
+    root = package_root(start if start.is_dir() else start.parent, ROS_PACKAGE_LEVELS)
+    if root is None:
+        return None
     try:
-        data = read_regular(marker, 1 << 20)
+        data = read_regular(root / "package.xml", 1 << 20)
     except OSError:
         return None
     tools = {m.group(1).decode("ascii", "replace") for m in _BUILDTOOL.finditer(data)}

@@ -284,6 +284,55 @@ def test_yaml_alias_bomb_is_not_expanded(tmp_path: Path) -> None:
     no_traceback(proc)
 
 
+def _setup_assistant_bomb(levels: int) -> str:
+    """A .setup_assistant whose xacro_args alias 10**levels values (the URDF it names is real)."""
+    names = "abcdefghijklmnop"[: levels + 1]
+    lines = ['a: &a ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]']
+    for prev, name in zip(names, names[1:]):
+        lines.append(f"{name}: &{name} [" + ", ".join([f"*{prev}"] * 10) + "]")
+    lines += [
+        "moveit_setup_assistant_config:",
+        "  urdf:",
+        "    package: clean_arm",
+        "    relative_path: urdf/clean_arm.urdf",
+        f"    xacro_args: *{names[-2]}",
+        "  srdf:",
+        "    relative_path: config/clean_arm.srdf",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def test_setup_assistant_alias_bomb_is_read_as_invalid_yaml(tmp_path: Path) -> None:
+    """Read with armtool.yamlload's guard, as every YAML file: a million aliased values are refused
+    (plain yaml.safe_load built them, and str() of the xacro arguments walked every one)."""
+    from armtool.lint.pairing import read_setup_assistant
+
+    for name, text in (("bomb", _setup_assistant_bomb(7)), ("invalid", "moveit_setup_assistant_config: [\n")):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / ".setup_assistant").write_text(text)
+        assert read_setup_assistant(tmp_path / name) is None, name
+    (tmp_path / "fine").mkdir()
+    (tmp_path / "fine" / ".setup_assistant").write_text(_setup_assistant_bomb(1))  # 10 values: fine
+    assert read_setup_assistant(tmp_path / "fine") is not None
+
+
+def test_package_with_a_setup_assistant_alias_bomb_lints_as_with_an_unreadable_one(tmp_path: Path) -> None:
+    """10**9 values: the lint finishes at once and says what it says when .setup_assistant is not YAML
+    (it is read by every file of the package; unguarded, one read never ended)."""
+    robots = REPO / "fixtures" / "robots"
+    found = {}
+    for name, text in (("bomb", _setup_assistant_bomb(9)), ("invalid", "moveit_setup_assistant_config: [\n")):
+        root = tmp_path / name
+        shutil.copytree(robots / "clean_arm", root / "clean_arm")
+        shutil.copytree(robots / "clean_arm_moveit_config", root / "clean_arm_moveit_config")
+        (root / "clean_arm_moveit_config" / ".setup_assistant").write_text(text)
+        proc = run_cli("lint", "--format", "json", "clean_arm_moveit_config", cwd=root, timeout=30)
+        assert proc.returncode in (0, 1), proc.stderr
+        no_traceback(proc)
+        found[name] = json_findings(proc)
+    assert found["bomb"] == found["invalid"]
+
+
 # ---- external entities, external DTDs, XInclude: nothing is read, nothing is fetched ----------------
 
 

@@ -528,3 +528,28 @@ def test_rules_with_any_argument_is_exit_0_or_2(code: str) -> None:
         code = "x" + code.replace("\x00", "")  # an option or a NUL is not an argument a shell can pass
     exit_code, out, err = invoke("rules", code)
     assert exit_code in (0, 2) and "Traceback" not in out + err and "internal error" not in err
+
+
+@pytest.mark.parametrize(
+    ("name", "code"),
+    [
+        ("arm.urdf", "U001"),
+        ("arm.urdf.xacro", "X001"),
+        ("arm.srdf", "S001"),
+        ("kinematics.yaml", "K001"),
+        ("joint_limits.yaml", "L001"),
+        ("pilz_cartesian_limits.yaml", "P001"),
+        ("ros2_controllers.yaml", "C001"),
+    ],
+)
+def test_a_file_too_deep_to_check_is_its_kinds_loader_finding(
+    name: str, code: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def too_deep(self: engine.Linter, path: Path) -> list[Finding]:
+        raise RecursionError("maximum recursion depth exceeded")
+
+    monkeypatch.setattr(engine.Linter, "lint_file", too_deep)
+    path = tmp_path / name
+    path.write_text("x\n")
+    (found,) = lint_paths([path], LintOptions()).findings
+    assert (found.code, found.message) == (code, "file is nested too deeply for armtool to check")

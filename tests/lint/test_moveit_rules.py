@@ -175,6 +175,19 @@ def test_p101_p102_p103(package: Path) -> None:
     )
 
 
+def test_p102_one_aliased_value_gives_its_findings_in_key_order(package: Path) -> None:
+    """One node, two keys: the velocity's finding, then the deceleration's (output order of ties)."""
+    path = package / "config" / "pilz_cartesian_limits.yaml"
+    path.write_text(
+        "cartesian_limits:\n  max_trans_vel: 1.0\n  max_trans_acc: 2.25\n  max_rot_vel: &zero 0.0\n"
+        "  max_trans_dec: *zero\n"
+    )
+    assert [(f.line, f.column, f.message.split(":")[0]) for f in found(lint(path), "P102")] == [
+        (4, 16, "max_rot_vel is 0.0"),
+        (4, 16, "max_trans_dec is 0.0"),
+    ]
+
+
 # ---- controllers ------------------------------------------------------------------------
 
 
@@ -265,3 +278,20 @@ def test_ros1_package_controller_list_and_ros_controllers(package: Path) -> None
     findings = lint(config)
     assert [(f.code, f.line) for f in findings] == [("C103", 6)]
     assert "'gripper_controller' is not declared in ros_controllers.yaml" in findings[0].message
+
+
+@pytest.mark.parametrize("name", ["moveit_controllers.yaml", "simple_moveit_controllers.yaml"])
+def test_c103_settings_controller_names_does_not_list_whatever_the_file_name(package: Path, name: str) -> None:
+    """moveit_simple_controller_manager ignores settings of a controller controller_names does not
+    list; the file's format says so, not its name (a ROS 1 controller_list lists every controller)."""
+    path = package / "config" / name
+    text = (package / "config" / "moveit_controllers.yaml").read_text()
+    path.write_text(text.replace("    - gripper_controller\n", "", 1))
+    findings = found(lint(path), "C103")
+    assert [(f.line, f.severity, f.message) for f in findings] == [
+        (
+            19,  # gripper_controller: in the file, less the line that listed it
+            Severity.WARNING,
+            "controller 'gripper_controller' has settings but controller_names does not list it: MoveIt ignores it",
+        )
+    ]

@@ -45,14 +45,16 @@ def test_loader_rules_check_nothing_and_are_the_engines_file_findings() -> None:
     import re
     from pathlib import Path
 
-    from armtool.lint import engine, file_findings, moveit_files
+    from armtool.lint import engine, file_findings
     from armtool.lint.registry import LOADER_CODES, checks_for, rule_class, rules_for
     from armtool.lint.rule import Target
 
     for code in LOADER_CODES:
         assert list(rule_class(code)().check(object())) == []
     source = "".join(Path(m.__file__).read_text(encoding="utf-8") for m in (engine, file_findings))
-    reported = set(re.findall(r'file_finding\(\s*"([A-Z]\d{3})"', source)) | set(moveit_files.LOADER_CODE.values())
+    reported = set(re.findall(r'(?:file_finding|invalid_yaml)\(\s*"([A-Z]\d{3})"', source))
+    reported |= set(file_findings.LOADER_CODE.values())
+    assert set(file_findings.LOADER_CODE) == {kind.value for kind in engine.FileKind}  # every kind has one
     assert reported == LOADER_CODES
     for target in Target:
         assert [r.code for r in checks_for(target)] == [r.code for r in rules_for(target) if r.code not in LOADER_CODES]

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from armtool.lint.engine import LintOptions, lint_paths
 
 X = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
@@ -49,3 +51,29 @@ def test_a_stale_include_is_one_finding_in_the_included_file(tmp_path: Path) -> 
     (finding,) = lint_paths([tmp_path], LintOptions()).findings
     assert (Path(finding.path).name, finding.line, finding.code) == ("common.xacro", 3, "X001")
     assert "stale_pkg" in finding.message and "d.urdf.xacro" in finding.message and "e.urdf.xacro" in finding.message
+
+
+@pytest.mark.parametrize(
+    ("code", "included", "note"),
+    [("U405", "parts.xacro", "from the macro body at {}:5"), ("X001", "common.xacro", "at {}:3")],
+)
+def test_the_merged_finding_drops_the_note_that_named_its_place(
+    tmp_path: Path, code: str, included: str, note: str
+) -> None:
+    """The note the writer added (the locator's "from the macro body at F:L", xacro's "at F:L") names
+    the merged finding's place: it is taken out of the message, the rest of the message stays."""
+    (tmp_path / "parts.xacro").write_text(PARTS)
+    (tmp_path / "common.xacro").write_text(
+        f'<?xml version="1.0"?>\n<robot {X}>\n  <xacro:include filename="$(find stale_pkg)/urdf/x.xacro"/>\n</robot>\n'
+    )
+    files = [tmp_path / f"{name}.urdf.xacro" for name in ("a", "b")]
+    for path in files:
+        body = '  <xacro:segment name="l1" parent="base"/>\n' if included == "parts.xacro" else ""
+        path.write_text(top(path.name.split(".")[0], included, body))
+    (alone,) = lint_paths(files[:1], LintOptions()).findings
+    (merged,) = lint_paths(files, LintOptions()).findings
+    assert (merged.code, Path(merged.path).name) == (code, included)
+    written = f" ({note.format(merged.path)})"
+    assert alone.code == code and written in alone.message
+    assert merged.message.startswith(alone.message.replace(written, "") + " (in every file that includes it: ")
+    assert written not in merged.message

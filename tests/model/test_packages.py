@@ -142,3 +142,14 @@ def test_known_names_include_the_workspace_and_the_installed_share(tmp_path: Pat
     make_package(ws / "foo_description2", "foo_description2")
     config = make_package(ws / "foo_moveit_config", "foo_moveit_config")
     assert {"foo_description2", "foo_moveit_config"} <= set(PackageResolver().known_names(config))
+
+
+def test_package_root_looks_at_levels_directories_when_capped(tmp_path: Path) -> None:
+    from armtool.model.packages import package_root
+
+    pkg = make_package(tmp_path / "pkg", "pkg")
+    deep = pkg / "a" / "b"
+    deep.mkdir(parents=True)
+    assert package_root(deep) == pkg
+    assert package_root(deep, 3) == pkg  # b, a, pkg
+    assert package_root(deep, 2) is None

@@ -91,3 +91,29 @@ def test_ros_version_from_package_xml(tmp_path: Path) -> None:
     assert ros_version(tmp_path / "a" / "config") == 2
     assert ros_version(tmp_path / "b") == 1
     assert ros_version(tmp_path) is None
+
+
+def test_ros_version_looks_at_six_directories(tmp_path: Path) -> None:
+    """A file's own directory and the five above it (a package.xml further up is another tree's)."""
+    (tmp_path / "package.xml").write_text("<package><buildtool_depend>ament_cmake</buildtool_depend></package>")
+    five_below = tmp_path / "a" / "b" / "c" / "d" / "e"
+    (five_below / "f").mkdir(parents=True)
+    for directory in (five_below, five_below / "f"):
+        (directory / "joint_limits.yaml").write_text("{}\n")
+    assert ros_version(five_below / "joint_limits.yaml") == 2  # e, d, c, b, a, then tmp_path: the sixth
+    assert ros_version(five_below) == 2
+    assert ros_version(five_below / "f" / "joint_limits.yaml") is None  # tmp_path would be the seventh
+    assert ros_version(five_below / "f") is None
+
+
+@pytest.mark.parametrize(
+    ("text", "double"),
+    [("1", "1.0"), ("-5", "-5.0"), ("+7", "+7.0"), ("0", "0.0"), ("010", "8.0"), ("-010", "-8.0"), ("0x10", "16.0")],
+)
+def test_an_integer_in_double_form_reads_octal_as_strtoll_does(text: str, double: str) -> None:
+    """The fix of L102/P103 (`1` -> `1.0`) keeps the number rcl reads: `010` is octal 8."""
+    from armtool.lint.moveit_context import as_double
+
+    scalar = as_scalar(child(parse(f"v: {text}\n"), "v"))
+    assert scalar is not None and scalar.kind == "int"
+    assert as_double(scalar) == double

@@ -60,7 +60,7 @@ class GroupWithoutController(Rule):
         robot = ctx.robot_controllers()
         if uses_ros2_control and robot is not None:
             covers.append({j.text for c in robot.declared.values() for j in (c.joints or ())})
-        mine = covers[list(package.moveit).index(ctx.path)] if ctx.path in package.moveit else set()
+        mine = covers[list(package.moveit).index(ctx.path)]  # ctx.path is the owner, one of package.moveit
         line, column = ctx.moveit.listed_at
         for group, joints in ctx.active_group_joints().items():
             if not joints or any(set(joints) <= cover for cover in covers):

@@ -58,7 +58,7 @@ class ControllerNotDefined(Rule):
                     "no controller serves its action",
                     hint=f"declare {name} under controller_manager in {robot.path.name}, or rename it here",
                 )
-        if ctx.path.name.startswith("simple_moveit") or not moveit.listed or moveit.path != ctx.path:
+        if not moveit.listed:
             return
         for name, controller in moveit.controllers.items():
             if name not in listed and (controller.type is not None or controller.joints is not None):

@@ -1,11 +1,11 @@
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterator
 
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.moveit_context import ControllersContext
 from armtool.lint.rule import Rule, Target
+from armtool.lint.suggest import nearest_within, optimal_string_alignment
 from armtool.moveit.controllers import MOVEIT_TYPES, ROS1_TYPES, ROS2_TYPES
 
 # What a ROS 1 controller type is called in ros2_controllers.
@@ -20,26 +20,9 @@ ROS2_EQUIVALENT = {
     "velocity_controllers/JointVelocityController": "velocity_controllers/JointGroupVelocityController",
     "effort_controllers/JointEffortController": "effort_controllers/JointGroupEffortController",
 }
-TYPO = 2  # edits (insertion, deletion, substitution, swap of neighbours) that make a misspelling
-
-
-def edits(a: str, b: str) -> int:
-    """Optimal string alignment distance: a typo is one or two of these edits; another real
-    controller (`position_controllers/PilzJointTrajectoryController`) is many more."""
-    if abs(len(a) - len(b)) > TYPO:
-        return TYPO + 1
-    previous2: list[int] = []
-    previous = list(range(len(b) + 1))
-    for i, ca in enumerate(a, 1):
-        current = [i]
-        for j, cb in enumerate(b, 1):
-            cost = 0 if ca == cb else 1
-            best = min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + cost)
-            if i > 1 and j > 1 and ca == b[j - 2] and a[i - 2] == cb:
-                best = min(best, previous2[j - 2] + 1)
-            current.append(best)
-        previous2, previous = previous, current
-    return previous[-1]
+# Edits (insertion, deletion, substitution, swap of neighbours) that make a misspelling; another
+# real controller (`position_controllers/PilzJointTrajectoryController`) is many more.
+TYPO = 2
 
 
 class UnknownControllerType(Rule):
@@ -77,6 +60,8 @@ class UnknownControllerType(Rule):
                 ctype = controller.type
                 if ctype is None or ctype.text in MOVEIT_TYPES or "$(" in ctype.text:
                     continue  # a launch substitution (roslaunch subst_value) is filled in at launch
+                import difflib  # on use, as armtool.suggest: most files have no unknown type
+
                 match = difflib.get_close_matches(ctype.text, MOVEIT_TYPES, n=1, cutoff=0.5)
                 yield ctx.finding_at_scalar(
                     self,
@@ -104,9 +89,8 @@ class UnknownControllerType(Rule):
                     hint=f"type: {ROS2_EQUIVALENT[ctype.text]}",
                 )
                 continue
-            text = ctype.text
-            nearest = min(known, key=lambda k: edits(text, k))
-            if edits(text, nearest) <= TYPO:
+            nearest = nearest_within(ctype.text, known, TYPO, optimal_string_alignment)
+            if nearest is not None:
                 yield ctx.finding_at_scalar(
                     self,
                     ctype,

@@ -6,6 +6,7 @@ from collections.abc import Iterator
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.kinematics_context import KinematicsContext
 from armtool.lint.rule import Rule, Target
+from armtool.lint.suggest import levenshtein, nearest_within
 from armtool.suggest import closest
 
 # pluginlib lookup names of the IK plugins in MoveIt (moveit_kinematics/*_plugin_description.xml)
@@ -39,22 +40,11 @@ _KNOWN_PACKAGES = {k.replace("::", "/").split("/")[0] for k in KNOWN_PLUGINS}
 MAX_TYPO_EDITS = 3
 
 
-def edit_distance(a: str, b: str) -> int:
-    """Levenshtein distance (names are short: the plain dynamic programme is enough)."""
-    previous = list(range(len(b) + 1))
-    for i, ca in enumerate(a, 1):
-        current = [i]
-        for j, cb in enumerate(b, 1):
-            current.append(min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + (ca != cb)))
-        previous = current
-    return previous[-1]
-
-
 def near_miss(value: str) -> str | None:
     """The known plugin `value` was probably meant to be: a few edits (case ignored) away, or a
     class that the named MoveIt package does not export. None for a name that is just different."""
-    best = min(KNOWN_PLUGINS, key=lambda k: edit_distance(value.lower(), k.lower()))
-    if edit_distance(value.lower(), best.lower()) <= MAX_TYPO_EDITS:
+    best = nearest_within(value, KNOWN_PLUGINS, MAX_TYPO_EDITS, levenshtein, fold=str.lower)
+    if best is not None:
         return best
     package = value.replace("::", "/").split("/")[0]
     if package in _KNOWN_PACKAGES:

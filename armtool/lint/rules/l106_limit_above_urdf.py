@@ -2,15 +2,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from typing import TYPE_CHECKING
 
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.moveit_context import JointLimitsContext
 from armtool.lint.numbers import parse_floats
 from armtool.lint.rule import Rule, Target
-
-if TYPE_CHECKING:
-    from armtool.moveit.joint_limits import JointEntry
 
 
 class LimitAboveUrdf(Rule):
@@ -47,8 +43,8 @@ class LimitAboveUrdf(Rule):
                 urdf = {k: _number(joint.limits.get(k)) for k in ("lower", "upper", "velocity")}
                 checks = [
                     ("max_velocity", entry.limit("max_velocity"), urdf["velocity"], 1, "velocity"),
-                    ("max_position", _value(entry, "max_position"), urdf["upper"], 1, "upper"),
-                    ("min_position", _value(entry, "min_position"), urdf["lower"], -1, "lower"),
+                    ("max_position", entry.limit("max_position"), urdf["upper"], 1, "upper"),
+                    ("min_position", entry.limit("min_position"), urdf["lower"], -1, "lower"),
                 ]
                 if joint.type == "continuous":
                     checks = checks[:1]
@@ -69,8 +65,3 @@ class LimitAboveUrdf(Rule):
 def _number(text: str | None) -> float | None:
     values = parse_floats(text or "")
     return values[0] if values and len(values) == 1 and math.isfinite(values[0]) else None
-
-
-def _value(entry: JointEntry, key: str) -> float | None:
-    value = entry.values.get(key)
-    return value.number() if value is not None else None

@@ -8,8 +8,6 @@ from armtool.lint.rule import Rule, Target
 from armtool.moveit.params import child, items
 from armtool.suggest import closest
 
-KEYS = ("max_trans_vel", "max_trans_acc", "max_trans_dec", "max_rot_vel")
-
 
 class MissingCartesianLimit(Rule):
     """
@@ -41,10 +39,10 @@ class MissingCartesianLimit(Rule):
     def check(self, ctx: PilzContext) -> Iterator[Finding]:
         written = [k for k, _, _ in items(ctx.limits)]
         line, column = ctx.limits_at or (1, 1)
-        for key in KEYS:
+        for key in ctx.KEYS:
             if child(ctx.limits, key) is not None:
                 continue
-            stray = closest(key, [k for k in written if k not in KEYS])
+            stray = closest(key, [k for k in written if k not in ctx.KEYS])
             yield ctx.finding_at(
                 self,
                 line,

@@ -7,8 +7,6 @@ from armtool.lint.moveit_context import PilzContext
 from armtool.lint.rule import Rule, Target
 from armtool.moveit.params import as_scalar, child
 
-KEYS = ("max_trans_vel", "max_trans_acc", "max_trans_dec", "max_rot_vel")
-
 
 class IntegerCartesianLimit(Rule):
     """
@@ -43,7 +41,7 @@ class IntegerCartesianLimit(Rule):
     def check(self, ctx: PilzContext) -> Iterator[Finding]:
         if ctx.ros != 2:
             return
-        for key in KEYS:
+        for key in ctx.KEYS:
             value = as_scalar(child(ctx.limits, key))
             if value is None or value.kind != "int":
                 continue

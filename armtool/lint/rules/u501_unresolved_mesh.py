@@ -3,6 +3,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Iterator
+from pathlib import Path
 
 from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
@@ -45,7 +46,7 @@ class UnresolvedMesh(Rule):
     code, name, severity, target = "U501", "unresolved-mesh", Severity.ERROR, Target.URDF
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
-        home: str | None = None
+        home: Path | None = None  # the package (or directory) that holds the file, when first needed
         suggested: dict[str, list[str]] = {}  # folder -> files below it, listed once per file linted
         for mesh, uri, path, missing_package in ctx.meshes():
             if (
@@ -84,11 +85,9 @@ class UnresolvedMesh(Rule):
             if path is None or missing_package is not None or ctx.resolver.is_file(path):
                 continue
             if uri.startswith("file://") or os.path.isabs(uri):
-                if home is None:  # the package (or directory) that holds the file
-                    file_dir = ctx.path.resolve().parent
-                    home = str(package_root(file_dir) or file_dir)
+                home = home or _home(ctx)
                 # Both sides with symlinks resolved: a colcon --symlink-install tree links into src/.
-                outside = os.path.commonpath([os.path.realpath(path), home]) != home
+                outside = os.path.commonpath([os.path.realpath(path), str(home)]) != str(home)
             else:
                 outside = False
             if outside:
@@ -101,7 +100,9 @@ class UnresolvedMesh(Rule):
                     hint="ship the mesh in the package and name it package://PACKAGE/path",
                 ).with_severity(Severity.WARNING)
                 continue
-            suggestion = self._closest(ctx, uri, path, suggested)
+            if not uri.startswith("package://"):
+                home = home or _home(ctx)
+            suggestion = self._closest(ctx, uri, path, suggested, home)
             if suggestion is not None:
                 yield ctx.finding(
                     self,
@@ -121,15 +122,17 @@ class UnresolvedMesh(Rule):
             )
 
     @staticmethod
-    def _closest(ctx: UrdfContext, uri: str, path: str, listings: dict[str, list[str]]) -> str | None:
+    def _closest(
+        ctx: UrdfContext, uri: str, path: str, listings: dict[str, list[str]], home: Path | None
+    ) -> str | None:
         """The existing file whose path is closest to the missing `path`, written the way `uri` is
         (package://, relative or absolute), or None. Looked for below the deepest existing folder
-        of `path` that lies inside the package (a package:// URI's, else the linted file's)."""
+        of `path` that lies inside the package (a package:// URI's, else `home`, the linted file's)."""
         if uri.startswith("package://"):
             name = uri[len("package://") :].partition("/")[0]
             boundary = ctx.resolver.find(name, ctx.base_dir)
         else:
-            boundary = package_root(ctx.path.resolve().parent) or ctx.path.resolve().parent
+            boundary = home
         if boundary is None:
             return None
         bound = os.path.realpath(boundary)
@@ -156,6 +159,13 @@ class UnresolvedMesh(Rule):
         if os.path.isabs(uri):
             return found
         return os.path.relpath(found, os.path.realpath(ctx.base_dir)).replace(os.sep, "/")
+
+
+def _home(ctx: UrdfContext) -> Path:
+    """The package that holds the linted file (or, in none, its directory): where a mesh named
+    by a relative or absolute path belongs."""
+    file_dir = ctx.path.resolve().parent
+    return package_root(file_dir) or file_dir
 
 
 def _similar_names(a: str, b: str) -> float:
