@@ -5,8 +5,8 @@ from collections.abc import Iterator
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.moveit_context import ControllersContext
 from armtool.lint.rule import Rule, Target
-from armtool.lint.suggest import nearest_within, optimal_string_alignment
 from armtool.moveit.controllers import MOVEIT_TYPES, ROS1_TYPES, ROS2_TYPES
+from armtool.suggest import nearest_within, optimal_string_alignment
 
 # What a ROS 1 controller type is called in ros2_controllers.
 ROS2_EQUIVALENT = {

@@ -6,8 +6,7 @@ from collections.abc import Iterator
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.kinematics_context import KinematicsContext
 from armtool.lint.rule import Rule, Target
-from armtool.lint.suggest import levenshtein, nearest_within
-from armtool.suggest import closest
+from armtool.suggest import closest, levenshtein, nearest_within
 
 # pluginlib lookup names of the IK plugins in MoveIt (moveit_kinematics/*_plugin_description.xml)
 # and in the ecosystem (trac_ik, pick_ik, bio_ik, moveit_opw_kinematics_plugin, ur_kinematics).

@@ -8,8 +8,8 @@ from hypothesis import strategies as st
 
 from armtool.lint.rules.c104_unknown_controller_type import TYPO
 from armtool.lint.rules.k102_unknown_solver_plugin import KNOWN_PLUGINS, MAX_TYPO_EDITS, near_miss
-from armtool.lint.suggest import levenshtein, nearest_within, optimal_string_alignment
 from armtool.moveit.controllers import ROS1_TYPES, ROS2_TYPES
+from armtool.suggest import levenshtein, nearest_within, optimal_string_alignment
 
 
 def _c104_edits(a: str, b: str) -> int:  # C104's `edits` before nearest_within (its cap included)
