@@ -163,8 +163,12 @@ class ImportedSample:
     @property
     def image_offset_fraction(self) -> float:
         """|image_offset_s| over the half-window: 0 at the window's centre, 1 at its edge."""
-        half = 0.5 * (self.end_s - self.start_s)
-        return abs(self.image_offset_s) / half if half > 0 else 0.0
+        return _offset_fraction(self.image_offset_s, self.start_s, self.end_s)
+
+
+def _offset_fraction(offset_s: float, start_s: float, end_s: float) -> float:
+    half = 0.5 * (end_s - start_s)
+    return abs(offset_s) / half if half > 0 else 0.0
 
 
 @dataclass
@@ -657,8 +661,7 @@ def _choose_images(
             continue
         best = int(inside[np.argmin(np.abs(it_rel[inside] - w.centre_s))])
         offset = float(it_rel[best] - w.centre_s)
-        half = 0.5 * (w.end_s - w.start_s)
-        fraction = abs(offset) / half if half > 0 else 0.0
+        fraction = _offset_fraction(offset, w.start_s, w.end_s)
         if fraction > max_offset:
             keep = min(1.0, float(np.ceil(round(fraction * 100.0, 6)) / 100.0))  # the smallest limit that keeps it
             skipped.append(

@@ -140,8 +140,9 @@ class CrossValidation:
     nested: Nested | None
     knee: float
 
-    def score_of(self, candidate: Candidate) -> Score:
-        return next(s for s in self.scores if s.candidate == candidate)
+    def score_of(self, name: str) -> Score:
+        """The score of the candidate of that name (the ladder's names are distinct)."""
+        return next(s for s in self.scores if s.candidate.name == name)
 
 
 SAME_POSE_RAD = 1e-3  # joint readings that agree this closely are one pose measured again

@@ -74,7 +74,7 @@ class Dataset:
     package_paths: list[Path] = field(default_factory=list)  # robot.package_paths, resolved against the dataset
     board: BoardSpec | None = None  # target.board: a board instead of one AprilTag (family, tag_id, size_m unused)
     measurement: MeasurementSpec | None = None  # `observations:`: measured poses or points instead of images
-    measured_rows: dict[str, tuple[int, Array]] = field(default_factory=dict)  # sample id -> (line, raw values)
+    measured_rows: dict[str, Array] = field(default_factory=dict)  # sample id -> raw values
     joint_columns: dict[str, str] = field(default_factory=dict)  # robot.joint_columns: joint -> its column in samples
 
     def robot_sources(

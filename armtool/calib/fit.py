@@ -41,6 +41,7 @@ from armtool.calib.crossval import (
     Candidate,
     CandidateFit,
     CrossValidation,
+    _rms,
     cross_validate,
     ladder,
     pose_groups,
@@ -691,8 +692,3 @@ def _fit_warnings(
             "joint gains were fitted: a URDF cannot hold them, so apply `gain` from calibration.yaml in the driver"
         )
     return out
-
-
-def _rms(values: Array) -> float:
-    values = values[np.isfinite(values)]
-    return float(np.sqrt(np.mean(values**2))) if values.size else math.nan

@@ -116,11 +116,10 @@ def checked_conventions(ds: Dataset, chain: Chain, refuse: bool) -> ConventionCh
     from armtool.calib.convention_check import check_conventions
 
     assert ds.measurement is not None
-    rows = {sid: values for sid, (_line, values) in ds.measured_rows.items()}
     from armtool.calib.fit import one_blas_thread
 
     with one_blas_thread():
-        found = check_conventions(chain, ds.setup, ds.measurement, rows, ds.samples)
+        found = check_conventions(chain, ds.setup, ds.measurement, ds.measured_rows, ds.samples)
     if refuse and found.better is not None:
         raise ArmtoolError(
             found.message(),

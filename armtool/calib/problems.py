@@ -72,9 +72,9 @@ class Problem(ABC):
     # -- what each kind defines ------------------------------------------------------------------
 
     @abstractmethod
-    def _residuals(self, C: Array, rows: slice | Sequence[int]) -> Array:
+    def _residuals(self, C: Array) -> Array:
         """Raw residuals (B, N, k), measured minus predicted, of target-in-sensor poses C (B, N, 4, 4)
-        of the samples `rows`; 0 where a coordinate was not measured."""
+        of every sample; 0 where a coordinate was not measured."""
 
     @abstractmethod
     def subset(self, rows: Sequence[int]) -> Problem:
@@ -116,7 +116,7 @@ class Problem(ABC):
     def raw(self, x: Array) -> Array:
         """(N, k) raw residuals at x."""
         C = self.model.tag_in_camera(x, self.Q)
-        out: Array = self._residuals(C[None], slice(None))[0]
+        out: Array = self._residuals(C[None])[0]
         return out
 
     def weights(self) -> Array:
@@ -137,7 +137,7 @@ class Problem(ABC):
         C, twists = self.model.twists(x, self.Q, list(free))  # cMt, and (N, 6, P)
         steps = np.concatenate([np.eye(6), -np.eye(6)]) * h
         moved = se3.delta_batch(steps)[:, None] @ C[None]  # (12, N, 4, 4)
-        r = self._residuals(moved, slice(None)) * self.weights()
+        r = self._residuals(moved) * self.weights()
         along = np.moveaxis((r[:6] - r[6:]) / (2 * h), 0, -1)  # (N, k, 6)
         J: Array = np.einsum("nkm,nmp->nkp", along, twists).reshape(N * k, len(free))
         return J
@@ -214,8 +214,8 @@ class CornerProblem(Problem):
         out: Array = self.camera.project(pts.reshape(-1, 3)).reshape(*C.shape[:2], -1, 2)
         return out
 
-    def _residuals(self, C: Array, rows: slice | Sequence[int]) -> Array:
-        uv = self.uv[rows].reshape(len(self.uv[rows]), -1)
+    def _residuals(self, C: Array) -> Array:
+        uv = self.uv.reshape(len(self.uv), -1)
         predicted = self.predict(C).reshape(C.shape[0], C.shape[1], -1)
         out: Array = np.where(np.isfinite(uv), np.nan_to_num(uv) - predicted, 0.0)
         # Residuals are measured − predicted for every kind; a pixel behind the camera is a huge error.
@@ -275,9 +275,9 @@ class PoseProblem(Problem):
     def seen(self) -> NDArray[np.bool_]:
         return np.ones((len(self.Q), 6), dtype=bool)
 
-    def _residuals(self, C: Array, rows: slice | Sequence[int]) -> Array:
+    def _residuals(self, C: Array) -> Array:
         P = se3.inv(C) if self.frame is PoseFrame.SENSOR_IN_TARGET else C
-        M = self._expected[rows]
+        M = self._expected
         position = M[None, :, :3, 3] - P[..., :3, 3]
         rotation = se3.log3_batch(np.swapaxes(P[..., :3, :3], -1, -2) @ M[None, :, :3, :3])
         return np.concatenate([position, rotation], axis=-1)
@@ -321,8 +321,8 @@ class PointProblem(Problem):
     def seen(self) -> NDArray[np.bool_]:
         return np.ones((len(self.Q), 3), dtype=bool)
 
-    def _residuals(self, C: Array, rows: slice | Sequence[int]) -> Array:
-        out: Array = self.measured[None, rows] - C[..., :3, 3]
+    def _residuals(self, C: Array) -> Array:
+        out: Array = self.measured[None] - C[..., :3, 3]
         return out
 
     def frame_parameters(self) -> list[int]:

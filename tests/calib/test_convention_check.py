@@ -16,8 +16,7 @@ from tests.calib.synthetic import make_measured
 def _check(path: Path):  # type: ignore[no-untyped-def]
     ds, chain, _camera = load_inputs(path)
     assert chain is not None and ds.measurement is not None and not ds.errors, ds.errors
-    rows = {sid: values for sid, (_line, values) in ds.measured_rows.items()}
-    return check_conventions(chain, ds.setup, ds.measurement, rows, ds.samples)
+    return check_conventions(chain, ds.setup, ds.measurement, ds.measured_rows, ds.samples)
 
 
 @pytest.mark.parametrize(
