@@ -293,11 +293,7 @@ def _studentized_block_rms(problem: Problem, x: Array, free: list[int], inliers:
         d = np.zeros(len(rows) * k)
         d[mask] = inverse_root @ r[rows].ravel()[mask]
         scaled[rows] = d.reshape(len(rows), k)
-    out = np.empty((problem.samples, len(problem.blocks)))
-    for b in range(len(problem.blocks)):
-        cols = problem.column_blocks == b
-        out[:, b] = np.sqrt((scaled[:, cols] ** 2).sum(axis=1) / np.maximum(problem.seen[:, cols].sum(axis=1), 1))
-    return out
+    return problem.per_block(scaled)
 
 
 def _started(problem: Problem, hints: dict[str, Array]) -> Problem:

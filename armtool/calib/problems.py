@@ -59,7 +59,8 @@ class Problem(ABC):
     """Residuals of some samples: raw per coordinate, or divided by the noise for the fit.
 
     Subclasses say how a target-in-sensor pose becomes a sample's residual coordinates
-    (`_residuals`), which coordinates a sample measured (`seen`), and how to start the frames.
+    (`_residuals`), which coordinates a sample measured (`seen`), and how to start the frames
+    (`_closed_form_frames`).
     """
 
     blocks: tuple[Block, ...]
@@ -85,8 +86,8 @@ class Problem(ABC):
         """The same samples on another model (new frames)."""
 
     @abstractmethod
-    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
-        """(L, R) close enough to start the fit, from the nominal robot and the measurements."""
+    def _closed_form_frames(self) -> tuple[Array, Array]:
+        """(L, R) from the nominal robot and the measurements; ArmtoolError when they do not determine them."""
 
     @property
     @abstractmethod
@@ -98,6 +99,17 @@ class Problem(ABC):
         return self.model.layout.frames
 
     # -- shared --------------------------------------------------------------------------------
+
+    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
+        """(L, R) close enough to start the fit: the closed form from the nominal robot and the
+        measurements, or the dataset's hints when that fails."""
+        try:
+            return self._closed_form_frames()
+        except ArmtoolError:
+            found = _hinted_frames(self.model, hints)
+            if found is None:
+                raise
+            return found
 
     @property
     def samples(self) -> int:
@@ -144,14 +156,20 @@ class Problem(ABC):
 
     def per_sample(self, x: Array) -> dict[str, Array]:
         """Each block's per-sample figure in its unit: pixel RMS, position or rotation error length."""
-        r, seen = self.raw(x), self.seen
-        out: dict[str, Array] = {}
+        figures = self.per_block(self.raw(x), lengths=True)
+        return {block.name: figures[:, b] * block.to_unit for b, block in enumerate(self.blocks)}
+
+    def per_block(self, r: Array, lengths: bool = False) -> Array:
+        """(N, B) each sample's RMS of `r` (N, k) over each block's measured coordinates; with
+        `lengths`, the vector's length instead for the blocks whose statistic is "norm"."""
+        seen = self.seen
+        out = np.empty((len(r), len(self.blocks)))
         for b, block in enumerate(self.blocks):
             cols = self.column_blocks == b
             squares = (r[:, cols] ** 2).sum(axis=1)
-            if block.statistic == "rms":
+            if not (lengths and block.statistic == "norm"):
                 squares = squares / np.maximum(seen[:, cols].sum(axis=1), 1)
-            out[block.name] = np.sqrt(squares) * block.to_unit
+            out[:, b] = np.sqrt(squares)
         return out
 
     def normalized_rms(self, x: Array) -> Array:
@@ -163,12 +181,7 @@ class Problem(ABC):
     def block_rms(self, x: Array) -> Array:
         """(N, B) each sample's RMS of each block's noise-weighted coordinates: a sample whose
         position is off stands out in its position block even when its rotation is good."""
-        r, seen = self.raw(x), self.seen
-        out = np.empty((self.samples, len(self.blocks)))
-        for b in range(len(self.blocks)):
-            cols = self.column_blocks == b
-            squares = (r[:, cols] ** 2).sum(axis=1) / np.maximum(seen[:, cols].sum(axis=1), 1)
-            out[:, b] = np.sqrt(squares) / self.sigma[b]
+        out: Array = self.per_block(self.raw(x)) / self.sigma
         return out
 
     def outliers(self, x: Array, limit: Array) -> NDArray[np.bool_]:
@@ -228,9 +241,8 @@ class CornerProblem(Problem):
     def with_model(self, model: CalibModel) -> CornerProblem:
         return CornerProblem(model, self.camera, self.Q, self.uv, self.points, self.sigma)
 
-    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
-        """The target's pose in each image (IPPE on the points it shows), then the closed-form
-        AX = XB; the dataset's hints when that fails."""
+    def _closed_form_frames(self) -> tuple[Array, Array]:
+        """The target's pose in each image (IPPE on the points it shows), then the closed-form AX = XB."""
         from armtool.calib.handeye import initial_frames
         from armtool.calib.targets.pose import planar_pose
 
@@ -242,15 +254,9 @@ class CornerProblem(Problem):
             if not ambiguous:
                 flanges.append(F[i])
                 tags.append(cMt)
-        try:
-            if len(tags) < 3:
-                raise ArmtoolError("fewer than 3 unambiguous tag poses")
-            return initial_frames(model.setup, flanges, tags)
-        except ArmtoolError:
-            found = _hinted_frames(model, hints)
-            if found is None:
-                raise
-            return found
+        if len(tags) < 3:
+            raise ArmtoolError("fewer than 3 unambiguous tag poses")
+        return initial_frames(model.setup, flanges, tags)
 
 
 class PoseProblem(Problem):
@@ -289,18 +295,12 @@ class PoseProblem(Problem):
     def with_model(self, model: CalibModel) -> PoseProblem:
         return PoseProblem(model, self.Q, self.measured, self.frame, self.sigma)
 
-    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
-        """The closed-form AX = XB on the measured poses themselves; the hints when that fails."""
+    def _closed_form_frames(self) -> tuple[Array, Array]:
+        """The closed-form AX = XB on the measured poses themselves."""
         from armtool.calib.handeye import initial_frames
 
         F = self.model.flange(np.zeros(self.model.size), self.Q)
-        try:
-            return initial_frames(self.model.setup, list(F), list(self.measured))
-        except ArmtoolError:
-            found = _hinted_frames(self.model, hints)
-            if found is None:
-                raise
-            return found
+        return initial_frames(self.model.setup, list(F), list(self.measured))
 
 
 class PointProblem(Problem):
@@ -336,19 +336,12 @@ class PointProblem(Problem):
     def with_model(self, model: CalibModel) -> PointProblem:
         return PointProblem(model, self.Q, self.measured, self.sigma)
 
-    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
-        """Alternating closed forms (Kabsch for the sensor frame, linear least squares for the
-        point); the hints when the points do not determine them."""
+    def _closed_form_frames(self) -> tuple[Array, Array]:
+        """Alternating closed forms (Kabsch for the sensor frame, linear least squares for the point)."""
         from armtool.calib.handeye import initial_point_frames
 
         F = self.model.flange(np.zeros(self.model.size), self.Q)
-        try:
-            return initial_point_frames(self.model.setup, F, self.measured)
-        except ArmtoolError:
-            found = _hinted_frames(self.model, hints)
-            if found is None:
-                raise
-            return found
+        return initial_point_frames(self.model.setup, F, self.measured)
 
 
 def _hinted_frames(model: CalibModel, hints: dict[str, Array]) -> tuple[Array, Array] | None:
