@@ -47,7 +47,7 @@ from armtool.calib.crossval import (
     pose_groups,
 )
 from armtool.calib.dataset import Sample
-from armtool.calib.holdout import split_holdout
+from armtool.calib.holdout import holdout_ids
 from armtool.calib.identify import Identifiability, analyse
 from armtool.calib.model import CalibModel
 from armtool.calib.params import Family, ParamKind
@@ -344,13 +344,14 @@ def calibrate(
     samples: list[Sample],
     options: FitOptions = FitOptions(),
     hints: dict[str, Array] | None = None,
-    holdout_ids: set[str] | None = None,
+    validation_ids: set[str] | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> CalibrationResult:
-    """Fit the model to the samples' measurements; `holdout_ids` (default: a random
-    `options.holdout` share) are kept out of the fit and only scored. Each step is one function."""
+    """Fit the model to the samples' measurements; `validation_ids` (a validation dataset's
+    samples) and a random `options.holdout` share of the others are kept out of the fit and only
+    scored. Each step is one function."""
     with one_blas_thread():
-        return _calibrate(model, measurements, samples, options, hints, holdout_ids, progress)
+        return _calibrate(model, measurements, samples, options, hints, validation_ids, progress)
 
 
 @contextmanager
@@ -369,12 +370,12 @@ def _calibrate(
     samples: list[Sample],
     options: FitOptions,
     hints: dict[str, Array] | None,
-    holdout_ids: set[str] | None,
+    validation_ids: set[str] | None,
     progress: Callable[[str], None] | None,
 ) -> CalibrationResult:
     say = progress or (lambda _msg: None)
     hints = hints or {}
-    groups = _partition(samples, measurements, holdout_ids, options)
+    groups = _partition(samples, measurements, validation_ids, options)
     problem = measurements.problem(model, groups.fit)
     warnings = _motion_warnings(model, problem.Q, options)
 
@@ -544,17 +545,16 @@ class _Groups:
 
 
 def _partition(
-    samples: list[Sample], measurements: Measurements, holdout_ids: set[str] | None, options: FitOptions
+    samples: list[Sample], measurements: Measurements, validation_ids: set[str] | None, options: FitOptions
 ) -> _Groups:
     """Samples without a usable measurement are rejected first, so the hold-out share is of the
     usable ones; fewer than 3 left to fit is refused with the most common reason, which is almost
     always the cause (a wrong tag family, id or size in dataset.yaml; ids that do not match)."""
     rejected = {s.id: why for s in samples if (why := measurements.reason(s.id)) is not None}
     usable = [s for s in samples if s.id not in rejected]
-    if holdout_ids is None:
-        holdout_ids = split_holdout([s.id for s in usable], options.holdout, options.seed)
-    fit = [s for s in usable if s.id not in holdout_ids]
-    hold = [s for s in usable if s.id in holdout_ids]
+    held = holdout_ids([s.id for s in usable], options.holdout, options.seed, validation_ids)
+    fit = [s for s in usable if s.id not in held]
+    hold = [s for s in usable if s.id in held]
     if len(fit) < 3:
         common = Counter(rejected.values()).most_common(1)
         why = f"; most samples: {common[0][0]} ({common[0][1]} of {len(rejected)})" if common else ""

@@ -383,6 +383,12 @@ class CornerMeasurements(Measurements):
         ob = self.observations[sample_id]
         return ob.reason if ob.corners_px is None else None
 
+    def merged(self, other: Measurements, prefix: str) -> Measurements:
+        if not isinstance(other, CornerMeasurements):
+            return super().merged(other, prefix)
+        renamed = {prefix + k: Observation(prefix + k, o.corners_px, o.reason) for k, o in other.observations.items()}
+        return CornerMeasurements(self.camera, {**self.observations, **renamed}, self.points)
+
     def problem(self, model: CalibModel, samples: Sequence[Sample]) -> CornerProblem:
         P = len(self.points)
         uv = (
