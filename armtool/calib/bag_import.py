@@ -32,7 +32,7 @@ import shutil
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,10 +40,8 @@ from numpy.typing import NDArray
 from armtool.calib.camera import Array
 from armtool.calib.choices import Setup, StillBy
 from armtool.calib.dataset import manifest_document
+from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
-
-if TYPE_CHECKING:
-    from armtool.calib.boards import BoardSpec
 
 log = logging.getLogger(__name__)
 
@@ -62,15 +60,12 @@ class ImportOptions:
     intrinsics: Path | None = None
     camera_info_topic: str | None = None
     setup: Setup = Setup.EYE_TO_HAND
-    family: str = "tag36h11"
-    tag_id: int = 0
-    tag_size_m: float = 0.08
+    target: Target = field(default_factory=Target)  # the AprilTag (family, id, size), or a board
     still_by: StillBy = StillBy.POSITION
     tolerance: float = 0.002  # rad (or m): largest change of any joint within a window
     max_velocity: float = 0.01  # rad/s (or m/s), with still_by=StillBy.VELOCITY
     min_still_s: float = 0.5
     max_image_offset: float = 0.8  # of the half-window: beyond, the window's image is refused
-    board: BoardSpec | None = None  # the target is this board, not the tag (family, tag_id, tag_size_m unused)
     # A xacro robot: its arguments and where its packages are (the dataset gets the expansion).
     xacro_args: tuple[tuple[str, str], ...] = ()
     package_paths: tuple[Path, ...] = ()
@@ -491,7 +486,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         raise ArmtoolError("the output exists and is not an empty directory", str(out), "pass a new directory name")
     if not out.parent.is_dir():
         raise ArmtoolError("the output's parent directory does not exist", str(out), "create it first")
-    family_dictionary(options.family)
+    family_dictionary(options.target.family)
     xacro_args = dict(options.xacro_args)
     chain = chain_from_xml(
         load_robot_xml(urdf, xacro_args, options.package_paths), options.base, options.flange, source=urdf.name
@@ -609,18 +604,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
             )
         )
     warnings += _edge_warnings(samples, jt - t0, q, it_rel[sorted(chosen, key=lambda k: chosen[k][0])])
-    manifest = manifest_document(
-        f"armtool calibrate import-bag {bag.name}",
-        options.setup,
-        chain,
-        options.family,
-        options.tag_id,
-        options.tag_size_m,
-    )
-    if options.board is not None:
-        from armtool.calib.targets.spec import Target
-
-        manifest["target"] = Target(board=options.board).document(manifest["target"]["mounted_on"])
+    manifest = manifest_document(f"armtool calibrate import-bag {bag.name}", options.setup, chain, options.target)
     rows = ["id,image," + ",".join(names)]
     rows += [f"{s.id},{s.image}," + ",".join(f"{s.q[n]:.9f}" for n in names) for s in samples]
     from armtool.fileio import atomic_directory
