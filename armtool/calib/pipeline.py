@@ -23,7 +23,6 @@ from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, validatio
 from armtool.calib.inputs import Inputs, input_files, load_inputs
 from armtool.calib.model import CalibModel
 from armtool.calib.observations import Observation
-from armtool.calib.params import Family
 from armtool.calib.problems import CornerMeasurements, Measurements
 from armtool.calib.ur_kinematics import UrTarget, ur_target
 from armtool.calib.verdict import Verdict
@@ -42,19 +41,13 @@ class FitRequest:
 
     dataset: Path
     out: Path
-    families: tuple[Family, ...]
-    families_explicit: bool  # named with --params: a family of which nothing is identifiable is an error
-    holdout: float = 0.0
-    seed: int = 0
+    options: FitOptions  # --params, --holdout, --seed, --folds, --select, --nested
     validation: Path | None = None
     plot: Path | None = None
     xacro_args: dict[str, str] = field(default_factory=dict)
     package_paths: list[Path] = field(default_factory=list)
     ur_kinematics: Path | None = None
     ur_kinematics_in: Path | None = None
-    folds: int = 5  # k-fold cross-validation; below 2: none
-    select: bool = True  # fit the parameter set cross-validation chooses
-    nested: bool = True  # report the whole procedure's held-out residual
     keep_conventions: bool = False  # do not refuse a dataset whose measurements fit far better read another way
 
 
@@ -176,16 +169,7 @@ def _measurements(ds: Dataset, camera: CameraModel | None, detect: Detect) -> Me
 
 
 def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | None = None) -> CalibrationResult:
-    request, ds = job.request, job.dataset
-    options = FitOptions(
-        families=request.families,
-        families_explicit=request.families_explicit,
-        holdout=request.holdout,
-        seed=request.seed,
-        folds=request.folds,
-        select=request.select,
-        nested=request.nested,
-    )
+    ds = job.dataset
     measurements = observed.measurements
     model = CalibModel(
         job.chain, ds.setup, np.eye(4), np.eye(4), sensor=measurements.sensor, target=measurements.target
@@ -194,7 +178,7 @@ def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | N
         model,
         measurements,
         observed.samples,
-        options,
+        job.request.options,
         ds.hints,
         validation_ids=observed.validation_ids,
         progress=progress,
