@@ -226,7 +226,12 @@ class Fitted:
 
 
 def fit_set(
-    problem: Problem, x0: Array, candidates: list[int], options: FitOptions, identify_at: Array | None = None
+    problem: Problem,
+    x0: Array,
+    candidates: list[int],
+    options: FitOptions,
+    identify_at: Array | None = None,
+    ident: Identifiability | None = None,
 ) -> Fitted:
     """Fit the identifiable ones of `candidates` from x0: soft-L1 rounds that name and drop the
     samples whose residual stands out (a wrong joint reading or a mislabeled image must not bend
@@ -235,9 +240,11 @@ def fit_set(
     Identifiability is judged at `identify_at` (default x0), which should be the nominal robot:
     away from it, exact redundancies (parallel axes) become near ones that pass the test and make
     the fit crawl along a flat valley (a start from a fitted smaller set gave a condition number of
-    2.6e5 against 192, and 400 Levenberg–Marquardt steps against 3)."""
-    at = x0 if identify_at is None else identify_at
-    ident = analyse(problem.model, problem.jacobian(at, candidates), candidates, options.qr_tolerance)
+    2.6e5 against 192, and 400 Levenberg–Marquardt steps against 3). `ident`: that analysis,
+    when the caller has already made it (at the same point, of the same candidates)."""
+    if ident is None:
+        at = x0 if identify_at is None else identify_at
+        ident = analyse(problem.model, problem.jacobian(at, candidates), candidates, options.qr_tolerance)
     free = ident.kept
     inliers = list(range(problem.samples))
     outliers: list[int] = []
@@ -417,7 +424,8 @@ def _calibrate(
 
     say(f"fitting {chosen.name} (robust)")
     candidate_indices = chosen.indices(model, frames)
-    fitted = fit_set(problem, x_start, candidate_indices, options)
+    known = ident if candidate_indices == requested else None  # the analysis above, at x_start too
+    fitted = fit_set(problem, x_start, candidate_indices, options, ident=known)
     problem, x, free = fitted.problem, fitted.x, fitted.free
     nfev += fitted.nfev
 
@@ -646,8 +654,9 @@ def _score_holdout(
     if not hold:
         return _HeldOut([], {}, [], None, None)
     hp = measurements.problem(model, hold).with_sigma(fitted_problem.sigma)
-    before, after = hp.per_sample(x_he), hp.per_sample(x)
-    keep = ~hp.outliers(x, fitted.limit)  # as for fit samples: only a residual above the limit is an outlier
+    r = hp.raw(x)
+    before, after = hp.per_sample(x_he), hp.figures(r)
+    keep = ~hp.outliers(r, fitted.limit)  # as for fit samples: only a residual above the limit is an outlier
     outliers: dict[str, str] = {}
     residuals: list[SampleResidual] = []
     for k, s in enumerate(hold):

@@ -156,7 +156,11 @@ class Problem(ABC):
 
     def per_sample(self, x: Array) -> dict[str, Array]:
         """Each block's per-sample figure in its unit: pixel RMS, position or rotation error length."""
-        figures = self.per_block(self.raw(x), lengths=True)
+        return self.figures(self.raw(x))
+
+    def figures(self, r: Array) -> dict[str, Array]:
+        """`per_sample` of the raw residuals r (N, k)."""
+        figures = self.per_block(r, lengths=True)
         return {block.name: figures[:, b] * block.to_unit for b, block in enumerate(self.blocks)}
 
     def per_block(self, r: Array, lengths: bool = False) -> Array:
@@ -172,10 +176,11 @@ class Problem(ABC):
             out[:, b] = np.sqrt(squares)
         return out
 
-    def normalized_rms(self, x: Array) -> Array:
-        """(N,) each sample's RMS of its noise-weighted coordinates: ~1 for a sample as good as the noise."""
-        r = self.raw(x) * self.weights()
-        rms: Array = np.sqrt((r**2).sum(axis=1) / np.maximum(self.seen.sum(axis=1), 1))
+    def normalized_rms(self, r: Array) -> Array:
+        """(N,) each sample's RMS of its noise-weighted raw residuals r (N, k): ~1 for a sample as
+        good as the noise."""
+        w = r * self.weights()
+        rms: Array = np.sqrt((w**2).sum(axis=1) / np.maximum(self.seen.sum(axis=1), 1))
         return rms
 
     def block_rms(self, x: Array) -> Array:
@@ -184,9 +189,9 @@ class Problem(ABC):
         out: Array = self.per_block(self.raw(x)) / self.sigma
         return out
 
-    def outliers(self, x: Array, limit: Array) -> NDArray[np.bool_]:
-        """(N,) samples beyond a per-block outlier limit in any block."""
-        flags: NDArray[np.bool_] = np.asarray((self.block_rms(x) > limit).any(axis=1), dtype=bool)
+    def outliers(self, r: Array, limit: Array) -> NDArray[np.bool_]:
+        """(N,) samples whose raw residuals r (N, k) are beyond a per-block outlier limit in any block."""
+        flags: NDArray[np.bool_] = np.asarray((self.per_block(r) / self.sigma > limit).any(axis=1), dtype=bool)
         return flags
 
     def noise(self) -> dict[str, float]:
