@@ -170,7 +170,7 @@ def main() -> None:
     )
     print(
         f"time: check {check_wall:.1f} s wall ({check_cpu:.1f} s CPU), fit {fit_wall:.1f} s wall ({fit_cpu:.1f} s CPU), "
-        f"inverted check {wrong_wall:.1f} s; load average {load[0]:.1f} before, {load_after[0]:.1f} after (2 cores)"
+        f"inverted check {wrong_wall:.1f} s; load average {load[0]:.1f} before, {load_after[0]:.1f} after ({os.cpu_count()} cores)"
     )
 
 

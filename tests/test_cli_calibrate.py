@@ -223,11 +223,12 @@ def test_validation_dataset_of_another_setup_is_refused(dataset: Path, tmp_path:
     fit = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--validation", str(other))
     assert fit.returncode == 2 and "setup (eye_in_hand vs eye_to_hand)" in fit.stderr
     # ... refused while the inputs are checked, before any tag detection on the main dataset
+    from armtool.calib.fit import FitOptions
     from armtool.calib.params import parse_families
     from armtool.calib.pipeline import FitRequest, prepare_fit
     from armtool.errors import ArmtoolError
 
-    request = FitRequest(dataset, tmp_path / "o", parse_families("origins"), False, validation=other)
+    request = FitRequest(dataset, tmp_path / "o", FitOptions(parse_families("origins")), validation=other)
     with pytest.raises(ArmtoolError, match="setup"):
         prepare_fit(request)
 

@@ -32,7 +32,7 @@ import shutil
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,10 +40,8 @@ from numpy.typing import NDArray
 from armtool.calib.camera import Array
 from armtool.calib.choices import Setup, StillBy
 from armtool.calib.dataset import manifest_document
+from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
-
-if TYPE_CHECKING:
-    from armtool.calib.boards import BoardSpec
 
 log = logging.getLogger(__name__)
 
@@ -62,15 +60,12 @@ class ImportOptions:
     intrinsics: Path | None = None
     camera_info_topic: str | None = None
     setup: Setup = Setup.EYE_TO_HAND
-    family: str = "tag36h11"
-    tag_id: int = 0
-    tag_size_m: float = 0.08
+    target: Target = field(default_factory=Target)  # the AprilTag (family, id, size), or a board
     still_by: StillBy = StillBy.POSITION
     tolerance: float = 0.002  # rad (or m): largest change of any joint within a window
     max_velocity: float = 0.01  # rad/s (or m/s), with still_by=StillBy.VELOCITY
     min_still_s: float = 0.5
     max_image_offset: float = 0.8  # of the half-window: beyond, the window's image is refused
-    board: BoardSpec | None = None  # the target is this board, not the tag (family, tag_id, tag_size_m unused)
     # A xacro robot: its arguments and where its packages are (the dataset gets the expansion).
     xacro_args: tuple[tuple[str, str], ...] = ()
     package_paths: tuple[Path, ...] = ()
@@ -163,8 +158,12 @@ class ImportedSample:
     @property
     def image_offset_fraction(self) -> float:
         """|image_offset_s| over the half-window: 0 at the window's centre, 1 at its edge."""
-        half = 0.5 * (self.end_s - self.start_s)
-        return abs(self.image_offset_s) / half if half > 0 else 0.0
+        return _offset_fraction(self.image_offset_s, self.start_s, self.end_s)
+
+
+def _offset_fraction(offset_s: float, start_s: float, end_s: float) -> float:
+    half = 0.5 * (end_s - start_s)
+    return abs(offset_s) / half if half > 0 else 0.0
 
 
 @dataclass
@@ -487,7 +486,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         raise ArmtoolError("the output exists and is not an empty directory", str(out), "pass a new directory name")
     if not out.parent.is_dir():
         raise ArmtoolError("the output's parent directory does not exist", str(out), "create it first")
-    family_dictionary(options.family)
+    family_dictionary(options.target.family)
     xacro_args = dict(options.xacro_args)
     chain = chain_from_xml(
         load_robot_xml(urdf, xacro_args, options.package_paths), options.base, options.flange, source=urdf.name
@@ -605,18 +604,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
             )
         )
     warnings += _edge_warnings(samples, jt - t0, q, it_rel[sorted(chosen, key=lambda k: chosen[k][0])])
-    manifest = manifest_document(
-        f"armtool calibrate import-bag {bag.name}",
-        options.setup,
-        chain,
-        options.family,
-        options.tag_id,
-        options.tag_size_m,
-    )
-    if options.board is not None:
-        from armtool.calib.targets.spec import Target
-
-        manifest["target"] = Target(board=options.board).document(manifest["target"]["mounted_on"])
+    manifest = manifest_document(f"armtool calibrate import-bag {bag.name}", options.setup, chain, options.target)
     rows = ["id,image," + ",".join(names)]
     rows += [f"{s.id},{s.image}," + ",".join(f"{s.q[n]:.9f}" for n in names) for s in samples]
     from armtool.fileio import atomic_directory
@@ -657,8 +645,7 @@ def _choose_images(
             continue
         best = int(inside[np.argmin(np.abs(it_rel[inside] - w.centre_s))])
         offset = float(it_rel[best] - w.centre_s)
-        half = 0.5 * (w.end_s - w.start_s)
-        fraction = abs(offset) / half if half > 0 else 0.0
+        fraction = _offset_fraction(offset, w.start_s, w.end_s)
         if fraction > max_offset:
             keep = min(1.0, float(np.ceil(round(fraction * 100.0, 6)) / 100.0))  # the smallest limit that keeps it
             skipped.append(

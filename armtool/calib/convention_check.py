@@ -13,16 +13,16 @@ that select it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from armtool.calib.choices import Setup
 from armtool.calib.conventions import PointConvention, PoseConvention
 from armtool.calib.dataset import Sample
-from armtool.calib.measured import MeasurementSpec
+from armtool.calib.measured import MeasurementSpec, dataset_measurements
 from armtool.calib.model import CalibModel
-from armtool.calib.problems import Measurements, PointMeasurements, PoseMeasurements, Problem
+from armtool.calib.problems import Problem
 from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
@@ -95,7 +95,6 @@ def check_conventions(
 ) -> ConventionCheck:
     """Fit the measurement frames to every reading of the rows; name one that fits far better."""
     usable = [s for s in samples if s.id in rows]
-    values = np.stack([rows[s.id] for s in usable]) if usable else np.zeros((0, len(spec.columns)))
     declared_setup_first = [setup, Setup.EYE_IN_HAND if setup is Setup.EYE_TO_HAND else Setup.EYE_TO_HAND]
     conventions = [spec.convention, *spec.convention.alternatives()]
     readings: list[Reading] = []
@@ -105,7 +104,7 @@ def check_conventions(
             changes = _differences(spec.convention, convention)
             if s is not setup:
                 changes = [f"setup: {s.value}", *changes]
-            reading = _reading(chain, s, convention, values, usable, changes)
+            reading = _reading(chain, s, replace(spec, convention=convention), rows, usable, changes)
             if reading is None:
                 continue
             readings.append(reading)
@@ -138,24 +137,11 @@ def _differences(declared: PoseConvention | PointConvention, other: PoseConventi
 
 
 def _reading(
-    chain: Chain,
-    setup: Setup,
-    convention: PoseConvention | PointConvention,
-    values: Array,
-    samples: list[Sample],
-    changes: list[str],
+    chain: Chain, setup: Setup, spec: MeasurementSpec, rows: dict[str, Array], samples: list[Sample], changes: list[str]
 ) -> Reading | None:
-    measurements: Measurements
-    if isinstance(convention, PoseConvention):
-        poses = convention.poses(values)
-        measurements = PoseMeasurements(
-            {s.id: p for s, p in zip(samples, poses)}, convention.frame, "sensor", "target", ""
-        )
-    else:
-        points = convention.points(values)
-        measurements = PointMeasurements({s.id: p for s, p in zip(samples, points)}, "sensor", "target", "")
+    """How well the nominal robot explains the rows read as `spec` states them, with `setup`."""
     model = CalibModel(chain, setup, np.eye(4), np.eye(4))
-    problem = measurements.problem(model, samples)
+    problem = dataset_measurements(spec, rows).problem(model, samples)
     try:
         problem = problem.with_model(model.with_frames(*problem.start_frames({})))
         x = _frames_fit(problem)
@@ -166,7 +152,7 @@ def _reading(
     rotation = float(np.sqrt(np.mean(figures["rotation"] ** 2))) if "rotation" in figures else None
     if not math.isfinite(position):
         return None
-    return Reading(convention, setup, changes, position, rotation)
+    return Reading(spec.convention, setup, changes, position, rotation)
 
 
 def _frames_fit(problem: Problem) -> Array:

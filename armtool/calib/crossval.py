@@ -140,8 +140,9 @@ class CrossValidation:
     nested: Nested | None
     knee: float
 
-    def score_of(self, candidate: Candidate) -> Score:
-        return next(s for s in self.scores if s.candidate == candidate)
+    def score_of(self, name: str) -> Score:
+        """The score of the candidate of that name (the ladder's names are distinct)."""
+        return next(s for s in self.scores if s.candidate.name == name)
 
 
 SAME_POSE_RAD = 1e-3  # joint readings that agree this closely are one pose measured again
@@ -201,9 +202,10 @@ def _score_fold(problem: Problem, test: list[int], fits: list[CandidateFit]) -> 
             outlier.append(np.zeros(len(test), dtype=bool))
             continue
         on_fit = held.with_model(fit.model)
-        weighted.append(on_fit.with_sigma(reference).normalized_rms(fit.x))
-        figures.append(on_fit.per_sample(fit.x))
-        outlier.append(on_fit.with_sigma(fit.sigma).outliers(fit.x, fit.limit))
+        r = on_fit.raw(fit.x)
+        weighted.append(on_fit.with_sigma(reference).normalized_rms(r))
+        figures.append(on_fit.figures(r))
+        outlier.append(on_fit.with_sigma(fit.sigma).outliers(r, fit.limit))
     return _Fold(test, fits, weighted, figures, outlier)
 
 

@@ -28,6 +28,7 @@ from armtool.errors import ArmtoolError
 if TYPE_CHECKING:
     from armtool.calib.boards import BoardSpec
     from armtool.calib.measured import MeasurementSpec
+    from armtool.calib.targets.spec import Target
     from armtool.model.chain import Chain
 
 FORMAT = "armtool-calib-dataset/1"
@@ -74,7 +75,7 @@ class Dataset:
     package_paths: list[Path] = field(default_factory=list)  # robot.package_paths, resolved against the dataset
     board: BoardSpec | None = None  # target.board: a board instead of one AprilTag (family, tag_id, size_m unused)
     measurement: MeasurementSpec | None = None  # `observations:`: measured poses or points instead of images
-    measured_rows: dict[str, tuple[int, Array]] = field(default_factory=dict)  # sample id -> (line, raw values)
+    measured_rows: dict[str, Array] = field(default_factory=dict)  # sample id -> raw values
     joint_columns: dict[str, str] = field(default_factory=dict)  # robot.joint_columns: joint -> its column in samples
 
     def robot_sources(
@@ -88,11 +89,9 @@ class Dataset:
         return [p for p in self.problems if p.severity == "error"]
 
 
-def manifest_document(
-    created_by: str, setup: Setup, chain: Chain, family: str, tag_id: int, size_m: float
-) -> dict[str, Any]:
+def manifest_document(created_by: str, setup: Setup, chain: Chain, target: Target) -> dict[str, Any]:
     """dataset.yaml of a dataset armtool writes (`simulate`, `import-bag`): robot.urdf, camera.yaml,
-    samples.csv and images/ beside it, joints in radians, an AprilTag target."""
+    samples.csv and images/ beside it, joints in radians, the target (an AprilTag or a board)."""
     return {
         "format": FORMAT,
         "created_by": created_by,
@@ -109,15 +108,7 @@ def manifest_document(
             "convention": "opencv (x right, y down, z forward)",
             "images_rectified": False,
         },
-        "target": {
-            "type": "apriltag",
-            "family": family,
-            "id": tag_id,
-            "size_m": size_m,
-            "size_definition": "edge of the black border square",
-            "frame": "opencv aruco: origin at centre, x right, y up, z out of the face",
-            "mounted_on": chain.tip if setup is Setup.EYE_TO_HAND else chain.base,
-        },
+        "target": target.document(chain.tip if setup is Setup.EYE_TO_HAND else chain.base),
         "samples": "samples.csv",
         "images_dir": "images",
     }

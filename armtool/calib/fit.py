@@ -41,12 +41,13 @@ from armtool.calib.crossval import (
     Candidate,
     CandidateFit,
     CrossValidation,
+    _rms,
     cross_validate,
     ladder,
     pose_groups,
 )
 from armtool.calib.dataset import Sample
-from armtool.calib.holdout import split_holdout
+from armtool.calib.holdout import holdout_ids
 from armtool.calib.identify import Identifiability, analyse
 from armtool.calib.model import CalibModel
 from armtool.calib.params import Family, ParamKind
@@ -225,7 +226,12 @@ class Fitted:
 
 
 def fit_set(
-    problem: Problem, x0: Array, candidates: list[int], options: FitOptions, identify_at: Array | None = None
+    problem: Problem,
+    x0: Array,
+    candidates: list[int],
+    options: FitOptions,
+    identify_at: Array | None = None,
+    ident: Identifiability | None = None,
 ) -> Fitted:
     """Fit the identifiable ones of `candidates` from x0: soft-L1 rounds that name and drop the
     samples whose residual stands out (a wrong joint reading or a mislabeled image must not bend
@@ -234,9 +240,11 @@ def fit_set(
     Identifiability is judged at `identify_at` (default x0), which should be the nominal robot:
     away from it, exact redundancies (parallel axes) become near ones that pass the test and make
     the fit crawl along a flat valley (a start from a fitted smaller set gave a condition number of
-    2.6e5 against 192, and 400 Levenberg–Marquardt steps against 3)."""
-    at = x0 if identify_at is None else identify_at
-    ident = analyse(problem.model, problem.jacobian(at, candidates), candidates, options.qr_tolerance)
+    2.6e5 against 192, and 400 Levenberg–Marquardt steps against 3). `ident`: that analysis,
+    when the caller has already made it (at the same point, of the same candidates)."""
+    if ident is None:
+        at = x0 if identify_at is None else identify_at
+        ident = analyse(problem.model, problem.jacobian(at, candidates), candidates, options.qr_tolerance)
     free = ident.kept
     inliers = list(range(problem.samples))
     outliers: list[int] = []
@@ -292,11 +300,7 @@ def _studentized_block_rms(problem: Problem, x: Array, free: list[int], inliers:
         d = np.zeros(len(rows) * k)
         d[mask] = inverse_root @ r[rows].ravel()[mask]
         scaled[rows] = d.reshape(len(rows), k)
-    out = np.empty((problem.samples, len(problem.blocks)))
-    for b in range(len(problem.blocks)):
-        cols = problem.column_blocks == b
-        out[:, b] = np.sqrt((scaled[:, cols] ** 2).sum(axis=1) / np.maximum(problem.seen[:, cols].sum(axis=1), 1))
-    return out
+    return problem.per_block(scaled)
 
 
 def _started(problem: Problem, hints: dict[str, Array]) -> Problem:
@@ -347,13 +351,14 @@ def calibrate(
     samples: list[Sample],
     options: FitOptions = FitOptions(),
     hints: dict[str, Array] | None = None,
-    holdout_ids: set[str] | None = None,
+    validation_ids: set[str] | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> CalibrationResult:
-    """Fit the model to the samples' measurements; `holdout_ids` (default: a random
-    `options.holdout` share) are kept out of the fit and only scored. Each step is one function."""
+    """Fit the model to the samples' measurements; `validation_ids` (a validation dataset's
+    samples) and a random `options.holdout` share of the others are kept out of the fit and only
+    scored. Each step is one function."""
     with one_blas_thread():
-        return _calibrate(model, measurements, samples, options, hints, holdout_ids, progress)
+        return _calibrate(model, measurements, samples, options, hints, validation_ids, progress)
 
 
 @contextmanager
@@ -372,12 +377,12 @@ def _calibrate(
     samples: list[Sample],
     options: FitOptions,
     hints: dict[str, Array] | None,
-    holdout_ids: set[str] | None,
+    validation_ids: set[str] | None,
     progress: Callable[[str], None] | None,
 ) -> CalibrationResult:
     say = progress or (lambda _msg: None)
     hints = hints or {}
-    groups = _partition(samples, measurements, holdout_ids, options)
+    groups = _partition(samples, measurements, validation_ids, options)
     problem = measurements.problem(model, groups.fit)
     warnings = _motion_warnings(model, problem.Q, options)
 
@@ -419,7 +424,8 @@ def _calibrate(
 
     say(f"fitting {chosen.name} (robust)")
     candidate_indices = chosen.indices(model, frames)
-    fitted = fit_set(problem, x_start, candidate_indices, options)
+    known = ident if candidate_indices == requested else None  # the analysis above, at x_start too
+    fitted = fit_set(problem, x_start, candidate_indices, options, ident=known)
     problem, x, free = fitted.problem, fitted.x, fitted.free
     nfev += fitted.nfev
 
@@ -547,17 +553,16 @@ class _Groups:
 
 
 def _partition(
-    samples: list[Sample], measurements: Measurements, holdout_ids: set[str] | None, options: FitOptions
+    samples: list[Sample], measurements: Measurements, validation_ids: set[str] | None, options: FitOptions
 ) -> _Groups:
     """Samples without a usable measurement are rejected first, so the hold-out share is of the
     usable ones; fewer than 3 left to fit is refused with the most common reason, which is almost
     always the cause (a wrong tag family, id or size in dataset.yaml; ids that do not match)."""
     rejected = {s.id: why for s in samples if (why := measurements.reason(s.id)) is not None}
     usable = [s for s in samples if s.id not in rejected]
-    if holdout_ids is None:
-        holdout_ids = split_holdout([s.id for s in usable], options.holdout, options.seed)
-    fit = [s for s in usable if s.id not in holdout_ids]
-    hold = [s for s in usable if s.id in holdout_ids]
+    held = holdout_ids([s.id for s in usable], options.holdout, options.seed, validation_ids)
+    fit = [s for s in usable if s.id not in held]
+    hold = [s for s in usable if s.id in held]
     if len(fit) < 3:
         common = Counter(rejected.values()).most_common(1)
         why = f"; most samples: {common[0][0]} ({common[0][1]} of {len(rejected)})" if common else ""
@@ -649,8 +654,9 @@ def _score_holdout(
     if not hold:
         return _HeldOut([], {}, [], None, None)
     hp = measurements.problem(model, hold).with_sigma(fitted_problem.sigma)
-    before, after = hp.per_sample(x_he), hp.per_sample(x)
-    keep = ~hp.outliers(x, fitted.limit)  # as for fit samples: only a residual above the limit is an outlier
+    r = hp.raw(x)
+    before, after = hp.per_sample(x_he), hp.figures(r)
+    keep = ~hp.outliers(r, fitted.limit)  # as for fit samples: only a residual above the limit is an outlier
     outliers: dict[str, str] = {}
     residuals: list[SampleResidual] = []
     for k, s in enumerate(hold):
@@ -691,8 +697,3 @@ def _fit_warnings(
             "joint gains were fitted: a URDF cannot hold them, so apply `gain` from calibration.yaml in the driver"
         )
     return out
-
-
-def _rms(values: Array) -> float:
-    values = values[np.isfinite(values)]
-    return float(np.sqrt(np.mean(values**2))) if values.size else math.nan

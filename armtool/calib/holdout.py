@@ -15,7 +15,6 @@ import numpy as np
 
 from armtool.calib.camera import CameraModel
 from armtool.calib.dataset import Dataset, Sample
-from armtool.calib.observations import Observation
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 
@@ -75,36 +74,14 @@ def check_same_setup(
         )
 
 
-def with_validation(
-    samples: list[Sample],
-    observations: dict[str, Observation],
-    validation: list[Sample],
-    validation_observations: dict[str, Observation],
-) -> tuple[list[Sample], dict[str, Observation], set[str]]:
-    """The samples and observations of both datasets, the validation ones renamed
-    `validation:<id>` so that ids cannot collide; and the set of those new ids."""
-    merged, seen = list(samples), dict(observations)
-    ids: set[str] = set()
-    for s in validation:
-        sid = f"{VALIDATION_PREFIX}{s.id}"
-        merged.append(replace(s, id=sid))
-        o = validation_observations[s.id]
-        seen[sid] = Observation(sid, o.corners_px, o.reason)
-        ids.add(sid)
-    return merged, seen, ids
+def validation_samples(validation: list[Sample]) -> list[Sample]:
+    """A validation dataset's samples renamed `validation:<id>`, so that their ids cannot collide
+    with the dataset's (its measurements are renamed alike by `Measurements.merged`)."""
+    return [replace(s, id=f"{VALIDATION_PREFIX}{s.id}") for s in validation]
 
 
-def holdout_ids(
-    samples: list[Sample],
-    observations: dict[str, Observation],
-    fraction: float,
-    seed: int,
-    validation: set[str] | None = None,
-) -> set[str] | None:
+def holdout_ids(usable: list[str], fraction: float, seed: int, validation: set[str] | None = None) -> set[str]:
     """The samples kept out of the fit: the validation dataset's, plus a random `fraction` of the
-    others that have a tag detection. None when nothing is held out."""
-    if not fraction:
-        return validation
+    other `usable` ones (those with a measurement, in the samples' order)."""
     already = validation or set()
-    usable = [s.id for s in samples if observations[s.id].corners_px is not None and s.id not in already]
-    return already | split_holdout(usable, fraction, seed)
+    return already | split_holdout([u for u in usable if u not in already], fraction, seed)

@@ -184,13 +184,13 @@ class RowProblem:
 
 def read_rows(
     text: str, spec: MeasurementSpec, sample_ids: set[str], by_line: bool = False
-) -> tuple[dict[str, tuple[int, Array]], list[RowProblem]]:
-    """The measurement values of every row (sample id → (line, values in the file's units and
-    column order)), and each bad row's problem. Raises csv.Error on broken CSV syntax. With
+) -> tuple[dict[str, Array], list[RowProblem]]:
+    """The measurement values of every row (sample id → values in the file's units and column
+    order), and each bad row's problem. Raises csv.Error on broken CSV syntax. With
     `by_line` (the measurements are in the samples file itself) a file without an `id` column
     numbers its rows by line, as the samples were."""
     problems: list[RowProblem] = []
-    rows: dict[str, tuple[int, Array]] = {}
+    rows: dict[str, Array] = {}
     with io.StringIO(text, newline="") as handle:
         reader = csv.reader(handle)
         header = [h.strip() for h in next(reader, [])]
@@ -240,7 +240,7 @@ def read_rows(
             if why is not None:
                 problems.append(RowProblem(line, *why))
                 continue
-            rows[sid] = (line, values)
+            rows[sid] = values
     return rows, problems
 
 
@@ -277,12 +277,12 @@ def _value_problem(values: Array, spec: MeasurementSpec) -> tuple[str, str] | No
     return None
 
 
-def dataset_measurements(spec: MeasurementSpec, rows: dict[str, tuple[int, Array]]) -> Measurements:
+def dataset_measurements(spec: MeasurementSpec, rows: dict[str, Array]) -> Measurements:
     """The fit's measurements of a dataset's rows: target-in-sensor poses, or points, in metres."""
     from armtool.calib.problems import PointMeasurements, PoseMeasurements
 
     ids = list(rows)
-    values = np.stack([rows[i][1] for i in ids]) if ids else np.zeros((0, len(spec.columns)))
+    values = np.stack([rows[i] for i in ids]) if ids else np.zeros((0, len(spec.columns)))
     source = spec.file.name
     convention = spec.convention
     if isinstance(convention, PoseConvention):

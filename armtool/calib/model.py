@@ -94,16 +94,9 @@ class CalibModel:
     def flange(self, x: Array, Q: Array) -> Array:
         """bMf for every row of Q (N,n): (N,4,4)."""
         origins, offsets, gains = self.joint_terms(x)
-        N = Q.shape[0]
-        T = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
-        for i, j in enumerate(self.chain.joints):
-            value = gains[i] * Q[:, i] + offsets[i]
-            M = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
-            if j.kind == "prismatic":
-                M[:, :3, 3] = value[:, None] * j.axis
-            else:
-                M[:, :3, :3] = axis_angle_batch(j.axis, value)
-            T = T @ origins[i] @ M
+        T = np.broadcast_to(np.eye(4), (Q.shape[0], 4, 4)).copy()
+        for i in range(self.chain.n):
+            T = T @ origins[i] @ self._motion(i, gains[i], offsets[i], Q[:, i])
         out: Array = T @ self.chain.tip_offset
         return out
 
@@ -128,10 +121,10 @@ class CalibModel:
         layout, parts = self.layout, self.split(x)
         n, N = self.chain.n, Q.shape[0]
         wanted = np.asarray(indices, dtype=np.intp)
-        origins = [j.origin @ se3.delta(parts.origin[i]) for i, j in enumerate(self.chain.joints)]
+        origins, offsets, gains = self.joint_terms(x)
         prefix = [np.broadcast_to(np.eye(4), (N, 4, 4))]  # prefix[i]: the chain up to joint i's origin
         for i in range(n):
-            prefix.append(prefix[i] @ origins[i] @ self._motion(i, parts.gain_error[i], parts.offset[i], Q[:, i]))
+            prefix.append(prefix[i] @ origins[i] @ self._motion(i, gains[i], offsets[i], Q[:, i]))
         F = prefix[n] @ self.chain.tip_offset
         L, R = self.frames(x)
         if self.setup is Setup.EYE_TO_HAND:
@@ -170,10 +163,10 @@ class CalibModel:
             out[:, :, cols] = to_c @ psi
         return C, out
 
-    def _motion(self, i: int, gain_error: float, offset: float, q: Array) -> Array:
+    def _motion(self, i: int, gain: float, offset: float, q: Array) -> Array:
         """Joint i's motion transforms for the readings q: (N, 4, 4)."""
         j = self.chain.joints[i]
-        value = (1.0 + gain_error) * q + offset
+        value = gain * q + offset
         M = np.broadcast_to(np.eye(4), (len(q), 4, 4)).copy()
         if j.kind == "prismatic":
             M[:, :3, 3] = value[:, None] * j.axis
@@ -181,10 +174,6 @@ class CalibModel:
             M[:, :3, :3] = axis_angle_batch(j.axis, value)
         out: Array = M
         return out
-
-    def _oriented(self, F: Array) -> Array:
-        """bMf as the measurement chain uses it: inverted when the sensor rides on the flange."""
-        return se3.inv(F) if self.setup is Setup.EYE_IN_HAND else F
 
     def corners_in_camera(self, x: Array, Q: Array, tag_points: Array) -> Array:
         """Tag corners in the camera frame: (N,4,3)."""

@@ -10,7 +10,7 @@ atomically (`write_files`).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -19,11 +19,10 @@ import numpy as np
 from armtool.calib.camera import CameraModel
 from armtool.calib.dataset import Dataset, Sample, require_ok
 from armtool.calib.fit import CalibrationResult, FitOptions, calibrate
-from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, holdout_ids, with_validation
+from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
 from armtool.calib.inputs import Inputs, input_files, load_inputs
 from armtool.calib.model import CalibModel
 from armtool.calib.observations import Observation
-from armtool.calib.params import Family
 from armtool.calib.problems import CornerMeasurements, Measurements
 from armtool.calib.ur_kinematics import UrTarget, ur_target
 from armtool.calib.verdict import Verdict
@@ -42,19 +41,13 @@ class FitRequest:
 
     dataset: Path
     out: Path
-    families: tuple[Family, ...]
-    families_explicit: bool  # named with --params: a family of which nothing is identifiable is an error
-    holdout: float = 0.0
-    seed: int = 0
+    options: FitOptions  # --params, --holdout, --seed, --folds, --select, --nested
     validation: Path | None = None
     plot: Path | None = None
     xacro_args: dict[str, str] = field(default_factory=dict)
     package_paths: list[Path] = field(default_factory=list)
     ur_kinematics: Path | None = None
     ur_kinematics_in: Path | None = None
-    folds: int = 5  # k-fold cross-validation; below 2: none
-    select: bool = True  # fit the parameter set cross-validation chooses
-    nested: bool = True  # report the whole procedure's held-out residual
     keep_conventions: bool = False  # do not refuse a dataset whose measurements fit far better read another way
 
 
@@ -75,7 +68,7 @@ class FitJob:
 class Observed:
     samples: list[Sample]  # the dataset's, then the validation dataset's (ids `validation:<id>`)
     measurements: Measurements
-    holdout_ids: set[str] | None
+    validation_ids: set[str]  # kept out of the fit, with a random --holdout share of the others
 
 
 @dataclass(frozen=True)
@@ -116,11 +109,10 @@ def checked_conventions(ds: Dataset, chain: Chain, refuse: bool) -> ConventionCh
     from armtool.calib.convention_check import check_conventions
 
     assert ds.measurement is not None
-    rows = {sid: values for sid, (_line, values) in ds.measured_rows.items()}
     from armtool.calib.fit import one_blas_thread
 
     with one_blas_thread():
-        found = check_conventions(chain, ds.setup, ds.measurement, rows, ds.samples)
+        found = check_conventions(chain, ds.setup, ds.measurement, ds.measured_rows, ds.samples)
     if refuse and found.better is not None:
         raise ArmtoolError(
             found.message(),
@@ -146,57 +138,38 @@ def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
 
 
 def observe_samples(job: FitJob, detect: Detect) -> Observed:
-    """Tag corners of the dataset's samples and of the validation dataset's (prepare_fit checked it
-    is of the same setup), and which samples are held out of the fit."""
-    request, ds = job.request, job.dataset
+    """The measurements of the dataset's samples (tag corners, or measured poses or points) and
+    of the validation dataset's (prepare_fit checked it is of the same setup), renamed
+    `validation:<id>`."""
+    ds, camera = job.dataset, job.camera
     samples = list(ds.samples)
-    validation_ids = None
+    measurements = _measurements(ds, camera, detect)
+    validation_ids: set[str] = set()
+    if job.validation is not None:
+        vds, _vchain, vcamera = job.validation
+        renamed = validation_samples(vds.samples)
+        samples += renamed
+        validation_ids = {s.id for s in renamed}
+        # its own conventions; prepare_fit refused a missing or different camera
+        others = _measurements(vds, vcamera or camera, detect)
+        measurements = measurements.merged(others, VALIDATION_PREFIX)
+    return Observed(samples, measurements, validation_ids)
+
+
+def _measurements(ds: Dataset, camera: CameraModel | None, detect: Detect) -> Measurements:
+    """A dataset's measured poses or points, or the target corners detected in its images."""
     if ds.measurement is not None:
         from armtool.calib.measured import dataset_measurements
 
-        measurements = dataset_measurements(ds.measurement, ds.measured_rows)
-        if job.validation is not None and request.validation is not None:
-            vds = job.validation.dataset
-            assert vds.measurement is not None  # check_same_setup refused another kind
-            validation_ids = {f"{VALIDATION_PREFIX}{s.id}" for s in vds.samples}
-            samples += [replace(s, id=f"{VALIDATION_PREFIX}{s.id}") for s in vds.samples]
-            others = dataset_measurements(vds.measurement, vds.measured_rows)  # its own conventions
-            measurements = measurements.merged(others, VALIDATION_PREFIX)
-        usable = [s.id for s in samples if measurements.reason(s.id) is None]
-        return Observed(samples, measurements, _held(usable, request, validation_ids))
-    assert job.camera is not None  # prepare_fit refused an image dataset without intrinsics
-    observations = detect(ds, job.camera)
-    if job.validation is not None and request.validation is not None:
-        vds, _vchain, vcamera = job.validation
-        vobs = detect(vds, vcamera or job.camera)  # prepare_fit refused a missing or different camera
-        samples, observations, validation_ids = with_validation(samples, observations, vds.samples, vobs)
-    held = holdout_ids(samples, observations, request.holdout, request.seed, validation_ids)
+        return dataset_measurements(ds.measurement, ds.measured_rows)
+    assert camera is not None  # prepare_fit refused an image dataset without intrinsics
     from armtool.calib.targets.spec import Target
 
-    return Observed(samples, CornerMeasurements(job.camera, observations, Target.of(ds).points_m), held)
-
-
-def _held(usable: list[str], request: FitRequest, validation: set[str] | None) -> set[str] | None:
-    """The validation dataset's samples and a random `--holdout` share of the others."""
-    from armtool.calib.holdout import split_holdout
-
-    if not request.holdout:
-        return validation
-    already = validation or set()
-    return already | split_holdout([u for u in usable if u not in already], request.holdout, request.seed)
+    return CornerMeasurements(camera, detect(ds, camera), Target.of(ds).points_m)
 
 
 def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | None = None) -> CalibrationResult:
-    request, ds = job.request, job.dataset
-    options = FitOptions(
-        families=request.families,
-        families_explicit=request.families_explicit,
-        holdout=request.holdout,
-        seed=request.seed,
-        folds=request.folds,
-        select=request.select,
-        nested=request.nested,
-    )
+    ds = job.dataset
     measurements = observed.measurements
     model = CalibModel(
         job.chain, ds.setup, np.eye(4), np.eye(4), sensor=measurements.sensor, target=measurements.target
@@ -205,9 +178,9 @@ def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | N
         model,
         measurements,
         observed.samples,
-        options,
+        job.request.options,
         ds.hints,
-        holdout_ids=observed.holdout_ids,
+        validation_ids=observed.validation_ids,
         progress=progress,
     )
 

@@ -59,7 +59,8 @@ class Problem(ABC):
     """Residuals of some samples: raw per coordinate, or divided by the noise for the fit.
 
     Subclasses say how a target-in-sensor pose becomes a sample's residual coordinates
-    (`_residuals`), which coordinates a sample measured (`seen`), and how to start the frames.
+    (`_residuals`), which coordinates a sample measured (`seen`), and how to start the frames
+    (`_closed_form_frames`).
     """
 
     blocks: tuple[Block, ...]
@@ -72,9 +73,9 @@ class Problem(ABC):
     # -- what each kind defines ------------------------------------------------------------------
 
     @abstractmethod
-    def _residuals(self, C: Array, rows: slice | Sequence[int]) -> Array:
+    def _residuals(self, C: Array) -> Array:
         """Raw residuals (B, N, k), measured minus predicted, of target-in-sensor poses C (B, N, 4, 4)
-        of the samples `rows`; 0 where a coordinate was not measured."""
+        of every sample; 0 where a coordinate was not measured."""
 
     @abstractmethod
     def subset(self, rows: Sequence[int]) -> Problem:
@@ -85,8 +86,8 @@ class Problem(ABC):
         """The same samples on another model (new frames)."""
 
     @abstractmethod
-    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
-        """(L, R) close enough to start the fit, from the nominal robot and the measurements."""
+    def _closed_form_frames(self) -> tuple[Array, Array]:
+        """(L, R) from the nominal robot and the measurements; ArmtoolError when they do not determine them."""
 
     @property
     @abstractmethod
@@ -98,6 +99,17 @@ class Problem(ABC):
         return self.model.layout.frames
 
     # -- shared --------------------------------------------------------------------------------
+
+    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
+        """(L, R) close enough to start the fit: the closed form from the nominal robot and the
+        measurements, or the dataset's hints when that fails."""
+        try:
+            return self._closed_form_frames()
+        except ArmtoolError:
+            found = _hinted_frames(self.model, hints)
+            if found is None:
+                raise
+            return found
 
     @property
     def samples(self) -> int:
@@ -116,7 +128,7 @@ class Problem(ABC):
     def raw(self, x: Array) -> Array:
         """(N, k) raw residuals at x."""
         C = self.model.tag_in_camera(x, self.Q)
-        out: Array = self._residuals(C[None], slice(None))[0]
+        out: Array = self._residuals(C[None])[0]
         return out
 
     def weights(self) -> Array:
@@ -137,43 +149,49 @@ class Problem(ABC):
         C, twists = self.model.twists(x, self.Q, list(free))  # cMt, and (N, 6, P)
         steps = np.concatenate([np.eye(6), -np.eye(6)]) * h
         moved = se3.delta_batch(steps)[:, None] @ C[None]  # (12, N, 4, 4)
-        r = self._residuals(moved, slice(None)) * self.weights()
+        r = self._residuals(moved) * self.weights()
         along = np.moveaxis((r[:6] - r[6:]) / (2 * h), 0, -1)  # (N, k, 6)
         J: Array = np.einsum("nkm,nmp->nkp", along, twists).reshape(N * k, len(free))
         return J
 
     def per_sample(self, x: Array) -> dict[str, Array]:
         """Each block's per-sample figure in its unit: pixel RMS, position or rotation error length."""
-        r, seen = self.raw(x), self.seen
-        out: dict[str, Array] = {}
+        return self.figures(self.raw(x))
+
+    def figures(self, r: Array) -> dict[str, Array]:
+        """`per_sample` of the raw residuals r (N, k)."""
+        figures = self.per_block(r, lengths=True)
+        return {block.name: figures[:, b] * block.to_unit for b, block in enumerate(self.blocks)}
+
+    def per_block(self, r: Array, lengths: bool = False) -> Array:
+        """(N, B) each sample's RMS of `r` (N, k) over each block's measured coordinates; with
+        `lengths`, the vector's length instead for the blocks whose statistic is "norm"."""
+        seen = self.seen
+        out = np.empty((len(r), len(self.blocks)))
         for b, block in enumerate(self.blocks):
             cols = self.column_blocks == b
             squares = (r[:, cols] ** 2).sum(axis=1)
-            if block.statistic == "rms":
+            if not (lengths and block.statistic == "norm"):
                 squares = squares / np.maximum(seen[:, cols].sum(axis=1), 1)
-            out[block.name] = np.sqrt(squares) * block.to_unit
+            out[:, b] = np.sqrt(squares)
         return out
 
-    def normalized_rms(self, x: Array) -> Array:
-        """(N,) each sample's RMS of its noise-weighted coordinates: ~1 for a sample as good as the noise."""
-        r = self.raw(x) * self.weights()
-        rms: Array = np.sqrt((r**2).sum(axis=1) / np.maximum(self.seen.sum(axis=1), 1))
+    def normalized_rms(self, r: Array) -> Array:
+        """(N,) each sample's RMS of its noise-weighted raw residuals r (N, k): ~1 for a sample as
+        good as the noise."""
+        w = r * self.weights()
+        rms: Array = np.sqrt((w**2).sum(axis=1) / np.maximum(self.seen.sum(axis=1), 1))
         return rms
 
     def block_rms(self, x: Array) -> Array:
         """(N, B) each sample's RMS of each block's noise-weighted coordinates: a sample whose
         position is off stands out in its position block even when its rotation is good."""
-        r, seen = self.raw(x), self.seen
-        out = np.empty((self.samples, len(self.blocks)))
-        for b in range(len(self.blocks)):
-            cols = self.column_blocks == b
-            squares = (r[:, cols] ** 2).sum(axis=1) / np.maximum(seen[:, cols].sum(axis=1), 1)
-            out[:, b] = np.sqrt(squares) / self.sigma[b]
+        out: Array = self.per_block(self.raw(x)) / self.sigma
         return out
 
-    def outliers(self, x: Array, limit: Array) -> NDArray[np.bool_]:
-        """(N,) samples beyond a per-block outlier limit in any block."""
-        flags: NDArray[np.bool_] = np.asarray((self.block_rms(x) > limit).any(axis=1), dtype=bool)
+    def outliers(self, r: Array, limit: Array) -> NDArray[np.bool_]:
+        """(N,) samples whose raw residuals r (N, k) are beyond a per-block outlier limit in any block."""
+        flags: NDArray[np.bool_] = np.asarray((self.per_block(r) / self.sigma > limit).any(axis=1), dtype=bool)
         return flags
 
     def noise(self) -> dict[str, float]:
@@ -214,8 +232,8 @@ class CornerProblem(Problem):
         out: Array = self.camera.project(pts.reshape(-1, 3)).reshape(*C.shape[:2], -1, 2)
         return out
 
-    def _residuals(self, C: Array, rows: slice | Sequence[int]) -> Array:
-        uv = self.uv[rows].reshape(len(self.uv[rows]), -1)
+    def _residuals(self, C: Array) -> Array:
+        uv = self.uv.reshape(len(self.uv), -1)
         predicted = self.predict(C).reshape(C.shape[0], C.shape[1], -1)
         out: Array = np.where(np.isfinite(uv), np.nan_to_num(uv) - predicted, 0.0)
         # Residuals are measured − predicted for every kind; a pixel behind the camera is a huge error.
@@ -228,9 +246,8 @@ class CornerProblem(Problem):
     def with_model(self, model: CalibModel) -> CornerProblem:
         return CornerProblem(model, self.camera, self.Q, self.uv, self.points, self.sigma)
 
-    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
-        """The target's pose in each image (IPPE on the points it shows), then the closed-form
-        AX = XB; the dataset's hints when that fails."""
+    def _closed_form_frames(self) -> tuple[Array, Array]:
+        """The target's pose in each image (IPPE on the points it shows), then the closed-form AX = XB."""
         from armtool.calib.handeye import initial_frames
         from armtool.calib.targets.pose import planar_pose
 
@@ -242,15 +259,9 @@ class CornerProblem(Problem):
             if not ambiguous:
                 flanges.append(F[i])
                 tags.append(cMt)
-        try:
-            if len(tags) < 3:
-                raise ArmtoolError("fewer than 3 unambiguous tag poses")
-            return initial_frames(model.setup, flanges, tags)
-        except ArmtoolError:
-            found = _hinted_frames(model, hints)
-            if found is None:
-                raise
-            return found
+        if len(tags) < 3:
+            raise ArmtoolError("fewer than 3 unambiguous tag poses")
+        return initial_frames(model.setup, flanges, tags)
 
 
 class PoseProblem(Problem):
@@ -275,9 +286,9 @@ class PoseProblem(Problem):
     def seen(self) -> NDArray[np.bool_]:
         return np.ones((len(self.Q), 6), dtype=bool)
 
-    def _residuals(self, C: Array, rows: slice | Sequence[int]) -> Array:
+    def _residuals(self, C: Array) -> Array:
         P = se3.inv(C) if self.frame is PoseFrame.SENSOR_IN_TARGET else C
-        M = self._expected[rows]
+        M = self._expected
         position = M[None, :, :3, 3] - P[..., :3, 3]
         rotation = se3.log3_batch(np.swapaxes(P[..., :3, :3], -1, -2) @ M[None, :, :3, :3])
         return np.concatenate([position, rotation], axis=-1)
@@ -289,18 +300,12 @@ class PoseProblem(Problem):
     def with_model(self, model: CalibModel) -> PoseProblem:
         return PoseProblem(model, self.Q, self.measured, self.frame, self.sigma)
 
-    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
-        """The closed-form AX = XB on the measured poses themselves; the hints when that fails."""
+    def _closed_form_frames(self) -> tuple[Array, Array]:
+        """The closed-form AX = XB on the measured poses themselves."""
         from armtool.calib.handeye import initial_frames
 
         F = self.model.flange(np.zeros(self.model.size), self.Q)
-        try:
-            return initial_frames(self.model.setup, list(F), list(self.measured))
-        except ArmtoolError:
-            found = _hinted_frames(self.model, hints)
-            if found is None:
-                raise
-            return found
+        return initial_frames(self.model.setup, list(F), list(self.measured))
 
 
 class PointProblem(Problem):
@@ -321,8 +326,8 @@ class PointProblem(Problem):
     def seen(self) -> NDArray[np.bool_]:
         return np.ones((len(self.Q), 3), dtype=bool)
 
-    def _residuals(self, C: Array, rows: slice | Sequence[int]) -> Array:
-        out: Array = self.measured[None, rows] - C[..., :3, 3]
+    def _residuals(self, C: Array) -> Array:
+        out: Array = self.measured[None] - C[..., :3, 3]
         return out
 
     def frame_parameters(self) -> list[int]:
@@ -336,19 +341,12 @@ class PointProblem(Problem):
     def with_model(self, model: CalibModel) -> PointProblem:
         return PointProblem(model, self.Q, self.measured, self.sigma)
 
-    def start_frames(self, hints: dict[str, Array]) -> tuple[Array, Array]:
-        """Alternating closed forms (Kabsch for the sensor frame, linear least squares for the
-        point); the hints when the points do not determine them."""
+    def _closed_form_frames(self) -> tuple[Array, Array]:
+        """Alternating closed forms (Kabsch for the sensor frame, linear least squares for the point)."""
         from armtool.calib.handeye import initial_point_frames
 
         F = self.model.flange(np.zeros(self.model.size), self.Q)
-        try:
-            return initial_point_frames(self.model.setup, F, self.measured)
-        except ArmtoolError:
-            found = _hinted_frames(self.model, hints)
-            if found is None:
-                raise
-            return found
+        return initial_point_frames(self.model.setup, F, self.measured)
 
 
 def _hinted_frames(model: CalibModel, hints: dict[str, Array]) -> tuple[Array, Array] | None:
@@ -389,6 +387,12 @@ class CornerMeasurements(Measurements):
     def reason(self, sample_id: str) -> str | None:
         ob = self.observations[sample_id]
         return ob.reason if ob.corners_px is None else None
+
+    def merged(self, other: Measurements, prefix: str) -> Measurements:
+        if not isinstance(other, CornerMeasurements):
+            return super().merged(other, prefix)
+        renamed = {prefix + k: Observation(prefix + k, o.corners_px, o.reason) for k, o in other.observations.items()}
+        return CornerMeasurements(self.camera, {**self.observations, **renamed}, self.points)
 
     def problem(self, model: CalibModel, samples: Sequence[Sample]) -> CornerProblem:
         P = len(self.points)

@@ -353,10 +353,7 @@ def simulate(
         hints = {"camera_in_base": se3.inv(L), "tag_in_flange": R}
     else:
         hints = {"camera_in_flange": se3.inv(L), "tag_in_base": R}
-    manifest = manifest_document(
-        "armtool calibrate simulate", spec.setup, chain, spec.family, spec.tag_id, spec.tag_size_m
-    )
-    manifest["target"] = spec.target.document(manifest["target"]["mounted_on"])
+    manifest = manifest_document("armtool calibrate simulate", spec.setup, chain, spec.target)
     manifest["hints"] = {k: _rough(v, rng) for k, v in hints.items()}
     _write_text(out / "dataset.yaml", yaml.safe_dump(manifest, sort_keys=False))
     # The truth, kept apart.

@@ -52,7 +52,7 @@ def judge(
             f"{chosen_name} fitted without cross-validation: nothing says the corrections hold on other poses",
         )
     nominal = crossval.scores[0]
-    chosen = next(s for s in crossval.scores if s.candidate.name == chosen_name)
+    chosen = crossval.score_of(chosen_name)
     kinematic = [s for s in crossval.scores[1:] if math.isfinite(s.loss)]
     best = min(kinematic, key=lambda s: s.loss) if kinematic else None
     k = crossval.folds

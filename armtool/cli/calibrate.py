@@ -170,6 +170,7 @@ def fit(
     require("calib")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
+    from armtool.calib.fit import FitOptions
     from armtool.calib.params import parse_families
     from armtool.calib.pipeline import FitRequest, fit_files, observe_samples, prepare_fit, run_fit, write_files
     from armtool.calib.report import json_summary
@@ -180,22 +181,25 @@ def fit(
     robot = RobotOptions(xacro_arg, package_path, config)
     families = parse_families("origins,offsets" if params is None else params)
     opt.check_out_dir(out)
-    request = FitRequest(
-        dataset,
-        out,
-        families,
+    options = FitOptions(
+        families=families,
         families_explicit=params is not None,
         holdout=holdout,
         seed=seed,
+        folds=folds,
+        select=select,
+        nested=nested,
+    )
+    request = FitRequest(
+        dataset,
+        out,
+        options,
         validation=validation,
         plot=plot,
         xacro_args=robot.given_args,
         package_paths=robot.package_paths,
         ur_kinematics=ur_kinematics,
         ur_kinematics_in=ur_kinematics_in,
-        folds=folds,
-        select=select,
-        nested=nested,
         keep_conventions=keep_conventions,
     )
     job = prepare_fit(request)

@@ -18,7 +18,7 @@ from armtool.errors import ArmtoolError
 from armtool.extras import require
 
 if TYPE_CHECKING:
-    from armtool.calib.boards import BoardSpec
+    from armtool.calib.targets.spec import Target
 
 BOARD_HELP = (
     "The printed board: chessboard:COLSxROWS:SQUARE (squares, not inner corners; metres), "
@@ -169,7 +169,6 @@ def import_bag(
     robot = opt.RobotOptions(xacro_arg, package_path, config)
     if out.exists() and not out.is_dir():
         raise ArmtoolError("--out exists and is not a directory", str(out), "pass a new directory name")
-    board = _import_target(target, tag_size)
     options = ImportOptions(
         image_topic=image_topic,
         joints_topic=joints_topic,
@@ -178,15 +177,12 @@ def import_bag(
         intrinsics=intrinsics,
         camera_info_topic=camera_info_topic,
         setup=setup,
-        family=family,
-        tag_id=tag_id,
-        tag_size_m=tag_size if tag_size is not None else 0.0,
+        target=_import_target(target, tag_size, family, tag_id),
         still_by=still_by,
         tolerance=tolerance,
         max_velocity=max_velocity,
         min_still_s=min_still,
         max_image_offset=max_image_offset,
-        board=board,
         xacro_args=tuple(robot.xacro_args(urdf).items()),
         package_paths=tuple(robot.package_paths),
     )
@@ -197,18 +193,18 @@ def import_bag(
     print_bag_report(result)
 
 
-def _import_target(target: str | None, tag_size: float | None) -> BoardSpec | None:
-    """The board of `import-bag --target`, or None for an AprilTag (whose --tag-size is then required)."""
-    if target is None:
-        if tag_size is None:
-            raise ArmtoolError(
-                "--tag-size is required for an AprilTag target",
-                hint="measure the black square's edge on the print, in metres (e.g. --tag-size 0.08), or pass --target BOARD",
-            )
-        return None
-    from armtool.calib.targets.spec import fit_board
+def _import_target(target: str | None, tag_size: float | None, family: str = "tag36h11", tag_id: int = 0) -> Target:
+    """The board of `import-bag --target`, or the AprilTag (whose --tag-size is then required)."""
+    from armtool.calib.targets.spec import Target, fit_board
 
-    return fit_board(target, "--target")
+    if target is not None:
+        return Target(board=fit_board(target, "--target"))
+    if tag_size is None:
+        raise ArmtoolError(
+            "--tag-size is required for an AprilTag target",
+            hint="measure the black square's edge on the print, in metres (e.g. --tag-size 0.08), or pass --target BOARD",
+        )
+    return Target(family, tag_id, tag_size)
 
 
 def register(app: typer.Typer) -> None:

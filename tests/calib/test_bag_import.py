@@ -14,6 +14,7 @@ pytest.importorskip("rosbags", reason="the calib extra (rosbags) is not installe
 
 from armtool.calib.bag_import import ImportOptions, import_bag, raw_image_array, settled_windows
 from armtool.calib.dataset import load_dataset
+from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
 from tests.calib.bag_builder import JOINTS, TICK, frame_index, simulate_motion, write_bag
 
@@ -56,7 +57,7 @@ def test_import_takes_the_image_nearest_each_window_centre(tmp_path: Path, kind:
     image_topic = "/camera/image_raw/compressed" if mode == "jpeg" else "/camera/image_raw"
     stamps = np.array(write_bag(bag, kind, m, image_topic=image_topic, image_mode=mode, camera_info=True))
     out = tmp_path / "dataset"
-    result = import_bag(bag, CLEAN_ARM, out, ImportOptions(image_topic, flange="tool0", tag_size_m=0.05))
+    result = import_bag(bag, CLEAN_ARM, out, ImportOptions(image_topic, flange="tool0", target=Target(size_m=0.05)))
     assert result.clock == "header stamps" and result.intrinsics_source == "camera_info topic /camera/camera_info"
     assert len(result.samples) == 4 and not result.skipped
     for s, stop in zip(result.samples, m.stops):
@@ -257,8 +258,8 @@ def test_a_board_target_goes_into_the_manifest(tmp_path: Path) -> None:
     from armtool.cli.calibrate_extra import _import_target
 
     write_bag(tmp_path / "cal.bag", "ros1", simulate_motion(n_stops=2), camera_info=True)
-    board = _import_target("charuco:6x5:0.04:0.03:4X4_50", None)
-    import_bag(tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw", board=board))
+    target = _import_target("charuco:6x5:0.04:0.03:4X4_50", None)
+    import_bag(tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw", target=target))
     ds = load_dataset(tmp_path / "out", JOINTS)
     assert not ds.errors and ds.board == parse_board("charuco:6x5:0.04:0.03:4X4_50")
     with pytest.raises(ArmtoolError, match="--tag-size is required for an AprilTag target"):

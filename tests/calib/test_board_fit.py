@@ -81,4 +81,5 @@ def test_simulated_board_images_calibrate_end_to_end(tmp_path: Path, target: str
     truth = document["against_truth"]
     assert truth["hand_eye_only"]["position_rms_mm"] > 2.0
     assert truth["calibrated"]["position_rms_mm"] < 0.4 and truth["improvement"] > 10, truth
-    assert summary["schema_version"] >= 1
+    assert summary["schema_version"] == 1 and summary["fitted"] == document["fitted"]
+    assert summary["against_truth"] == truth and summary["frames"] == document["frames"]
