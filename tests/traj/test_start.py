@@ -170,6 +170,11 @@ def test_cartesian_with_moveit_config_follows_the_planning_groups_chain(tmp_path
         "--line", "0,0,0.02", "--relative", "-o", str(out),
     )  # fmt: skip
     assert code == 0 and "chain: --base/--tip: base 'base_link' -> tip 'tool0'" in " ".join(err.split())
+    (package / "config" / "clean_arm.srdf.xacro").unlink()
+    setup = package / ".setup_assistant"
+    setup.write_text(setup.read_text().replace("relative_path: config/clean_arm.srdf.xacro", "relative_path: ''"))
+    code, _, err = invoke("cartesian", "--moveit-config", str(package), "--line", "0,0,0.02", "--relative")
+    assert code == 2 and "the --moveit-config package has no SRDF: its planning group's chain is unknown" in err
 
 
 def test_cartesian_without_start_on_a_ur5_follows_the_line_and_says_where_it_started(tmp_path: Path) -> None:

@@ -154,8 +154,15 @@ def cartesian(
     assert given is not None  # a robot is required
     group_why = ""
     if moveit_config is not None and group is None and base is None and tip is None:
+        from armtool.errors import ArmtoolError
         from armtool.ik.group import planning_group
 
+        if given.srdf is None:
+            raise ArmtoolError(
+                "the --moveit-config package has no SRDF: its planning group's chain is unknown",
+                str(moveit_config),
+                "pass --srdf FILE (and --group NAME), or --base/--tip",
+            )
         group = planning_group(given.kinematics, moveit_config)
         group_why = "the one group of --moveit-config's kinematics.yaml"
     from rich.markup import escape
