@@ -243,21 +243,13 @@ def _from_moveit_config(
 ) -> tuple[Path | None, Path | None, Path | None, dict[str, str], str | None]:
     """URDF, SRDF, kinematics.yaml, the URDF's xacro arguments and the group, from a MoveIt
     config package; what the command line gives wins."""
-    from armtool.ik.group import kinematics_groups
+    from armtool.ik.group import planning_group
 
     pkg, urdf = robot.moveit_package(directory, urdf, "the URDF argument")
     srdf = srdf or pkg.srdf
     kinematics_yaml = kinematics_yaml or pkg.kinematics
     if group is None and base is None and tip is None:
-        configured = kinematics_groups(kinematics_yaml) if kinematics_yaml is not None else []
-        if len(configured) != 1:
-            raise ArmtoolError(
-                f"{len(configured) or 'no'} groups in {kinematics_yaml or 'the package (no kinematics.yaml)'}: "
-                "pass --group NAME",
-                str(directory),
-                "groups: " + (", ".join(configured) or "none"),
-            )
-        group = configured[0]
+        group = planning_group(kinematics_yaml, directory)
     return urdf, srdf, kinematics_yaml, pkg.urdf_xacro_args, group
 
 
