@@ -34,7 +34,7 @@ def test_json_output_on_ur5(tmp_path: Path) -> None:
     )
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
-    assert doc["schema_version"] == 2 and doc["config"]["samples"] == 20
+    assert doc["schema_version"] == 3 and doc["config"]["samples"] == 20
     assert "the solver's own solve call only" in doc["timing"] and "outside the timed region" in doc["timing"]
     modes = {(s["solver"], s["mode"]) for s in doc["solvers"]}
     assert modes == {("lm", "single"), ("lm", "batch")}
