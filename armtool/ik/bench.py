@@ -52,6 +52,22 @@ class Targets:
     seeds: Array  # (N, n)
 
 
+def run_header(chain: Chain, config: BenchConfig, how: str = "") -> str:
+    """The line a run starts with: the chain, how it was chosen, and the protocol's settings."""
+    text = (
+        f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
+        + (f", {how}" if how else "")
+        + f"; {config.samples} targets, seed {config.seed_mode.value}, "
+        f"timeout {config.timeout * 1e3:g} ms, tolerance {config.tolerance:g}"
+    )
+    if config.position_only:
+        text += (
+            "; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position, the solvers"
+            " get the chain with a free virtual wrist at the tip"
+        )
+    return text
+
+
 def make_targets(chain: Chain, config: BenchConfig) -> Targets:
     rng = np.random.default_rng(config.rng_seed)
     q_true = chain.random(rng, config.samples)

@@ -156,14 +156,16 @@ def test_peers_are_timed_on_their_own_call_only(name: str, monkeypatch: pytest.M
     root, chain = arm("ur5")
     s = make_peer(name, chain, root, timeout=0.002, tolerance=1e-5)
     assert isinstance(s, Solver)
-    watch = timed_functions(monkeypatch, s, False)
-    ours = {c.co_name for c in armtool_code(watch)}
-    # The adapter's call() is the only armtool code inside the timing: no check, no conversion; a
-    # peer looped until its timeout (pykdl, as TRAC-IK's benchmark runs KDL) reads the clock.
-    assert ours - {"clock"} == {"call"}, f"{name}: armtool code inside the timed call: {sorted(ours)}"
-    assert not builds(watch), f"{name}: armtool builds its answer inside the timed call: {builds(watch)}"
-    pinocchio = [f for f in watch.native if (getattr(f, "__module__", None) or "").startswith("pinocchio")]
-    assert not pinocchio, f"{name}: Pinocchio converts its inputs inside the timing: {pinocchio}"
+    for batch in (False, True) if s.has_batch() else (False,):  # eaik: IK_batched too
+        watch = timed_functions(monkeypatch, s, batch)
+        ours = {c.co_name for c in armtool_code(watch)}
+        # The adapter's call() is the only armtool code inside the timing: no check, no conversion; a
+        # peer looped until its timeout (pykdl, as TRAC-IK's benchmark runs KDL) reads the clock.
+        entry = "call_batch" if batch else "call"
+        assert ours - {"clock"} == {entry}, f"{name}: armtool code inside the timed {entry}: {sorted(ours)}"
+        assert not builds(watch), f"{name}: armtool builds its answer inside the timed call: {builds(watch)}"
+        pinocchio = [f for f in watch.native if (getattr(f, "__module__", None) or "").startswith("pinocchio")]
+        assert not pinocchio, f"{name}: Pinocchio converts its inputs inside the timing: {pinocchio}"
 
 
 class Slow(Solver):
