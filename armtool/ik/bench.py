@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from armtool.ik.modes import SeedMode
-from armtool.ik.solutions import distinct, missing
+from armtool.ik.solutions import distinct, missing, refine
 from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
@@ -121,7 +121,8 @@ class SolverReport:
     method: str = ""  # how the solver solves this chain (Solver.method: a closed form's family)
     wall_times_us: list[float] = field(default_factory=list, repr=False)  # every solve, in target order
     solved: list[bool] = field(default_factory=list, repr=False)  # our FK verdict per target
-    # Closed-form rows: per target, its distinct solutions that pass armtool's check ((k, n) arrays).
+    # Closed-form rows: per target, its distinct solutions that pass armtool's check, each refined onto
+    # the exact solution it approximates (armtool.ik.solutions.refine; (k, n) arrays).
     verified: list[Array] = field(default_factory=list, repr=False)
 
 
@@ -265,7 +266,10 @@ def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchC
         repeat = float(same.sum() / both.sum()) if both.any() else None  # nothing to compare
     verified = []
     if solver.returns_all_solutions or any(r.solutions for r in results):  # a closed-form row
-        verified = [distinct(chain, np.array(r.solutions).reshape(-1, chain.n)) for r in judged]
+        verified = [
+            distinct(chain, refine(chain, np.array(r.solutions).reshape(-1, chain.n), pose))
+            for r, pose in zip(judged, targets.poses)
+        ]
     conds = []
     for i in np.flatnonzero(~ok)[:200]:
         s = np.linalg.svd(chain.jacobian(targets.q_true[i]), compute_uv=False)

@@ -7,6 +7,12 @@ revolute joints compared modulo 2π (q and q + 2π are one configuration of the 
 solver returns is a matter of representation). A solution counts only if armtool's FK check passes
 and it lies within the limits after its revolute angles are moved by whole turns (`place`), as
 `analytic` places its own.
+
+Solutions are compared as the exact solutions they approximate (`refine`): a solver on the nearest
+model of a family (IK-Geo on Lite6, whose URDF rounds π/2 to 1.5708: its model is 3e-7 off the
+chain) passes the 1e-5 check with joints more than DISTINCT_RAD from the exact solution, and would
+otherwise be counted as missing every solution that an exact solver finds (measured: 490 of 666
+on 100 Lite6 targets).
 """
 
 from __future__ import annotations
@@ -16,12 +22,42 @@ from typing import Any
 
 import numpy as np
 
-from armtool.ik.solver import Answer, Array
+from armtool.ik.solver import Answer, Array, pose_error_batch
 from armtool.model.chain import Chain
 
 DISTINCT_RAD = 1e-6  # joint difference (rad, or m on a prismatic joint) below which two solutions are one
 LIMIT_SLACK = 1e-9  # a value this far outside a limit is rounding: clamped onto it
+REFINE_STEPS = 3  # Gauss-Newton steps from a verified solution (within 1e-5) to the exact one: quadratic
 TAU = 2.0 * math.pi
+
+
+def refine(chain: Chain, Q: Array, target: Array) -> Array:
+    """Each solution (row of Q, each verified against the target) moved onto the exact solution it
+    approximates by Gauss-Newton steps on the chain (the Jacobian's pseudo-inverse: the smallest
+    step, so a solution on a continuum, at a singularity, stays where it is along it). A step is
+    kept only where it lowers the pose error and stays within the limits."""
+    Q = np.array(Q, dtype=float).reshape(-1, chain.n)
+    if Q.shape[0] == 0:
+        return Q
+    targets = np.broadcast_to(np.asarray(target, dtype=float), (Q.shape[0], 4, 4))
+    T, J = chain.fk_jacobian_batch(Q)
+    e = pose_error_batch(T, targets)
+    for _ in range(REFINE_STEPS):
+        assert J is not None
+        step = np.einsum("kij,kj->ki", np.linalg.pinv(J), e)
+        moved = Q + step
+        T2, J2 = chain.fk_jacobian_batch(moved)
+        e2 = pose_error_batch(T2, targets)
+        inside = np.all(
+            (moved >= chain.lower - LIMIT_SLACK) & (moved <= chain.upper + LIMIT_SLACK) | chain.continuous, axis=1
+        )
+        better = inside & (np.linalg.norm(e2, axis=1) < np.linalg.norm(e, axis=1))
+        if not better.any():
+            break
+        Q[better], e[better] = moved[better], e2[better]
+        assert J2 is not None
+        J = np.where(better[:, None, None], J2, J)
+    return Q
 
 
 def place(chain: Chain, Q: Array, seed: Array) -> Array:

@@ -336,3 +336,36 @@ def test_missing_solutions_need_another_closed_form_solver() -> None:
     twin = [reports[0], run_solver(chain, alone, targets, config)]
     compare_solutions(chain, twin)
     assert twin[0].missing_solutions is None
+
+
+class Offset(Solver):
+    """One solution: the target's configuration, plus `offset` (passes a 1e-5 check, off by > 1e-6 rad)."""
+
+    summary = "test double"
+    returns_all_solutions = True
+
+    def __init__(self, chain: Any, name: str, offset: tuple[float, float], truth: Any) -> None:
+        super().__init__(chain)
+        self.name, self.offset, self.truth = name, np.array(offset), truth
+
+    def call(self, prepared: Any) -> Any:
+        target, _ = prepared
+        q = self.truth[int(np.argmin([np.abs(self.chain.fk(t) - target).max() for t in self.truth]))] + self.offset
+        return Answer(q, True, 0, "", (q,))
+
+
+def test_two_approximations_of_one_solution_are_not_missing_from_each_other() -> None:
+    from lxml import etree
+
+    from armtool.ik.bench import Entry, run_bench
+    from armtool.model.chain import chain_from_xml
+    from tests.ik.robots import PLANAR_2R
+
+    chain = chain_from_xml(etree.fromstring(PLANAR_2R))
+    config = BenchConfig(samples=5, repeat=0)
+    targets = make_targets(chain, config)
+    exact = Offset(chain, "exact", (0.0, 0.0), targets.q_true)
+    near = Offset(chain, "near", (4e-6, -3e-6), targets.q_true)  # a nearest-model solver's answers
+    reports = run_bench(chain, [Entry(exact), Entry(near)], targets, config)
+    assert [r.success_rate for r in reports] == [1.0, 1.0]
+    assert [r.missing_solutions for r in reports] == [0, 0] and [r.distinct_solutions for r in reports] == [1.0, 1.0]

@@ -8,7 +8,7 @@ import math
 import numpy as np
 from lxml import etree
 
-from armtool.ik.solutions import DISTINCT_RAD, closed_form_answer, distinct, missing, nearest_first, place
+from armtool.ik.solutions import DISTINCT_RAD, closed_form_answer, distinct, missing, nearest_first, place, refine
 from armtool.model.chain import Chain, chain_from_xml
 from tests.ik.robots import COAXIAL_2R, PLANAR_2R
 
@@ -83,3 +83,30 @@ def test_closed_form_answer_claims_exact_solutions_only() -> None:
     none = closed_form_answer(chain, "peer", np.zeros((0, 2)), [], seed)
     assert not none.claimed and none.reason == "peer returned no solution"
     np.testing.assert_array_equal(none.q, seed)
+
+
+def test_refine_moves_an_approximate_solution_onto_the_exact_one() -> None:
+    chain = planar()
+    q = np.array([0.4, -0.8])
+    near = q + [4e-6, -3e-6]  # passes a 1e-5 check, but is 4e-6 rad from the solution it stands for
+    refined = refine(chain, np.array([near, q]), chain.fk(q))
+    np.testing.assert_allclose(refined, [q, q], atol=1e-12)
+    assert distinct(chain, refined).shape == (1, 2) and distinct(chain, np.array([near, q])).shape == (2, 2)
+    assert refine(chain, np.zeros((0, 2)), chain.fk(q)).shape == (0, 2)
+
+
+def test_refine_leaves_a_point_of_a_continuum_where_it_is() -> None:
+    chain = coaxial()  # every (a, s - a) reaches the target: the smallest step does not slide along them
+    target = chain.fk(np.array([0.3, 0.2]))
+    exact = np.array([[0.1, 0.4], [0.25, 0.25]])
+    np.testing.assert_allclose(refine(chain, exact, target), exact, atol=1e-12)
+    off = exact + [[2e-6, 2e-6]]  # off the continuum: brought back onto it, half each way
+    np.testing.assert_allclose(refine(chain, off, target), exact, atol=1e-12)
+
+
+def test_refine_keeps_a_step_that_would_leave_the_limits_untaken() -> None:
+    chain = planar()
+    q = np.array([3.0, -0.5])  # at the upper limit of joint 1
+    target = chain.fk(q + [2e-6, 0.0])  # the exact solution is just past the limit
+    refined = refine(chain, np.array([q]), target)
+    np.testing.assert_array_equal(refined, [q])
