@@ -60,9 +60,9 @@ def run_case(
     from armtool.calib.dataset import require_ok
     from armtool.calib.fit import FitOptions, calibrate
     from armtool.calib.inputs import load_inputs
+    from armtool.calib.measurements import CornerMeasurements
     from armtool.calib.model import CalibModel
     from armtool.calib.observations import observe
-    from armtool.calib.problems import CornerMeasurements
     from armtool.calib.simulate import SimulationSpec, simulate
     from armtool.calib.truth import load_truth, score
 

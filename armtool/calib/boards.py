@@ -188,6 +188,14 @@ def cv_board(spec: BoardSpec) -> Any:
     return cv2.aruco.GridBoard((spec.cols, spec.rows), spec.square_m, spec.marker_m, _dictionary(spec.dictionary))
 
 
+def board_size_m(spec: BoardSpec) -> tuple[float, float]:
+    """Width and height (m) of a board's pattern (squares, or tags and the gaps between them)."""
+    if spec.kind is BoardKind.APRILGRID:
+        pitch = spec.square_m + spec.marker_m
+        return spec.cols * pitch - spec.marker_m, spec.rows * pitch - spec.marker_m
+    return spec.cols * spec.square_m, spec.rows * spec.square_m
+
+
 def board_points(spec: BoardSpec) -> Array:
     """Every corner the calibration can use, (N,3) in the board frame, indexed by point id.
 

@@ -20,7 +20,8 @@ import numpy as np
 from armtool.calib.choices import Setup
 from armtool.calib.conventions import PointConvention, PoseConvention
 from armtool.calib.dataset import Sample
-from armtool.calib.measured import MeasurementSpec, dataset_measurements
+from armtool.calib.measured import MeasurementSpec
+from armtool.calib.measurements import dataset_measurements
 from armtool.calib.model import CalibModel
 from armtool.calib.problems import Problem
 from armtool.calib.se3 import Array

@@ -24,7 +24,7 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -43,9 +43,6 @@ from armtool.calib.conventions import (
 )
 from armtool.calib.limits import MAX_SAMPLES
 from armtool.calib.se3 import Array
-
-if TYPE_CHECKING:
-    from armtool.calib.problems import Measurements
 
 MeasurementKind = Literal["pose", "point"]
 MAX_POSITION_M = 100.0  # a position beyond 100 m from the sensor is a unit mix-up (millimetres read as metres)
@@ -275,18 +272,3 @@ def _value_problem(values: Array, spec: MeasurementSpec) -> tuple[str, str] | No
         if why is not None:
             return why, "check observations.rotation and rotation_columns"
     return None
-
-
-def dataset_measurements(spec: MeasurementSpec, rows: dict[str, Array]) -> Measurements:
-    """The fit's measurements of a dataset's rows: target-in-sensor poses, or points, in metres."""
-    from armtool.calib.problems import PointMeasurements, PoseMeasurements
-
-    ids = list(rows)
-    values = np.stack([rows[i] for i in ids]) if ids else np.zeros((0, len(spec.columns)))
-    source = spec.file.name
-    convention = spec.convention
-    if isinstance(convention, PoseConvention):
-        poses = convention.poses(values) if ids else np.zeros((0, 4, 4))
-        return PoseMeasurements(dict(zip(ids, poses)), convention.frame, spec.sensor, spec.target, source)
-    points = convention.points(values) if ids else np.zeros((0, 3))
-    return PointMeasurements(dict(zip(ids, points)), spec.sensor, spec.target, source)

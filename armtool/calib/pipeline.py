@@ -21,9 +21,9 @@ from armtool.calib.dataset import Dataset, Sample, require_ok
 from armtool.calib.fit import CalibrationResult, FitOptions, calibrate
 from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
 from armtool.calib.inputs import Inputs, input_files, load_inputs
+from armtool.calib.measurements import CornerMeasurements, Measurements
 from armtool.calib.model import CalibModel
 from armtool.calib.observations import Observation
-from armtool.calib.problems import CornerMeasurements, Measurements
 from armtool.calib.ur_kinematics import UrTarget, ur_target
 from armtool.calib.verdict import Verdict
 from armtool.errors import ArmtoolError
@@ -159,7 +159,7 @@ def observe_samples(job: FitJob, detect: Detect) -> Observed:
 def _measurements(ds: Dataset, camera: CameraModel | None, detect: Detect) -> Measurements:
     """A dataset's measured poses or points, or the target corners detected in its images."""
     if ds.measurement is not None:
-        from armtool.calib.measured import dataset_measurements
+        from armtool.calib.measurements import dataset_measurements
 
         return dataset_measurements(ds.measurement, ds.measured_rows)
     assert camera is not None  # prepare_fit refused an image dataset without intrinsics

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.calib.apriltag import tag_bits
+from armtool.calib.boards import board_size_m
 from armtool.calib.camera import Array, CameraModel
 from armtool.errors import ArmtoolError
 
@@ -316,16 +317,6 @@ class BoardTexture:
         in_cell = (x < (c + 1) * self.pitch) & (y < (r + 1) * self.pitch)
         ids = np.where(in_cell, ids, 1)
         return cast("NDArray[np.intp]", np.where(inside_pattern, ids, np.where(inside_board, 1, 0)))
-
-
-def board_size_m(spec: BoardSpec) -> tuple[float, float]:
-    """Width and height (m) of a board's pattern (squares, or tags and the gaps between them)."""
-    from armtool.calib.boards import BoardKind
-
-    if spec.kind is BoardKind.APRILGRID:
-        pitch = spec.square_m + spec.marker_m
-        return spec.cols * pitch - spec.marker_m, spec.rows * pitch - spec.marker_m
-    return spec.cols * spec.square_m, spec.rows * spec.square_m
 
 
 def board_outline_m(spec: BoardSpec, margin_m: float) -> Array:

@@ -12,7 +12,7 @@ import yaml
 
 from armtool.calib import se3
 from armtool.calib.conventions import PoseFrame
-from armtool.calib.problems import PointMeasurements, PoseMeasurements
+from armtool.calib.measurements import PointMeasurements, PoseMeasurements
 from armtool.model.chain import rpy_matrix
 from tests.calib.conftest import CLEAN_ARM
 from tests.calib.synthetic import Measured

@@ -17,9 +17,9 @@ from armtool.calib.camera import CameraModel
 from armtool.calib.choices import Setup
 from armtool.calib.conventions import PoseFrame
 from armtool.calib.dataset import Sample
+from armtool.calib.measurements import CornerMeasurements, Measurements, PointMeasurements, PoseMeasurements
 from armtool.calib.model import CalibModel
 from armtool.calib.observations import Observation
-from armtool.calib.problems import CornerMeasurements, Measurements, PointMeasurements, PoseMeasurements
 from armtool.calib.se3 import Array
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
 from armtool.calib.truth import Truth

@@ -15,9 +15,9 @@ from armtool.calib.boards import board_points, parse_board
 from armtool.calib.choices import Setup
 from armtool.calib.dataset import Sample
 from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.measurements import CornerMeasurements
 from armtool.calib.model import CalibModel
 from armtool.calib.observations import Observation
-from armtool.calib.problems import CornerMeasurements
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
 from armtool.calib.truth import Truth, score
 from armtool.cli import app

@@ -8,8 +8,8 @@ import pytest
 from armtool.calib.camera import CameraModel
 from armtool.calib.dataset import Sample
 from armtool.calib.holdout import VALIDATION_PREFIX, holdout_ids, split_holdout, validation_samples
+from armtool.calib.measurements import CornerMeasurements
 from armtool.calib.observations import Observation
-from armtool.calib.problems import CornerMeasurements
 from armtool.errors import ArmtoolError
 
 CORNERS = np.zeros((4, 2))

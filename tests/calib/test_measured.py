@@ -11,7 +11,7 @@ import yaml
 
 from armtool.calib.conventions import PoseFrame
 from armtool.calib.inputs import load_inputs
-from armtool.calib.measured import dataset_measurements
+from armtool.calib.measurements import dataset_measurements
 from armtool.model.chain import Chain
 from tests.calib.measured_files import write_dataset
 from tests.calib.synthetic import make_measured

@@ -19,7 +19,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from armtool.calib.boards import BoardKind, BoardSpec, board_points, parse_board
+from armtool.calib.boards import BoardKind, BoardSpec, board_points, board_size_m, parse_board
 from armtool.calib.camera import Array
 from armtool.errors import ArmtoolError
 
@@ -141,8 +141,6 @@ class Target:
         for a board, whose z points into it, a half turn about x moved to the pattern's centre."""
         if self.board is None:
             return np.eye(4)
-        from armtool.calib.render import board_size_m
-
         width, height = board_size_m(self.board)
         return np.array(
             [[1.0, 0.0, 0.0, width / 2], [0.0, -1.0, 0.0, height / 2], [0.0, 0.0, -1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
