@@ -61,7 +61,7 @@ def run_case(
     from armtool.calib.fit import FitOptions, calibrate
     from armtool.calib.inputs import load_inputs
     from armtool.calib.measurements import CornerMeasurements
-    from armtool.calib.model import CalibModel
+    from armtool.calib.model.calib_model import CalibModel
     from armtool.calib.observations import observe
     from armtool.calib.simulate import SimulationSpec, simulate
     from armtool.calib.truth import load_truth, score

@@ -224,7 +224,7 @@ def test_validation_dataset_of_another_setup_is_refused(dataset: Path, tmp_path:
     assert fit.returncode == 2 and "setup (eye_in_hand vs eye_to_hand)" in fit.stderr
     # ... refused while the inputs are checked, before any tag detection on the main dataset
     from armtool.calib.fit import FitOptions
-    from armtool.calib.params import parse_families
+    from armtool.calib.model.params import parse_families
     from armtool.calib.pipeline import FitRequest, prepare_fit
     from armtool.errors import ArmtoolError
 
@@ -288,8 +288,8 @@ def test_eye_in_hand_simulate_and_fit(tmp_path: Path) -> None:
 
 def test_fit_from_pre_detected_corners(dataset: Path, tmp_path: Path) -> None:
     """corners.csv from another detector feeds the same solver; the images are not needed."""
-    from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import load_dataset
+    from armtool.calib.model.camera import load_intrinsics
     from armtool.calib.observations import observe
 
     ds = load_dataset(dataset)

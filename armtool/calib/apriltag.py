@@ -20,7 +20,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.camera import Array, CameraModel
+from armtool.calib.model.camera import Array, CameraModel
 from armtool.errors import ArmtoolError
 
 # AprilTag family name → cv2.aruco predefined dictionary constant.

@@ -37,9 +37,9 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.camera import Array
 from armtool.calib.choices import Setup, StillBy
 from armtool.calib.dataset import manifest_document
+from armtool.calib.model.camera import Array
 from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
 
@@ -446,7 +446,7 @@ def _joint_series(bag: _Bag, topic: str, names: list[str]) -> tuple[Array, Array
 
 def _camera_info(bag: _Bag, topic: str) -> Any:
     """The first CameraInfo on `topic` with a non-zero K, as a CameraModel; None if there is none."""
-    from armtool.calib.camera import CameraModel
+    from armtool.calib.model.camera import CameraModel
 
     for _, msg in bag.messages(topic):
         K = np.asarray(_field(msg, "k", "K"), dtype=np.float64)
@@ -495,7 +495,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
     intrinsics_camera = None
     intrinsics_source = str(options.intrinsics)
     if options.intrinsics is not None:
-        from armtool.calib.camera import load_intrinsics
+        from armtool.calib.model.camera import load_intrinsics
 
         intrinsics_camera = load_intrinsics(options.intrinsics)
     warnings: list[str] = []
@@ -621,7 +621,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
             if options.intrinsics is not None and options.intrinsics.suffix.lower() in (".yaml", ".yml"):
                 shutil.copyfile(options.intrinsics, tmp / "camera.yaml")
             else:
-                from armtool.calib.camera import save_intrinsics
+                from armtool.calib.model.camera import save_intrinsics
 
                 save_intrinsics(intrinsics_camera, tmp / "camera.yaml")
     return ImportResult(out, samples, skipped, intrinsics_source, clock, warnings)

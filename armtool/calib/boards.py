@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.camera import Array
+from armtool.calib.model.camera import Array
 from armtool.errors import ArmtoolError
 
 DEFAULT_CHARUCO_DICT = "DICT_6X6_250"

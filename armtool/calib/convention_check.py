@@ -22,9 +22,9 @@ from armtool.calib.conventions import PointConvention, PoseConvention
 from armtool.calib.dataset import Sample
 from armtool.calib.measured import MeasurementSpec
 from armtool.calib.measurements import dataset_measurements
-from armtool.calib.model import CalibModel
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.se3 import Array
 from armtool.calib.problems import Problem
-from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 

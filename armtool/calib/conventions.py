@@ -20,7 +20,7 @@ from enum import Enum
 
 import numpy as np
 
-from armtool.calib.se3 import Array
+from armtool.calib.model.se3 import Array
 
 
 class PoseFrame(str, Enum):
@@ -140,7 +140,7 @@ class PoseConvention:
             )
         angles = values * (self.angle_units or AngleUnit.RAD).radians
         if self.rotation is RotationForm.ROTATION_VECTOR:
-            from armtool.calib.se3 import exp3_batch
+            from armtool.calib.model.se3 import exp3_batch
 
             return exp3_batch(angles)
         order = self.rpy_order or "zyx"
@@ -175,7 +175,7 @@ class PoseConvention:
         T[:, :3, :3] = R
         T[:, :3, 3] = values[:, :3] * self.position_units.metres
         if self.frame is PoseFrame.SENSOR_IN_TARGET:
-            from armtool.calib.se3 import inv
+            from armtool.calib.model.se3 import inv
 
             T = inv(T)
         out: Array = T

@@ -25,10 +25,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from armtool.calib.model import CalibModel
-from armtool.calib.params import Family, Parameter, ParamKind
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.params import Family, Parameter, ParamKind
+from armtool.calib.model.se3 import Array
 from armtool.calib.problems import Problem
-from armtool.calib.se3 import Array
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,7 @@ import numpy as np
 from armtool.calib.choices import Setup, Severity
 from armtool.calib.files import unreadable_reason
 from armtool.calib.limits import MAX_CSV_FIELD, MAX_FILE_BYTES, MAX_SAMPLES, MAX_TAG_ID, TAG_SIZE_M
-from armtool.calib.se3 import Array
+from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
@@ -152,7 +152,7 @@ def _get(
 
 
 def _hint_pose(value: Any) -> Array | None:
-    from armtool.calib import se3
+    from armtool.calib.model import se3
 
     try:
         xyz = [float(v) for v in value["xyz"]]

@@ -50,10 +50,10 @@ from armtool.calib.dataset import Sample
 from armtool.calib.holdout import holdout_ids
 from armtool.calib.identify import Identifiability, analyse
 from armtool.calib.measurements import Measurements
-from armtool.calib.model import CalibModel
-from armtool.calib.params import Family, ParamKind
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.params import Family, ParamKind
+from armtool.calib.model.se3 import Array
 from armtool.calib.problems import CORNER, Block, Problem
-from armtool.calib.se3 import Array
 from armtool.calib.zero_offsets import ZeroOffset, analyse_offsets
 from armtool.errors import ArmtoolError
 

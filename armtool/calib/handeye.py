@@ -11,9 +11,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from armtool.calib import se3
 from armtool.calib.choices import Setup
-from armtool.calib.se3 import Array
+from armtool.calib.model import se3
+from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
 

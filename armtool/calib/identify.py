@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from armtool.calib.model import CalibModel
-from armtool.calib.params import ParamKind
-from armtool.calib.se3 import Array
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.params import ParamKind
+from armtool.calib.model.se3 import Array
 
 
 @dataclass

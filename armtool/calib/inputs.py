@@ -11,9 +11,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import NamedTuple
 
-from armtool.calib.camera import CameraModel, load_intrinsics
 from armtool.calib.dataset import Dataset, Problem, load_dataset, read_samples
 from armtool.calib.files import unreadable_reason
+from armtool.calib.model.camera import CameraModel, load_intrinsics
 from armtool.calib.observations import Observation
 from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError

@@ -7,7 +7,7 @@ per-image reprojection RMS, the worst image dropped while it stands out (above
 max(OUTLIER_MIN_PX, OUTLIER_FACTOR × the median image RMS)), then checks that say what the
 images cannot pin down (board never near the image corners: distortion extrapolated there;
 board never tilted: focal length poorly constrained). The result is written as OpenCV
-FileStorage YAML, the format `armtool.calib.camera.load_intrinsics` reads.
+FileStorage YAML, the format `armtool.calib.model.camera.load_intrinsics` reads.
 """
 
 from __future__ import annotations
@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from armtool.calib.boards import BoardSpec, BoardView, board_points, find_board
-from armtool.calib.camera import Array, CameraModel
 from armtool.calib.choices import DistortionModel
+from armtool.calib.model.camera import Array, CameraModel
 from armtool.errors import ArmtoolError
 
 log = logging.getLogger(__name__)
@@ -350,7 +350,7 @@ def write_intrinsics(result: IntrinsicsResult, spec: BoardSpec, path: Path) -> N
     """Write `intrinsics_yaml` atomically, after checking that `load_intrinsics` reads it back."""
     import tempfile
 
-    from armtool.calib.camera import load_intrinsics
+    from armtool.calib.model.camera import load_intrinsics
     from armtool.fileio import write_atomic
 
     text = intrinsics_yaml(result, spec)

@@ -42,7 +42,7 @@ from armtool.calib.conventions import (
     default_rotation_columns,
 )
 from armtool.calib.limits import MAX_SAMPLES
-from armtool.calib.se3 import Array
+from armtool.calib.model.se3 import Array
 
 MeasurementKind = Literal["pose", "point"]
 MAX_POSITION_M = 100.0  # a position beyond 100 m from the sensor is a unit mix-up (millimetres read as metres)

@@ -13,14 +13,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from armtool.calib.camera import CameraModel
 from armtool.calib.conventions import PoseConvention, PoseFrame
 from armtool.calib.dataset import Sample
 from armtool.calib.measured import MeasurementSpec
-from armtool.calib.model import CalibModel
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.camera import CameraModel
+from armtool.calib.model.se3 import Array
 from armtool.calib.observations import Observation
 from armtool.calib.problems import CornerProblem, PointProblem, PoseProblem, Problem
-from armtool.calib.se3 import Array
 from armtool.errors import ArmtoolError
 
 

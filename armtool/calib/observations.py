@@ -13,9 +13,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from armtool.calib.camera import CameraModel
 from armtool.calib.dataset import Dataset, Sample
-from armtool.calib.se3 import Array
+from armtool.calib.model.camera import CameraModel
+from armtool.calib.model.se3 import Array
 from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
 

@@ -16,13 +16,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armtool.calib.camera import CameraModel
 from armtool.calib.dataset import Dataset, Sample, require_ok
 from armtool.calib.fit import CalibrationResult, FitOptions, calibrate
 from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
 from armtool.calib.inputs import Inputs, input_files, load_inputs
 from armtool.calib.measurements import CornerMeasurements, Measurements
-from armtool.calib.model import CalibModel
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.camera import CameraModel
 from armtool.calib.observations import Observation
 from armtool.calib.ur_kinematics import UrTarget, ur_target
 from armtool.calib.verdict import Verdict

@@ -25,11 +25,11 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib import se3
-from armtool.calib.camera import CameraModel
 from armtool.calib.conventions import PoseFrame
-from armtool.calib.model import CalibModel
-from armtool.calib.se3 import Array
+from armtool.calib.model import se3
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.camera import CameraModel
+from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
 JACOBIAN_STEP = 1e-6  # central differences on a smooth model: parameters are mm, mrad, 0.1 % of gain

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from armtool.calib.apriltag import tag_bits
 from armtool.calib.boards import board_size_m
-from armtool.calib.camera import Array, CameraModel
+from armtool.calib.model.camera import Array, CameraModel
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:

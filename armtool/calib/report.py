@@ -8,10 +8,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armtool.calib import se3
 from armtool.calib.fit import CalibrationResult, SampleResidual
+from armtool.calib.model import se3
+from armtool.calib.model.se3 import Array
 from armtool.calib.problems import POSITION, Block
-from armtool.calib.se3 import Array
 
 if TYPE_CHECKING:
     from armtool.calib.convention_check import ConventionCheck

@@ -18,12 +18,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib import se3
-from armtool.calib.camera import CameraModel
 from armtool.calib.choices import Quality, Setup
 from armtool.calib.dataset import manifest_document
-from armtool.calib.model import CalibModel
-from armtool.calib.se3 import Array
+from armtool.calib.model import se3
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.camera import CameraModel
+from armtool.calib.model.se3 import Array
 from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
 
@@ -250,7 +250,7 @@ def simulate(
     import yaml
 
     from armtool.calib.apriltag import family_dictionary
-    from armtool.calib.camera import save_intrinsics
+    from armtool.calib.model.camera import save_intrinsics
     from armtool.calib.render import render_board, render_tag
     from armtool.calib.urdf_out import (
         check_reproduces,

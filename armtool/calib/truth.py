@@ -16,9 +16,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.optimize import least_squares
 
-from armtool.calib import se3
-from armtool.calib.model import CalibModel
-from armtool.calib.se3 import Array
+from armtool.calib.model import se3
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:

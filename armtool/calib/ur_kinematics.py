@@ -128,7 +128,7 @@ def ur_kinematics_yaml(urdf_text: str, joints: dict[str, str], hash_value: str, 
     """The YAML text: each key the `<origin>` of its joint in `urdf_text`, full precision."""
     import yaml
 
-    from armtool.calib import se3
+    from armtool.calib.model import se3
     from armtool.model.chain import origin_matrix
     from armtool.model.xmlsource import parse_xml
 

@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 
-from armtool.calib import se3
-from armtool.calib.model import CalibModel
-from armtool.calib.se3 import Array
+from armtool.calib.model import se3
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 from armtool.model.chain import axis_angle_batch
 from armtool.model.urdf_edit import ByteEdit, UneditableXml, XmlSource, urdf_joints

@@ -30,9 +30,9 @@ from typing import Literal
 import numpy as np
 
 from armtool.calib.identify import Identifiability
-from armtool.calib.model import CalibModel
-from armtool.calib.params import ParamKind
-from armtool.calib.se3 import Array
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.params import ParamKind
+from armtool.calib.model.se3 import Array
 
 # A policy, not a measurement: an encoder re-zero that may be wrong by more than 1° can leave the
 # arm worse than the zero drift it is meant to fix (servo encoders resolve 0.09°, industrial ones

@@ -26,8 +26,8 @@ DatasetConfig = Annotated[
 ]
 
 if TYPE_CHECKING:
-    from armtool.calib.camera import CameraModel
     from armtool.calib.dataset import Dataset
+    from armtool.calib.model.camera import CameraModel
     from armtool.calib.observations import Observation
     from armtool.model.chain import Chain
 
@@ -171,7 +171,7 @@ def fit(
     from rich.markup import escape
 
     from armtool.calib.fit import FitOptions
-    from armtool.calib.params import parse_families
+    from armtool.calib.model.params import parse_families
     from armtool.calib.pipeline import FitRequest, fit_files, observe_samples, prepare_fit, run_fit, write_files
     from armtool.calib.report import json_summary
     from armtool.cli.options import RobotOptions

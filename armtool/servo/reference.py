@@ -285,7 +285,7 @@ def _camera_reference(arg: str) -> CameraReference:
             elif key == "size" and sep:
                 kw["size_m"] = float(value)
             elif key == "intrinsics" and sep:
-                from armtool.calib.camera import load_intrinsics
+                from armtool.calib.model.camera import load_intrinsics
 
                 kw["camera"] = load_intrinsics(Path(value))
             else:

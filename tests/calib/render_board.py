@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.calib.boards import BoardSpec
-from armtool.calib.camera import Array, CameraModel
+from armtool.calib.model.camera import Array, CameraModel
 from armtool.calib.render import _rotvec, board_in_view, board_outline_m
 from armtool.calib.render import render_board as _render
 

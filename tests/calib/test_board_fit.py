@@ -16,7 +16,7 @@ from armtool.calib.choices import Setup
 from armtool.calib.dataset import Sample
 from armtool.calib.fit import FitOptions, calibrate
 from armtool.calib.measurements import CornerMeasurements
-from armtool.calib.model import CalibModel
+from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.observations import Observation
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
 from armtool.calib.truth import Truth, score

@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pytest
 
-from armtool.calib import se3
 from armtool.calib.conventions import (
     RPY_ORDERS,
     AngleUnit,
@@ -18,6 +17,7 @@ from armtool.calib.conventions import (
     QuaternionOrder,
     RotationForm,
 )
+from armtool.calib.model import se3
 from armtool.model.chain import rpy_matrix
 
 ROLL, PITCH, YAW = 0.3, -0.4, 1.1

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armtool.calib import se3
 from armtool.calib.choices import Setup
 from armtool.calib.handeye import initial_frames, solve_ax_xb
+from armtool.calib.model import se3
 from armtool.errors import ArmtoolError
 
 

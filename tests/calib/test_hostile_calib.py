@@ -65,7 +65,7 @@ def snapshot(root: Path) -> dict[Path, bytes]:
 
 def _write_dataset(root: Path, n: int = 12, seed: int = 0) -> Path:
     """A corners.csv dataset of the bundled arm: n poses, corners projected from a perturbed robot."""
-    from armtool.calib.camera import save_intrinsics
+    from armtool.calib.model.camera import save_intrinsics
     from armtool.model.chain import load_chain
     from tests.calib.synthetic import make_problem
 
@@ -424,8 +424,8 @@ def test_image_that_is_a_directory_is_not_reported_missing(dataset: Path, tmp_pa
 
 
 def test_detecting_in_an_image_that_is_a_directory_says_so(dataset: Path, tmp_path: Path) -> None:
-    from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import load_dataset
+    from armtool.calib.model.camera import load_intrinsics
     from armtool.calib.observations import observe
 
     (dataset / "corners.csv").unlink()
@@ -618,7 +618,7 @@ def test_broken_truth_is_a_message(dataset: Path) -> None:
     """truth/ is only for scoring a simulated dataset: a broken one is an ArmtoolError (the fit
     then warns and writes its result), never a KeyError or RecursionError."""
     from armtool.calib.choices import Setup
-    from armtool.calib.model import CalibModel
+    from armtool.calib.model.calib_model import CalibModel
     from armtool.calib.truth import load_truth
     from armtool.model.chain import load_chain
 

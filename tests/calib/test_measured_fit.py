@@ -9,10 +9,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from armtool.calib import se3
 from armtool.calib.choices import Setup
 from armtool.calib.conventions import PoseFrame
 from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.model import se3
 from armtool.calib.report import calibration_document
 from armtool.calib.truth import score
 from armtool.model.chain import Chain

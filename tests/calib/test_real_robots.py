@@ -33,10 +33,10 @@ def test_every_bad_sample_is_named_on_rendered_images(tmp_path) -> None:  # type
     import numpy as np
 
     from armtool.calib.apriltag import tag_object_points
-    from armtool.calib.camera import load_intrinsics
     from armtool.calib.dataset import load_dataset
     from armtool.calib.measurements import CornerMeasurements
-    from armtool.calib.model import CalibModel
+    from armtool.calib.model.calib_model import CalibModel
+    from armtool.calib.model.camera import load_intrinsics
     from armtool.calib.observations import observe
     from armtool.calib.simulate import SimulationSpec, simulate
     from armtool.calib.truth import load_truth

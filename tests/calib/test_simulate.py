@@ -10,7 +10,7 @@ from typer.testing import CliRunner
 
 from armtool.calib.choices import Setup
 from armtool.calib.fit import FitOptions, calibrate
-from armtool.calib.model import CalibModel
+from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera
 from armtool.calib.truth import score
 from armtool.cli import app

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.camera import Array, CameraModel
+from armtool.calib.model.camera import Array, CameraModel
 from armtool.calib.targets.spec import Target
 
 

@@ -20,7 +20,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from armtool.calib.boards import BoardKind, BoardSpec, board_points, board_size_m, parse_board
-from armtool.calib.camera import Array
+from armtool.calib.model.camera import Array
 from armtool.errors import ArmtoolError
 
 

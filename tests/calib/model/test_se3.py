@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from armtool.calib import se3
+from armtool.calib.model import se3
 from armtool.model.chain import rpy_matrix
 
 vec = st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3)

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pytest
 
-from armtool.calib.params import Family, ParamKind, ParamLayout, parse_families
+from armtool.calib.model.params import Family, ParamKind, ParamLayout, parse_families
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 from tests.calib.conftest import nominal_model

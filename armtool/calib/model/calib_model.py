@@ -19,10 +19,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib import se3
 from armtool.calib.choices import Setup
-from armtool.calib.params import Family, Parameter, ParamKind, ParamLayout, Split
-from armtool.calib.se3 import Array
+from armtool.calib.model import se3
+from armtool.calib.model.params import Family, Parameter, ParamKind, ParamLayout, Split
+from armtool.calib.model.se3 import Array
 from armtool.model.chain import Chain, axis_angle_batch
 
 

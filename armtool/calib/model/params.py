@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import ClassVar, Literal, NamedTuple
 
-from armtool.calib.se3 import Array
+from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
 Component = Literal["tx", "ty", "tz", "rx", "ry", "rz", "offset", "gain"]

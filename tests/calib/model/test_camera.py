@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 import pytest
 
-from armtool.calib.camera import CameraModel, load_intrinsics, save_intrinsics
+from armtool.calib.model.camera import CameraModel, load_intrinsics, save_intrinsics
 from armtool.errors import ArmtoolError
 
 K = np.array([[910.0, 0.0, 641.3], [0.0, 905.0, 358.7], [0.0, 0.0, 1.0]])
@@ -207,7 +207,7 @@ def test_missing_file_and_yaml_syntax_error_line(tmp_path: Path) -> None:
 def test_an_intrinsics_fifo_is_refused_without_waiting(tmp_path: Path) -> None:
     import os
 
-    from armtool.calib.camera import load_intrinsics
+    from armtool.calib.model.camera import load_intrinsics
     from armtool.errors import ArmtoolError
 
     fifo = tmp_path / "camera.yaml"

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armtool.calib import se3
 from armtool.calib.choices import Setup
-from armtool.calib.model import CalibModel
-from armtool.calib.params import Family
+from armtool.calib.model import se3
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.params import Family
 from armtool.model.chain import Chain
 from tests.calib.conftest import nominal_model
 
