@@ -11,9 +11,9 @@ from pathlib import Path
 import yaml
 from typer.testing import CliRunner
 
-from armtool.calib.apriltag import tag_object_points  # noqa: F401  (calib extra present)
 from armtool.calib.choices import Setup
 from armtool.calib.model.camera import save_intrinsics
+from armtool.calib.targets.apriltag import tag_object_points  # noqa: F401  (calib extra present)
 from armtool.cli import app
 from armtool.model.chain import load_chain
 from tests.calib.conftest import CLEAN_ARM

@@ -477,7 +477,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
     whole (built beside `out`, then renamed) or not at all."""
     import yaml
 
-    from armtool.calib.apriltag import family_dictionary
+    from armtool.calib.targets.apriltag import family_dictionary
     from armtool.calib.urdf_out import expanded_text
     from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml

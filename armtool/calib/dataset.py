@@ -26,8 +26,8 @@ from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
-    from armtool.calib.boards import BoardSpec
     from armtool.calib.measured import MeasurementSpec
+    from armtool.calib.targets.boards import BoardSpec
     from armtool.calib.targets.spec import Target
     from armtool.model.chain import Chain
 

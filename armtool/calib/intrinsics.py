@@ -2,7 +2,7 @@
 
 Why here: the kinematic calibration is only as good as the camera model (a 0.3 % focal error
 costs about 1.3 mm, research/calibration.md §3), and `dataset.yaml` needs an intrinsics file.
-The fit is OpenCV's `calibrateCamera` on the board corners (`armtool.calib.boards`); around it:
+The fit is OpenCV's `calibrateCamera` on the board corners (`armtool.calib.targets.boards`); around it:
 per-image reprojection RMS, the worst image dropped while it stands out (above
 max(OUTLIER_MIN_PX, OUTLIER_FACTOR × the median image RMS)), then checks that say what the
 images cannot pin down (board never near the image corners: distortion extrapolated there;
@@ -20,9 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from armtool.calib.boards import BoardSpec, BoardView, board_points, find_board
 from armtool.calib.choices import DistortionModel
 from armtool.calib.model.camera import Array, CameraModel
+from armtool.calib.targets.boards import BoardSpec, BoardView, board_points, find_board
 from armtool.errors import ArmtoolError
 
 log = logging.getLogger(__name__)

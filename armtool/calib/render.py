@@ -24,13 +24,13 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.apriltag import tag_bits
-from armtool.calib.boards import board_size_m
 from armtool.calib.model.camera import Array, CameraModel
+from armtool.calib.targets.apriltag import tag_bits
+from armtool.calib.targets.boards import board_size_m
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
-    from armtool.calib.boards import BoardSpec
+    from armtool.calib.targets.boards import BoardSpec
 
 _MIN_DEPTH_M = 1e-3
 _EDGE_SAMPLES = 64  # points per plate edge for the in-view test and the bounding box
@@ -265,7 +265,7 @@ class BoardTexture:
     def __init__(self, spec: BoardSpec, margin_m: float, black: float, white: float, background: float) -> None:
         import cv2
 
-        from armtool.calib.boards import BoardKind, cv_board
+        from armtool.calib.targets.boards import BoardKind, cv_board
 
         squares = spec.kind is not BoardKind.APRILGRID  # chessboard and ChArUco: alternate squares
         self.pitch = spec.square_m if squares else spec.square_m + spec.marker_m

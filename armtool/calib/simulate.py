@@ -28,7 +28,7 @@ from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
-    from armtool.calib.boards import BoardSpec
+    from armtool.calib.targets.boards import BoardSpec
 
 QUALITY: dict[Quality, dict[str, tuple[float, float]]] = {  # research/calibration.md §2 image conditions
     Quality.GOOD: {"blur": (0.5, 0.7), "noise": (1.5 / 255, 1.5 / 255), "black": (0.06, 0.10), "white": (0.85, 0.9)},
@@ -249,9 +249,9 @@ def simulate(
     import cv2
     import yaml
 
-    from armtool.calib.apriltag import family_dictionary
     from armtool.calib.model.camera import save_intrinsics
     from armtool.calib.render import render_board, render_tag
+    from armtool.calib.targets.apriltag import family_dictionary
     from armtool.calib.urdf_out import (
         check_reproduces,
         corrected_text,

@@ -14,12 +14,12 @@ from armtool.console import stderr
 
 if TYPE_CHECKING:  # each command imports only what it uses
     from armtool.calib.bag_import import ImportResult
-    from armtool.calib.boards import BoardSpec
     from armtool.calib.convention_check import ConventionCheck
     from armtool.calib.dataset import Dataset
     from armtool.calib.fit import CalibrationResult
     from armtool.calib.intrinsics import IntrinsicsResult
     from armtool.calib.problems import Block
+    from armtool.calib.targets.boards import BoardSpec
     from armtool.calib.verdict import Verdict
 
 

@@ -14,10 +14,10 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.boards import BoardSpec
 from armtool.calib.model.camera import Array, CameraModel
 from armtool.calib.render import _rotvec, board_in_view, board_outline_m
 from armtool.calib.render import render_board as _render
+from armtool.calib.targets.boards import BoardSpec
 
 
 def render_board(

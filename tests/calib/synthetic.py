@@ -11,7 +11,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armtool.calib.apriltag import tag_object_points
 from armtool.calib.choices import Setup
 from armtool.calib.conventions import PoseFrame
 from armtool.calib.dataset import Sample
@@ -22,6 +21,7 @@ from armtool.calib.model.camera import CameraModel
 from armtool.calib.model.se3 import Array
 from armtool.calib.observations import Observation
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
+from armtool.calib.targets.apriltag import tag_object_points
 from armtool.calib.truth import Truth
 from armtool.model.chain import Chain
 

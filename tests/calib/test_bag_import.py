@@ -254,7 +254,7 @@ def test_an_interrupted_ros1_recording_names_rosbag_reindex(tmp_path: Path) -> N
 
 
 def test_a_board_target_goes_into_the_manifest(tmp_path: Path) -> None:
-    from armtool.calib.boards import parse_board
+    from armtool.calib.targets.boards import parse_board
     from armtool.cli.calibrate_extra import _import_target
 
     write_bag(tmp_path / "cal.bag", "ros1", simulate_motion(n_stops=2), camera_info=True)

@@ -11,7 +11,6 @@ import pytest
 import yaml
 from typer.testing import CliRunner
 
-from armtool.calib.boards import board_points, parse_board
 from armtool.calib.choices import Setup
 from armtool.calib.dataset import Sample
 from armtool.calib.fit import FitOptions, calibrate
@@ -19,6 +18,7 @@ from armtool.calib.measurements import CornerMeasurements
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.observations import Observation
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
+from armtool.calib.targets.boards import board_points, parse_board
 from armtool.calib.truth import Truth, score
 from armtool.cli import app
 from armtool.model.chain import Chain

@@ -8,10 +8,10 @@ import cv2
 import numpy as np
 import pytest
 
-from armtool.calib.boards import BoardKind, BoardView, board_points, find_board, parse_board
 from armtool.calib.choices import DistortionModel
 from armtool.calib.intrinsics import calibrate_views, find_boards, write_intrinsics
 from armtool.calib.model.camera import CameraModel, load_intrinsics
+from armtool.calib.targets.boards import BoardKind, BoardView, board_points, find_board, parse_board
 from armtool.errors import ArmtoolError
 from tests.calib.board_images import APRILGRID, CHARUCO, IMAGES, TRUE_CAMERA, board_images
 from tests.calib.render_board import render_board, spread_board_poses

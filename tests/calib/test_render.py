@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armtool.calib.apriltag import tag_bits, tag_object_points
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.render import random_view_pose, render_tag, tag_in_view
+from armtool.calib.targets.apriltag import tag_bits, tag_object_points
 from armtool.errors import ArmtoolError
 
 K = np.array([[910.0, 0.0, 641.3], [0.0, 910.0, 358.7], [0.0, 0.0, 1.0]])

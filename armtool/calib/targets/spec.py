@@ -19,8 +19,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from armtool.calib.boards import BoardKind, BoardSpec, board_points, board_size_m, parse_board
 from armtool.calib.model.camera import Array
+from armtool.calib.targets.boards import BoardKind, BoardSpec, board_points, board_size_m, parse_board
 from armtool.errors import ArmtoolError
 
 
@@ -106,7 +106,7 @@ class Target:
         """(P, 3) points in the target frame; an observation's corners are (P, 2) in this order."""
         if self.board is not None:
             return board_points(self.board)
-        from armtool.calib.apriltag import tag_object_points
+        from armtool.calib.targets.apriltag import tag_object_points
 
         return tag_object_points(self.size_m)
 

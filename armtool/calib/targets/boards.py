@@ -17,7 +17,7 @@ A board is given on the command line (`calibrate camera --board`, `simulate --ta
   `cornerSubPix`, which blur does not move.
 * `aprilgrid:COLSxROWS:TAG:GAP[:FAMILY]`: a grid of AprilTags (OpenCV's `aruco.GridBoard`) of
   edge TAG metres (the black square) with GAP metres between tags, ids 0, 1, 2, … row by row
-  from the top-left; FAMILY defaults to tag36h11. Its tag corners come from armtool's AprilTag detector (`armtool.calib.apriltag`: edge-fitted
+  from the top-left; FAMILY defaults to tag36h11. Its tag corners come from armtool's AprilTag detector (`armtool.calib.targets.apriltag`: edge-fitted
   corners, the half-pixel convention corrected).
 
 Board frame (OpenCV's): origin at the top-left corner of the board's pattern, x right, y down
@@ -81,7 +81,7 @@ class BoardSpec:
     @property
     def family(self) -> str:
         """The AprilTag family of a grid board (tag36h11, ...)."""
-        from armtool.calib.apriltag import FAMILIES
+        from armtool.calib.targets.apriltag import FAMILIES
 
         return next((f for f, d in FAMILIES.items() if d == self.dictionary), self.dictionary)
 
@@ -105,7 +105,7 @@ def parse_board(text: str) -> BoardSpec:
     `aprilgrid:COLSxROWS:TAG:GAP[:FAMILY]`."""
     import cv2
 
-    from armtool.calib.apriltag import FAMILIES
+    from armtool.calib.targets.apriltag import FAMILIES
 
     parts = [p.strip() for p in str(text).split(":")]
     try:
@@ -260,7 +260,7 @@ def _charuco_corners(gray: NDArray[np.uint8], spec: BoardSpec) -> tuple[NDArray[
 
 def _grid_corners(gray: NDArray[np.uint8], spec: BoardSpec) -> tuple[NDArray[np.int64], Array]:
     """Every tag of the grid: found by cv2.aruco, corners refined by armtool's AprilTag refinement."""
-    from armtool.calib.apriltag import _detect, _refine
+    from armtool.calib.targets.apriltag import _detect, _refine
 
     family = spec.family
     rough_corners, tag_ids = _detect(gray, family, "none")

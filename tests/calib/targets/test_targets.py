@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from armtool.calib.boards import board_points, parse_board
 from armtool.calib.dataset import load_dataset
 from armtool.calib.model.camera import CameraModel
+from armtool.calib.targets.boards import board_points, parse_board
 from armtool.calib.targets.detect import detect_corners
 from armtool.calib.targets.pose import planar_pose
 from armtool.calib.targets.spec import Target
