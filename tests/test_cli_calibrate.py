@@ -288,9 +288,9 @@ def test_eye_in_hand_simulate_and_fit(tmp_path: Path) -> None:
 
 def test_fit_from_pre_detected_corners(dataset: Path, tmp_path: Path) -> None:
     """corners.csv from another detector feeds the same solver; the images are not needed."""
-    from armtool.calib.dataset import load_dataset
+    from armtool.calib.inputs.dataset import load_dataset
+    from armtool.calib.inputs.observations import observe
     from armtool.calib.model.camera import load_intrinsics
-    from armtool.calib.observations import observe
 
     ds = load_dataset(dataset)
     observations = observe(ds, load_intrinsics(ds.intrinsics), workers=1)

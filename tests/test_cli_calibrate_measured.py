@@ -147,7 +147,7 @@ def test_a_validation_dataset_in_its_own_conventions(tmp_path: Path) -> None:
     m = make_measured(CHAIN, "pose", n=40, noise_mm=0.1, noise_deg=0.02, seed=15)
     ds = write_dataset(tmp_path / "ds", m, rotation="quaternion", units="mm")
     other = make_measured(CHAIN, "pose", n=12, noise_mm=0.1, noise_deg=0.02, seed=15)  # the same robot and placements
-    from armtool.calib.conventions import PoseFrame
+    from armtool.calib.inputs.conventions import PoseFrame
 
     vds = write_dataset(tmp_path / "vds", other, rotation="matrix", units="m", frame=PoseFrame.TARGET_IN_SENSOR)
     args = [

@@ -18,9 +18,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from armtool.calib.choices import Setup
-from armtool.calib.conventions import PointConvention, PoseConvention
-from armtool.calib.dataset import Sample
-from armtool.calib.measured import MeasurementSpec
+from armtool.calib.inputs.conventions import PointConvention, PoseConvention
+from armtool.calib.inputs.dataset import Sample
+from armtool.calib.inputs.measured import MeasurementSpec
 from armtool.calib.measurements import dataset_measurements
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.se3 import Array

@@ -46,9 +46,9 @@ from armtool.calib.crossval import (
     ladder,
     pose_groups,
 )
-from armtool.calib.dataset import Sample
 from armtool.calib.holdout import holdout_ids
 from armtool.calib.identify import Identifiability, analyse
+from armtool.calib.inputs.dataset import Sample
 from armtool.calib.measurements import Measurements
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.params import Family, ParamKind

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from armtool.calib.dataset import Dataset, Sample
+from armtool.calib.inputs.dataset import Dataset, Sample
 from armtool.calib.model.camera import CameraModel
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain

@@ -102,7 +102,7 @@ def _finite(x: float) -> float | None:
 def image_paths(inputs: Sequence[Path]) -> list[Path]:
     """Image files from the command line: files as given, directories expanded (sorted)."""
     out: list[Path] = []
-    from armtool.calib.files import unreadable_reason
+    from armtool.calib.inputs.files import unreadable_reason
 
     for p in inputs:
         if p.is_dir():
@@ -135,7 +135,7 @@ def find_boards(
 ) -> tuple[list[tuple[str, BoardView]], tuple[int, int]]:
     """The board's corners in every image, and the common image size (width, height)."""
 
-    from armtool.calib.files import read_gray
+    from armtool.calib.inputs.files import read_gray
 
     views: list[tuple[str, BoardView]] = []
     size: tuple[int, int] | None = None

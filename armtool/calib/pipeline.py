@@ -16,14 +16,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armtool.calib.dataset import Dataset, Sample, require_ok
 from armtool.calib.fit import CalibrationResult, FitOptions, calibrate
 from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
-from armtool.calib.inputs import Inputs, input_files, load_inputs
+from armtool.calib.inputs.dataset import Dataset, Sample, require_ok
+from armtool.calib.inputs.load import Inputs, input_files, load_inputs
+from armtool.calib.inputs.observations import Observation
 from armtool.calib.measurements import CornerMeasurements, Measurements
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel
-from armtool.calib.observations import Observation
 from armtool.calib.ur_kinematics import UrTarget, ur_target
 from armtool.calib.verdict import Verdict
 from armtool.errors import ArmtoolError

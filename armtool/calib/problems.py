@@ -25,7 +25,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.conventions import PoseFrame
+from armtool.calib.inputs.conventions import PoseFrame
 from armtool.calib.model import se3
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.calib.choices import Quality, Setup
-from armtool.calib.dataset import manifest_document
+from armtool.calib.inputs.dataset import manifest_document
 from armtool.calib.model import se3
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel

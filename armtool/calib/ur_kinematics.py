@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
-    from armtool.calib.dataset import Dataset
+    from armtool.calib.inputs.dataset import Dataset
     from armtool.model.chain import Chain
 
 # yaml key -> joint name (after an optional tf_prefix), in chain order

@@ -26,9 +26,9 @@ DatasetConfig = Annotated[
 ]
 
 if TYPE_CHECKING:
-    from armtool.calib.dataset import Dataset
+    from armtool.calib.inputs.dataset import Dataset
+    from armtool.calib.inputs.observations import Observation
     from armtool.calib.model.camera import CameraModel
-    from armtool.calib.observations import Observation
     from armtool.model.chain import Chain
 
 HELP = "Fit a real arm's kinematic errors from images (an AprilTag or a board) or measured poses and points; write a corrected URDF."
@@ -43,7 +43,7 @@ app = typer.Typer(
 
 def _detect(ds: Dataset, camera: CameraModel) -> dict[str, Observation]:
     """Tag corners of every sample, with a progress bar."""
-    from armtool.calib.observations import observe
+    from armtool.calib.inputs.observations import observe
     from armtool.console import progress_bar
 
     with progress_bar() as bar:
@@ -63,7 +63,7 @@ def check(
     require("calib")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
-    from armtool.calib.inputs import detection_problems, load_inputs
+    from armtool.calib.inputs.load import detection_problems, load_inputs
     from armtool.cli.options import RobotOptions
     from armtool.console import stderr
     from armtool.output.calibrate import print_check_report
@@ -85,7 +85,7 @@ def _check_conventions(ds: Dataset, chain: Chain) -> str | None:
     naming the dataset.yaml lines to change), or how well the declared one fits."""
     if ds.measurement is None or ds.errors or len(ds.measured_rows) < 3:
         return None  # before the imports: the pipeline brings the fit and SciPy's optimizer
-    from armtool.calib.dataset import Problem
+    from armtool.calib.inputs.dataset import Problem
     from armtool.calib.pipeline import checked_conventions
     from armtool.errors import ArmtoolError
 

@@ -159,8 +159,8 @@ def import_bag(
 ) -> None:
     """Turn a ROS bag (images + joint states) into a calibration dataset: one sample per settled pose."""
     require("calib")  # exit 2 with the install command when the extra is missing
-    from armtool.calib.bag_import import ImportOptions
-    from armtool.calib.bag_import import import_bag as run
+    from armtool.calib.inputs.bag_import import ImportOptions
+    from armtool.calib.inputs.bag_import import import_bag as run
     from armtool.console import stderr, write_stdout
     from armtool.output.calibrate import print_bag_report
 

@@ -13,10 +13,10 @@ from rich.table import Table
 from armtool.console import stderr
 
 if TYPE_CHECKING:  # each command imports only what it uses
-    from armtool.calib.bag_import import ImportResult
     from armtool.calib.convention_check import ConventionCheck
-    from armtool.calib.dataset import Dataset
     from armtool.calib.fit import CalibrationResult
+    from armtool.calib.inputs.bag_import import ImportResult
+    from armtool.calib.inputs.dataset import Dataset
     from armtool.calib.intrinsics import IntrinsicsResult
     from armtool.calib.problems import Block
     from armtool.calib.targets.boards import BoardSpec

@@ -12,14 +12,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from armtool.calib.choices import Setup
-from armtool.calib.conventions import PoseFrame
-from armtool.calib.dataset import Sample
+from armtool.calib.inputs.conventions import PoseFrame
+from armtool.calib.inputs.dataset import Sample
+from armtool.calib.inputs.observations import Observation
 from armtool.calib.measurements import CornerMeasurements, Measurements, PointMeasurements, PoseMeasurements
 from armtool.calib.model import se3
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.model.se3 import Array
-from armtool.calib.observations import Observation
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
 from armtool.calib.targets.apriltag import tag_object_points
 from armtool.calib.truth import Truth

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from armtool.calib.convention_check import check_conventions
-from armtool.calib.inputs import load_inputs
+from armtool.calib.inputs.load import load_inputs
 from armtool.model.chain import Chain
 from tests.calib.measured_files import write_dataset
 from tests.calib.synthetic import make_measured

@@ -9,8 +9,8 @@ import pytest
 
 from armtool.calib.choices import Setup
 from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.inputs.observations import Observation
 from armtool.calib.model.params import Family
-from armtool.calib.observations import Observation
 from armtool.calib.truth import score
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain

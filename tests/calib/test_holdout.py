@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armtool.calib.dataset import Sample
 from armtool.calib.holdout import VALIDATION_PREFIX, holdout_ids, split_holdout, validation_samples
+from armtool.calib.inputs.dataset import Sample
+from armtool.calib.inputs.observations import Observation
 from armtool.calib.measurements import CornerMeasurements
 from armtool.calib.model.camera import CameraModel
-from armtool.calib.observations import Observation
 from armtool.errors import ArmtoolError
 
 CORNERS = np.zeros((4, 2))

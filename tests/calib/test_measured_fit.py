@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from armtool.calib.choices import Setup
-from armtool.calib.conventions import PoseFrame
 from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.inputs.conventions import PoseFrame
 from armtool.calib.model import se3
 from armtool.calib.report import calibration_document
 from armtool.calib.truth import score

@@ -32,11 +32,11 @@ def test_every_bad_sample_is_named_on_rendered_images(tmp_path) -> None:  # type
     the earlier rule (max(2 px, 5 × median)) missed a wrist reading error here."""
     import numpy as np
 
-    from armtool.calib.dataset import load_dataset
+    from armtool.calib.inputs.dataset import load_dataset
+    from armtool.calib.inputs.observations import observe
     from armtool.calib.measurements import CornerMeasurements
     from armtool.calib.model.calib_model import CalibModel
     from armtool.calib.model.camera import load_intrinsics
-    from armtool.calib.observations import observe
     from armtool.calib.simulate import SimulationSpec, simulate
     from armtool.calib.targets.apriltag import tag_object_points
     from armtool.calib.truth import load_truth

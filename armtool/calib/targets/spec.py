@@ -25,7 +25,7 @@ from armtool.errors import ArmtoolError
 
 
 class DeclaresTarget(Protocol):
-    """What a dataset (armtool.calib.dataset.Dataset) says of its target."""
+    """What a dataset (armtool.calib.inputs.dataset.Dataset) says of its target."""
 
     family: str
     tag_id: int

@@ -8,14 +8,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from armtool.calib.dataset import load_dataset
+from armtool.calib.inputs.dataset import load_dataset
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.targets.boards import board_points, parse_board
 from armtool.calib.targets.detect import detect_corners
 from armtool.calib.targets.pose import planar_pose
 from armtool.calib.targets.spec import Target
+from tests.calib.inputs.test_dataset import JOINTS, _dataset
 from tests.calib.render_board import render_board
-from tests.calib.test_dataset import JOINTS, _dataset
 
 CAM = CameraModel(np.array([[910.0, 0, 641.3], [0, 910.0, 358.7], [0, 0, 1]]), np.zeros(5), 1280, 720)
 CHARUCO = "charuco:8x6:0.04:0.03:4X4_50"
@@ -138,7 +138,7 @@ def test_the_target_document_reads_back_and_the_face_frame_faces_out() -> None:
 
 
 def test_an_unusable_board_target_rejects_every_sample_instead_of_looking_for_a_tag(tmp_path: Path) -> None:
-    from armtool.calib.observations import observe
+    from armtool.calib.inputs.observations import observe
 
     ds = load_dataset(_with_target(tmp_path, "target: {board: 'chessboard:8x6:0.025'}"), JOINTS)
     assert not Target.of(ds).usable

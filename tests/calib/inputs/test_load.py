@@ -6,9 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
-from armtool.calib.inputs import detection_problems, input_files, load_inputs
-from armtool.calib.observations import Observation
-from tests.calib.test_dataset import JOINTS, _dataset
+from armtool.calib.inputs.load import detection_problems, input_files, load_inputs
+from armtool.calib.inputs.observations import Observation
+from tests.calib.inputs.test_dataset import JOINTS, _dataset
 
 
 def test_a_good_dataset_loads_with_its_chain_and_camera(tmp_path: Path) -> None:

@@ -13,7 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from armtool.calib.dataset import Dataset, Sample
+from armtool.calib.inputs.dataset import Dataset, Sample
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.model.se3 import Array
 from armtool.calib.targets.spec import Target
@@ -30,7 +30,7 @@ class Observation:
 
 
 def _detect_one(args: tuple[str, str, Target, CameraModel]) -> tuple[str, Array | None, str]:
-    from armtool.calib.files import read_gray
+    from armtool.calib.inputs.files import read_gray
     from armtool.calib.targets.detect import detect_corners
 
     sample_id, image_path, target, camera = args
@@ -58,7 +58,7 @@ def observe(
     workers: int | None = None,
 ) -> dict[str, Observation]:
     """Corners for every sample: corners.csv when the dataset has one, else detection in the images."""
-    from armtool.calib.files import unreadable_reason
+    from armtool.calib.inputs.files import unreadable_reason
 
     target = Target.of(ds)
     samples = ds.samples if samples is None else samples

@@ -38,7 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.calib.choices import Setup, StillBy
-from armtool.calib.dataset import manifest_document
+from armtool.calib.inputs.dataset import manifest_document
 from armtool.calib.model.camera import Array
 from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
@@ -278,7 +278,7 @@ def decode_image(msg: Any, msgtype: str) -> tuple[bytes, str]:
     if msgtype.endswith("CompressedImage"):
         data = bytes(msg.data)
         ext = ".png" if data[:8] == b"\x89PNG\r\n\x1a\n" else ".jpg" if data[:2] == b"\xff\xd8" else ""
-        from armtool.calib.files import check_pixels, header_size
+        from armtool.calib.inputs.files import check_pixels, header_size
 
         size = header_size(data[:65536])
         if size is not None:

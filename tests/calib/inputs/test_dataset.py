@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from armtool.calib.dataset import load_dataset, require_ok
+from armtool.calib.inputs.dataset import load_dataset, require_ok
 from armtool.errors import ArmtoolError
 from tests.calib.conftest import CLEAN_ARM
 

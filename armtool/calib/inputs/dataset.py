@@ -20,13 +20,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armtool.calib.choices import Setup, Severity
-from armtool.calib.files import unreadable_reason
+from armtool.calib.inputs.files import unreadable_reason
 from armtool.calib.limits import MAX_CSV_FIELD, MAX_FILE_BYTES, MAX_SAMPLES, MAX_TAG_ID, TAG_SIZE_M
 from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
-    from armtool.calib.measured import MeasurementSpec
+    from armtool.calib.inputs.measured import MeasurementSpec
     from armtool.calib.targets.boards import BoardSpec
     from armtool.calib.targets.spec import Target
     from armtool.model.chain import Chain
@@ -275,7 +275,7 @@ def _measurement(doc: dict[str, Any], root: Path, where: str, problems: list[Pro
     """`observations:` (measured poses or points), or None for a dataset of images or corners."""
     if "observations" not in doc:
         return None
-    from armtool.calib.measured import parse_spec
+    from armtool.calib.inputs.measured import parse_spec
 
     spec, found = parse_spec(doc["observations"], root)
     problems += [Problem(where, p.what, p.hint) for p in found]
@@ -465,7 +465,7 @@ def _read_measurements(ds: Dataset, spec: MeasurementSpec) -> None:
     and a warning for each sample that has no row."""
     import csv as csv_module
 
-    from armtool.calib.measured import read_rows
+    from armtool.calib.inputs.measured import read_rows
 
     where = _rel(ds.root, spec.file)
     text = _text(spec.file, where, ds.problems)

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import yaml
 
-from armtool.calib.conventions import PoseFrame
-from armtool.calib.inputs import load_inputs
+from armtool.calib.inputs.conventions import PoseFrame
+from armtool.calib.inputs.load import load_inputs
 from armtool.calib.measurements import dataset_measurements
 from armtool.model.chain import Chain
 from tests.calib.measured_files import write_dataset

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from armtool.calib.conventions import (
+from armtool.calib.inputs.conventions import (
     RPY_ORDERS,
     AngleUnit,
     LengthUnit,

@@ -11,10 +11,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import NamedTuple
 
-from armtool.calib.dataset import Dataset, Problem, load_dataset, read_samples
-from armtool.calib.files import unreadable_reason
+from armtool.calib.inputs.dataset import Dataset, Problem, load_dataset, read_samples
+from armtool.calib.inputs.files import unreadable_reason
+from armtool.calib.inputs.observations import Observation
 from armtool.calib.model.camera import CameraModel, load_intrinsics
-from armtool.calib.observations import Observation
 from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain, load_chain

@@ -12,13 +12,13 @@ import pytest
 
 pytest.importorskip("rosbags", reason="the calib extra (rosbags) is not installed")
 
-from armtool.calib.bag_import import ImportOptions, import_bag, raw_image_array, settled_windows
-from armtool.calib.dataset import load_dataset
+from armtool.calib.inputs.bag_import import ImportOptions, import_bag, raw_image_array, settled_windows
+from armtool.calib.inputs.dataset import load_dataset
 from armtool.calib.targets.spec import Target
 from armtool.errors import ArmtoolError
 from tests.calib.bag_builder import JOINTS, TICK, frame_index, simulate_motion, write_bag
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 CLEAN_ARM = ROOT / "fixtures" / "robots" / "clean_arm" / "urdf" / "clean_arm.urdf"
 
 

@@ -28,7 +28,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from armtool.calib.conventions import (
+from armtool.calib.inputs.conventions import (
     DEFAULT_POSITION_COLUMNS,
     ROTATION_SIZE,
     RPY_ORDERS,
