@@ -195,11 +195,11 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     from armtool.calib.urdf_out import (
         check_reproduces,
         corrected_text,
-        expanded_text,
         joint_corrections,
         relocate_meshes,
     )
     from armtool.calib.verdict import judge
+    from armtool.model.load import urdf_text
 
     request, ds = job.request, job.dataset
     verdict = judge(
@@ -211,7 +211,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         result.motion_deg,
         result.blocks,
     )
-    text = expanded_text(ds.urdf, ds.xacro_args, ds.package_paths)
+    text = urdf_text(ds.urdf, ds.xacro_args, ds.package_paths)
     corrected = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)
     new_urdf = relocate_meshes(corrected, ds.urdf.parent, request.out)
     check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)

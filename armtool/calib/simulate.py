@@ -255,12 +255,11 @@ def simulate(
     from armtool.calib.urdf_out import (
         check_reproduces,
         corrected_text,
-        expanded_text,
         joint_corrections,
         relocate_meshes,
     )
     from armtool.model.chain import chain_from_xml
-    from armtool.model.load import load_robot_xml
+    from armtool.model.load import load_robot_xml, urdf_text
 
     if spec.board is None:
         family_dictionary(spec.family)
@@ -290,7 +289,7 @@ def simulate(
     out.mkdir(parents=True, exist_ok=True)
     (out / "images").mkdir()
     (out / "truth").mkdir()
-    text = relocate_meshes(expanded_text(urdf, spec.xacro_args, spec.package_paths), urdf.parent, out)
+    text = relocate_meshes(urdf_text(urdf, spec.xacro_args, spec.package_paths), urdf.parent, out)
     _write_text(out / "robot.urdf", text)
     save_intrinsics(camera, out / "camera.yaml")
     q_cfg = QUALITY[spec.quality]

@@ -9,11 +9,9 @@ Joint gains have no place in a URDF: they are reported in calibration.yaml for t
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
-from lxml import etree
 
 from armtool.calib.model import se3
 from armtool.calib.model.calib_model import CalibModel
@@ -124,14 +122,3 @@ def check_reproduces(text: str, model: CalibModel, x: Array, source: str) -> Non
             source,
             "nothing was written; please report this with the dataset",
         )
-
-
-def expanded_text(urdf: Path, xacro_args: Mapping[str, str] | None = None, package_paths: Sequence[Path] = ()) -> str:
-    """The URDF text to edit: the file itself, or a xacro's expansion."""
-    if urdf.name.lower().endswith(".xacro"):
-        from armtool.model.load import load_robot_xml
-
-        root = load_robot_xml(urdf, xacro_args, package_paths)
-        expanded: str = etree.tostring(root, encoding="unicode", pretty_print=True)
-        return '<?xml version="1.0"?>\n' + expanded
-    return urdf.read_bytes().decode("utf-8")

@@ -74,10 +74,10 @@ def test_everything_on_one_line(clean_chain: Chain) -> None:
 
 
 def test_xacro_input_and_tricky_text() -> None:
-    from armtool.calib.urdf_out import expanded_text
+    from armtool.model.load import urdf_text
 
     xacro = ROOT / "fixtures" / "robots" / "xacro_arm" / "urdf" / "xacro_arm.urdf.xacro"
-    text = expanded_text(xacro)
+    text = urdf_text(xacro)
     # Comments, CDATA and a transmission's <joint> must not confuse the scanner.
     text = text.replace("<robot", "<!-- <joint name='fake'><origin xyz='9 9 9'/></joint> -->\n<robot", 1)
     root = parse_xml(text.encode())

@@ -478,9 +478,8 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
     import yaml
 
     from armtool.calib.targets.apriltag import family_dictionary
-    from armtool.calib.urdf_out import expanded_text
     from armtool.model.chain import chain_from_xml
-    from armtool.model.load import load_robot_xml
+    from armtool.model.load import load_robot_xml, urdf_text
 
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise ArmtoolError("the output exists and is not an empty directory", str(out), "pass a new directory name")
@@ -614,7 +613,7 @@ def import_bag(bag: Path, urdf: Path, out: Path, options: ImportOptions) -> Impo
         for k, (i, _) in chosen.items():
             data, ext = files[k]
             (tmp / "images" / f"{i:04d}{ext}").write_bytes(data)
-        (tmp / "robot.urdf").write_text(expanded_text(urdf, xacro_args, options.package_paths), encoding="utf-8")
+        (tmp / "robot.urdf").write_text(urdf_text(urdf, xacro_args, options.package_paths), encoding="utf-8")
         (tmp / "samples.csv").write_text("\n".join(rows) + "\n", encoding="utf-8")
         (tmp / "dataset.yaml").write_text(yaml.safe_dump(manifest, sort_keys=False), encoding="utf-8")
         if intrinsics_camera is not None:
