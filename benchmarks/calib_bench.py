@@ -56,11 +56,11 @@ def run_case(
     robot: str, seed: int, samples: int, bad: int, workdir: Path, quality: str = "typical", setup: str = "eye_to_hand"
 ) -> dict[str, object]:
     from armtool.calib.choices import Quality, Setup
-    from armtool.calib.fit import FitOptions, calibrate
+    from armtool.calib.fit.calibration import FitOptions, calibrate
+    from armtool.calib.fit.measurements import CornerMeasurements
     from armtool.calib.inputs.dataset import require_ok
     from armtool.calib.inputs.load import load_inputs
     from armtool.calib.inputs.observations import observe
-    from armtool.calib.measurements import CornerMeasurements
     from armtool.calib.model.calib_model import CalibModel
     from armtool.calib.simulate import SimulationSpec, simulate
     from armtool.calib.targets.apriltag import tag_object_points

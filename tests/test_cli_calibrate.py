@@ -223,7 +223,7 @@ def test_validation_dataset_of_another_setup_is_refused(dataset: Path, tmp_path:
     fit = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--validation", str(other))
     assert fit.returncode == 2 and "setup (eye_in_hand vs eye_to_hand)" in fit.stderr
     # ... refused while the inputs are checked, before any tag detection on the main dataset
-    from armtool.calib.fit import FitOptions
+    from armtool.calib.fit.calibration import FitOptions
     from armtool.calib.model.params import parse_families
     from armtool.calib.pipeline import FitRequest, prepare_fit
     from armtool.errors import ArmtoolError

@@ -16,21 +16,21 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armtool.calib.fit import CalibrationResult, FitOptions, calibrate
-from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
+from armtool.calib.fit.calibration import CalibrationResult, FitOptions, calibrate
+from armtool.calib.fit.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
+from armtool.calib.fit.measurements import CornerMeasurements, Measurements
+from armtool.calib.fit.verdict import Verdict
 from armtool.calib.inputs.dataset import Dataset, Sample, require_ok
 from armtool.calib.inputs.load import Inputs, input_files, load_inputs
 from armtool.calib.inputs.observations import Observation
-from armtool.calib.measurements import CornerMeasurements, Measurements
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.ur_kinematics import UrTarget, ur_target
-from armtool.calib.verdict import Verdict
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 
 if TYPE_CHECKING:
-    from armtool.calib.convention_check import ConventionCheck
+    from armtool.calib.fit.convention_check import ConventionCheck
 
 Detect = Callable[[Dataset, CameraModel], dict[str, Observation]]  # tag corners of every sample
 
@@ -106,10 +106,10 @@ def prepare_fit(request: FitRequest) -> FitJob:
 def checked_conventions(ds: Dataset, chain: Chain, refuse: bool) -> ConventionCheck:
     """How the nominal robot explains the measurements as declared and in every other reading;
     with `refuse`, a reading that fits far better is an error that names the dataset.yaml lines to change."""
-    from armtool.calib.convention_check import check_conventions
+    from armtool.calib.fit.convention_check import check_conventions
 
     assert ds.measurement is not None
-    from armtool.calib.fit import one_blas_thread
+    from armtool.calib.fit.calibration import one_blas_thread
 
     with one_blas_thread():
         found = check_conventions(chain, ds.setup, ds.measurement, ds.measured_rows, ds.samples)
@@ -159,7 +159,7 @@ def observe_samples(job: FitJob, detect: Detect) -> Observed:
 def _measurements(ds: Dataset, camera: CameraModel | None, detect: Detect) -> Measurements:
     """A dataset's measured poses or points, or the target corners detected in its images."""
     if ds.measurement is not None:
-        from armtool.calib.measurements import dataset_measurements
+        from armtool.calib.fit.measurements import dataset_measurements
 
         return dataset_measurements(ds.measurement, ds.measured_rows)
     assert camera is not None  # prepare_fit refused an image dataset without intrinsics
@@ -190,6 +190,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     plot and UR kinematics file when asked for; nothing is written yet."""
     import yaml
 
+    from armtool.calib.fit.verdict import judge
     from armtool.calib.report import calibration_document, residual_plot_png
     from armtool.calib.truth import has_truth, truth_scores
     from armtool.calib.urdf_out import (
@@ -198,7 +199,6 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         joint_corrections,
         relocate_meshes,
     )
-    from armtool.calib.verdict import judge
     from armtool.model.load import urdf_text
 
     request, ds = job.request, job.dataset

@@ -8,14 +8,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armtool.calib.fit import CalibrationResult, SampleResidual
+from armtool.calib.fit.calibration import CalibrationResult, SampleResidual
+from armtool.calib.fit.problems import POSITION, Block
 from armtool.calib.model import se3
 from armtool.calib.model.se3 import Array
-from armtool.calib.problems import POSITION, Block
 
 if TYPE_CHECKING:
-    from armtool.calib.convention_check import ConventionCheck
-    from armtool.calib.verdict import Verdict
+    from armtool.calib.fit.convention_check import ConventionCheck
+    from armtool.calib.fit.verdict import Verdict
 
 SCHEMA = "armtool-calibration/1"
 

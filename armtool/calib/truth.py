@@ -22,7 +22,7 @@ from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
 if TYPE_CHECKING:
-    from armtool.calib.fit import CalibrationResult
+    from armtool.calib.fit.calibration import CalibrationResult
 
 
 @dataclass(frozen=True)

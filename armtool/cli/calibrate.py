@@ -170,7 +170,7 @@ def fit(
     require("calib")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
-    from armtool.calib.fit import FitOptions
+    from armtool.calib.fit.calibration import FitOptions
     from armtool.calib.model.params import parse_families
     from armtool.calib.pipeline import FitRequest, fit_files, observe_samples, prepare_fit, run_fit, write_files
     from armtool.calib.report import json_summary

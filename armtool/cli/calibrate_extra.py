@@ -53,7 +53,7 @@ def camera(
 ) -> None:
     """Fit camera intrinsics and lens distortion from images of a chessboard, a ChArUco board or an AprilTag grid."""
     require("calib")  # exit 2 with the install command when the extra is missing
-    from armtool.calib.intrinsics import calibrate_images, image_paths, write_intrinsics
+    from armtool.calib.fit.intrinsics import calibrate_images, image_paths, write_intrinsics
     from armtool.calib.targets.boards import parse_board
     from armtool.console import progress_bar, write_stdout
     from armtool.fileio import check_output_paths

@@ -13,14 +13,14 @@ from rich.table import Table
 from armtool.console import stderr
 
 if TYPE_CHECKING:  # each command imports only what it uses
-    from armtool.calib.convention_check import ConventionCheck
-    from armtool.calib.fit import CalibrationResult
+    from armtool.calib.fit.calibration import CalibrationResult
+    from armtool.calib.fit.convention_check import ConventionCheck
+    from armtool.calib.fit.intrinsics import IntrinsicsResult
+    from armtool.calib.fit.problems import Block
+    from armtool.calib.fit.verdict import Verdict
     from armtool.calib.inputs.bag_import import ImportResult
     from armtool.calib.inputs.dataset import Dataset
-    from armtool.calib.intrinsics import IntrinsicsResult
-    from armtool.calib.problems import Block
     from armtool.calib.targets.boards import BoardSpec
-    from armtool.calib.verdict import Verdict
 
 
 def print_check_report(ds: Dataset) -> None:
@@ -187,7 +187,7 @@ def _nested_text(result: CalibrationResult) -> str:
             f"{b.name} {n.rms[b.name]:.3f}{u} RMS (max {n.maximum[b.name]:.3f}{u}; "
             f"{n.inlier_rms[b.name]:.3f}{u} without {outliers}) against {n.hand_eye_rms[b.name]:.3f}{u} hand-eye only"
         )
-    from armtool.calib.crossval import describe_choices
+    from armtool.calib.fit.crossval import describe_choices
 
     return (
         f"whole procedure on held-out poses (nested {cv.folds}-fold, choosing {describe_choices(n.chosen)}): "
@@ -217,7 +217,7 @@ def _frames_text(result: CalibrationResult) -> str:
 
 
 def _zero_offset_table(result: CalibrationResult) -> Table:
-    """Each zero offset and whether it may be used to re-zero the encoder (see calib/zero_offsets.py)."""
+    """Each zero offset and whether it may be used to re-zero the encoder (see calib/fit/zero_offsets.py)."""
     table = Table(title="zero offsets (encoder zero corrections, already in calibrated.urdf)", title_justify="left")
     table.add_column("joint")
     table.add_column("offset °", justify="right")

@@ -10,8 +10,8 @@ from typing import Any
 import numpy as np
 import yaml
 
+from armtool.calib.fit.measurements import PointMeasurements, PoseMeasurements
 from armtool.calib.inputs.conventions import PoseFrame
-from armtool.calib.measurements import PointMeasurements, PoseMeasurements
 from armtool.calib.model import se3
 from armtool.model.chain import rpy_matrix
 from tests.calib.conftest import CLEAN_ARM

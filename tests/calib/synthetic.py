@@ -12,10 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from armtool.calib.choices import Setup
+from armtool.calib.fit.measurements import CornerMeasurements, Measurements, PointMeasurements, PoseMeasurements
 from armtool.calib.inputs.conventions import PoseFrame
 from armtool.calib.inputs.dataset import Sample
 from armtool.calib.inputs.observations import Observation
-from armtool.calib.measurements import CornerMeasurements, Measurements, PointMeasurements, PoseMeasurements
 from armtool.calib.model import se3
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel

@@ -12,10 +12,10 @@ import yaml
 from typer.testing import CliRunner
 
 from armtool.calib.choices import Setup
-from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.fit.calibration import FitOptions, calibrate
+from armtool.calib.fit.measurements import CornerMeasurements
 from armtool.calib.inputs.dataset import Sample
 from armtool.calib.inputs.observations import Observation
-from armtool.calib.measurements import CornerMeasurements
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
 from armtool.calib.targets.boards import board_points, parse_board

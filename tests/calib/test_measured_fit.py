@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from armtool.calib.choices import Setup
-from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.fit.calibration import FitOptions, calibrate
 from armtool.calib.inputs.conventions import PoseFrame
 from armtool.calib.model import se3
 from armtool.calib.report import calibration_document

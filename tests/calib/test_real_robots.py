@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.fit.calibration import FitOptions, calibrate
 from armtool.calib.truth import score
 from armtool.model.chain import load_chain
 from tests.calib.synthetic import make_problem
@@ -32,9 +32,9 @@ def test_every_bad_sample_is_named_on_rendered_images(tmp_path) -> None:  # type
     the earlier rule (max(2 px, 5 × median)) missed a wrist reading error here."""
     import numpy as np
 
+    from armtool.calib.fit.measurements import CornerMeasurements
     from armtool.calib.inputs.dataset import load_dataset
     from armtool.calib.inputs.observations import observe
-    from armtool.calib.measurements import CornerMeasurements
     from armtool.calib.model.calib_model import CalibModel
     from armtool.calib.model.camera import load_intrinsics
     from armtool.calib.simulate import SimulationSpec, simulate

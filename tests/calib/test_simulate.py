@@ -9,7 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from armtool.calib.choices import Setup
-from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.fit.calibration import FitOptions, calibrate
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera
 from armtool.calib.truth import score

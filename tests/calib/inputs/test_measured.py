@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 import yaml
 
+from armtool.calib.fit.measurements import dataset_measurements
 from armtool.calib.inputs.conventions import PoseFrame
 from armtool.calib.inputs.load import load_inputs
-from armtool.calib.measurements import dataset_measurements
 from armtool.model.chain import Chain
 from tests.calib.measured_files import write_dataset
 from tests.calib.synthetic import make_measured

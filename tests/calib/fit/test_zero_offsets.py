@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.fit.calibration import FitOptions, calibrate
 from armtool.calib.report import calibration_document
 from armtool.calib.truth import score
 from armtool.model.chain import load_chain

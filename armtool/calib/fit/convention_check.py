@@ -18,13 +18,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from armtool.calib.choices import Setup
+from armtool.calib.fit.measurements import dataset_measurements
+from armtool.calib.fit.problems import Problem
 from armtool.calib.inputs.conventions import PointConvention, PoseConvention
 from armtool.calib.inputs.dataset import Sample
 from armtool.calib.inputs.measured import MeasurementSpec
-from armtool.calib.measurements import dataset_measurements
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.se3 import Array
-from armtool.calib.problems import Problem
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 
@@ -159,7 +159,7 @@ def _reading(
 def _frames_fit(problem: Problem) -> Array:
     """The measurement frames fitted with the nominal robot, residuals weighted by a good
     sensor's noise (1 mm, 0.1°) and a soft-L1 loss so that a few bad samples do not decide."""
-    from armtool.calib.fit import solve
+    from armtool.calib.fit.calibration import solve
 
     sigma = np.array([SCALE_MM * 1e-3 if b.name == "position" else math.radians(SCALE_DEG) for b in problem.blocks])
     weighted = problem.with_sigma(sigma)

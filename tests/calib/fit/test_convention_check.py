@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from armtool.calib.convention_check import check_conventions
+from armtool.calib.fit.convention_check import check_conventions
 from armtool.calib.inputs.load import load_inputs
 from armtool.model.chain import Chain
 from tests.calib.measured_files import write_dataset

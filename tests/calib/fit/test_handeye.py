@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from armtool.calib.choices import Setup
-from armtool.calib.handeye import initial_frames, solve_ax_xb
+from armtool.calib.fit.handeye import initial_frames, solve_ax_xb
 from armtool.calib.model import se3
 from armtool.errors import ArmtoolError
 

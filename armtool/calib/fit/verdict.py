@@ -18,8 +18,8 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from armtool.calib.crossval import CrossValidation, Score
-from armtool.calib.problems import CORNER, Block
+from armtool.calib.fit.crossval import CrossValidation, Score
+from armtool.calib.fit.problems import CORNER, Block
 
 WIDE_RANGE_DEG = 90.0  # a joint turned less than this over the poses leaves its parameters weakly determined
 

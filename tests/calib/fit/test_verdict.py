@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from armtool.calib.crossval import HAND_EYE, Candidate, Score
-from armtool.calib.verdict import _kind, poses_needed
+from armtool.calib.fit.crossval import HAND_EYE, Candidate, Score
+from armtool.calib.fit.verdict import _kind, poses_needed
 
 
 def _score(candidate: Candidate, mean_square: float, parameters: float) -> Score:

@@ -34,9 +34,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-from armtool.calib import noise
 from armtool.calib.choices import SampleRole
-from armtool.calib.crossval import (
+from armtool.calib.fit import noise
+from armtool.calib.fit.crossval import (
     HAND_EYE,
     Candidate,
     CandidateFit,
@@ -46,15 +46,15 @@ from armtool.calib.crossval import (
     ladder,
     pose_groups,
 )
-from armtool.calib.holdout import holdout_ids
-from armtool.calib.identify import Identifiability, analyse
+from armtool.calib.fit.holdout import holdout_ids
+from armtool.calib.fit.identify import Identifiability, analyse
+from armtool.calib.fit.measurements import Measurements
+from armtool.calib.fit.problems import CORNER, Block, Problem
+from armtool.calib.fit.zero_offsets import ZeroOffset, analyse_offsets
 from armtool.calib.inputs.dataset import Sample
-from armtool.calib.measurements import Measurements
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.params import Family, ParamKind
 from armtool.calib.model.se3 import Array
-from armtool.calib.problems import CORNER, Block, Problem
-from armtool.calib.zero_offsets import ZeroOffset, analyse_offsets
 from armtool.errors import ArmtoolError
 
 log = logging.getLogger(__name__)

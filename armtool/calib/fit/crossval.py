@@ -25,10 +25,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from armtool.calib.fit.problems import Problem
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.params import Family, Parameter, ParamKind
 from armtool.calib.model.se3 import Array
-from armtool.calib.problems import Problem
 
 
 @dataclass(frozen=True)

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armtool.calib.holdout import VALIDATION_PREFIX, holdout_ids, split_holdout, validation_samples
+from armtool.calib.fit.holdout import VALIDATION_PREFIX, holdout_ids, split_holdout, validation_samples
+from armtool.calib.fit.measurements import CornerMeasurements
 from armtool.calib.inputs.dataset import Sample
 from armtool.calib.inputs.observations import Observation
-from armtool.calib.measurements import CornerMeasurements
 from armtool.calib.model.camera import CameraModel
 from armtool.errors import ArmtoolError
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from armtool.calib.choices import DistortionModel
-from armtool.calib.intrinsics import calibrate_views, find_boards, write_intrinsics
+from armtool.calib.fit.intrinsics import calibrate_views, find_boards, write_intrinsics
 from armtool.calib.model.camera import CameraModel, load_intrinsics
 from armtool.calib.targets.boards import BoardKind, BoardView, board_points, find_board, parse_board
 from armtool.errors import ArmtoolError

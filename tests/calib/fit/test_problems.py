@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from armtool.calib.choices import Setup
+from armtool.calib.fit.problems import Problem
 from armtool.calib.inputs.conventions import PoseFrame
-from armtool.calib.problems import Problem
 from armtool.model.chain import Chain
 from tests.calib.synthetic import make_measured, make_problem
 

@@ -17,8 +17,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from armtool.calib.fit.problems import Problem
 from armtool.calib.model.se3 import Array
-from armtool.calib.problems import Problem
 
 SETTLED = 0.05  # the σ's changed by less than 5 %: stop re-weighting (the solution moves far less)
 ROUNDS = 6  # at most this many fits for the weights to settle

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from armtool.calib.crossval import HAND_EYE, cross_validate, fold_rows, ladder, pose_groups
-from armtool.calib.fit import FitOptions, calibrate, fit_ladder
+from armtool.calib.fit.calibration import FitOptions, calibrate, fit_ladder
+from armtool.calib.fit.crossval import HAND_EYE, cross_validate, fold_rows, ladder, pose_groups
+from armtool.calib.fit.verdict import judge
 from armtool.calib.model.params import Family
-from armtool.calib.verdict import judge
 from armtool.model.chain import Chain
 from tests.calib.synthetic import make_measured, make_problem
 

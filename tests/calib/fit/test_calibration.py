@@ -8,7 +8,7 @@ from dataclasses import replace
 import pytest
 
 from armtool.calib.choices import Setup
-from armtool.calib.fit import FitOptions, calibrate
+from armtool.calib.fit.calibration import FitOptions, calibrate
 from armtool.calib.inputs.observations import Observation
 from armtool.calib.model.params import Family
 from armtool.calib.truth import score

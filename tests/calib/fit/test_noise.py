@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armtool.calib import noise
+from armtool.calib.fit import noise
 from armtool.model.chain import Chain
 from tests.calib.synthetic import make_measured
 

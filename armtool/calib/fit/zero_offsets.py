@@ -29,7 +29,7 @@ from typing import Literal
 
 import numpy as np
 
-from armtool.calib.identify import Identifiability
+from armtool.calib.fit.identify import Identifiability
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.params import ParamKind
 from armtool.calib.model.se3 import Array

@@ -246,7 +246,7 @@ class CornerProblem(Problem):
 
     def _closed_form_frames(self) -> tuple[Array, Array]:
         """The target's pose in each image (IPPE on the points it shows), then the closed-form AX = XB."""
-        from armtool.calib.handeye import initial_frames
+        from armtool.calib.fit.handeye import initial_frames
         from armtool.calib.targets.pose import planar_pose
 
         model = self.model
@@ -300,7 +300,7 @@ class PoseProblem(Problem):
 
     def _closed_form_frames(self) -> tuple[Array, Array]:
         """The closed-form AX = XB on the measured poses themselves."""
-        from armtool.calib.handeye import initial_frames
+        from armtool.calib.fit.handeye import initial_frames
 
         F = self.model.flange(np.zeros(self.model.size), self.Q)
         return initial_frames(self.model.setup, list(F), list(self.measured))
@@ -341,7 +341,7 @@ class PointProblem(Problem):
 
     def _closed_form_frames(self) -> tuple[Array, Array]:
         """Alternating closed forms (Kabsch for the sensor frame, linear least squares for the point)."""
-        from armtool.calib.handeye import initial_point_frames
+        from armtool.calib.fit.handeye import initial_point_frames
 
         F = self.model.flange(np.zeros(self.model.size), self.Q)
         return initial_point_frames(self.model.setup, F, self.measured)

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from armtool.calib.fit.problems import CornerProblem, PointProblem, PoseProblem, Problem
 from armtool.calib.inputs.conventions import PoseConvention, PoseFrame
 from armtool.calib.inputs.dataset import Sample
 from armtool.calib.inputs.measured import MeasurementSpec
@@ -20,7 +21,6 @@ from armtool.calib.inputs.observations import Observation
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.model.se3 import Array
-from armtool.calib.problems import CornerProblem, PointProblem, PoseProblem, Problem
 from armtool.errors import ArmtoolError
 
 
