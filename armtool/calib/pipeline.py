@@ -25,7 +25,7 @@ from armtool.calib.inputs.load import Inputs, input_files, load_inputs
 from armtool.calib.inputs.observations import Observation
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel
-from armtool.calib.ur_kinematics import UrTarget, ur_target
+from armtool.calib.outputs.ur_kinematics import UrTarget, ur_target
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 
@@ -191,14 +191,14 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     import yaml
 
     from armtool.calib.fit.verdict import judge
-    from armtool.calib.report import calibration_document, residual_plot_png
-    from armtool.calib.truth import has_truth, truth_scores
-    from armtool.calib.urdf_out import (
+    from armtool.calib.outputs.report import calibration_document, residual_plot_png
+    from armtool.calib.outputs.urdf import (
         check_reproduces,
         corrected_text,
         joint_corrections,
         relocate_meshes,
     )
+    from armtool.calib.truth import has_truth, truth_scores
     from armtool.model.load import urdf_text
 
     request, ds = job.request, job.dataset
@@ -233,7 +233,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         files[request.plot] = residual_plot_png(result)
     if request.ur_kinematics is not None and job.ur is not None:
         if verdict.improves:
-            from armtool.calib.ur_kinematics import ur_kinematics_yaml
+            from armtool.calib.outputs.ur_kinematics import ur_kinematics_yaml
 
             files[request.ur_kinematics] = ur_kinematics_yaml(new_urdf, job.ur.joints, job.ur.hash, "calibrated.urdf")
         else:

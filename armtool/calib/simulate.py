@@ -250,14 +250,14 @@ def simulate(
     import yaml
 
     from armtool.calib.model.camera import save_intrinsics
-    from armtool.calib.render import render_board, render_tag
-    from armtool.calib.targets.apriltag import family_dictionary
-    from armtool.calib.urdf_out import (
+    from armtool.calib.outputs.urdf import (
         check_reproduces,
         corrected_text,
         joint_corrections,
         relocate_meshes,
     )
+    from armtool.calib.render import render_board, render_tag
+    from armtool.calib.targets.apriltag import family_dictionary
     from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml, urdf_text
 

@@ -172,8 +172,8 @@ def fit(
 
     from armtool.calib.fit.calibration import FitOptions
     from armtool.calib.model.params import parse_families
+    from armtool.calib.outputs.report import json_summary
     from armtool.calib.pipeline import FitRequest, fit_files, observe_samples, prepare_fit, run_fit, write_files
-    from armtool.calib.report import json_summary
     from armtool.cli.options import RobotOptions
     from armtool.console import say, stderr, write_stdout
     from armtool.output.calibrate import print_fit_report

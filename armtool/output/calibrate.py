@@ -197,7 +197,7 @@ def _nested_text(result: CalibrationResult) -> str:
 
 def _frames_text(result: CalibrationResult) -> str:
     """The two fitted placements, position in mm and rpy in degrees, with σ."""
-    from armtool.calib.report import frames_section
+    from armtool.calib.outputs.report import frames_section
 
     frames = frames_section(result, dict(zip(result.free, result.sigma)))
     lines = []

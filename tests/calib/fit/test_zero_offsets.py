@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from armtool.calib.fit.calibration import FitOptions, calibrate
-from armtool.calib.report import calibration_document
+from armtool.calib.outputs.report import calibration_document
 from armtool.calib.truth import score
 from armtool.model.chain import load_chain
 from tests.calib.synthetic import make_problem

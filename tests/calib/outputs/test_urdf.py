@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from armtool.calib.urdf_out import check_reproduces, corrected_text, joint_corrections
+from armtool.calib.outputs.urdf import check_reproduces, corrected_text, joint_corrections
 from armtool.model.chain import Chain, chain_from_xml
 from armtool.model.xmlsource import parse_xml
 from tests.calib.conftest import CLEAN_ARM, ROOT, nominal_model
@@ -102,7 +102,7 @@ def test_a_wrong_result_is_refused(clean_chain: Chain) -> None:
 
 
 def test_relocate_meshes_keeps_relative_paths_resolving(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    from armtool.calib.urdf_out import relocate_meshes
+    from armtool.calib.outputs.urdf import relocate_meshes
 
     text = (
         '<robot name="r"><link name="a"><visual><geometry><mesh filename="assets/a.stl" scale="1 1 1"/></geometry></visual>'

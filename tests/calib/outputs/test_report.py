@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from armtool.calib.report import SUMMARY_KEYS, json_summary
+from armtool.calib.outputs.report import SUMMARY_KEYS, json_summary
 
 
 def test_summary_keeps_the_summary_keys_and_the_truth_only_when_scored() -> None:
