@@ -62,9 +62,9 @@ def run_case(
     from armtool.calib.inputs.load import load_inputs
     from armtool.calib.inputs.observations import observe
     from armtool.calib.model.calib_model import CalibModel
-    from armtool.calib.simulate import SimulationSpec, simulate
+    from armtool.calib.simulation.simulate import SimulationSpec, simulate
+    from armtool.calib.simulation.truth import load_truth, score
     from armtool.calib.targets.apriltag import tag_object_points
-    from armtool.calib.truth import load_truth, score
 
     rel, base, flange = ROBOTS[robot]
     out = workdir / f"{robot}-{seed}-{bad}-{quality}-{setup}"

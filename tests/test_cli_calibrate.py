@@ -122,7 +122,7 @@ def test_fit_end_to_end(dataset: Path, tmp_path: Path) -> None:
     assert doc["format"] == "armtool-calibration/1" and set(doc["joints"]) == {f"joint{i}" for i in range(1, 7)}
     # calibrated.urdf is the calibrated robot: registered on the validation poses it matches the
     # true robot (written by simulate) to the same accuracy as the fitted model.
-    from armtool.calib.truth import registered_errors
+    from armtool.calib.simulation.truth import registered_errors
 
     calibrated = load_chain(out / "calibrated.urdf", "base_link", "tool0")
     true = load_chain(dataset / "truth" / "robot_true.urdf", "base_link", "tool0")

@@ -198,7 +198,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         joint_corrections,
         relocate_meshes,
     )
-    from armtool.calib.truth import has_truth, truth_scores
+    from armtool.calib.simulation.truth import has_truth, truth_scores
     from armtool.model.load import urdf_text
 
     request, ds = job.request, job.dataset

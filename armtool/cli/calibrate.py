@@ -276,8 +276,8 @@ def simulate(
 ) -> None:
     """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
     require("calib")  # exit 2 with the install command when the extra is missing
-    from armtool.calib.simulate import SimulationSpec
-    from armtool.calib.simulate import simulate as run
+    from armtool.calib.simulation.simulate import SimulationSpec
+    from armtool.calib.simulation.simulate import simulate as run
     from armtool.calib.targets.spec import fit_board
     from armtool.cli.options import RobotOptions
     from armtool.console import progress_bar, say

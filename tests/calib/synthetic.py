@@ -20,9 +20,9 @@ from armtool.calib.model import se3
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.model.se3 import Array
-from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
+from armtool.calib.simulation.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
+from armtool.calib.simulation.truth import Truth
 from armtool.calib.targets.apriltag import tag_object_points
-from armtool.calib.truth import Truth
 from armtool.model.chain import Chain
 
 

@@ -17,9 +17,9 @@ from armtool.calib.fit.measurements import CornerMeasurements
 from armtool.calib.inputs.dataset import Sample
 from armtool.calib.inputs.observations import Observation
 from armtool.calib.model.calib_model import CalibModel
-from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
+from armtool.calib.simulation.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
+from armtool.calib.simulation.truth import Truth, score
 from armtool.calib.targets.boards import board_points, parse_board
-from armtool.calib.truth import Truth, score
 from armtool.cli import app
 from armtool.model.chain import Chain
 from tests.ik.robots import erd

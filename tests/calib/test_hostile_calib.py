@@ -619,7 +619,7 @@ def test_broken_truth_is_a_message(dataset: Path) -> None:
     then warns and writes its result), never a KeyError or RecursionError."""
     from armtool.calib.choices import Setup
     from armtool.calib.model.calib_model import CalibModel
-    from armtool.calib.truth import load_truth
+    from armtool.calib.simulation.truth import load_truth
     from armtool.model.chain import load_chain
 
     model = CalibModel(load_chain(CLEAN_ARM, "base_link", "tool0"), Setup.EYE_TO_HAND, np.eye(4), np.eye(4))

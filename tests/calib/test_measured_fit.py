@@ -14,7 +14,7 @@ from armtool.calib.fit.calibration import FitOptions, calibrate
 from armtool.calib.inputs.conventions import PoseFrame
 from armtool.calib.model import se3
 from armtool.calib.outputs.report import calibration_document
-from armtool.calib.truth import score
+from armtool.calib.simulation.truth import score
 from armtool.model.chain import Chain
 from tests.calib.synthetic import make_measured
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from armtool.calib.fit.calibration import FitOptions, calibrate
-from armtool.calib.truth import score
+from armtool.calib.simulation.truth import score
 from armtool.model.chain import load_chain
 from tests.calib.synthetic import make_problem
 from tests.ik.robots import erd
@@ -37,9 +37,9 @@ def test_every_bad_sample_is_named_on_rendered_images(tmp_path) -> None:  # type
     from armtool.calib.inputs.observations import observe
     from armtool.calib.model.calib_model import CalibModel
     from armtool.calib.model.camera import load_intrinsics
-    from armtool.calib.simulate import SimulationSpec, simulate
+    from armtool.calib.simulation.simulate import SimulationSpec, simulate
+    from armtool.calib.simulation.truth import load_truth
     from armtool.calib.targets.apriltag import tag_object_points
-    from armtool.calib.truth import load_truth
 
     path, base, flange, _ = CASES["ur5"]
     out = tmp_path / "ds"

@@ -17,7 +17,7 @@ from armtool.servo.lut.measure import Driver, Motion, align_reference, measure, 
 from armtool.servo.reference import CameraReference, open_reference
 from armtool.servo.sim import SimBus
 
-render = pytest.importorskip("armtool.calib.render")
+render = pytest.importorskip("armtool.calib.simulation.render")
 camera_mod = pytest.importorskip("armtool.calib.model.camera")
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="the simulator needs a pty")
 

@@ -11,7 +11,7 @@ from armtool.calib.choices import Setup
 from armtool.calib.fit.calibration import FitOptions, calibrate
 from armtool.calib.inputs.observations import Observation
 from armtool.calib.model.params import Family
-from armtool.calib.truth import score
+from armtool.calib.simulation.truth import score
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 from tests.calib.synthetic import make_problem

@@ -11,7 +11,7 @@ import pytest
 
 from armtool.calib.fit.calibration import FitOptions, calibrate
 from armtool.calib.outputs.report import calibration_document
-from armtool.calib.truth import score
+from armtool.calib.simulation.truth import score
 from armtool.model.chain import load_chain
 from tests.calib.synthetic import make_problem
 from tests.ik.robots import erd

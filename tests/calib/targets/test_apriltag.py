@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from armtool.calib.model.camera import CameraModel
-from armtool.calib.render import random_view_pose, render_tag, tag_in_view
+from armtool.calib.simulation.render import random_view_pose, render_tag, tag_in_view
 from armtool.calib.targets.apriltag import (
     FAMILIES,
     TagDetection,

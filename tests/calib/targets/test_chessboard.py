@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from armtool.calib.model.camera import CameraModel
-from armtool.calib.render import _rotvec, board_in_view
+from armtool.calib.simulation.render import _rotvec, board_in_view
 from armtool.calib.targets.boards import BoardKind, board_points, find_board, parse_board
 from armtool.calib.targets.chessboard import _handedness, find_chessboard, symmetric
 from armtool.errors import ArmtoolError

@@ -74,7 +74,7 @@ def test_corners_csv_is_refused_for_a_board(tmp_path: Path) -> None:
 
 
 def _pose(tilt_deg: float, t: list[float]) -> np.ndarray:
-    from armtool.calib.render import _rotvec
+    from armtool.calib.simulation.render import _rotvec
 
     pose = np.eye(4)
     pose[:3, :3] = _rotvec(np.array([np.radians(tilt_deg), 0.0, 0.0])) @ _rotvec(np.array([0.0, 0.0, 0.3]))
@@ -101,7 +101,7 @@ def test_a_partial_charuco_view_keeps_the_corners_it_shows_with_their_ids() -> N
 
 
 def test_a_tag_target_goes_through_the_tag_detector() -> None:
-    from armtool.calib.render import render_tag
+    from armtool.calib.simulation.render import render_tag
 
     target = Target("tag36h11", 3, 0.08)
     cMt = _pose(180.0 + 20.0, [0.02, 0.01, 0.6])  # the tag faces the camera (z towards it)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from armtool.calib.model.camera import CameraModel
-from armtool.calib.render import random_view_pose, render_tag, tag_in_view
+from armtool.calib.simulation.render import random_view_pose, render_tag, tag_in_view
 from armtool.calib.targets.apriltag import tag_bits, tag_object_points
 from armtool.errors import ArmtoolError
 

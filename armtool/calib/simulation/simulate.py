@@ -212,7 +212,7 @@ def _eye_in_hand_views(
 
 def _visible(model: CalibModel, x: Array, camera: CameraModel, Q: Array, spec: SimulationSpec) -> Array:
     """Indices of rows of Q whose target pose renders well (distance, tilt, whole plate or board in view)."""
-    from armtool.calib.render import board_in_view, tag_in_view
+    from armtool.calib.simulation.render import board_in_view, tag_in_view
 
     C = model.tag_in_camera(x, Q)  # the target's own frame
     F = C @ spec.target.face_pose()  # its face frame: centred, z towards a camera that sees it
@@ -256,7 +256,7 @@ def simulate(
         joint_corrections,
         relocate_meshes,
     )
-    from armtool.calib.render import render_board, render_tag
+    from armtool.calib.simulation.render import render_board, render_tag
     from armtool.calib.targets.apriltag import family_dictionary
     from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml, urdf_text

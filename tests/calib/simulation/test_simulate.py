@@ -11,8 +11,8 @@ from typer.testing import CliRunner
 from armtool.calib.choices import Setup
 from armtool.calib.fit.calibration import FitOptions, calibrate
 from armtool.calib.model.calib_model import CalibModel
-from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera
-from armtool.calib.truth import score
+from armtool.calib.simulation.simulate import SimulationSpec, _place, _visible, default_camera
+from armtool.calib.simulation.truth import score
 from armtool.cli import app
 from armtool.model.chain import load_chain
 from tests.calib.conftest import CLEAN_ARM
