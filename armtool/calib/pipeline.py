@@ -12,27 +12,23 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from armtool.calib.fit.calibration import CalibrationResult, FitOptions, calibrate
+from armtool.calib.fit.convention_check import ConventionCheck, checked_conventions
 from armtool.calib.fit.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
 from armtool.calib.fit.measurements import CornerMeasurements, Measurements
 from armtool.calib.fit.verdict import Verdict
 from armtool.calib.inputs.dataset import Dataset, Sample, require_ok
 from armtool.calib.inputs.load import Inputs, input_files, load_inputs
-from armtool.calib.inputs.observations import Observation
+from armtool.calib.inputs.observations import Detect
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.outputs.ur_kinematics import UrTarget, ur_target
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
-
-if TYPE_CHECKING:
-    from armtool.calib.fit.convention_check import ConventionCheck
-
-Detect = Callable[[Dataset, CameraModel], dict[str, Observation]]  # tag corners of every sample
 
 
 @dataclass(frozen=True)
@@ -101,25 +97,6 @@ def prepare_fit(request: FitRequest) -> FitJob:
     if ds.measurement is not None:
         conventions = checked_conventions(ds, chain, refuse=not request.keep_conventions)
     return FitJob(request, ds, chain, camera, validation, ur, conventions)
-
-
-def checked_conventions(ds: Dataset, chain: Chain, refuse: bool) -> ConventionCheck:
-    """How the nominal robot explains the measurements as declared and in every other reading;
-    with `refuse`, a reading that fits far better is an error that names the dataset.yaml lines to change."""
-    from armtool.calib.fit.convention_check import check_conventions
-
-    assert ds.measurement is not None
-    from armtool.calib.fit.calibration import one_blas_thread
-
-    with one_blas_thread():
-        found = check_conventions(chain, ds.setup, ds.measurement, ds.measured_rows, ds.samples)
-    if refuse and found.better is not None:
-        raise ArmtoolError(
-            found.message(),
-            f"{ds.root.name}/dataset.yaml",
-            found.fix() + " (or fit as declared with `armtool calibrate fit --keep-conventions`)",
-        )
-    return found
 
 
 def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:

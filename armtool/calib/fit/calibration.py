@@ -53,7 +53,7 @@ from armtool.calib.fit.problems import CORNER, Block, Problem
 from armtool.calib.fit.zero_offsets import ZeroOffset, analyse_offsets
 from armtool.calib.inputs.dataset import Sample
 from armtool.calib.model.calib_model import CalibModel
-from armtool.calib.model.params import Family, ParamKind
+from armtool.calib.model.params import Family, ParamKind, parse_families
 from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
@@ -83,6 +83,21 @@ class FitOptions:
     folds: int = 5  # k-fold cross-validation of the parameter sets; below 2: none
     select: bool = True  # fit the set that cross-validation chooses (False: the requested families)
     nested: bool = True  # report the held-out residual of the whole procedure, selection included
+
+    @classmethod
+    def requested(
+        cls, params: str | None, *, holdout: float, seed: int, folds: int, select: bool, nested: bool
+    ) -> FitOptions:
+        """The options `calibrate fit` was given: `--params` text (None: the default families) and the others."""
+        return cls(
+            families=cls.families if params is None else parse_families(params),
+            families_explicit=params is not None,
+            holdout=holdout,
+            seed=seed,
+            folds=folds,
+            select=select,
+            nested=nested,
+        )
 
 
 @dataclass

@@ -21,7 +21,7 @@ from armtool.calib.choices import Setup
 from armtool.calib.fit.measurements import dataset_measurements
 from armtool.calib.fit.problems import Problem
 from armtool.calib.inputs.conventions import PointConvention, PoseConvention
-from armtool.calib.inputs.dataset import Sample
+from armtool.calib.inputs.dataset import Dataset, Sample
 from armtool.calib.inputs.measured import MeasurementSpec
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.se3 import Array
@@ -127,6 +127,23 @@ def check_conventions(
     equivalent = [r for r in tied if r is not best and r.changes and r is not declared]
     better = best if best is not declared and best.score * BETTER <= declared.score else None
     return ConventionCheck(declared, better, len(readings), equivalent[0] if better and equivalent else None)
+
+
+def checked_conventions(ds: Dataset, chain: Chain, refuse: bool) -> ConventionCheck:
+    """How the nominal robot explains the measurements as declared and in every other reading;
+    with `refuse`, a reading that fits far better is an error that names the dataset.yaml lines to change."""
+    assert ds.measurement is not None
+    from armtool.calib.fit.calibration import one_blas_thread
+
+    with one_blas_thread():
+        found = check_conventions(chain, ds.setup, ds.measurement, ds.measured_rows, ds.samples)
+    if refuse and found.better is not None:
+        raise ArmtoolError(
+            found.message(),
+            f"{ds.root.name}/dataset.yaml",
+            found.fix() + " (or fit as declared with `armtool calibrate fit --keep-conventions`)",
+        )
+    return found
 
 
 def _differences(declared: PoseConvention | PointConvention, other: PoseConvention | PointConvention) -> list[str]:

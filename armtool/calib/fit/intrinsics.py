@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from armtool.calib.choices import DistortionModel
+from armtool.calib.limits import MAX_IMAGES
 from armtool.calib.model.camera import Array, CameraModel
 from armtool.calib.targets.boards import BoardSpec, BoardView, board_points, find_board
 from armtool.errors import ArmtoolError
@@ -100,7 +101,7 @@ def _finite(x: float) -> float | None:
 
 
 def image_paths(inputs: Sequence[Path]) -> list[Path]:
-    """Image files from the command line: files as given, directories expanded (sorted)."""
+    """Image files from the command line: files as given, directories expanded (sorted), at most MAX_IMAGES."""
     out: list[Path] = []
     from armtool.calib.inputs.files import unreadable_reason
 
@@ -126,6 +127,11 @@ def image_paths(inputs: Sequence[Path]) -> list[Path]:
     if not out:
         raise ArmtoolError(
             "no images given", ", ".join(str(p) for p in inputs), f"images end in {', '.join(_IMAGE_SUFFIXES)}"
+        )
+    if len(out) > MAX_IMAGES:
+        raise ArmtoolError(
+            f"{len(out)} images given, at most {MAX_IMAGES} are read",
+            hint="pass a subset: 15-40 well-spread views are enough",
         )
     return out
 

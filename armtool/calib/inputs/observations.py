@@ -29,6 +29,11 @@ class Observation:
     reason: str = ""  # why there are no corners
 
 
+Detect = Callable[
+    [Dataset, CameraModel], dict[str, Observation]
+]  # `observe` with progress shown: every sample's corners
+
+
 def _detect_one(args: tuple[str, str, Target, CameraModel]) -> tuple[str, Array | None, str]:
     from armtool.calib.inputs.files import read_gray
     from armtool.calib.targets.detect import detect_corners

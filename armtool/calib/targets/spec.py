@@ -145,3 +145,16 @@ class Target:
         return np.array(
             [[1.0, 0.0, 0.0, width / 2], [0.0, -1.0, 0.0, height / 2], [0.0, 0.0, -1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
         )
+
+
+def named_target(target: str | None, tag_size: float | None, family: str = "tag36h11", tag_id: int = 0) -> Target:
+    """The target a command line names: the board of `--target`, or the AprilTag (whose --tag-size is then
+    required), as `import-bag` takes them."""
+    if target is not None:
+        return Target(board=fit_board(target, "--target"))
+    if tag_size is None:
+        raise ArmtoolError(
+            "--tag-size is required for an AprilTag target",
+            hint="measure the black square's edge on the print, in metres (e.g. --tag-size 0.08), or pass --target BOARD",
+        )
+    return Target(family, tag_id, tag_size)

@@ -111,3 +111,13 @@ def test_a_wrong_reading_on_any_joint_is_named(clean_chain: Chain, joint: int) -
         samples[k] = replace(samples[k], q=q)
     result = calibrate(p.model, p.measurements, samples, NO_CV)
     assert set(result.outliers) == {"4", "21"}
+
+
+def test_the_options_requested_keep_the_default_families_unless_params_names_them() -> None:
+    default = FitOptions.requested(None, holdout=0.2, seed=3, folds=4, select=False, nested=False)
+    assert default == FitOptions(holdout=0.2, seed=3, folds=4, select=False, nested=False)
+    assert default.families == (Family.ORIGINS, Family.OFFSETS) and not default.families_explicit
+    named = FitOptions.requested("gains, origins,gains", holdout=0.0, seed=0, folds=5, select=True, nested=True)
+    assert named.families == (Family.GAINS, Family.ORIGINS) and named.families_explicit
+    with pytest.raises(ArmtoolError, match="unknown parameter family 'joints' in --params"):
+        FitOptions.requested("joints", holdout=0.0, seed=0, folds=5, select=True, nested=True)

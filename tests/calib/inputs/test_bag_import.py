@@ -255,14 +255,14 @@ def test_an_interrupted_ros1_recording_names_rosbag_reindex(tmp_path: Path) -> N
 
 def test_a_board_target_goes_into_the_manifest(tmp_path: Path) -> None:
     from armtool.calib.targets.boards import parse_board
-    from armtool.cli.calibrate_extra import _import_target
+    from armtool.calib.targets.spec import named_target
 
     write_bag(tmp_path / "cal.bag", "ros1", simulate_motion(n_stops=2), camera_info=True)
-    target = _import_target("charuco:6x5:0.04:0.03:4X4_50", None)
+    target = named_target("charuco:6x5:0.04:0.03:4X4_50", None)
     import_bag(tmp_path / "cal.bag", CLEAN_ARM, tmp_path / "out", ImportOptions("/camera/image_raw", target=target))
     ds = load_dataset(tmp_path / "out", JOINTS)
     assert not ds.errors and ds.board == parse_board("charuco:6x5:0.04:0.03:4X4_50")
     with pytest.raises(ArmtoolError, match="--tag-size is required for an AprilTag target"):
-        _import_target(None, None)
+        named_target(None, None)
     with pytest.raises(ArmtoolError, match="looks the same turned by 180°"):
-        _import_target("chessboard:8x6:0.03", None)
+        named_target("chessboard:8x6:0.03", None)
