@@ -104,7 +104,8 @@ def _package(tmp_path: Path, files: dict[str, str]) -> Path:
     (pkg / "sub").mkdir(parents=True)
     (pkg / "__init__.py").write_text("")
     (pkg / "sub" / "__init__.py").write_text("")
-    for name, text in files.items():
+    for name, text in files.items():  # "fit/problems.py": in a subpackage
+        (pkg / "sub" / name).parent.mkdir(exist_ok=True)
         (pkg / "sub" / name).write_text(text)
     return tmp_path
 
@@ -138,15 +139,16 @@ def test_the_check_sees_a_circle_through_several_modules(tmp_path: Path) -> None
 
 def test_the_stage_check_sees_two_stages_that_need_each_other(tmp_path: Path) -> None:
     # no module circle, but inputs needs fit and fit needs inputs
-    root = _package(tmp_path, {"__init__.py": ""})
-    for stage, text in {
-        "inputs": "from armtool.sub.fit.problems import P\n",
-        "fit": "from armtool.sub.inputs.files import F\n",
-    }.items():
-        (root / "armtool" / "sub" / stage).mkdir()
-        (root / "armtool" / "sub" / stage / "__init__.py").write_text("")
-        (root / "armtool" / "sub" / stage / "reader.py").write_text(text)
-    (root / "armtool" / "sub" / "inputs" / "files.py").write_text("")
-    (root / "armtool" / "sub" / "fit" / "problems.py").write_text("")
+    root = _package(
+        tmp_path,
+        {
+            "inputs/__init__.py": "",
+            "inputs/files.py": "",
+            "inputs/reader.py": "from armtool.sub.fit.problems import P\n",
+            "fit/__init__.py": "",
+            "fit/problems.py": "",
+            "fit/reader.py": "from armtool.sub.inputs.files import F\n",
+        },
+    )
     assert import_circles(root) == []
     assert stage_circles("armtool.sub", root) == [["armtool.sub.fit", "armtool.sub.inputs"]]
