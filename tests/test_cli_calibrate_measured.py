@@ -11,9 +11,9 @@ from pathlib import Path
 import yaml
 from typer.testing import CliRunner
 
-from armtool.calib.apriltag import tag_object_points  # noqa: F401  (calib extra present)
-from armtool.calib.camera import save_intrinsics
 from armtool.calib.choices import Setup
+from armtool.calib.model.camera import save_intrinsics
+from armtool.calib.targets.apriltag import tag_object_points  # noqa: F401  (calib extra present)
 from armtool.cli import app
 from armtool.model.chain import load_chain
 from tests.calib.conftest import CLEAN_ARM
@@ -147,7 +147,7 @@ def test_a_validation_dataset_in_its_own_conventions(tmp_path: Path) -> None:
     m = make_measured(CHAIN, "pose", n=40, noise_mm=0.1, noise_deg=0.02, seed=15)
     ds = write_dataset(tmp_path / "ds", m, rotation="quaternion", units="mm")
     other = make_measured(CHAIN, "pose", n=12, noise_mm=0.1, noise_deg=0.02, seed=15)  # the same robot and placements
-    from armtool.calib.conventions import PoseFrame
+    from armtool.calib.inputs.conventions import PoseFrame
 
     vds = write_dataset(tmp_path / "vds", other, rotation="matrix", units="m", frame=PoseFrame.TARGET_IN_SENSOR)
     args = [

@@ -12,27 +12,23 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from armtool.calib.camera import CameraModel
-from armtool.calib.dataset import Dataset, Sample, require_ok
-from armtool.calib.fit import CalibrationResult, FitOptions, calibrate
-from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
-from armtool.calib.inputs import Inputs, input_files, load_inputs
-from armtool.calib.model import CalibModel
-from armtool.calib.observations import Observation
-from armtool.calib.problems import CornerMeasurements, Measurements
-from armtool.calib.ur_kinematics import UrTarget, ur_target
-from armtool.calib.verdict import Verdict
+from armtool.calib.fit.calibration import CalibrationResult, FitOptions, calibrate
+from armtool.calib.fit.convention_check import ConventionCheck, checked_conventions
+from armtool.calib.fit.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
+from armtool.calib.fit.measurements import CornerMeasurements, Measurements
+from armtool.calib.fit.verdict import Verdict
+from armtool.calib.inputs.dataset import Dataset, Sample, require_ok
+from armtool.calib.inputs.load import Inputs, input_files, load_inputs
+from armtool.calib.inputs.observations import Detect
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.camera import CameraModel
+from armtool.calib.outputs.ur_kinematics import UrTarget, ur_target
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
-
-if TYPE_CHECKING:
-    from armtool.calib.convention_check import ConventionCheck
-
-Detect = Callable[[Dataset, CameraModel], dict[str, Observation]]  # tag corners of every sample
 
 
 @dataclass(frozen=True)
@@ -103,25 +99,6 @@ def prepare_fit(request: FitRequest) -> FitJob:
     return FitJob(request, ds, chain, camera, validation, ur, conventions)
 
 
-def checked_conventions(ds: Dataset, chain: Chain, refuse: bool) -> ConventionCheck:
-    """How the nominal robot explains the measurements as declared and in every other reading;
-    with `refuse`, a reading that fits far better is an error that names the dataset.yaml lines to change."""
-    from armtool.calib.convention_check import check_conventions
-
-    assert ds.measurement is not None
-    from armtool.calib.fit import one_blas_thread
-
-    with one_blas_thread():
-        found = check_conventions(chain, ds.setup, ds.measurement, ds.measured_rows, ds.samples)
-    if refuse and found.better is not None:
-        raise ArmtoolError(
-            found.message(),
-            f"{ds.root.name}/dataset.yaml",
-            found.fix() + " (or fit as declared with `armtool calibrate fit --keep-conventions`)",
-        )
-    return found
-
-
 def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
     """Every file fit writes, checked against the run's inputs before the work starts."""
     from armtool.fileio import check_output_paths
@@ -159,7 +136,7 @@ def observe_samples(job: FitJob, detect: Detect) -> Observed:
 def _measurements(ds: Dataset, camera: CameraModel | None, detect: Detect) -> Measurements:
     """A dataset's measured poses or points, or the target corners detected in its images."""
     if ds.measurement is not None:
-        from armtool.calib.measured import dataset_measurements
+        from armtool.calib.fit.measurements import dataset_measurements
 
         return dataset_measurements(ds.measurement, ds.measured_rows)
     assert camera is not None  # prepare_fit refused an image dataset without intrinsics
@@ -190,16 +167,16 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     plot and UR kinematics file when asked for; nothing is written yet."""
     import yaml
 
-    from armtool.calib.report import calibration_document, residual_plot_png
-    from armtool.calib.truth import has_truth, truth_scores
-    from armtool.calib.urdf_out import (
+    from armtool.calib.fit.verdict import judge
+    from armtool.calib.outputs.report import calibration_document, residual_plot_png
+    from armtool.calib.outputs.urdf import (
         check_reproduces,
         corrected_text,
-        expanded_text,
         joint_corrections,
         relocate_meshes,
     )
-    from armtool.calib.verdict import judge
+    from armtool.calib.simulation.truth import has_truth, truth_scores
+    from armtool.model.load import urdf_text
 
     request, ds = job.request, job.dataset
     verdict = judge(
@@ -211,7 +188,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         result.motion_deg,
         result.blocks,
     )
-    text = expanded_text(ds.urdf, ds.xacro_args, ds.package_paths)
+    text = urdf_text(ds.urdf, ds.xacro_args, ds.package_paths)
     corrected = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)
     new_urdf = relocate_meshes(corrected, ds.urdf.parent, request.out)
     check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)
@@ -233,7 +210,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         files[request.plot] = residual_plot_png(result)
     if request.ur_kinematics is not None and job.ur is not None:
         if verdict.improves:
-            from armtool.calib.ur_kinematics import ur_kinematics_yaml
+            from armtool.calib.outputs.ur_kinematics import ur_kinematics_yaml
 
             files[request.ur_kinematics] = ur_kinematics_yaml(new_urdf, job.ur.joints, job.ur.hash, "calibrated.urdf")
         else:

@@ -314,6 +314,15 @@ RobotConfig = Annotated[
         "(default: the nearest one).",
     ),
 ]
+# check and fit: the dataset names its robot and the robot's xacro arguments (robot.xacro_args).
+DatasetConfig = Annotated[
+    Path | None,
+    typer.Option(
+        "--config",
+        help="armtool.toml or pyproject.toml whose [tool.armtool.lint] package-paths apply (default: the nearest "
+        "one; the dataset's robot.xacro_args give the xacro arguments, --xacro-arg overrides them).",
+    ),
+]
 MoveItConfig = Annotated[
     Path | None,
     typer.Option(
