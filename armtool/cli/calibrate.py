@@ -249,6 +249,7 @@ def simulate(
         say(f"bad samples mixed in: {summary['bad_samples']}")
 
 
-from armtool.cli import calibrate_extra  # noqa: E402  (`calibrate camera` and `calibrate import-bag`)
+from armtool.cli import calibrate_extra, calibrate_handeye  # noqa: E402  (camera, import-bag; handeye)
 
 calibrate_extra.register(app)
+calibrate_handeye.register(app)

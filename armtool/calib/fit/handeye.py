@@ -45,7 +45,7 @@ class AxXbMethod(str, Enum):
 MIN_PAIR_ROTATION = 0.05  # rad: a motion pair that turns less tells nothing about the rotation
 
 
-def motion_pairs(G: Sequence[Array], C: Sequence[Array]) -> tuple[Array, Array]:
+def motion_pairs(G: Sequence[Array] | Array, C: Sequence[Array] | Array) -> tuple[Array, Array]:
     """(A, B) of every pair i < j of poses with G_i X C_i = Z: A = G_j⁻¹ G_i, B = C_j C_i⁻¹, so that
     A X = X B (as OpenCV pairs them: all pairs, not only neighbours)."""
     Gs, Cs = np.asarray(G, dtype=np.float64), np.asarray(C, dtype=np.float64)
@@ -55,7 +55,9 @@ def motion_pairs(G: Sequence[Array], C: Sequence[Array]) -> tuple[Array, Array]:
     return A, B
 
 
-def solve_ax_xb(As: Sequence[Array], Bs: Sequence[Array], method: AxXbMethod = AxXbMethod.PARK) -> Array:
+def solve_ax_xb(
+    As: Sequence[Array] | Array, Bs: Sequence[Array] | Array, method: AxXbMethod = AxXbMethod.PARK
+) -> Array:
     """X with A_k X = X B_k for every motion pair (A_k, B_k), in the least-squares sense of `method`."""
     A, B = np.asarray(As, dtype=np.float64).reshape(-1, 4, 4), np.asarray(Bs, dtype=np.float64).reshape(-1, 4, 4)
     a, b = se3.log3_batch(A[:, :3, :3]), se3.log3_batch(B[:, :3, :3])

@@ -36,7 +36,9 @@ class AxZbMethod(str, Enum):
     LI = "li"
 
 
-def solve_ax_zb(As: Sequence[Array], Bs: Sequence[Array], method: AxZbMethod = AxZbMethod.SHAH) -> tuple[Array, Array]:
+def solve_ax_zb(
+    As: Sequence[Array] | Array, Bs: Sequence[Array] | Array, method: AxZbMethod = AxZbMethod.SHAH
+) -> tuple[Array, Array]:
     """(X, Z) with A_i X = Z B_i for every pose, in the least-squares sense of `method`."""
     A, B = np.asarray(As, dtype=np.float64).reshape(-1, 4, 4), np.asarray(Bs, dtype=np.float64).reshape(-1, 4, 4)
     if len(A) < 3:

@@ -109,9 +109,9 @@ class Observations:
     def count(self) -> int:
         return len(self.G)
 
-    def subset(self, rows: Sequence[int]) -> Observations:
-        """The images `rows` (in that order) and their corners."""
-        rows = np.asarray(rows, dtype=np.intp)
+    def subset(self, images: Sequence[int] | NDArray[np.intp]) -> Observations:
+        """The images `images` (in that order) and their corners."""
+        rows = np.asarray(images, dtype=np.intp)
         new = np.full(self.count, -1, dtype=np.intp)
         new[rows] = np.arange(len(rows))
         keep = new[self.image] >= 0
@@ -152,7 +152,8 @@ def observations(views: Sequence[View], flanges: Array, setup: Setup, target: Ta
     F = flanges[used]
     G = F if setup is Setup.EYE_IN_HAND else se3.inv(F)
     points = target.points_m
-    C = np.stack([views[k].cMt for k in used]) if used else np.zeros((0, 4, 4))
+    poses = [views[k].cMt for k in used]
+    C = np.stack([c for c in poses if c is not None]) if used else np.zeros((0, 4, 4))
     return Observations(
         setup,
         np.asarray(G, dtype=np.float64),
