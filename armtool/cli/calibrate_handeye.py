@@ -64,8 +64,8 @@ def handeye(
     from armtool.fileio import check_output_paths
     from armtool.output.handeye import print_handeye_report
 
-    if out is not None:
-        check_output_paths({"--out": out}, [dataset / "dataset.yaml"])
+    if out is not None:  # never over a file of the dataset (dataset.yaml, the poses, the intrinsics)
+        check_output_paths({"--out": out}, [p for p in dataset.glob("*") if p.is_file()] if dataset.is_dir() else [])
     request = HandEyeRequest(dataset, folds, seed, intrinsics, detector, keep_conventions)
     with progress_bar() as bar:
         tasks: dict[str, TaskID] = {}

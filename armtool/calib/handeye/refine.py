@@ -27,7 +27,7 @@ how the corners really err:
 * Robust: SciPy's `least_squares` with a soft-L1 loss, knee at KNEE σ of the whitened residuals.
   Before each round, images that stand out (above max(OUTLIER_FACTOR × the median, the median +
   OUTLIER_MADS × 1.4826 × MAD) of all images) are left out, and named: by their flange pose error
-  against the frames (translation and rotation, each in its σ: a pose row that belongs to another
+  against the frames in its expected spread (`outlier_images`: a pose row that belongs to another
   image, a board turned the wrong way) or by their own IPPE fit (a bad detection).
 """
 
@@ -237,15 +237,21 @@ def stands_out(score: Array) -> NDArray[np.intp]:
     return np.flatnonzero(~(score <= limit))
 
 
-def outlier_images(obs: Observations, X: Array, Z: Array, noise: Noise) -> NDArray[np.intp]:
-    """The images whose flange pose error against the frames (translation and rotation, each in its σ)
-    or whose own IPPE fit (a bad detection) stands out."""
+def outlier_images(problem: Reprojection, x: Array, noise: Noise) -> NDArray[np.intp]:
+    """The images whose own IPPE fit stands out (a bad detection), or whose flange pose error
+    against the frames does (a pose row of another image, a board turned the wrong way), measured
+    in its expected spread: e_iᵀ (S + σ_px² (J_δᵀ J_δ)⁻¹)⁻¹ e_i, the controller's noise plus what the
+    image's own corners leave uncertain (a far, tilted board's depth is off by millimetres)."""
+    obs = problem.obs
+    X, Z, _cam = problem.unpack(x)
     errors = obs.flange_errors(X, Z)
-    score = np.sqrt(
-        np.sum(errors[:, :3] ** 2, axis=1) / max(noise.position_m, 1e-9) ** 2
-        + np.sum(errors[:, 3:] ** 2, axis=1) / max(noise.rotation_rad, 1e-9) ** 2
-    )
-    return np.union1d(stands_out(score), stands_out(obs.pnp_rms_px))
+    Jd = problem.flange_jacobian(x)
+    JtJ = np.zeros((obs.count, 6, 6))
+    np.add.at(JtJ, obs.image, np.einsum("mki,mkj->mij", Jd, Jd))
+    S = np.diag([noise.position_m**2] * 3 + [noise.rotation_rad**2] * 3)
+    expected = S + noise.pixel_px**2 * np.linalg.pinv(JtJ)
+    distance = np.sqrt(np.einsum("ni,ni->n", errors, np.linalg.solve(expected, errors[..., None])[..., 0]))
+    return np.union1d(stands_out(distance), stands_out(obs.pnp_rms_px))
 
 
 def estimate_noise(obs: Observations, X: Array, Z: Array) -> Noise:
@@ -312,7 +318,7 @@ def refine(
     full = Reprojection(obs, X0, Z0, camera, intrinsics)
     x = full.x0
     noise = estimate_noise(obs, X0, Z0)
-    outliers = _outliers(obs, X0, Z0, noise)
+    outliers = _outliers(full, x, noise)
     for round_ in range(rounds):
         kept = np.setdiff1d(np.arange(obs.count), outliers)
         problem = Reprojection(obs.subset(kept), X0, Z0, camera, intrinsics)
@@ -323,8 +329,7 @@ def refine(
         if fit_noises:
             noise = fit_noise(problem, x, noise)
         if round_ < rounds - 1:
-            X, Z, _cam = problem.unpack(x)
-            outliers = _outliers(obs, X, Z, noise)
+            outliers = _outliers(full, x, noise)
     problem = Reprojection(obs.subset(kept), X0, Z0, camera, intrinsics)
     problem.whiten(x, noise)
     X, Z, cam = problem.unpack(x)
@@ -334,9 +339,9 @@ def refine(
     return Refined(X, Z, cam, rms, all_rms, outliers, noise, *_uncertainty(problem, x))
 
 
-def _outliers(obs: Observations, X: Array, Z: Array, noise: Noise) -> NDArray[np.intp]:
-    found = outlier_images(obs, X, Z, noise)
-    return found if obs.count - len(found) >= MIN_IMAGES else np.zeros(0, dtype=np.intp)
+def _outliers(problem: Reprojection, x: Array, noise: Noise) -> NDArray[np.intp]:
+    found = outlier_images(problem, x, noise)
+    return found if problem.obs.count - len(found) >= MIN_IMAGES else np.zeros(0, dtype=np.intp)
 
 
 def _uncertainty(problem: Reprojection, x: Array) -> tuple[tuple[Array, Array], tuple[Array, Array], Array]:
