@@ -28,12 +28,12 @@ def print_handeye_report(result: HandEyeResult, doc: dict[str, Any]) -> None:
     if result.conventions is not None:
         con.print(f"[dim]conventions:[/dim] {escape(result.conventions.message())}")
     folds = doc["heldout"]["folds"]
-    title = (
-        f"{doc['images_used']} images of a {escape(doc['target'])}: reprojection RMS px"
-        + (f" (held out: {folds}-fold over images; inliers: without the outlier images)" if folds else "")
-        + ", spread of the board's pose"
+    con.print(f"{doc['images_used']} of {len(doc['images'])} images used: {escape(doc['target'])}")
+    held = f"held out: {folds}-fold over images" if folds else "no held-out images (--folds 0)"
+    table = Table(
+        title=f"reprojection RMS px ({held}; inliers: without outlier images) and the board's spread",
+        title_justify="left",
     )
-    table = Table(title=title or None, title_justify="left")
     for col in ("method", "held out", "inliers", "fit", "spread mm", "spread °"):
         table.add_column(col, justify="left" if col == "method" else "right", no_wrap=True)
     for m in doc["methods"]:

@@ -47,7 +47,8 @@ from armtool.calib.model.camera import CameraModel
 from armtool.calib.model.se3 import Array
 from armtool.errors import ArmtoolError
 
-KNEE = 3.0  # the soft-L1 knee, in σ of the whitened residuals
+KNEE = 3.0  # the robust loss's knee, in σ of the whitened residuals
+LOSS = "soft_l1"
 ROUNDS = 3
 OUTLIER_FACTOR = 3.0
 OUTLIER_MADS = 8.0
@@ -324,7 +325,7 @@ def refine(
         problem = Reprojection(obs.subset(kept), X0, Z0, camera, intrinsics)
         problem.whiten(x, noise)
         x = least_squares(
-            problem.residuals, x, jac=problem.jacobian, loss="soft_l1", f_scale=KNEE, x_scale="jac", max_nfev=max_nfev
+            problem.residuals, x, jac=problem.jacobian, loss=LOSS, f_scale=KNEE, x_scale="jac", max_nfev=max_nfev
         ).x
         if fit_noises:
             noise = fit_noise(problem, x, noise)

@@ -8,6 +8,8 @@ angle, so that the detector's corner order starts at either end), the flange pos
 G_i = Z C_i⁻¹ X⁻¹ (`armtool.calib.handeye.views`), and the reported pose gets the controller's
 error (`flange_noise_mm`, `flange_noise_deg`, 1σ per axis). Images are rendered by the exact
 renderer of the simulation stage. The truth goes to `truth/truth.yaml`, which nothing reads.
+`corner_observations` makes the same data without images (the corners where the camera sees the
+board, with Gaussian noise), for the fits alone.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +29,15 @@ from armtool.calib.model.camera import CameraModel
 from armtool.calib.model.se3 import Array
 from armtool.calib.targets.boards import BoardSpec, board_size_m, parse_board
 from armtool.errors import ArmtoolError
+
+if TYPE_CHECKING:
+    from armtool.calib.handeye.views import Observations
+
+# A 640x480 camera (f = 600 px, webcam-like distortion): small images render fast, for the tests
+# and the benchmark.
+SMALL_CAMERA = CameraModel(
+    np.array([[600.0, 0, 322.4], [0, 600.0, 236.8], [0, 0, 1]]), np.array([-0.12, 0.08, 4e-4, -3e-4, 0.0]), 640, 480
+)
 
 
 @dataclass(frozen=True)
@@ -192,8 +204,59 @@ def write_dataset(out: Path, spec: HandEyeSimulation, rendered: Rendered) -> Non
         "bad_rows": [f"images/{i:04d}.png" for i in rendered.bad_rows],
         "seed": spec.seed,
     }
-    write_atomic(out / "truth" / "truth.yaml", yaml.safe_dump(truth, sort_keys=False))
+    write_atomic(out / "truth" / "truth.yaml", yaml.safe_dump(truth, sort_keys=False, default_flow_style=None))
 
 
 def _pose(T: Array) -> dict[str, list[float]]:
     return {"xyz": [float(v) for v in T[:3, 3]], "rpy": [float(v) for v in se3.rpy_of(T[:3, :3])]}
+
+
+def corner_observations(
+    n: int = 25,
+    seed: int = 0,
+    flange_mm: float = 0.2,
+    flange_deg: float = 0.02,
+    pixel_px: float = 0.05,
+    setup: Setup = Setup.EYE_IN_HAND,
+    board: str = "chessboard:10x7:0.025",
+    camera: CameraModel | None = None,
+    distance_m: tuple[float, float] = (0.5, 1.0),
+) -> tuple[Observations, Array, Array]:
+    """(observations, X, Z) without images, for the fits alone: the corners where the camera
+    (default `SMALL_CAMERA`) sees the board, plus Gaussian pixel noise, and each flange pose off by
+    the controller's error (1σ per axis, on its right)."""
+    from armtool.calib.handeye.views import Observations
+    from armtool.calib.targets.boards import board_points
+    from armtool.calib.targets.pose import planar_pose
+
+    camera = camera or SMALL_CAMERA
+    rng = np.random.default_rng(seed)
+    spec = HandEyeSimulation(board=parse_board(board), setup=setup, camera=camera, distance_m=distance_m)
+    X, Z = true_frames(setup, spec.board, rng)
+    points = board_points(spec.board)
+    G, C, rms, pixels = [], [], [], []
+    for _ in range(n):
+        cMb = board_pose(camera, spec.board, spec, rng)
+        F = Z @ se3.inv(cMb) @ se3.inv(X)
+        F = F if setup is Setup.EYE_IN_HAND else se3.inv(F)  # the flange in the base, exact
+        e = np.concatenate(
+            [rng.normal(scale=flange_mm * 1e-3, size=3), rng.normal(scale=np.radians(flange_deg), size=3)]
+        )
+        F = F @ se3.delta(e)
+        u = camera.project(points @ cMb[:3, :3].T + cMb[:3, 3]) + rng.normal(scale=pixel_px, size=(len(points), 2))
+        pose, r, _ambiguous = planar_pose(points, u, camera)
+        G.append(F if setup is Setup.EYE_IN_HAND else se3.inv(F))
+        C.append(pose)
+        rms.append(r)
+        pixels.append(u)
+    obs = Observations(
+        setup,
+        np.array(G),
+        np.array(C),
+        np.ones(n, dtype=bool),
+        np.array(rms),
+        np.repeat(np.arange(n), len(points)),
+        np.tile(points, (n, 1)),
+        np.concatenate(pixels),
+    )
+    return obs, X, Z

@@ -10,9 +10,10 @@ from armtool.calib.choices import Setup
 from armtool.calib.fit.handeye import AxXbMethod
 from armtool.calib.handeye.closed_forms import closed_form
 from armtool.calib.handeye.refine import Noise, Reprojection, fit_noise, refine, reprojection_residuals
+from armtool.calib.handeye.simulate import SMALL_CAMERA as CAMERA
+from armtool.calib.handeye.simulate import corner_observations
 from armtool.calib.handeye.views import Observations
 from armtool.calib.model import se3
-from tests.calib.handeye_data import CAMERA, synthetic_observations
 
 
 def _numeric(f, x: np.ndarray, steps: np.ndarray) -> np.ndarray:  # type: ignore[no-untyped-def]
@@ -26,7 +27,7 @@ def _numeric(f, x: np.ndarray, steps: np.ndarray) -> np.ndarray:  # type: ignore
 
 @pytest.mark.parametrize("intrinsics", [False, True])
 def test_the_jacobian_is_the_residuals_derivative(intrinsics: bool) -> None:
-    obs, X, Z = synthetic_observations(n=6, seed=1)
+    obs, X, Z = corner_observations(n=6, seed=1)
     problem = Reprojection(obs, X, Z, CAMERA, intrinsics)
     problem.whiten(problem.x0, Noise(0.1, 3e-4, 5e-4))  # whitened rows are checked too
     rng = np.random.default_rng(2)
@@ -42,7 +43,7 @@ def test_the_jacobian_is_the_residuals_derivative(intrinsics: bool) -> None:
 def test_the_flange_jacobian_is_the_derivative_by_the_flange_pose_error(setup: Setup) -> None:
     """Moving one image's reported flange pose F by F · SE3(exp(ω), v) moves its corners as
     `flange_jacobian` says (up to its sign, which a covariance does not see)."""
-    obs, X, Z = synthetic_observations(n=3, seed=3, setup=setup)
+    obs, X, Z = corner_observations(n=3, seed=3, setup=setup)
     problem = Reprojection(obs, X, Z, CAMERA, False)
     J = problem.flange_jacobian(problem.x0)
     mine = obs.image == 1
@@ -63,7 +64,7 @@ def test_the_flange_jacobian_is_the_derivative_by_the_flange_pose_error(setup: S
 def test_the_noises_are_estimated_from_the_residuals() -> None:
     """The likelihood's σ_px, σ_t and σ_r come out near the simulated ones (pixel noise 0.1 px, the
     flange 0.5 mm and 0.05°), although IPPE's own depth error alone would suggest a larger σ_t."""
-    obs, X, Z = synthetic_observations(n=40, seed=4, flange_mm=0.5, flange_deg=0.05, pixel_px=0.1)
+    obs, X, Z = corner_observations(n=40, seed=4, flange_mm=0.5, flange_deg=0.05, pixel_px=0.1)
     problem = Reprojection(obs, X, Z, CAMERA, False)
     noise = fit_noise(problem, problem.x0, Noise(0.05, 1e-3, 1e-3))
     assert 0.08 < noise.pixel_px < 0.12
@@ -73,7 +74,7 @@ def test_the_noises_are_estimated_from_the_residuals() -> None:
 
 @pytest.mark.parametrize("setup", list(Setup))
 def test_refinement_recovers_both_frames(setup: Setup) -> None:
-    obs, X, Z = synthetic_observations(n=30, seed=5, setup=setup)
+    obs, X, Z = corner_observations(n=30, seed=5, setup=setup)
     start = closed_form(AxXbMethod.PARK, obs.G, obs.C)
     fit = refine(obs, *start, CAMERA)
     for est, true, sigma in ((fit.X, X, fit.sigma_X), (fit.Z, Z, fit.sigma_Z)):
@@ -84,7 +85,7 @@ def test_refinement_recovers_both_frames(setup: Setup) -> None:
 
 
 def test_a_pose_row_of_another_image_is_named_and_left_out() -> None:
-    obs, X, _Z = synthetic_observations(n=25, seed=6)
+    obs, X, _Z = corner_observations(n=25, seed=6)
     G = obs.G.copy()
     G[7] = G[7] @ se3.delta(np.array([0.02, -0.01, 0.01, 0.03, 0.0, -0.02]))
     bad = Observations(obs.setup, G, obs.C, obs.start, obs.pnp_rms_px, obs.image, obs.points, obs.pixels)

@@ -6,8 +6,9 @@ import numpy as np
 
 from armtool.calib.choices import Intrinsics
 from armtool.calib.handeye.scores import REFINED, REFINED_INTRINSICS, folds_of, score_methods
+from armtool.calib.handeye.simulate import SMALL_CAMERA as CAMERA
+from armtool.calib.handeye.simulate import corner_observations
 from armtool.calib.model.camera import CameraModel
-from tests.calib.handeye_data import CAMERA, synthetic_observations
 
 
 def test_folds_deal_every_image_once() -> None:
@@ -24,7 +25,7 @@ def test_on_average_the_refinement_predicts_held_out_images_better_than_the_best
     datasets (0.05 px, 0.2 mm, 0.02°) it averaged 0.439 px against 0.428-0.430 for each closed form."""
     ratios = []
     for seed in range(8):
-        obs, _X, _Z = synthetic_observations(n=25, seed=100 + seed, flange_mm=0.3, flange_deg=0.03, pixel_px=0.1)
+        obs, _X, _Z = corner_observations(n=25, seed=100 + seed, flange_mm=0.3, flange_deg=0.03, pixel_px=0.1)
         scores = score_methods(obs, CAMERA, intrinsics=Intrinsics.FIXED)
         closed = min(r.heldout_inlier_rms_px for r in scores.rows if not r.method.startswith("refined"))
         assert scores.chosen.method == REFINED
@@ -33,7 +34,7 @@ def test_on_average_the_refinement_predicts_held_out_images_better_than_the_best
 
 
 def test_the_board_spread_is_each_images_board_pose_against_their_mean() -> None:
-    obs, _X, _Z = synthetic_observations(n=20, seed=7, flange_mm=1.0, flange_deg=0.0, pixel_px=0.02)
+    obs, _X, _Z = corner_observations(n=20, seed=7, flange_mm=1.0, flange_deg=0.0, pixel_px=0.02)
     scores = score_methods(obs, CAMERA, folds=0, intrinsics=Intrinsics.FIXED)
     spread = scores.chosen.spread
     assert spread is not None
@@ -44,7 +45,7 @@ def test_the_board_spread_is_each_images_board_pose_against_their_mean() -> None
 
 
 def test_auto_refines_intrinsics_only_when_they_predict_better() -> None:
-    obs, _X, _Z = synthetic_observations(n=30, seed=8, flange_mm=0.05, flange_deg=0.005, pixel_px=0.05)
+    obs, _X, _Z = corner_observations(n=30, seed=8, flange_mm=0.05, flange_deg=0.005, pixel_px=0.05)
     right = score_methods(obs, CAMERA)
     assert right.chosen.method == REFINED  # nothing to gain: the file's intrinsics are held
     K = CAMERA.K.copy()
