@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     from armtool.calib.inputs.observations import Observation
     from armtool.calib.model.camera import CameraModel
 
-HELP = "Fit a real arm's kinematic errors from images (an AprilTag or a board) or measured poses and points; write a corrected URDF."
+HELP = "Fit a real arm's kinematic errors from images (an AprilTag or a board) or measured poses and points; write a corrected URDF. Hand-eye from flange poses: `calibrate handeye`."
 
 app = typer.Typer(
     help=HELP,

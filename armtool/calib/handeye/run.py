@@ -91,10 +91,11 @@ def run_handeye(request: HandEyeRequest, progress: Callable[[str, int, int], Non
     notes: list[str] = []
     with one_blas_thread():
         views, turned = resolve_turns(found, ds.flanges(), ds.setup, ds.target, camera)
-        conventions = None
         if progress:
             progress("checking the pose conventions", 0, 1)
         conventions = check_conventions(ds, views, camera)
+        if progress:
+            progress("checking the pose conventions", 1, 1)
         if conventions.better is not None:
             if not request.keep_conventions:
                 raise ArmtoolError(
@@ -107,6 +108,8 @@ def run_handeye(request: HandEyeRequest, progress: Callable[[str, int, int], Non
         if progress:
             progress("fitting", 0, 1)
         scores = score_methods(obs, camera, folds=request.folds, seed=request.seed, intrinsics=request.intrinsics)
+        if progress:
+            progress("fitting", 1, 1)
     used = [k for k, v in enumerate(views) if v.usable]
     turns = len(board_turns(ds.target))
     return HandEyeResult(request, ds, camera, views, turned, turns, used, conventions, scores, notes + scores.notes)

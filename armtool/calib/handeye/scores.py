@@ -119,6 +119,7 @@ def score_methods(
         notes.append("without held-out scores the intrinsics are held as the file gives them")
     names = [m.value for m in METHODS] + [REFINED_INTRINSICS if v else REFINED for v in variants]
     heldout = {name: np.full((len(obs.pixels), 2), np.nan) for name in names}
+    failed: dict[bool, str] = {}
     for test in folds_of(obs.count, k, seed) if k else []:
         train_rows = np.setdiff1d(np.arange(obs.count), test)
         train, held = obs.subset(train_rows), obs.subset(test)
@@ -129,13 +130,25 @@ def score_methods(
                 heldout[method.value][where] = reprojection_residuals(held, *frames, camera)
         X0, Z0 = start(train, camera, forms)
         for v in variants:
-            fit = refine(train, X0, Z0, camera, intrinsics=v)
-            heldout[REFINED_INTRINSICS if v else REFINED][where] = reprojection_residuals(
-                held, fit.X, fit.Z, fit.camera
-            )
+            fit = _refined(train, X0, Z0, camera, v, failed)
+            if fit is not None:
+                name = REFINED_INTRINSICS if v else REFINED
+                heldout[name][where] = reprojection_residuals(held, fit.X, fit.Z, fit.camera)
     forms = closed_forms(obs)
     X0, Z0 = start(obs, camera, forms)
-    refinements = {v: refine(obs, X0, Z0, camera, intrinsics=v) for v in variants}
+    found = {v: _refined(obs, X0, Z0, camera, v, failed) for v in variants}
+    refinements = {v: fit for v, fit in found.items() if fit is not None and v not in failed}
+    if not refinements:
+        why = "; ".join(failed.values())
+        raise ArmtoolError(
+            f"the refinement failed: {why}",
+            hint="try --intrinsics fixed, and check the intrinsics file"
+            if True in failed
+            else "check that each pose row belongs to its image",
+        )
+    notes += [
+        f"refining {'the intrinsics' if v else 'the frames'} failed ({why}): not scored" for v, why in failed.items()
+    ]
     outliers = next(iter(refinements.values())).outliers
     rows: list[Score] = []
     for method, frames in forms.items():
@@ -146,7 +159,7 @@ def score_methods(
     for v, fit in refinements.items():
         name = REFINED_INTRINSICS if v else REFINED
         rows.append(_score(name, fit.X, fit.Z, fit.camera, obs, heldout[name], fit.outliers, k))
-    chosen = next(r for r in rows if r.method == (REFINED if False in variants else REFINED_INTRINSICS))
+    chosen = next(r for r in rows if r.method == (REFINED if False in refinements else REFINED_INTRINSICS))
     with_intrinsics = next((r for r in rows if r.method == REFINED_INTRINSICS), None)
     if (
         k
@@ -155,6 +168,20 @@ def score_methods(
     ):
         chosen = with_intrinsics
     return Scores(rows, chosen, refinements[chosen.method == REFINED_INTRINSICS], k, notes)
+
+
+def _refined(
+    obs: Observations, X0: Array, Z0: Array, camera: CameraModel, intrinsics: bool, failed: dict[bool, str]
+) -> Refined | None:
+    """`refine`, or None with the reason kept in `failed` (intrinsics that wander off into a camera
+    that is none: a negative focal length, a distortion that folds)."""
+    if intrinsics in failed:
+        return None
+    try:
+        return refine(obs, X0, Z0, camera, intrinsics=intrinsics)
+    except (ArmtoolError, np.linalg.LinAlgError, ValueError) as exc:
+        failed[intrinsics] = getattr(exc, "what", str(exc))
+        return None
 
 
 def closed_forms(obs: Observations) -> dict[Method, tuple[Array, Array] | str]:
