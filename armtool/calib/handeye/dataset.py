@@ -152,12 +152,9 @@ def load_handeye_dataset(directory: Path) -> HandEyeDataset:
 
 def require_ok(ds: HandEyeDataset) -> None:
     """Raise one ArmtoolError that lists every error-level problem."""
-    errors = ds.errors
-    if errors:
-        first = errors[0]
-        more = "".join(f"\n  {p.where}: {p.what}" for p in errors[1:8])
-        extra = f"\n  … and {len(errors) - 8} more" if len(errors) > 8 else ""
-        raise ArmtoolError(first.what + more + extra, first.where, first.hint or _HINT)
+    from armtool.calib.inputs.dataset import require_ok as raise_problems
+
+    raise_problems(ds, _HINT)
 
 
 def _file(root: Path, name: str | None, key: str, problems: list[Problem]) -> Path:
