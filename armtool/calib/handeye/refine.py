@@ -9,15 +9,15 @@ how the corners really err:
   image errs together by the controller's error on its flange pose (σ_t per axis, σ_r per axis of
   rotation: a robot's pose is off by tenths of a millimetre to millimetres, which moves every
   corner of the image alike). Plain least squares on the pixels takes the second for the first:
-  on rendered images with 0.2 mm / 0.02° flange errors it fitted its own images better than the
-  true frames did and predicted held-out images worse than Park–Martin's closed form (0.83
-  against 0.63 px). So each image's residuals are whitened by their covariance
+  it fits its own images better than the true frames do, and predicts held-out images 5-7 % worse
+  than the best closed form when the flange errors matter (benchmarks/handeye_bench.py: 0.3 mm and
+  0.03°, or 1 mm and 0.1°, per axis). So each image's residuals are whitened by their covariance
   σ_px² I + J_δ S J_δᵀ, with J_δ the corners' derivative by that image's flange pose error and
   S = diag(σ_t² I, σ_r² I) (generalised least squares; Woodbury's identity makes the 2P × 2P
   whitening a rank-6 correction per image). With σ_t = σ_r = 0 it is plain least squares.
-* The noises are estimated from the data (`estimate_noise`): σ_px from each image's own IPPE fit
-  (corner noise alone), σ_t and σ_r from the images' flange pose errors against the frames, and
-  re-estimated after each of ROUNDS rounds.
+* The noises are estimated from the data: first (`estimate_noise`) σ_px from each image's own IPPE
+  fit (corner noise alone), σ_t and σ_r from the images' flange pose errors against the start;
+  then, after each of ROUNDS rounds, all three by maximum likelihood (`fit_noise`).
 * Parameters: corrections of X and Z on the right, X₀ · SE3(exp(r), t) (`se3.delta`), and with
   `intrinsics` fx, fy, cx, cy and every distortion coefficient the intrinsics file has (its
   distortion model, as it gives it).
@@ -76,7 +76,7 @@ class Refined:
     camera: CameraModel
     rms_px: float  # over every corner of the images kept
     image_rms_px: Array  # (N,) each image's RMS at the solution, outliers too
-    outliers: NDArray[np.intp]  # images left out after the first round
+    outliers: NDArray[np.intp]  # images left out of the last round
     noise: Noise
     sigma_X: tuple[Array, Array]  # 1σ of X's position (m, along X's own axes) and rotation (rad)
     sigma_Z: tuple[Array, Array]
@@ -347,7 +347,7 @@ def _outliers(problem: Reprojection, x: Array, noise: Noise) -> NDArray[np.intp]
 
 def _uncertainty(problem: Reprojection, x: Array) -> tuple[tuple[Array, Array], tuple[Array, Array], Array]:
     """1σ of the parameters from the Gauss–Newton covariance (JᵀJ)⁻¹ of the whitened residuals,
-    scaled by their mean square."""
+    scaled by their mean square when it is above 1 (the noises explain them less well than assumed)."""
     J, r = problem.jacobian(x), problem.residuals(x)
     dof = max(len(r) - J.shape[1], 1)
     try:
