@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 DEMO_TMP := build/demo
 
-.PHONY: demo test check docs bench clean
+.PHONY: demo test check docs bench clean ecosystem ecosystem-update
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -91,6 +91,14 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+# The ecosystem check: armtool lint on every case of ../shared/realworld, compared with the
+# committed baseline (tests/ecosystem/baseline.json); also run by `make test` (tests/test_ecosystem.py).
+ecosystem: $(STAMP)
+	$(BIN)/python tools/ecosystem.py
+
+ecosystem-update: $(STAMP)
+	$(BIN)/python tools/ecosystem.py --update
 
 check: $(STAMP)
 	$(BIN)/ruff check .
