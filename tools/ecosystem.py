@@ -84,7 +84,7 @@ def run_case(case: dict[str, Any], score: ModuleType, corpus: Path = CORPUS) -> 
     err = result.stderr
     if result.exception is not None and not isinstance(result.exception, SystemExit):
         err += f"\nTraceback (most recent call last): {type(result.exception).__name__}: {result.exception}"
-    return Outcome(result.exit_code, result.stdout, err)
+    return Outcome(int(result.exit_code), result.stdout, err)
 
 
 def _portable(text: str, corpus: Path) -> str:

@@ -248,6 +248,24 @@ def test_c104_misspelt_types(package: Path) -> None:
     ]
 
 
+def test_c104_parallel_gripper_command_is_moveit_2s_and_not_moveit_1s(package: Path) -> None:
+    """moveit2#3246 (Jazzy, Rolling) added ParallelGripperCommand to moveit_simple_controller_manager:
+    it drives its joints (no C102, no C104); MoveIt 1's controller_list has no such handle."""
+    edit(package / "config" / "moveit_controllers.yaml", "type: GripperCommand", "type: ParallelGripperCommand")
+    findings = lint(package / "config")
+    assert found(findings, "C104") == [] and found(findings, "C102") == []
+    ros1 = package / "config" / "simple_moveit_controllers.yaml"
+    ros1.write_text(
+        "controller_list:\n  - name: gripper_controller\n    action_ns: gripper_cmd\n"
+        "    type: ParallelGripperCommand\n    joints: [left_finger_joint]\n"
+    )
+    (hit,) = found(lint(ros1), "C104")
+    assert (hit.line, hit.message.split(";")[0]) == (
+        4,
+        "controller 'gripper_controller': type 'ParallelGripperCommand' is not one MoveIt knows",
+    )
+
+
 def test_c104_leaves_other_real_controllers_and_substitutions_alone(tmp_path: Path) -> None:
     path = tmp_path / "ros_controllers.yaml"
     path.write_text(

@@ -5,7 +5,6 @@ from collections.abc import Iterator
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.moveit_context import ControllersContext
 from armtool.lint.rule import Rule, Target
-from armtool.moveit.controllers import MOVEIT_TYPES
 
 
 class GroupWithoutController(Rule):
@@ -52,7 +51,7 @@ class GroupWithoutController(Rule):
                 {
                     j.text
                     for name, c in moveit.controllers.items()
-                    if name in listed and (c.type is None or c.type.text in MOVEIT_TYPES)
+                    if name in listed and (c.type is None or c.type.text in moveit.known_types)
                     for j in (c.joints or ())
                 }
             )
