@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from armtool.lint.finding import Severity
+from armtool.lint.finding import Finding, Severity
 from tests.lint.helpers import LINK, codes, lint_text, revolute, robot
 
 BASE = '<link name="base"/>'
@@ -93,6 +93,42 @@ def test_u202_limit_without_effort_and_velocity(tmp_path: Path) -> None:
 )
 def test_limit_values(tmp_path: Path, limit: str, code: str) -> None:
     assert codes(lint_text(tmp_path, two_links(revolute("j1", "base", "l1", limit=limit)))) == [(code, 4)]
+
+
+def _caster_base(actuation: str, arm_effort: str = "10") -> str:
+    """A base with two driven arm joints and a passive caster (effort 0), and `actuation` elements."""
+    caster = (
+        '<joint name="caster" type="continuous"><parent link="base"/><child link="l2"/><axis xyz="0 0 1"/>'
+        '<limit effort="0" velocity="3"/></joint>'
+    )
+    arm = revolute("j1", "base", "l1", limit=f'lower="-1" upper="1" effort="{arm_effort}" velocity="1"')
+    arm += revolute("j2", "l1", "l3")
+    body = "\n".join(LINK.format(name=n) for n in ("base", "l1", "l2", "l3"))
+    return robot(f"{body}\n{arm}\n{caster}\n{actuation}")
+
+
+def _u204(findings: list[Finding]) -> list[str]:
+    return [f.message for f in findings if f.code == "U204"]
+
+
+ROS2_CONTROL = '<ros2_control name="hw" type="system"><joint name="j1"/><joint name="j2"/></ros2_control>'
+TRANSMISSION = (
+    '<transmission name="t1"><joint name="j1"/></transmission><transmission name="t2"><joint name="j2"/></transmission>'
+)
+
+
+@pytest.mark.parametrize("actuation", [ROS2_CONTROL, TRANSMISSION, ""])
+def test_u204_effort_0_on_a_passive_joint_is_true(tmp_path: Path, actuation: str) -> None:
+    """effort 0 on a joint nothing drives (not named by the transmissions / ros2_control that name
+    the others; continuous, where the model names no actuation): the caster of trossen's mobile_ai."""
+    assert _u204(lint_text(tmp_path, _caster_base(actuation))) == []
+    # the driven (or ranged) joint with effort 0 is still reported
+    assert _u204(lint_text(tmp_path, _caster_base(actuation, arm_effort="0"))) == ["joint 'j1': effort limit is 0"]
+
+
+def test_u204_effort_0_on_a_driven_continuous_joint_is_reported(tmp_path: Path) -> None:
+    driven = ROS2_CONTROL.replace('"j1"', '"caster"')
+    assert _u204(lint_text(tmp_path, _caster_base(driven))) == ["joint 'caster': effort limit is 0"]
 
 
 def test_u206_continuous_with_limits_but_not_zero_placeholders(tmp_path: Path) -> None:
