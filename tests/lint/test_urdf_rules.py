@@ -241,6 +241,16 @@ def test_inertia_products_are_used(tmp_path: Path) -> None:
     assert [f.code for f in lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link))] == ["U404"]
 
 
+def test_u405_a_singular_tensor_hidden_by_rounding_is_caught(tmp_path: Path) -> None:
+    """All six entries 0.01 (Sawyer's right_hand with gazebo:=true): moments 0, 0, 0.03, whose
+    closed form gives the zero as about -1e-17; that is rounding (U404: singular), not a negative
+    moment, and the tensor breaks the triangle inequality."""
+    link = '<link name="l1"><inertial><mass value="0.01"/><inertia ixx="0.01" ixy="0.01" ixz="0.01" iyy="0.01" iyz="0.01" izz="0.01"/></inertial></link>'
+    found = [f for f in lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link)) if f.code != "U402"]
+    assert [(f.code, f.severity) for f in found] == [("U404", Severity.INFO), ("U405", Severity.ERROR)]
+    assert "principal moments 0, 0, 0.03 break the triangle inequality" in found[1].message
+
+
 def test_float_noise_inertia_is_quiet(tmp_path: Path) -> None:
     link = '<link name="l1"><inertial><mass value="1"/><inertia ixx="1e-20" ixy="-2e-20" ixz="0" iyy="1e-20" iyz="0" izz="0"/></inertial></link>'
     assert lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link)) == []

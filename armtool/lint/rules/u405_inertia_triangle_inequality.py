@@ -6,6 +6,7 @@ from armtool.lint.context import UrdfContext
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.numbers import fmt
 from armtool.lint.rule import Rule, Target
+from armtool.lint.rules.u404_inertia_not_positive_definite import RELATIVE_TOLERANCE as NEGATIVE_TOLERANCE
 from armtool.lint.rules.u404_inertia_not_positive_definite import ZERO_INERTIA
 
 RELATIVE_TOLERANCE = 1e-3
@@ -15,7 +16,10 @@ class InertiaTriangleInequality(Rule):
     """
     What it does:
     Reports an inertia tensor whose principal moments break the triangle inequality
-    (the largest exceeds the sum of the other two by more than 0.1 %).
+    (the largest exceeds the sum of the other two by more than 0.1 %). A smallest moment that is
+    negative only by floating-point rounding (-7.6e-18 beside 0.03: within U404's relative
+    tolerance, so U404 calls the tensor singular, not indefinite) counts as 0: Sawyer's right_hand
+    with ixx = iyy = izz = ixy = ixz = iyz = 0.01 has moments 0, 0, 0.03.
 
     Why is this bad?
     No rigid body of positive mass has such moments: the tensor is a typo or a unit mix-up
@@ -32,8 +36,9 @@ class InertiaTriangleInequality(Rule):
 
     def check(self, ctx: UrdfContext) -> Iterator[Finding]:
         for link, inertia, _values, (a, b, c) in ctx.inertias():
-            if a < 0 or c < ZERO_INERTIA:
-                continue  # negative moments are U404's; zero placeholders are fine
+            if c < ZERO_INERTIA or a < -NEGATIVE_TOLERANCE * c:
+                continue  # zero placeholders are fine; clearly negative moments are U404's
+            a, b = (0.0 if abs(m) <= NEGATIVE_TOLERANCE * c else m for m in (a, b))  # rounding: 0
             if c > (a + b) * (1 + RELATIVE_TOLERANCE):
                 yield ctx.finding(
                     self,
