@@ -1,12 +1,12 @@
-"""Which joints of a model something drives: a joint's effort limit matters only there.
+"""Which joints of a model nothing drives: a joint's effort limit matters only where something does.
 
 A URDF says what drives a joint in its <transmission> elements (ROS 1's ros_control, Gazebo's
 gazebo_ros_control), its <ros2_control> blocks, and Gazebo plugins that name joints
-(`<gazebo><plugin>...<joint_name>` or `<joint>`: diff-drive wheels, mimic plugins). A joint none of
-these name in a model that names some is passive: a caster's swivel, an idler wheel. A model that
-declares no actuation at all (a URDF generated without its ros2_control) does not say; there a
-continuous joint with effort="0" is taken for passive, since passive casters, wheels and rollers
-are continuous joints, while an arm's driven joints have a range.
+(`<gazebo><plugin>...<joint_name>` or `<joint>`: diff-drive wheels, mimic plugins). A continuous
+joint none of these names is passive: a caster's swivel and wheel, an idler wheel, a roller
+(trossen's mobile_ai.urdf writes effort="0" on them, literally true). A revolute or prismatic
+joint is not taken for passive: an arm's or gripper's joint, whose effort="0" is a slip even where
+the model declares no actuation for it.
 """
 
 from __future__ import annotations
@@ -36,8 +36,6 @@ def driven_joints(ctx: UrdfContext) -> set[str] | None:
     return names - {""} if declared else None
 
 
-def is_passive(ctx: UrdfContext, joint: JointView, driven: set[str] | None) -> bool:
-    """Whether nothing drives this joint (`driven`: driven_joints(ctx))."""
-    if driven is not None:
-        return joint.name not in driven
-    return joint.type == "continuous"
+def is_passive(joint: JointView, driven: set[str] | None) -> bool:
+    """Whether this joint is passive: continuous, and not among `driven` (driven_joints(ctx))."""
+    return joint.type == "continuous" and (driven is None or joint.name not in driven)

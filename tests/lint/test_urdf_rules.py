@@ -251,6 +251,15 @@ def test_u405_a_singular_tensor_hidden_by_rounding_is_caught(tmp_path: Path) -> 
     assert "principal moments 0, 0, 0.03 break the triangle inequality" in found[1].message
 
 
+def test_u405_a_negligible_dummy_tensor_is_info(tmp_path: Path) -> None:
+    """Every entry 1e-6 beside a real link (anymal's and Sawyer's dummy frame links): the letter is
+    broken, the dynamics are not changed: info."""
+    dummy = '<link name="l1"><inertial><mass value="1e-6"/><inertia ixx="1e-6" ixy="1e-6" ixz="1e-6" iyy="1e-6" iyz="1e-6" izz="1e-6"/></inertial></link>'
+    text = robot(f"{LINK.format(name='base')}\n{dummy}\n{revolute('j1', 'base', 'l1')}")
+    found = [f for f in lint_text(tmp_path, text) if f.code == "U405"]
+    assert [(f.severity, f.message.endswith("(a dummy?)")) for f in found] == [(Severity.INFO, True)]
+
+
 def test_float_noise_inertia_is_quiet(tmp_path: Path) -> None:
     link = '<link name="l1"><inertial><mass value="1"/><inertia ixx="1e-20" ixy="-2e-20" ixz="0" iyy="1e-20" iyz="0" izz="0"/></inertial></link>'
     assert lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link)) == []

@@ -15,10 +15,9 @@ class NonPositiveEffort(Rule):
     effort="0" (ROS-Industrial's convention for a kinematics-only model), or the model has no
     <inertial> at all (so effort="0" is a placeholder beside real efforts, like the missing
     inertials), the model is reported once, at info level, not joint by joint. effort="0" on a
-    passive joint is true, not a defect: one that none of the model's transmissions, ros2_control
-    blocks or Gazebo plugins names while they name others (a caster's swivel and wheel); in a model
-    that declares no actuation at all, a continuous joint (armtool.lint.actuation). A negative
-    effort is always reported.
+    passive joint is true, not a defect: a continuous joint that none of the model's
+    transmissions, ros2_control blocks or Gazebo plugins names (a caster's swivel and wheel;
+    armtool.lint.actuation). A negative effort is always reported.
 
     Why is this bad?
     Controllers and simulators clamp the commanded torque or force to the effort limit:
@@ -48,7 +47,7 @@ class NonPositiveEffort(Rule):
             value = parse_floats(joint.limits.get("effort"))
             if not value or len(value) != 1 or value[0] > 0:
                 continue
-            if value[0] < 0 or not (placeholders or is_passive(ctx, joint, driven)):
+            if value[0] < 0 or not (placeholders or is_passive(joint, driven)):
                 yield ctx.finding(
                     self,
                     limit,
