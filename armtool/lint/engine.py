@@ -581,10 +581,11 @@ class Linter:
             may_be_unusable_moveit,
             read_groups,
         )
+        from armtool.moveit.substitutions import launch_values
 
         text = self.read_text(path)
         try:
-            groups = read_groups(text)
+            groups = read_groups(text, launch_values(path) if "$(" in text else None)
         except yaml.YAMLError as exc:
             return [invalid_yaml("K001", path, exc)]
         except NotAMapping as exc:
@@ -615,7 +616,29 @@ class Linter:
         if srdf_ctx is None:
             findings.append(_file_finding("K002", path, 1, 1, f"cannot check group names: {why}", hint))
         ctx = KinematicsContext(path, groups, srdf_ctx)
+        if srdf_ctx is not None and not set(names) <= set(srdf_ctx.groups):
+            ctx.variant_groups = self.srdf_variant_groups(srdf_ctx.path)
         return findings + list(self._run(ctx, Target.KINEMATICS))
+
+    def srdf_variant_groups(self, srdf: Path) -> set[str]:
+        """The groups an SRDF xacro defines with the other argument values its sources write down
+        (`hand:=true` of a `<xacro:if value="$(arg hand)">`): a kinematics.yaml written for every
+        variant configures groups the default expansion lacks."""
+        from armtool.lint.srdf_context import SrdfContext
+        from armtool.lint.srdf_variant import MAX_TRIES, compared_arguments
+
+        if not srdf.name.lower().endswith(".xacro"):
+            return set()
+        base = self._expand(srdf)
+        if isinstance(base, Finding):
+            return set()
+        args = self.xacro_args_for(srdf)
+        out: set[str] = set()
+        for change in compared_arguments(srdf, base.files)[:MAX_TRIES]:
+            expansion = self._expand(srdf, exact={**args, **change})
+            if not isinstance(expansion, Finding):
+                out.update(SrdfContext(srdf, expansion.root, Locator(srdf), None).groups)
+        return out
 
     # ---- a MoveIt config package's other YAML files ----------------------------------
     def srdf_for_package_file(self, path: Path) -> SrdfContext | None:

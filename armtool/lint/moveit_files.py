@@ -84,18 +84,21 @@ def _ros(path: Path, ros2_params: bool) -> int | None:
 
 def robot_for(linter: Linter, path: Path) -> tuple[SrdfContext | None, UrdfContext | None, dict[str, str]]:
     """The SRDF a package file belongs to (found as kinematics.yaml's is), the URDF paired with
-    it, and the xacro arguments that URDF is expanded with (for launch substitutions in keys)."""
+    it, and the values of launch substitutions in its keys: the xacro arguments that URDF is
+    expanded with, over what the package's launch files give (armtool.moveit.substitutions)."""
     from armtool.lint.pairing import read_setup_assistant
+    from armtool.moveit.substitutions import launch_values
 
+    launched = launch_values(path)  # ROS 1 `$(arg NAME)` as the package's launch fills it in
     srdf = linter.srdf_for_package_file(path)
     if srdf is None:
-        return None, None, {}
+        return None, None, launched
     paired = linter.paired_srdf(srdf.path)
     if paired is None or paired.urdf is None:
-        return srdf, None, {}
+        return srdf, None, launched
     setup = read_setup_assistant(path.parent)
     extra = setup.urdf_xacro_args if setup is not None else {}
-    return paired, paired.urdf, linter.xacro_args_for(paired.urdf.path, extra)
+    return paired, paired.urdf, {**launched, **linter.xacro_args_for(paired.urdf.path, extra)}
 
 
 def lint_joint_limits(linter: Linter, path: Path) -> list[Finding]:

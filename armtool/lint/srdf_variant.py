@@ -30,6 +30,7 @@ OTHER_ROBOT_SHARE = 0.5  # unknown with no argument to explain it: written for a
 OTHER_ROBOT_MIN = 5  # ... when that is also many names (two typos in a four-name SRDF are typos)
 MAX_TRIES = 6  # expansions tried, at most
 _ARG = re.compile(r"<xacro:arg\s+name=\"([\w-]+)\"")
+_FLIPPED = {"true": "false", "false": "true", "1": "0", "0": "1"}
 
 
 def _compared_values(text: str, name: str) -> Iterator[str]:
@@ -66,22 +67,39 @@ def candidates(arg_sets: Sequence[dict[str, str]], srdf: Path, urdf: UrdfContext
             other = read_setup_assistant(sibling) if (sibling / ".setup_assistant").is_file() else None
             if other is not None and other.urdf_relative and urdf.path.as_posix().endswith(other.urdf_relative):
                 add(other.urdf_xacro_args)
+    for change in compared_arguments(urdf.path, urdf.source_files):
+        add(change)
+    return out
+
+
+def compared_arguments(top: Path, sources: Sequence[Path] = ()) -> list[dict[str, str]]:
+    """One-argument changes a xacro's sources write down: each flag `<xacro:arg>` of `top` (default
+    true or false) the other way, and each argument with each literal it is compared with in `top`
+    or the files it includes (`sources`)."""
     try:
-        top = urdf.path.read_text(encoding="utf-8", errors="replace")
+        text = top.read_text(encoding="utf-8", errors="replace")
     except OSError:
-        return out
-    names = list(dict.fromkeys(_ARG.findall(top)))
-    texts = [top]
-    for path in urdf.source_files:
-        if path != urdf.path:
+        return []
+    names = list(dict.fromkeys(_ARG.findall(text)))
+    texts = [text]
+    for path in sources:
+        if path != top:
             try:
                 texts.append(path.read_text(encoding="utf-8", errors="replace"))
             except OSError:
                 continue
+    from armtool.moveit.substitutions import xacro_arg_defaults
+
+    out: list[dict[str, str]] = []
+    for name, default in xacro_arg_defaults(top).items():  # a flag (`<xacro:if value="$(arg hand)">`)
+        flipped = _FLIPPED.get(default.lower())
+        if flipped is not None:
+            out.append({name: flipped})
     for name in names:
-        for text in texts:
-            for value in _compared_values(text, name):
-                add({name: value})
+        for source in texts:
+            for value in _compared_values(source, name):
+                if {name: value} not in out:
+                    out.append({name: value})
     return out
 
 
