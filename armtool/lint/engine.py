@@ -247,6 +247,7 @@ class Linter:
         self._exact_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], UrdfContext | None] = {}
         self.package_cache: dict[Path, Any] = {}  # MoveIt config package root -> its controllers (moveit_files)
         self.yaml_documents: dict[Path, Any] = {}  # resolved path -> its YAML nodes or parse error (moveit_files)
+        self.run_files: set[Path] = set()  # every file of this run, resolved (a fragment's includer among them?)
 
     def _read(self, path: Path) -> bytes:
         """The file's bytes; inline ignore comments are read from them too, not from a second read."""
@@ -667,7 +668,7 @@ class Linter:
         elif kind is None and path.is_file():
             kind = sniff_kind(self._read(path))
         if kind is FileKind.SRDF:
-            return self.lint_srdf(path)
+            return self._through_includer(path, self.lint_srdf(path))
         if kind is FileKind.KINEMATICS:
             return self.lint_kinematics(path)
         if kind in (FileKind.JOINT_LIMITS, FileKind.PILZ, FileKind.CONTROLLERS):
@@ -679,7 +680,47 @@ class Linter:
                 FileKind.CONTROLLERS: moveit_files.lint_controllers,
             }[kind]
             return lint(self, path)
-        return self.lint_urdf(path)
+        return self._through_includer(path, self.lint_urdf(path))
+
+    def _through_includer(self, path: Path, found: list[Finding]) -> list[Finding]:
+        """A xacro that does not stand alone (armtool.lint.fragments) and that a file of its
+        package includes: checked through that file (its findings that point into this one),
+        or, when that file is linted in the same run, left to it; an X003 note says so."""
+        from armtool.lint.fragments import needs_includer, top_includer
+
+        if path == STDIN or not path.name.lower().endswith(".xacro"):
+            return found
+        if not any(needs_includer(f.code, f.message) and f.severity.value == "error" for f in found):
+            return found
+        top = top_includer(path)
+        if top is None:
+            return found
+        mine, shown = path.resolve(), display_path(top)
+        expansion = self._expand(top)
+        if isinstance(expansion, Finding) or mine not in {p.resolve() for p in expansion.files}:
+            return [
+                _file_finding(
+                    "X003",
+                    path,
+                    1,
+                    1,
+                    f"included by {shown} (with other xacro arguments than the ones given: its expansion does not "
+                    "include it); not checked as a robot on its own, nor through it",
+                    f"lint {shown} with the --xacro-arg values that include this file",
+                )
+            ]
+        note = _file_finding(
+            "X003",
+            path,
+            1,
+            1,
+            f"included by {shown}, which defines what it needs: checked through its expansion, not as a robot "
+            "on its own",
+            f"lint {shown} to check the robot this file is part of",
+        )
+        if top.resolve() in self.run_files:
+            return [note]
+        return [note, *(f for f in self.lint_file(top) if Path(f.path).resolve() == mine)]
 
     def lint(self, path: Path) -> list[Finding]:
         """lint_file() without the findings that inline ignore comments silence.
@@ -737,6 +778,7 @@ def _lint_all(files: list[Path], options: LintOptions) -> Iterator[list[Finding]
     import os
 
     linter = Linter(options)
+    linter.run_files = {p.resolve() for p in files if p != STDIN}
     workers = min(_cpus(), MAX_WORKERS)
     if len(files) < PARALLEL_MIN_FILES or workers < 2 or not hasattr(os, "fork"):
         for path in files:
