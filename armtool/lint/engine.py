@@ -566,8 +566,10 @@ class Linter:
             if len(usable) == 1:
                 return next(iter(usable.values())), "", ""
             covering = [c for c in usable.values() if set(groups) <= set(c.groups)]
-            if len(covering) == 1:
-                return covering[0], "", ""
+            if len(covering) == 1 or (groups and covering):
+                return covering[0], "", ""  # every one of them defines the file's groups: each check holds
+            if len({frozenset(c.groups) for c in usable.values()}) == 1:
+                return next(iter(usable.values())), "", ""  # the same groups (an SRDF and its exported copy)
             if usable:
                 return None, "several SRDFs beside it: " + ", ".join(sorted(p.name for p in usable)), pass_srdf
         return None, failure or "no SRDF found beside it", hint or pass_srdf
