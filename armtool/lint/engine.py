@@ -648,6 +648,14 @@ class Linter:
         """The SRDF a package YAML file (joint_limits.yaml, controllers) belongs to: as for kinematics.yaml."""
         return self._find_srdf(path, [])[0]
 
+    def given_urdf(self, path: Path) -> Path | None:
+        """The URDF the user gave for this file: --urdf, or the configuration's `urdf` table."""
+        return self.options.urdf or self.options.config.urdf_for(path)
+
+    def urdf_model(self, path: Path) -> UrdfContext | None:
+        """A URDF or xacro loaded once per run (None when it does not load)."""
+        return self._urdf_model(path)[0]
+
     def paired_srdf(self, path: Path) -> SrdfContext | None:
         """The SRDF with its URDF (loaded once per run; its own findings are reported when it is linted)."""
         return self.load_srdf(path)[0]

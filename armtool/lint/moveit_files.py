@@ -40,6 +40,10 @@ class Linter(Protocol):
 
     def paired_srdf(self, path: Path) -> SrdfContext | None: ...
 
+    def given_urdf(self, path: Path) -> Path | None: ...
+
+    def urdf_model(self, path: Path) -> UrdfContext | None: ...
+
     def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]: ...
 
 
@@ -110,9 +114,42 @@ def lint_joint_limits(linter: Linter, path: Path) -> list[Finding]:
         return findings  # not MoveIt's: another tool's limits file
     srdf, urdf, args = robot_for(linter, path)
     doc = read_joint_limits(path, root, args)
+    if urdf is None:
+        urdf = limits_urdf(linter, path, [e.name.bare for e in doc.joints])
+        if urdf is not None:
+            doc = read_joint_limits(path, root, {**args, **urdf.xacro_args})
     ctx = JointLimitsContext(path, doc, _ros(path, doc.section.ros2_params), srdf, urdf, args)
     ctx.in_moveit_package = srdf is not None or _moveit_package(path)
     return list(linter.run_rules(ctx, Target.JOINT_LIMITS))
+
+
+URDF_DIRS = ("urdf", "robots", "robot")  # where a description package keeps its robots
+
+
+def limits_urdf(linter: Linter, path: Path, joints: list[str]) -> UrdfContext | None:
+    """The URDF a joint_limits.yaml with no SRDF is compared with: `--urdf` (or the configuration's
+    `urdf` for the file), else the one robot of its own ROS package (its urdf/ or robots/
+    directory) that has every joint the file names: a description package that keeps its
+    limits beside its robot (khi_duaro_description's config/duaro_joint_limits.yaml)."""
+    from armtool.model.packages import package_root
+
+    given = linter.given_urdf(path)
+    if given is not None:
+        return linter.urdf_model(given)
+    root = package_root(path.parent, 3)
+    if root is None or not joints:
+        return None
+    found: list[UrdfContext] = []
+    for place in URDF_DIRS:
+        try:
+            files = sorted(p for p in (root / place).iterdir() if p.name.lower().endswith((".urdf", ".urdf.xacro")))
+        except OSError:
+            continue
+        for file in files:
+            ctx = linter.urdf_model(file)
+            if ctx is not None and ctx.links and set(joints) <= ctx.joint_names:
+                found.append(ctx)
+    return found[0] if len(found) == 1 else None
 
 
 def _moveit_package(path: Path) -> bool:

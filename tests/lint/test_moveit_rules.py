@@ -132,6 +132,29 @@ def test_l106_limit_above_the_urdf(package: Path) -> None:
     assert 'velocity="2.0"' in hits[0].message and hits[0].severity is Severity.WARNING
 
 
+LIMITS_ONLY = "joint_limits:\n  joint2: {has_velocity_limits: true, max_velocity: 3.0}\n"
+
+
+def test_l106_a_limits_file_without_srdf_is_compared_with_the_given_urdf(tmp_path: Path) -> None:
+    """Issue 27 item 2: `lint limits.yaml --urdf robot.urdf` compares it even with no SRDF around."""
+    path = tmp_path / "limits.yaml"
+    path.write_text(LIMITS_ONLY)
+    assert found(lint(path), "L106") == []
+    (hit,) = found(lint(path, urdf=ROBOTS / "clean_arm" / "urdf" / "clean_arm.urdf"), "L106")
+    assert (hit.line, hit.message.split(" is beyond")[0]) == (2, "joint 'joint2': max_velocity 3.0")
+
+
+def test_l106_a_description_package_limits_file_is_compared_with_its_robot(tmp_path: Path) -> None:
+    """khi_duaro_description: config/duaro_joint_limits.yaml beside urdf/duaro.urdf.xacro, no SRDF."""
+    shutil.copytree(ROBOTS / "clean_arm", tmp_path / "clean_arm")
+    config = tmp_path / "clean_arm" / "config"
+    for name in ("clean_arm.srdf", "kinematics.yaml"):
+        (config / name).unlink()
+    (config / "joint_limits.yaml").write_text(LIMITS_ONLY)
+    hits = found(lint(tmp_path / "clean_arm"), "L106")
+    assert [(Path(h.path).name, h.line) for h in hits] == [("joint_limits.yaml", 2)]
+
+
 def test_l107_scaling_factor(package: Path) -> None:
     path = package / "config" / "joint_limits.yaml"
     edit(path, "default_acceleration_scaling_factor: 0.25", "default_acceleration_scaling_factor: 25.0")
