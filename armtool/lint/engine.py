@@ -41,12 +41,15 @@ class FileKind(str, Enum):
     JOINT_LIMITS = "joint_limits"
     PILZ = "pilz"
     CONTROLLERS = "controllers"
+    SETUP_ASSISTANT = "setup_assistant"
 
 
 def file_kind(path: Path) -> FileKind | None:
     """The kind a file's name says; for MoveIt's YAML files its content decides later whether it
     is MoveIt's (UR's default_kinematics.yaml, Franka's joint_limits.yaml are not)."""
     name = path.name.lower()
+    if name == ".setup_assistant":
+        return FileKind.SETUP_ASSISTANT
     if name.endswith(".srdf") or name.endswith(".srdf.xacro"):
         return FileKind.SRDF
     if name.endswith(".urdf"):
@@ -681,13 +684,14 @@ class Linter:
             return self._through_includer(path, self.lint_srdf(path))
         if kind is FileKind.KINEMATICS:
             return self.lint_kinematics(path)
-        if kind in (FileKind.JOINT_LIMITS, FileKind.PILZ, FileKind.CONTROLLERS):
+        if kind in (FileKind.JOINT_LIMITS, FileKind.PILZ, FileKind.CONTROLLERS, FileKind.SETUP_ASSISTANT):
             from armtool.lint import moveit_files
 
             lint = {
                 FileKind.JOINT_LIMITS: moveit_files.lint_joint_limits,
                 FileKind.PILZ: moveit_files.lint_pilz,
                 FileKind.CONTROLLERS: moveit_files.lint_controllers,
+                FileKind.SETUP_ASSISTANT: moveit_files.lint_setup_assistant,
             }[kind]
             return lint(self, path)
         return self._through_includer(path, self.lint_urdf(path))
@@ -773,6 +777,7 @@ _TARGET_OF_KIND: dict[FileKind | None, Target] = {
     FileKind.JOINT_LIMITS: Target.JOINT_LIMITS,
     FileKind.PILZ: Target.PILZ,
     FileKind.CONTROLLERS: Target.CONTROLLERS,
+    FileKind.SETUP_ASSISTANT: Target.SETUP_ASSISTANT,
 }
 MAX_WORKERS = 8
 
@@ -983,6 +988,8 @@ def _package_files(options: LintOptions) -> list[Path]:
         files.insert(0, pkg.urdf)
     if pkg.srdf is not None and options.srdf is None and pkg.srdf.is_file():
         options.srdf = pkg.srdf
+    if (pkg.root / ".setup_assistant").is_file():
+        files.append(pkg.root / ".setup_assistant")
     return files
 
 

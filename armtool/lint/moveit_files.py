@@ -240,3 +240,41 @@ def lint_controllers(linter: Linter, path: Path) -> list[Finding]:
         path, moveit, robot, package, _ros(path, parameter_nodes(root) is not None), srdf, urdf, args
     )
     return list(linter.run_rules(ctx, Target.CONTROLLERS))
+
+
+def lint_setup_assistant(linter: Linter, path: Path) -> list[Finding]:
+    """M101: a MoveIt config package's .setup_assistant naming a URDF or SRDF that does not exist."""
+    from armtool.lint.file_findings import file_finding
+    from armtool.lint.pairing import present_instead, read_setup_assistant, setup_assistant_line
+
+    linter.read_text(path)  # for inline ignore comments
+    setup = read_setup_assistant(path.parent)
+    if setup is None or setup.package_dir.resolve() != path.parent.resolve():
+        return []
+    entries: list[tuple[str, str, Path]] = []
+    if setup.urdf_package and setup.urdf_relative:
+        found = linter.resolver.find(setup.urdf_package, setup.package_dir)
+        if found is not None:
+            entries.append(("URDF", setup.urdf_relative, found / setup.urdf_relative))
+    if setup.srdf_relative:
+        entries.append(("SRDF", setup.srdf_relative, setup.package_dir / setup.srdf_relative))
+    out = []
+    for what, relative, file in entries:
+        if file.is_file():
+            continue
+        instead = present_instead(file)
+        line = setup_assistant_line(setup.package_dir, relative)
+        out.append(
+            file_finding(
+                "M101",
+                path,
+                line,
+                1,
+                f".setup_assistant names the {what} {relative}, which does not exist"
+                + (f" (did you mean '{instead}'?)" if instead else ""),
+                f"write relative_path: {Path(relative).parent.joinpath(instead).as_posix()}"
+                if instead
+                else "write the relative path of the package's file, as the Setup Assistant would",
+            )
+        )
+    return out

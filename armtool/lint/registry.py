@@ -49,6 +49,7 @@ RULE_TABLE: tuple[tuple[str, str, str], ...] = (
     ("X001", "xacro-error", "x001_xacro_error:XacroError"),
     ("X002", "urdf-is-xacro", "x002_urdf_is_xacro:UrdfIsXacro"),
     ("X003", "include-fragment", "x003_include_fragment:IncludeFragment"),
+    ("M101", "setup-assistant-missing-file", "m101_setup_assistant_missing_file:SetupAssistantMissingFile"),
     ("S001", "invalid-srdf", "s001_invalid_srdf:InvalidSrdf"),
     ("S002", "urdf-not-found", "s002_urdf_not_found:UrdfNotFound"),
     ("S003", "srdf-for-other-variant", "s003_srdf_for_other_variant:SrdfForOtherVariant"),
@@ -103,6 +104,7 @@ _TARGET_OF_LETTER = {
     "L": Target.JOINT_LIMITS,
     "P": Target.PILZ,
     "C": Target.CONTROLLERS,
+    "M": Target.SETUP_ASSISTANT,
 }
 _loaded: dict[str, type[Rule]] = {}
 
@@ -125,7 +127,23 @@ def rules_for(target: Target) -> list[type[Rule]]:
 # Reported by the engine while it loads a file (bad XML, no <robot>, xacro failed, no URDF beside
 # an SRDF, ...); their check() finds nothing, so a lint run need not import them to run them.
 LOADER_CODES = frozenset(
-    {"U001", "U002", "U003", "X001", "X002", "X003", "S001", "S002", "S003", "K001", "K002", "L001", "P001", "C001"}
+    {
+        "U001",
+        "U002",
+        "U003",
+        "X001",
+        "X002",
+        "X003",
+        "M101",
+        "S001",
+        "S002",
+        "S003",
+        "K001",
+        "K002",
+        "L001",
+        "P001",
+        "C001",
+    }
 )
 
 
