@@ -23,6 +23,7 @@ from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_x
 if TYPE_CHECKING:  # imported on use (xacro costs start-up time; SRDF support is not always needed)
     from lxml import etree
 
+    from armtool.lint.checked import PackageChecked
     from armtool.lint.srdf_context import SrdfContext
     from armtool.model.xacro_source import Expansion
 
@@ -145,6 +146,7 @@ class LintOptions:
 class LintResult(NamedTuple):
     findings: list[Finding]
     files: list[Path]
+    checked: list[PackageChecked] = []  # noqa: RUF012 (read-only; per package, what its files were checked against)
 
 
 def rules_for(target: Target) -> list[Rule]:
@@ -251,6 +253,8 @@ class Linter:
         self.package_cache: dict[Path, Any] = {}  # MoveIt config package root -> its controllers (moveit_files)
         self.yaml_documents: dict[Path, Any] = {}  # resolved path -> its YAML nodes or parse error (moveit_files)
         self.run_files: set[Path] = set()  # every file of this run, resolved (a fragment's includer among them?)
+        # file linted (resolved) -> (URDF, SRDF) it was checked against (display paths, None: none) and its kind
+        self.counterparts: dict[str, tuple[str | None, str | None, str]] = {}
 
     def _read(self, path: Path) -> bytes:
         """The file's bytes; inline ignore comments are read from them too, not from a second read."""
@@ -384,6 +388,7 @@ class Linter:
             return findings
         if ctx.from_xacro and not ctx.links and not ctx.joints:
             return findings  # a macro library: nothing to check until a robot uses it
+        self.note_counterparts(path, path, None, "urdf")
         return findings + list(self._run(ctx, Target.URDF))
 
     def _lint_variants(self, path: Path, sets: list[dict[str, str]]) -> list[Finding]:
@@ -538,6 +543,7 @@ class Linter:
         ctx, findings = self.load_srdf(path)
         if ctx is None:
             return findings
+        self.note_counterparts(path, ctx.urdf.path if ctx.urdf is not None else None, path, "srdf")
         return findings + list(self._run(ctx, Target.SRDF))
 
     # ---- kinematics.yaml -----------------------------------------------------
@@ -622,6 +628,7 @@ class Linter:
         if srdf_ctx is None:
             findings.append(_file_finding("K002", path, 1, 1, f"cannot check group names: {why}", hint))
         ctx = KinematicsContext(path, groups, srdf_ctx)
+        self.note_counterparts(path, None, srdf_ctx.path if srdf_ctx is not None else None, "kinematics")
         if srdf_ctx is not None and not set(names) <= set(srdf_ctx.groups):
             ctx.variant_groups = self.srdf_variant_groups(srdf_ctx.path)
         return findings + list(self._run(ctx, Target.KINEMATICS))
@@ -695,6 +702,16 @@ class Linter:
             }[kind]
             return lint(self, path)
         return self._through_includer(path, self.lint_urdf(path))
+
+    def note_counterparts(self, path: Path, urdf: Path | None, srdf: Path | None, kind: str) -> None:
+        """Record what a file of this kind (a FileKind value) was checked against (the run's
+        "checked:" summary, armtool.lint.checked)."""
+        if path != STDIN:
+            self.counterparts[str(path.resolve())] = (
+                display_path(urdf) if urdf is not None else None,
+                display_path(srdf) if srdf is not None else None,
+                kind,
+            )
 
     def _through_includer(self, path: Path, found: list[Finding]) -> list[Finding]:
         """A xacro that does not stand alone (armtool.lint.fragments) and that a file of its
@@ -788,11 +805,11 @@ def _cpus() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 
-def _lint_all(files: list[Path], options: LintOptions) -> Iterator[list[Finding]]:
-    """Findings per file, in the order of `files` (inline ignores applied)."""
+def _lint_all(files: list[Path], linter: Linter) -> Iterator[list[Finding]]:
+    """Findings per file, in the order of `files` (inline ignores applied); what each file was
+    checked against lands in linter.counterparts, the workers' too."""
     import os
 
-    linter = Linter(options)
     linter.run_files = {p.resolve() for p in files if p != STDIN}
     workers = min(_cpus(), MAX_WORKERS)
     if len(files) < PARALLEL_MIN_FILES or workers < 2 or not hasattr(os, "fork"):
@@ -872,7 +889,8 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
             os.waitpid(pid, 0)
             if not blob:
                 raise RuntimeError("a lint worker process ended without reporting (killed?)")
-            sent, failures = marshal.loads(blob)
+            sent, failures, counterparts = marshal.loads(blob)
+            linter.counterparts.update(counterparts)
             for index, rows in sent:
                 results[index] = [_finding_from_row(row) for row in rows]
             for index, pickled in failures:
@@ -929,7 +947,7 @@ def _worker(linter: Linter, files: list[Path], tasks_r: int, results_w: int) -> 
                 failures.append((index, pickle.dumps(RuntimeError(f"{type(outcome).__name__}: {outcome}"))))
         else:
             sent.append((index, [_finding_to_row(f) for f in outcome]))
-    blob = marshal.dumps((sent, failures))
+    blob = marshal.dumps((sent, failures, linter.counterparts))
     view = memoryview(blob)
     while view:
         view = view[os.write(results_w, view) :]
@@ -972,15 +990,38 @@ def _finding_from_row(row: tuple[object, ...]) -> Finding:
     )
 
 
-def _package_files(options: LintOptions) -> list[Path]:
+def _package_files(options: LintOptions) -> tuple[list[Path], list[Finding]]:
     """--moveit-config: the package's files as its launch files load them (its URDF, with the
-    .setup_assistant's xacro arguments, is also what its SRDF is checked against)."""
+    .setup_assistant's xacro arguments, is also what its SRDF is checked against), and an M102
+    finding for a URDF or SRDF not found (nor given with --urdf / --srdf)."""
     from armtool.moveit.package import read_package
 
     assert options.moveit_config is not None
     resolver = PackageResolver([*options.package_paths, *options.config.package_paths])
     pkg = read_package(options.moveit_config, resolver)
     files = pkg.files()
+    missing: list[Finding] = []
+    marker = pkg.root / ".setup_assistant"
+    where = marker if marker.is_file() else pkg.root / "package.xml"
+    for what, found, given, flag in (
+        ("URDF", pkg.urdf, options.urdf, "--urdf"),
+        ("SRDF", pkg.srdf, options.srdf, "--srdf"),
+    ):
+        if given is not None and (found is None or not found.is_file()):
+            files.insert(0, given)
+        elif found is None:
+            why = next((p for p in pkg.problems if "was not found" in p), "") if what == "URDF" else ""
+            missing.append(
+                _file_finding(
+                    "M102",
+                    where,
+                    1,
+                    1,
+                    f"no {what} found for the MoveIt config ({why or _NOT_FOUND[what]}): it was not checked, nor were "
+                    "the package's files against it",
+                    f"pass {flag} PATH",
+                )
+            )
     if pkg.urdf is not None and pkg.urdf.is_file():
         options.file_args[pkg.urdf.resolve()] = dict(pkg.urdf_xacro_args)
         if options.urdf is None:
@@ -988,19 +1029,28 @@ def _package_files(options: LintOptions) -> list[Path]:
         files.insert(0, pkg.urdf)
     if pkg.srdf is not None and options.srdf is None and pkg.srdf.is_file():
         options.srdf = pkg.srdf
-    if (pkg.root / ".setup_assistant").is_file():
-        files.append(pkg.root / ".setup_assistant")
-    return files
+    if marker.is_file():
+        files.append(marker)
+    return files, missing
+
+
+_NOT_FOUND = {
+    "URDF": ".setup_assistant names none and config/ has no <robot>.urdf.xacro or <robot>.urdf",
+    "SRDF": ".setup_assistant names none and config/ has no <robot>.srdf and no single SRDF",
+}
 
 
 def lint_paths(paths: Iterable[Path], options: LintOptions) -> LintResult:
     paths = list(paths)
+    findings: list[Finding] = []
     if options.moveit_config is not None:
-        paths += _package_files(options)
+        package_files, findings = _package_files(options)
+        paths += package_files
     files = collect_files(paths)
     config = options.config
-    findings: list[Finding] = []
-    for file_findings in _lint_all(files, options):
+    findings = [config.adjust(f) for f in findings if config.keeps(f)]
+    linter = Linter(options)
+    for file_findings in _lint_all(files, linter):
         for finding in file_findings:
             if config.keeps(finding):
                 findings.append(config.adjust(finding))
@@ -1009,4 +1059,7 @@ def lint_paths(paths: Iterable[Path], options: LintOptions) -> LintResult:
 
         findings = merge_shared_defects(findings)
     unique = {(f.path, f.line, f.column, f.code, f.message): f for f in findings}
-    return LintResult(sorted(unique.values(), key=lambda f: f.sort_key), files)
+    from armtool.lint.checked import by_package
+
+    checked = by_package(files, linter.counterparts)
+    return LintResult(sorted(unique.values(), key=lambda f: f.sort_key), files, checked)

@@ -44,6 +44,8 @@ class Linter(Protocol):
 
     def urdf_model(self, path: Path) -> UrdfContext | None: ...
 
+    def note_counterparts(self, path: Path, urdf: Path | None, srdf: Path | None, kind: str) -> None: ...
+
     def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]: ...
 
 
@@ -118,6 +120,9 @@ def lint_joint_limits(linter: Linter, path: Path) -> list[Finding]:
         urdf = limits_urdf(linter, path, [e.name.bare for e in doc.joints])
         if urdf is not None:
             doc = read_joint_limits(path, root, {**args, **urdf.xacro_args})
+    linter.note_counterparts(
+        path, urdf.path if urdf is not None else None, srdf.path if srdf is not None else None, "joint_limits"
+    )
     ctx = JointLimitsContext(path, doc, _ros(path, doc.section.ros2_params), srdf, urdf, args)
     ctx.in_moveit_package = srdf is not None or _moveit_package(path)
     return list(linter.run_rules(ctx, Target.JOINT_LIMITS))
@@ -181,6 +186,7 @@ def lint_pilz(linter: Linter, path: Path) -> list[Finding]:
         return []  # not Pilz's Cartesian limits
     where = key_node(section.mapping, "cartesian_limits")
     ctx = PilzContext(path, limits, position(where) if where is not None else None, _ros(path, section.ros2_params))
+    linter.note_counterparts(path, None, None, "pilz")
     return list(linter.run_rules(ctx, Target.PILZ))
 
 
@@ -239,6 +245,9 @@ def lint_controllers(linter: Linter, path: Path) -> list[Finding]:
     ctx = ControllersContext(
         path, moveit, robot, package, _ros(path, parameter_nodes(root) is not None), srdf, urdf, args
     )
+    linter.note_counterparts(
+        path, urdf.path if urdf is not None else None, srdf.path if srdf is not None else None, "controllers"
+    )
     return list(linter.run_rules(ctx, Target.CONTROLLERS))
 
 
@@ -251,6 +260,7 @@ def lint_setup_assistant(linter: Linter, path: Path) -> list[Finding]:
     setup = read_setup_assistant(path.parent)
     if setup is None or setup.package_dir.resolve() != path.parent.resolve():
         return []
+    linter.note_counterparts(path, None, None, "setup_assistant")
     entries: list[tuple[str, str, Path]] = []
     if setup.urdf_package and setup.urdf_relative:
         found = linter.resolver.find(setup.urdf_package, setup.package_dir)
