@@ -155,6 +155,31 @@ def test_l106_a_description_package_limits_file_is_compared_with_its_robot(tmp_p
     assert [(Path(h.path).name, h.line) for h in hits] == [("joint_limits.yaml", 2)]
 
 
+@pytest.mark.parametrize(
+    ("written", "reported"),
+    [
+        ("5.23599", False),  # radians(300) = 5.2359878 at the 5 decimals written
+        ("5.236", False),
+        ("5.2360", False),  # 5.2360 ± 0.00005 holds 5.2359878
+        ("5.23600", True),  # 5.23600 ± 0.000005 does not
+        ("6.283", True),  # 20 % above
+        ("10.4717", True),
+        ("6", True),  # a whole number shows no precision
+    ],
+)
+def test_l106_tolerance_is_the_precision_written(tmp_path: Path, written: str, reported: bool) -> None:
+    """Issue 27 item 3: half a unit in the last digit written, not a percentage."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(
+        (ROBOTS / "clean_arm" / "urdf" / "clean_arm.urdf")
+        .read_text()
+        .replace('velocity="2.0"', 'velocity="5.235987756"', 1)
+    )
+    limits = tmp_path / "limits.yaml"
+    limits.write_text(f"joint_limits:\n  joint1: {{has_velocity_limits: true, max_velocity: {written}}}\n")
+    assert bool(found(lint(limits, urdf=urdf), "L106")) is reported
+
+
 def test_l107_scaling_factor(package: Path) -> None:
     path = package / "config" / "joint_limits.yaml"
     edit(path, "default_acceleration_scaling_factor: 0.25", "default_acceleration_scaling_factor: 25.0")
