@@ -68,6 +68,7 @@ RULE_TABLE: tuple[tuple[str, str, str], ...] = (
     ("S110", "robot-name-mismatch", "s110_robot_name_mismatch:RobotNameMismatch"),
     ("S111", "virtual-joint-not-root", "s111_virtual_joint_not_root:VirtualJointNotRoot"),
     ("S112", "passive-joint-in-group", "s112_passive_joint_in_group:PassiveJointInGroup"),
+    ("S113", "virtual-joint-incomplete", "s113_virtual_joint_incomplete:VirtualJointIncomplete"),
     ("K101", "kinematics-unknown-group", "k101_kinematics_unknown_group:KinematicsUnknownGroup"),
     ("K102", "unknown-solver-plugin", "k102_unknown_solver_plugin:UnknownSolverPlugin"),
     ("K103", "non-positive-timeout", "k103_non_positive_timeout:NonPositiveTimeout"),
