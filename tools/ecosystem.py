@@ -81,10 +81,14 @@ def run_case(case: dict[str, Any], score: ModuleType, corpus: Path = CORPUS) -> 
     with _in_corpus(corpus):
         argv = score.build_cmd([], case, str(corpus))
         result = CliRunner().invoke(app, argv)
-    err = result.stderr
-    if result.exception is not None and not isinstance(result.exception, SystemExit):
+    from armtool.errors import ArmtoolError
+
+    err, exit_code = result.stderr, int(result.exit_code)
+    if isinstance(result.exception, ArmtoolError):  # what armtool.cli.main does with it: exit 2, said on stderr
+        err, exit_code = err + f"error: {result.exception}\n", 2
+    elif result.exception is not None and not isinstance(result.exception, SystemExit):
         err += f"\nTraceback (most recent call last): {type(result.exception).__name__}: {result.exception}"
-    return Outcome(int(result.exit_code), result.stdout, err)
+    return Outcome(exit_code, result.stdout, err)
 
 
 def _portable(text: str, corpus: Path) -> str:
