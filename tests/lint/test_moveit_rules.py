@@ -132,6 +132,15 @@ def test_l106_limit_above_the_urdf(package: Path) -> None:
     assert 'velocity="2.0"' in hits[0].message and hits[0].severity is Severity.WARNING
 
 
+def test_l106_hint_says_at_least_for_a_lower_bound(tmp_path: Path) -> None:
+    """A min_position below the URDF's lower is fixed by raising it: the hint says 'at least', not 'at most'."""
+    path = tmp_path / "limits.yaml"
+    path.write_text("joint_limits:\n  joint2: {has_position_limits: true, min_position: -2.5, max_position: 2.5}\n")
+    low, high = found(lint(path, urdf=ROBOTS / "clean_arm" / "urdf" / "clean_arm.urdf"), "L106")
+    assert low.message.startswith("joint 'joint2': min_position -2.5")
+    assert "at least the URDF's -2" in (low.hint or "") and "at most the URDF's 2" in (high.hint or "")
+
+
 LIMITS_ONLY = "joint_limits:\n  joint2: {has_velocity_limits: true, max_velocity: 3.0}\n"
 
 

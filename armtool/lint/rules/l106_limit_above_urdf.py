@@ -66,7 +66,7 @@ class LimitAboveUrdf(Rule):
                             value,
                             f"joint '{entry.name.written}': {key} {value.text} is beyond the URDF's {attr}="
                             f'"{joint.limits.get(attr)}"{ctx.urdf_note()}',
-                            hint=f"at most the URDF's {theirs:g} (the hardware's limit), or fix the URDF",
+                            hint=f"{'at most' if sign > 0 else 'at least'} the URDF's {theirs:g} (the hardware's limit), or fix the URDF",
                         )
 
 
