@@ -90,6 +90,11 @@ def prepare_fit(request: FitRequest) -> FitJob:
         vds, vchain, vcamera = validation
         require_ok(vds)
         check_same_setup(ds, chain, camera, vds, vchain, vcamera, request.validation)
+    if request.options.hand_eye_only and request.ur_kinematics is not None:
+        raise ArmtoolError(
+            "--ur-kinematics with --params none: the robot is held nominal, so there is no calibrated arm to write",
+            hint="drop --ur-kinematics, or fit kinematic parameters (the default --params origins,offsets)",
+        )
     ur = ur_target(ds, chain, request.ur_kinematics, request.ur_kinematics_in)
     inputs = input_files(ds, validation.dataset if validation else None) + ([ur.source] if ur else [])
     _check_outputs(request, inputs)
@@ -167,7 +172,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     plot and UR kinematics file when asked for; nothing is written yet."""
     import yaml
 
-    from armtool.calib.fit.verdict import judge
+    from armtool.calib.fit.verdict import hand_eye_verdict, judge
     from armtool.calib.outputs.report import calibration_document, residual_plot_png
     from armtool.calib.outputs.urdf import (
         check_reproduces,
@@ -201,7 +206,9 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
             warning = f"not scored against the truth: {exc}"
     files: dict[Path, str | bytes] = {}
     skipped: list[str] = []
-    if verdict.improves:
+    if request.options.hand_eye_only:  # asked for: the URDF is the nominal one, nothing to judge or write
+        verdict = hand_eye_verdict()
+    elif verdict.improves:
         files[request.out / "calibrated.urdf"] = new_urdf
     else:
         skipped.append(str(request.out / "calibrated.urdf"))

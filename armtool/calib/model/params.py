@@ -45,19 +45,33 @@ class Family(str, Enum):
 _FAMILY_KIND = {Family.ORIGINS: ParamKind.ORIGIN, Family.OFFSETS: ParamKind.OFFSET, Family.GAINS: ParamKind.GAIN}
 
 
+NO_FAMILY = "none"  # `--params none`: hand-eye only, the robot held nominal
+
+
 def parse_families(text: str) -> tuple[Family, ...]:
-    """`--params origins,offsets` as families, in order, each once."""
+    """`--params origins,offsets` as families, in order, each once; `--params none` as no family
+    (only the measurement frames are fitted: the baseline every calibration is compared with)."""
+    parts = [p.strip() for p in text.split(",") if p.strip()]
+    if NO_FAMILY in parts:
+        if len(parts) > 1:
+            raise ArmtoolError(
+                f"--params {text}: 'none' fits no kinematic parameter, so it cannot be combined with others",
+                hint="--params none (hand-eye only), or families such as --params origins,offsets",
+            )
+        return ()
     out = []
-    for part in [p.strip() for p in text.split(",") if p.strip()]:
+    for part in parts:
         try:
             out.append(Family(part))
         except ValueError:
             raise ArmtoolError(
                 f"unknown parameter family '{part}' in --params",
-                hint="choose from: " + ", ".join(f.value for f in Family),
+                hint="choose from: " + ", ".join([*(f.value for f in Family), NO_FAMILY]),
             ) from None
     if not out:
-        raise ArmtoolError("--params is empty", hint="e.g. --params origins,offsets")
+        raise ArmtoolError(
+            "--params is empty", hint="e.g. --params origins,offsets, or --params none for hand-eye only"
+        )
     return tuple(dict.fromkeys(out))
 
 

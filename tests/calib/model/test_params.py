@@ -57,10 +57,16 @@ def test_parse_families_keeps_order_once_and_names_the_choices() -> None:
     with pytest.raises(ArmtoolError) as info:
         parse_families("origins,gain")
     assert "unknown parameter family 'gain'" in info.value.what and info.value.hint == (
-        "choose from: origins, offsets, gains"
+        "choose from: " + ", ".join(f.value for f in Family) + ", none"
     )
     with pytest.raises(ArmtoolError, match="--params is empty"):
         parse_families(" , ")
+
+
+def test_params_none_is_hand_eye_only_and_alone() -> None:
+    assert parse_families("none") == ()
+    with pytest.raises(ArmtoolError, match="cannot be combined"):
+        parse_families("none,offsets")
 
 
 def test_the_choices_module_stays_free_of_numpy() -> None:
