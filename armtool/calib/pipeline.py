@@ -26,6 +26,7 @@ from armtool.calib.inputs.load import Inputs, input_files, load_inputs
 from armtool.calib.inputs.observations import Detect
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel
+from armtool.calib.model.joint_term import JointTerm
 from armtool.calib.outputs.ur_kinematics import UrTarget, ur_target
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
@@ -58,6 +59,7 @@ class FitJob:
     validation: Inputs | None
     ur: UrTarget | None
     conventions: ConventionCheck | None = None  # measured poses or points: how the declared reading fits
+    terms: tuple[JointTerm, ...] = ()  # the joint terms --params asks for (compliance, harmonics)
 
 
 @dataclass(frozen=True)
@@ -101,7 +103,11 @@ def prepare_fit(request: FitRequest) -> FitJob:
     conventions = None
     if ds.measurement is not None:
         conventions = checked_conventions(ds, chain, refuse=not request.keep_conventions)
-    return FitJob(request, ds, chain, camera, validation, ur, conventions)
+    from armtool.calib.model.terms.registry import build_terms
+    from armtool.model.load import urdf_text
+
+    terms = build_terms(request.options.families, chain, lambda: urdf_text(ds.urdf, ds.xacro_args, ds.package_paths))
+    return FitJob(request, ds, chain, camera, validation, ur, conventions, terms)
 
 
 def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
@@ -154,7 +160,13 @@ def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | N
     ds = job.dataset
     measurements = observed.measurements
     model = CalibModel(
-        job.chain, ds.setup, np.eye(4), np.eye(4), sensor=measurements.sensor, target=measurements.target
+        job.chain,
+        ds.setup,
+        np.eye(4),
+        np.eye(4),
+        sensor=measurements.sensor,
+        target=measurements.target,
+        terms=job.terms,
     )
     return calibrate(
         model,
