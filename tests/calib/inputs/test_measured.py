@@ -118,19 +118,25 @@ def test_angles_in_degrees_declared_as_radians_are_one_error(tmp_path: Path, cle
     assert not [p for p in ds.errors if "look like degrees" in p.what]  # the rows it counts, not listed again
 
 
+def _one_file(path: Path, measured: str) -> Path:
+    """The dataset with joints.csv and the measurements merged into all.csv, named as both."""
+    joints = (path / "joints.csv").read_text().splitlines()
+    rows = (path / measured).read_text().splitlines()
+    merged = [a + "," + ",".join(b.split(",")[1:]) for a, b in zip(joints, rows)]
+    (path / "all.csv").write_text("\n".join(merged) + "\n")
+    doc = _manifest(path)
+    doc["samples"] = doc["observations"]["file"] = "all.csv"
+    (path / "dataset.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    return path
+
+
 def test_an_invalid_observations_section_in_the_samples_file_keeps_its_columns(
     tmp_path: Path, clean_chain: Chain
 ) -> None:
     # Joints and points in one CSV, observations: missing its unit: the point columns are the
     # measurements, so the advice is to fix observations:, never to remove them.
-    m = make_measured(clean_chain, kind="point", n=5)
-    path = write_dataset(tmp_path / "ds", m)
-    joints = (path / "joints.csv").read_text().splitlines()
-    points = (path / "points.csv").read_text().splitlines()
-    merged = [a + "," + ",".join(b.split(",")[1:]) for a, b in zip(joints, points)]
-    (path / "all.csv").write_text("\n".join(merged) + "\n")
+    path = _one_file(write_dataset(tmp_path / "ds", make_measured(clean_chain, kind="point", n=5)), "points.csv")
     doc = _manifest(path)
-    doc["samples"] = doc["observations"]["file"] = "all.csv"
     del doc["observations"]["position_units"]
     (path / "dataset.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
     ds, _chain, _camera = load_inputs(path)
@@ -142,16 +148,7 @@ def test_an_invalid_observations_section_in_the_samples_file_keeps_its_columns(
 
 def test_joints_and_measurements_in_one_file(tmp_path: Path, clean_chain: Chain) -> None:
     # FIGAROH-style: one CSV with the joints and the measurement; its columns are no warning.
-    m = make_measured(clean_chain, n=4)
-    path = write_dataset(tmp_path / "ds", m)
-    joints = (path / "joints.csv").read_text().splitlines()
-    poses = (path / "poses.csv").read_text().splitlines()
-    merged = [a + "," + ",".join(b.split(",")[1:]) for a, b in zip(joints, poses)]
-    (path / "all.csv").write_text("\n".join(merged) + "\n")
-    doc = _manifest(path)
-    doc["samples"] = "all.csv"
-    doc["observations"]["file"] = "all.csv"
-    (path / "dataset.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    path = _one_file(write_dataset(tmp_path / "ds", make_measured(clean_chain, n=4)), "poses.csv")
     ds, _chain, _camera = load_inputs(path)
     assert not ds.problems, ds.problems
     assert len(ds.measured_rows) == 4
