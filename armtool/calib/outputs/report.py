@@ -62,6 +62,10 @@ def calibration_document(
             entry["zero_offset_uncertainty"] = _num(z.uncertainty_rad)
         entry["gain"] = round(1.0 + float(result.x[gain]), 12)
         entry["sigma_gain"] = sigma_of(gain)
+        for k, term in enumerate(model.terms):  # compliance, harmonics: not in the URDF either
+            indices = model.layout.term(k, j_index)
+            sigmas = np.array([sigma[i] if i in free else math.nan for i in indices])
+            entry.update(term.report(j_index, result.x[indices], sigmas))
         joints[j.name] = entry
     ident = result.identifiability
     document: dict[str, Any] = {
@@ -72,7 +76,13 @@ def calibration_document(
         "frames": frames,
         "conventions": "origin_new = origin · SE3(exp(r), t) · motion(zero_offset); the reading q maps to gain·q + zero_offset",
         "in_urdf": "origin corrections and zero offsets are already folded into calibrated.urdf: do not apply them again; "
-        "gains are not (a URDF cannot hold them): apply gain·q in the driver if it differs from 1",
+        "gains are not (a URDF cannot hold them): apply gain·q in the driver if it differs from 1"
+        + (
+            "; nor are the joint terms (" + ", ".join(t.family.value for t in model.terms) + "): they add "
+            "Σ p·f(q) to each joint's angle, see docs/calibrate.md"
+            if model.terms
+            else ""
+        ),
         "fitted": result.candidate.name,
         "joints": joints,
         "zero_offsets": zero_offsets_section(result),
