@@ -79,8 +79,12 @@ class FitFiles:
 def prepare_fit(request: FitRequest) -> FitJob:
     """Load and check everything the fit reads and writes, before the slow work starts."""
     plot = request.plot
-    if plot is not None and not plot.parent.is_dir():  # at once; the full check follows the dataset's
-        raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
+    if plot is not None:  # at once; the full check follows the dataset's
+        from armtool.plotting import plot_format
+
+        plot_format(plot)
+        if not plot.parent.is_dir():
+            raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
     ds, chain, camera = load_inputs(request.dataset, request.xacro_args, request.package_paths)
     require_ok(ds)
     assert chain is not None and (camera is not None or ds.measurement is not None)  # require_ok refused the rest
@@ -168,7 +172,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     import yaml
 
     from armtool.calib.fit.verdict import judge
-    from armtool.calib.outputs.report import calibration_document, residual_plot_png
+    from armtool.calib.outputs.report import calibration_document
     from armtool.calib.outputs.urdf import (
         check_reproduces,
         corrected_text,
@@ -207,7 +211,10 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         skipped.append(str(request.out / "calibrated.urdf"))
     files[request.out / "calibration.yaml"] = yaml.safe_dump(document, sort_keys=False, allow_unicode=True)
     if request.plot is not None:
-        files[request.plot] = residual_plot_png(result)
+        from armtool.calib.outputs.plot import calibration_figure
+        from armtool.plotting import plot_format, render
+
+        files[request.plot] = render(calibration_figure(result, str(request.dataset)), plot_format(request.plot))
     if request.ur_kinematics is not None and job.ur is not None:
         if verdict.improves:
             from armtool.calib.outputs.ur_kinematics import ur_kinematics_yaml
