@@ -79,12 +79,8 @@ class FitFiles:
 def prepare_fit(request: FitRequest) -> FitJob:
     """Load and check everything the fit reads and writes, before the slow work starts."""
     plot = request.plot
-    if plot is not None:  # at once; the full check follows the dataset's
-        from armtool.plotting import plot_format
-
-        plot_format(plot)
-        if not plot.parent.is_dir():
-            raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
+    if plot is not None and not plot.parent.is_dir():  # at once; the full check follows the dataset's
+        raise ArmtoolError("--plot's directory does not exist", str(plot), "create it, or write the plot elsewhere")
     ds, chain, camera = load_inputs(request.dataset, request.xacro_args, request.package_paths)
     require_ok(ds)
     assert chain is not None and (camera is not None or ds.measurement is not None)  # require_ok refused the rest
@@ -97,6 +93,10 @@ def prepare_fit(request: FitRequest) -> FitJob:
     ur = ur_target(ds, chain, request.ur_kinematics, request.ur_kinematics_in)
     inputs = input_files(ds, validation.dataset if validation else None) + ([ur.source] if ur else [])
     _check_outputs(request, inputs)
+    if plot is not None:
+        from armtool.plotting import plot_format
+
+        plot_format(plot)  # a format it can write, before the work
     conventions = None
     if ds.measurement is not None:
         conventions = checked_conventions(ds, chain, refuse=not request.keep_conventions)
