@@ -37,8 +37,12 @@ def test_check_and_fit_a_pose_dataset(tmp_path: Path) -> None:
     assert check.exit_code == 0, check.output
     assert "the declared conventions fit best" in check.output
     out = tmp_path / "out"
-    result = runner.invoke(app, ["calibrate", "fit", str(ds), "-o", str(out), "--format", "json", "--no-nested"])
+    pdf = tmp_path / "fit.pdf"
+    result = runner.invoke(
+        app, ["calibrate", "fit", str(ds), "-o", str(out), "--format", "json", "--no-nested", "--plot", str(pdf)]
+    )
     assert result.exit_code == 0, result.output
+    assert pdf.read_bytes()[:5] == b"%PDF-"  # the format the extension names
     summary = json.loads(result.stdout)
     assert summary["fitted"] == "origins + offsets"
     assert set(summary["frames"]) == {"camera_in_flange", "board_in_base"}

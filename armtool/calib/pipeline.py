@@ -100,6 +100,10 @@ def prepare_fit(request: FitRequest) -> FitJob:
     ur = ur_target(ds, chain, request.ur_kinematics, request.ur_kinematics_in)
     inputs = input_files(ds, validation.dataset if validation else None) + ([ur.source] if ur else [])
     _check_outputs(request, inputs)
+    if plot is not None:
+        from armtool.plotting import plot_format
+
+        plot_format(plot)  # a format it can write, before the work
     conventions = None
     if ds.measurement is not None:
         conventions = checked_conventions(ds, chain, refuse=not request.keep_conventions)
@@ -185,7 +189,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     import yaml
 
     from armtool.calib.fit.verdict import hand_eye_verdict, judge
-    from armtool.calib.outputs.report import calibration_document, residual_plot_png
+    from armtool.calib.outputs.report import calibration_document
     from armtool.calib.outputs.urdf import (
         check_reproduces,
         corrected_text,
@@ -226,7 +230,10 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         skipped.append(str(request.out / "calibrated.urdf"))
     files[request.out / "calibration.yaml"] = yaml.safe_dump(document, sort_keys=False, allow_unicode=True)
     if request.plot is not None:
-        files[request.plot] = residual_plot_png(result)
+        from armtool.calib.outputs.plot import calibration_figure
+        from armtool.plotting import plot_format, render
+
+        files[request.plot] = render(calibration_figure(result, str(request.dataset)), plot_format(request.plot))
     if request.ur_kinematics is not None and job.ur is not None:
         if verdict.improves:
             from armtool.calib.outputs.ur_kinematics import ur_kinematics_yaml

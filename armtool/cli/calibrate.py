@@ -86,7 +86,7 @@ def fit(
     seed: int = typer.Option(
         0, "--seed", callback=opt.seed(), help="Random seed for the hold-out split (any integer)."
     ),
-    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG of per-sample residuals before and after."),
+    plot: Path | None = typer.Option(None, "--plot", help="Write a figure of residuals and σ's (.png, .svg, .pdf)."),
     output_format: ReportFormat = typer.Option(
         ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
