@@ -84,6 +84,11 @@ class FitOptions:
     select: bool = True  # fit the set that cross-validation chooses (False: the requested families)
     nested: bool = True  # report the held-out residual of the whole procedure, selection included
 
+    @property
+    def hand_eye_only(self) -> bool:
+        """`--params none`: only the measurement frames, the robot held nominal (asked for, not a verdict)."""
+        return not self.families
+
     @classmethod
     def requested(
         cls, params: str | None, *, holdout: float, seed: int, folds: int, select: bool, nested: bool

@@ -312,7 +312,7 @@ def _read_poses(ds: HandEyeDataset, convention: PoseConvention, image_column: st
                     continue
                 problem = _value_problem(values, convention, SECTION)
                 if problem is not None:
-                    ds.problems.append(Problem(f"{where}:{line}", *problem))
+                    ds.problems.append(Problem(f"{where}:{line}", problem.what, problem.hint))
                     continue
                 ds.shots.append(Shot(image, line, values))
     except csv.Error as exc:
