@@ -57,9 +57,12 @@ def print_handeye_report(result: HandEyeResult, doc: dict[str, Any]) -> None:
         sigma_deg = max((v for v in pose.get("sigma_rotation_deg", []) if v is not None), default=math.nan)
         xyz = ", ".join(f"{v * 1000:.2f}" for v in pose["xyz_m"])
         rpy = ", ".join(f"{math.degrees(v):.3f}" for v in pose["rpy_rad"])
-        con.print(
-            f"{name}: xyz ({xyz}) mm, rpy ({rpy})° (R = Rz·Ry·Rx); 1σ up to {_num(sigma_mm, 3)} mm, {_num(sigma_deg, 4)}°"
+        sigma = (
+            f"1σ up to {_num(sigma_mm, 3)} mm, {_num(sigma_deg, 4)}°"
+            if "sigma_position_mm" in pose
+            else f"no 1σ: a closed form's ({doc['method']})"
         )
+        con.print(f"{name}: xyz ({xyz}) mm, rpy ({rpy})° (R = Rz·Ry·Rx); {sigma}")
     noise = doc["noise"]
     con.print(
         f"estimated noise: corners {_num(noise['pixel_px'], 3)} px, flange poses {_num(noise['flange_position_mm'], 3)} mm "

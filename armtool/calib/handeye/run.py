@@ -161,7 +161,9 @@ def document(result: HandEyeResult) -> dict[str, Any]:
     """handeye.yaml, and what `--format json` prints (`schema_version` 1)."""
     scores, chosen, refined = result.scores, result.scores.chosen, result.scores.refined
     names = result.frame_names
-    cam = refined.camera
+    cam = chosen.camera
+    sigmas = (refined.sigma_X, refined.sigma_Z) if chosen.is_refinement else (None, None)
+    assert chosen.X is not None and chosen.Z is not None  # a chosen method gave frames
     fitted = {view: n for n, view in enumerate(result.used)}
     outliers = {result.used[i] for i in refined.outliers}
     images = []
@@ -172,7 +174,7 @@ def document(result: HandEyeResult) -> dict[str, Any]:
         else:
             n = fitted[k]
             entry["outlier"] = k in outliers
-            entry["fit_rms_px"] = _finite(refined.image_rms_px[n])
+            entry["fit_rms_px"] = _finite(chosen.fit_image_rms_px[n])
             entry["heldout_rms_px"] = _finite(chosen.heldout_image_rms_px[n])
             if chosen.spread is not None:
                 entry["board_offset_mm"] = _finite(chosen.spread.offsets_mm[n], 3)
@@ -187,8 +189,8 @@ def document(result: HandEyeResult) -> dict[str, Any]:
         "setup": result.ds.setup.value,
         "target": result.ds.target.describe(),
         "method": chosen.method,
-        names[0]: pose_document(refined.X, refined.sigma_X),
-        names[1]: pose_document(refined.Z, refined.sigma_Z),
+        names[0]: pose_document(chosen.X, sigmas[0]),
+        names[1]: pose_document(chosen.Z, sigmas[1]),
         "intrinsics": {
             "refined": chosen.method.endswith("intrinsics"),
             "camera_matrix": [[round(float(v), 4) for v in row] for row in cam.K],
@@ -208,7 +210,7 @@ def document(result: HandEyeResult) -> dict[str, Any]:
             "rms_px_without_outliers": _finite(chosen.heldout_inlier_rms_px),
             "best_closed_form": _best_closed_form(scores),
         },
-        "fit_rms_px": _finite(refined.rms_px),
+        "fit_rms_px": _finite(chosen.fit_rms_px),
         "images_used": len(result.used),
         "images": images,
         "outliers": sorted(result.views[k].name for k in outliers),
