@@ -178,6 +178,8 @@ def _commands(tmp: Path) -> list[tuple[list[str], str]]:
         (["calibrate", "check", str(tmp / "dataset")], "calib"),
         (["calibrate", "fit", str(tmp / "dataset"), "--out", str(tmp / "out")], "calib"),
         (["calibrate", "simulate", str(URDF), "--out", str(tmp / "out"), "--samples", "5"], "calib"),
+        (["calibrate", "handeye", str(tmp / "dataset")], "calib"),
+        (["calibrate", "handeye-simulate", "--out", str(tmp / "out"), "--images", "3"], "calib"),
         (["limits", "--port", port, "--mode", "auto", "--ids", "1", "--yes", "-o", str(tmp / "out")], "servo"),
         (["servo-lut", "fit", str(LUT_MEAS), "-o", str(tmp / "out")], "servo"),
         (["servo-lut", "export", str(tmp / "lut.json"), "--format", "c", "-o", str(tmp / "out")], "servo"),
@@ -254,7 +256,7 @@ def _commands(tmp: Path) -> list[tuple[list[str], str]]:
     ]
 
 
-@pytest.mark.parametrize("index", range(15), ids=lambda i: " ".join(_commands(Path("T"))[i][0][:2]))
+@pytest.mark.parametrize("index", range(17), ids=lambda i: " ".join(_commands(Path("T"))[i][0][:2]))
 def test_command_without_its_extra_exits_2_with_the_install_command(index: int, tmp_path: Path) -> None:
     args, extra = _commands(tmp_path)[index]
     _assert_needs(_run(*args), extra)

@@ -2,7 +2,8 @@
 
 `model` (what a measurement should be) < `targets` (tags and boards, found in images) < `inputs`
 (the dataset as its files state it) < `fit` (what the data determines, and whether it beats the
-nominal robot) < `outputs` (what a calibration writes) < `simulation` (datasets with known truth);
+nominal robot) < `outputs` (what a calibration writes) < `simulation` (datasets with known truth) <
+`handeye` (hand-eye from flange poses and images, without joint readings);
 each imports only the stages before it. `check` and `pipeline` run `calibrate check` and `calibrate
 fit` end to end; `choices` and `limits` are shared, numpy-free, with the command line.
 """

@@ -41,6 +41,22 @@ class DistortionModel(str, Enum):
     RATIONAL = "rational"  # k1..k6, p1, p2: wide-angle lenses; needs many well-spread images
 
 
+class ChessboardDetector(str, Enum):
+    """Which OpenCV detector finds a chessboard's inner corners (both refined by `cornerSubPix`)."""
+
+    CLASSIC = "classic"  # findChessboardCorners: found the real boards that SB missed
+    SB = "sb"  # findChessboardCornersSB (Duda & Frese's detector)
+
+
+class Intrinsics(str, Enum):
+    """`calibrate handeye --intrinsics`: hold the camera as its file says, refine it with the frames,
+    or let the k-fold held-out reprojection decide."""
+
+    FIXED = "fixed"
+    REFINE = "refine"
+    AUTO = "auto"
+
+
 class StillBy(str, Enum):
     """What "settled" means when a bag is cut into poses: positions that stay put, or reported velocities near 0."""
 

@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     from armtool.calib.inputs.observations import Observation
     from armtool.calib.model.camera import CameraModel
 
-HELP = "Fit a real arm's kinematic errors from images (an AprilTag or a board) or measured poses and points; write a corrected URDF."
+HELP = "Fit a real arm's kinematic errors from images (an AprilTag or a board) or measured poses and points; write a corrected URDF. Hand-eye from flange poses: `calibrate handeye`."
 
 app = typer.Typer(
     help=HELP,
@@ -249,6 +249,7 @@ def simulate(
         say(f"bad samples mixed in: {summary['bad_samples']}")
 
 
-from armtool.cli import calibrate_extra  # noqa: E402  (`calibrate camera` and `calibrate import-bag`)
+from armtool.cli import calibrate_extra, calibrate_handeye  # noqa: E402  (camera, import-bag; handeye)
 
 calibrate_extra.register(app)
+calibrate_handeye.register(app)

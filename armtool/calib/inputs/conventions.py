@@ -181,28 +181,29 @@ class PoseConvention:
         out: Array = T
         return out
 
-    def differences(self, other: PoseConvention) -> list[str]:
-        """The dataset.yaml lines that turn this convention into `other`."""
+    def differences(
+        self, other: PoseConvention, section: str = "observations", frames: dict[PoseFrame, str] | None = None
+    ) -> list[str]:
+        """The dataset.yaml lines that turn this convention into `other` (`section`: where the
+        convention is stated; `frames`: how that section spells each `pose:`)."""
         out = []
         if other.frame is not self.frame:
-            out.append(f"observations.pose: {other.frame.value}")
+            out.append(f"{section}.pose: {(frames or {}).get(other.frame, other.frame.value)}")
         if other.position_units is not self.position_units:
-            out.append(f"observations.position_units: {other.position_units.value}")
+            out.append(f"{section}.position_units: {other.position_units.value}")
         if other.quaternion_order is not self.quaternion_order and other.quaternion_order is not None:
-            out.append(f"observations.quaternion_order: {other.quaternion_order.value}")
+            out.append(f"{section}.quaternion_order: {other.quaternion_order.value}")
             if not self.columns_listed:  # default columns follow the order: name the file's columns to keep them
                 out.append(
-                    f"observations.rotation_columns: [{', '.join(self.rotation_columns)}] (they hold {other.quaternion_order.value})"
+                    f"{section}.rotation_columns: [{', '.join(self.rotation_columns)}] (they hold {other.quaternion_order.value})"
                 )
         if other.rpy_order != self.rpy_order and other.rpy_order is not None:
-            out.append(f"observations.rpy_order: {other.rpy_order}")
+            out.append(f"{section}.rpy_order: {other.rpy_order}")
         if other.angle_units is not self.angle_units and other.angle_units is not None:
-            out.append(f"observations.angle_units: {other.angle_units.value}")
+            out.append(f"{section}.angle_units: {other.angle_units.value}")
         if other.transposed != self.transposed:
             by_column = [self.rotation_columns[3 * c + r] for r in range(3) for c in range(3)]
-            out.append(
-                f"observations.rotation_columns: [{', '.join(by_column)}] (the matrix is stored column by column)"
-            )
+            out.append(f"{section}.rotation_columns: [{', '.join(by_column)}] (the matrix is stored column by column)")
         return out
 
     def alternatives(self) -> list[PoseConvention]:

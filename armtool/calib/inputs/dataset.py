@@ -15,7 +15,7 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -716,13 +716,18 @@ def _text(path: Path, where: str, problems: list[Problem]) -> str | None:
     return None
 
 
-def require_ok(ds: Dataset) -> None:
-    """Raise one ArmtoolError that lists every error-level problem."""
+class HasProblems(Protocol):
+    """A dataset that collects its problems (this one, or a hand-eye dataset)."""
+
+    @property
+    def errors(self) -> list[Problem]: ...
+
+
+def require_ok(ds: HasProblems, hint: str = "run `armtool calibrate check` for the full list") -> None:
+    """Raise one ArmtoolError that lists every error-level problem (`hint` when the first has none)."""
     errors = ds.errors
     if errors:
         first = errors[0]
         more = "".join(f"\n  {p.where}: {p.what}" for p in errors[1:8])
         extra = f"\n  … and {len(errors) - 8} more" if len(errors) > 8 else ""
-        raise ArmtoolError(
-            first.what + more + extra, first.where, first.hint or "run `armtool calibrate check` for the full list"
-        )
+        raise ArmtoolError(first.what + more + extra, first.where, first.hint or hint)

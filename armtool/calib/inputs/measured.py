@@ -73,16 +73,21 @@ class SpecProblem:
 
 
 def _choice(
-    section: dict[str, Any], key: str, choices: tuple[str, ...], problems: list[SpecProblem], needed: str
+    section: dict[str, Any],
+    key: str,
+    choices: tuple[str, ...],
+    problems: list[SpecProblem],
+    needed: str,
+    prefix: str = "observations",
 ) -> str | None:
-    """`observations.<key>`, one of `choices`; a missing or unknown value is a problem."""
+    """`<prefix>.<key>`, one of `choices`; a missing or unknown value is a problem."""
     listed = ", ".join(choices)
     if key not in section:
-        problems.append(SpecProblem(f"observations.{key} is missing ({needed})", f"state it: one of {listed}"))
+        problems.append(SpecProblem(f"{prefix}.{key} is missing ({needed})", f"state it: one of {listed}"))
         return None
     value = section[key]
     if not isinstance(value, str) or value not in choices:
-        problems.append(SpecProblem(f"observations.{key} is {value!r}", f"one of {listed}"))
+        problems.append(SpecProblem(f"{prefix}.{key} is {value!r}", f"one of {listed}"))
         return None
     return value
 
@@ -92,7 +97,12 @@ def _values(enum: Any) -> tuple[str, ...]:
 
 
 def _columns(
-    section: dict[str, Any], key: str, size: int, default: tuple[str, ...], problems: list[SpecProblem]
+    section: dict[str, Any],
+    key: str,
+    size: int,
+    default: tuple[str, ...],
+    problems: list[SpecProblem],
+    prefix: str = "observations",
 ) -> tuple[str, ...]:
     value = section.get(key)
     if value is None:
@@ -100,7 +110,7 @@ def _columns(
     if not isinstance(value, list) or len(value) != size or not all(isinstance(v, (str, int)) for v in value):
         problems.append(
             SpecProblem(
-                f"observations.{key} must list {size} column names, got {value!r}",
+                f"{prefix}.{key} must list {size} column names, got {value!r}",
                 f"e.g. {key}: [{', '.join(default)}]",
             )
         )
@@ -243,7 +253,7 @@ def read_rows(
                 text = row[cols[spec.columns.index(bad)]]
                 problems.append(RowProblem(line, f"'{bad}' is not a number: {text!r}", "", (sid,), f"number:{bad}"))
                 continue
-            why = _value_problem(values, spec)
+            why = _value_problem(values, spec.convention)
             if why is not None:
                 problems.append(RowProblem(line, why.what, why.hint, (sid,), why.cause, why.size))
                 continue
@@ -294,21 +304,22 @@ class _ValueProblem:
     size: float = 0.0
 
 
-def _value_problem(values: Array, spec: MeasurementSpec) -> _ValueProblem | None:
-    """Why a row's values cannot be a measurement, with the fix."""
+def _value_problem(
+    values: Array, convention: PoseConvention | PointConvention, prefix: str = "observations"
+) -> _ValueProblem | None:
+    """Why a row's values cannot be a measurement, with the fix (`prefix`: the dataset.yaml section)."""
     if not np.isfinite(values).all():
         return _ValueProblem(
             "a value is NaN or infinite", "leave the sample out, or mark it in samples.csv only", "nan"
         )
-    position = float(np.abs(values[:3]).max()) * spec.convention.position_units.metres
+    position = float(np.abs(values[:3]).max()) * convention.position_units.metres
     if position > MAX_POSITION_M:
         return _ValueProblem(
             f"a position of {position:g} m: is it in millimetres?",
-            "set observations.position_units to the unit the file uses",
+            f"set {prefix}.position_units to the unit the file uses",
             "position_units",
             position,
         )
-    convention = spec.convention
     if isinstance(convention, PoseConvention):
         if (
             convention.rotation in (RotationForm.RPY, RotationForm.ROTATION_VECTOR)
@@ -318,11 +329,11 @@ def _value_problem(values: Array, spec: MeasurementSpec) -> _ValueProblem | None
             if largest > 2 * math.pi + 0.5:
                 return _ValueProblem(
                     f"an angle of {largest:g} rad: these look like degrees",
-                    "set observations.angle_units: deg",
+                    f"set {prefix}.angle_units: deg",
                     "angle_units",
                     largest,
                 )
         why = convention.row_problem(values)
         if why is not None:
-            return _ValueProblem(why, "check observations.rotation and rotation_columns", "rotation")
+            return _ValueProblem(why, f"check {prefix}.rotation and rotation_columns", "rotation")
     return None

@@ -13,6 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from armtool.calib.choices import ChessboardDetector
 from armtool.calib.inputs.dataset import Dataset, Sample
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.model.se3 import Array
@@ -34,25 +35,57 @@ Detect = Callable[
 ]  # `observe` with progress shown: every sample's corners
 
 
-def _detect_one(args: tuple[str, str, Target, CameraModel]) -> tuple[str, Array | None, str]:
+def _detect_one(args: tuple[str, str, Target, CameraModel, ChessboardDetector]) -> tuple[str, Array | None, str]:
     from armtool.calib.inputs.files import read_gray
     from armtool.calib.targets.detect import detect_corners
 
-    sample_id, image_path, target, camera = args
+    key, image_path, target, camera, detector = args
     try:
         gray = read_gray(Path(image_path))
     except ArmtoolError as exc:
-        return sample_id, None, exc.what
+        return key, None, exc.what
     if gray is None:
-        return sample_id, None, f"cannot read image {image_path}"
+        return key, None, f"cannot read image {image_path}"
     if (gray.shape[1], gray.shape[0]) != (camera.width, camera.height):
         return (
-            sample_id,
+            key,
             None,
             f"image is {gray.shape[1]}x{gray.shape[0]}, the intrinsics say {camera.width}x{camera.height}",
         )
-    corners, reason = detect_corners(gray, target, camera)
-    return sample_id, corners, reason
+    corners, reason = detect_corners(gray, target, camera, detector)
+    return key, corners, reason
+
+
+def detect_images(
+    images: dict[str, Path],
+    target: Target,
+    camera: CameraModel,
+    detector: ChessboardDetector = ChessboardDetector.CLASSIC,
+    progress: Callable[[int, int], None] | None = None,
+    workers: int | None = None,
+) -> dict[str, Observation]:
+    """The target's corners in every image (key → image file), on a thread per core."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from armtool.calib.inputs.files import unreadable_reason
+
+    out: dict[str, Observation] = {}
+    jobs = []
+    for key, image in images.items():
+        if (why := unreadable_reason(Path(image))) is not None:
+            out[key] = Observation(key, None, f"image {image} {why}")
+        else:
+            jobs.append((key, str(image), target, camera, detector))
+    if not jobs:
+        return out
+    done = 0
+    with ThreadPoolExecutor(max_workers=workers or min(os.cpu_count() or 1, 8)) as pool:
+        for key, uv, reason in pool.map(_detect_one, jobs):
+            out[key] = Observation(key, uv, reason)
+            done += 1
+            if progress:
+                progress(done, len(jobs))
+    return out
 
 
 def observe(
@@ -63,8 +96,6 @@ def observe(
     workers: int | None = None,
 ) -> dict[str, Observation]:
     """Corners for every sample: corners.csv when the dataset has one, else detection in the images."""
-    from armtool.calib.inputs.files import unreadable_reason
-
     target = Target.of(ds)
     samples = ds.samples if samples is None else samples
     out: dict[str, Observation] = {}
@@ -77,25 +108,11 @@ def observe(
             uv = ds.corners.get(s.id)
             out[s.id] = Observation(s.id, uv, "" if uv is not None else f"no row for tag {ds.tag_id} in corners.csv")
         return out
-    jobs = []
+    images = {}
     for s in samples:
         if s.image is None:
             out[s.id] = Observation(s.id, None, "no image and no corners.csv row")
-        elif (why := unreadable_reason(Path(s.image))) is not None:
-            out[s.id] = Observation(s.id, None, f"image {s.image} {why}")
         else:
-            jobs.append((s.id, str(s.image), target, camera))
-    total = len(jobs)
-    workers = workers or min(os.cpu_count() or 1, 8)
-    if total == 0:
-        return out
-    from concurrent.futures import ThreadPoolExecutor
-
-    done = 0
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        for sid, uv, reason in pool.map(_detect_one, jobs):
-            out[sid] = Observation(sid, uv, reason)
-            done += 1
-            if progress:
-                progress(done, total)
-    return out
+            images[s.id] = Path(s.image)
+    out.update(detect_images(images, target, camera, progress=progress, workers=workers))
+    return {s.id: out[s.id] for s in samples}

@@ -5,7 +5,7 @@ A board is given on the command line (`calibrate camera --board`, `simulate --ta
 
 * `chessboard:COLSxROWS:SQUARE`: a plain chessboard of COLS×ROWS squares (not inner corners:
   OpenCV's `patternSize` is (COLS−1, ROWS−1)) of edge SQUARE metres. Its inner corners come from
-  OpenCV's `findChessboardCornersSB`, the whole board must be in view, and their order is decided
+  OpenCV's `findChessboardCorners` (or `findChessboardCornersSB`), the whole board must be in view, and their order is decided
   from the squares' colours (`armtool.calib.targets.chessboard`): with one even and one odd count
   (e.g. 10x7) the board frame is the same in every image; with both even or both odd the board
   looks the same turned by 180°, which is fine for `calibrate camera` but refused as a fit target.
@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armtool.calib.choices import ChessboardDetector
 from armtool.calib.model.camera import Array
 from armtool.errors import ArmtoolError
 
@@ -223,12 +224,15 @@ class BoardView:
     reason: str = ""  # why the view is unusable ("" when usable)
 
 
-def find_board(gray: NDArray[np.uint8], spec: BoardSpec) -> BoardView:
-    """The board's corners in an 8-bit grey image; too few corners give an empty view with a reason."""
+def find_board(
+    gray: NDArray[np.uint8], spec: BoardSpec, detector: ChessboardDetector = ChessboardDetector.CLASSIC
+) -> BoardView:
+    """The board's corners in an 8-bit grey image; too few corners give an empty view with a reason.
+    `detector`: which OpenCV detector finds a chessboard (`armtool.calib.targets.chessboard`)."""
     if spec.kind is BoardKind.CHESSBOARD:
         from armtool.calib.targets.chessboard import find_chessboard
 
-        found = find_chessboard(gray, spec.cols, spec.rows)
+        found = find_chessboard(gray, spec.cols, spec.rows, detector)
         if found.pixels is None:
             return BoardView(np.zeros(0, dtype=np.int64), np.zeros((0, 2)), found.reason)
         return BoardView(np.arange(len(found.pixels), dtype=np.int64), found.pixels)

@@ -1,45 +1,60 @@
 """A chessboard's inner corners, in the board's own order whatever way it is turned.
 
-OpenCV's `findChessboardCornersSB` (Duda & Frese's detector, robust to blur and noise) finds the
-inner corners, then `cornerSubPix` refines them (`_refine`). It returns them row by row, but from
-which end it starts is not fixed:
-two images of the same board can come back in opposite orders (opencv/opencv#22083), and a
-calibration that reprojects board points would then see the board turned by 180° between them.
-The order is therefore decided here, from the image:
+OpenCV's `findChessboardCorners` (or, optionally, `findChessboardCornersSB`) finds the inner
+corners, then `cornerSubPix` refines them (`_refine`). The classic detector is the default: on
+real photos `findChessboardCornersSB` found 6 of one set's 30 boards, and its own corners sat about
+1 px from `cornerSubPix`'s (issue 28). Both return the corners row by row, but from which end they
+start is not fixed: two images of the same board can come back in opposite orders
+(opencv/opencv#22083; 5 of 29 real photos of one hand-eye set), and a calibration that reprojects
+board points would then see the board turned by 180° between them. The order is therefore decided
+here, from the image:
 
 1. handedness: the board is seen from its printed side, so its x (along a row) and y (down the
    rows) axes must keep their orientation in the image; a mirrored order is reversed row-wise;
 2. colour: on a board with one even and one odd number of squares a 180° turn swaps the colours
    of the squares, so the order whose squares have the expected colours (the board frame's first
-   square black) is kept. A board with both counts even or both odd looks the same after a 180°
-   turn: its order cannot be decided (`symmetric`), which is harmless for camera intrinsics (each
-   image has its own pose) but not for a kinematic fit, which therefore refuses such boards.
+   square black) is kept. On a square board (as many rows as columns) a detector may also return
+   the grid transposed, i.e. turned by 90° after step 1; with an even count that turn swaps the
+   colours, and it is undone the same way.
+
+A board with both counts even or both odd looks the same turned by 180° (a square one with an odd
+count, by 90°): its order cannot be decided from one image (`symmetric`, `lookalike_turns`). That
+is harmless for camera intrinsics (each image has its own pose); the kinematic fit refuses such
+boards, and the hand-eye calibration decides each image's turn from the robot's motion.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
+from armtool.calib.choices import ChessboardDetector
 from armtool.calib.model.camera import Array
 
 MIN_CONTRAST = 8.0  # grey levels between the black and the white squares: below, the colours cannot be told
 MIN_AGREEMENT = 0.8  # share of squares whose colour must agree with the chosen order
 
 
-# Detector passes, cheapest first, stopping at the first that finds the board. On 240 rendered
-# 1280x720 views of 10x7 and 9x6 boards (0.45-0.9 m, tilted up to 55°, turned any way, blur σ
-# 0.5-2 px, noise 4/255, a 40 % lighting gradient, half with 3 px of motion blur) they found 233,
-# 4 and 1, and 2 were missed (strongly foreshortened squares). The SB flags are not monotonic:
-# EXHAUSTIVE alone finds boards that NORMALIZE_IMAGE|EXHAUSTIVE misses.
-_PASSES: tuple[tuple[str, tuple[str, ...]], ...] = (
-    ("findChessboardCornersSB", ("CALIB_CB_NORMALIZE_IMAGE",)),
-    ("findChessboardCornersSB", ("CALIB_CB_EXHAUSTIVE",)),
-    ("findChessboardCorners", ("CALIB_CB_ADAPTIVE_THRESH", "CALIB_CB_NORMALIZE_IMAGE")),
-)
+# Detector passes, stopping at the first that finds the board. On 240 rendered 1280x720 views of
+# 10x7 and 9x6 boards (0.45-0.9 m, tilted up to 55°, turned any way, blur σ 0.5-2 px, noise 4/255,
+# a 40 % lighting gradient, half with 3 px of motion blur) the classic detector found 237 with
+# ADAPTIVE_THRESH|NORMALIZE_IMAGE and 238 with no flags, 238 with both passes; SB found 236 with
+# NORMALIZE_IMAGE, 237 with EXHAUSTIVE added as a second pass.
+_PASSES: dict[ChessboardDetector, tuple[tuple[str, tuple[str, ...]], ...]] = {
+    ChessboardDetector.CLASSIC: (
+        ("findChessboardCorners", ("CALIB_CB_ADAPTIVE_THRESH", "CALIB_CB_NORMALIZE_IMAGE")),
+        ("findChessboardCorners", ()),
+    ),
+    # The SB flags are not monotonic: EXHAUSTIVE alone finds boards that NORMALIZE_IMAGE|EXHAUSTIVE misses.
+    ChessboardDetector.SB: (
+        ("findChessboardCornersSB", ("CALIB_CB_NORMALIZE_IMAGE",)),
+        ("findChessboardCornersSB", ("CALIB_CB_EXHAUSTIVE",)),
+    ),
+}
 
 
 @dataclass(frozen=True)
@@ -55,14 +70,25 @@ def symmetric(cols: int, rows: int) -> bool:
     return (cols + rows) % 2 == 0
 
 
-def find_chessboard(gray: NDArray[np.uint8], cols: int, rows: int) -> ChessboardCorners:
+def lookalike_turns(cols: int, rows: int) -> int:
+    """How many turns of the board about its centre look alike after `find_chessboard` ordered it:
+    1 (its order is known), 2 (both counts even or both odd: 0° and 180°) or 4 (a square board
+    with an odd count: every quarter turn)."""
+    if not symmetric(cols, rows):
+        return 1
+    return 4 if cols == rows and cols % 2 == 1 else 2
+
+
+def find_chessboard(
+    gray: NDArray[np.uint8], cols: int, rows: int, detector: ChessboardDetector = ChessboardDetector.CLASSIC
+) -> ChessboardCorners:
     """The inner corners of a chessboard of `cols`×`rows` squares (all of them: a chessboard has
     no marks that tell a partial view's position), ordered as `boards.board_points` numbers them."""
     import cv2
 
     inner = (cols - 1, rows - 1)
     corners = None
-    for find, flags in _PASSES:
+    for find, flags in _PASSES[detector]:
         found, corners = getattr(cv2, find)(gray, inner, flags=sum(getattr(cv2, f) for f in flags))
         if found and corners is not None:
             break
@@ -72,26 +98,33 @@ def find_chessboard(gray: NDArray[np.uint8], cols: int, rows: int) -> Chessboard
             f"chessboard not found: no {inner[0]}x{inner[1]} grid of inner corners "
             f"(a {cols}x{rows}-square board; the whole board must be in the image)",
         )
-    corners = _refine(gray, np.asarray(corners, dtype=np.float32).reshape(inner[1], inner[0], 2))
-    grid = corners
+    grid = _refine(gray, np.asarray(corners, dtype=np.float32).reshape(inner[1], inner[0], 2))
     if _handedness(grid) < 0:
         grid = grid[:, ::-1]
     if not symmetric(cols, rows):
-        light_minus_dark, agreement = _square_colours(gray, grid)
-        if abs(light_minus_dark) < MIN_CONTRAST:
-            return ChessboardCorners(
-                None,
-                f"cannot tell the board's orientation: its squares differ by {abs(light_minus_dark):.0f} grey levels",
-            )
-        if light_minus_dark < 0:
-            grid = grid[::-1, ::-1]
-            agreement = 1.0 - agreement
-        if agreement < MIN_AGREEMENT:
-            return ChessboardCorners(
-                None,
-                f"only {agreement:.0%} of the squares have the colour the board's orientation predicts (glare or shadow?)",
-            )
+        return _by_colour(gray, grid, lambda g: g[::-1, ::-1])
+    if cols == rows and cols % 2 == 0:
+        return _by_colour(gray, grid, np.rot90)
     return ChessboardCorners(grid.reshape(-1, 2))
+
+
+def _by_colour(gray: NDArray[np.uint8], grid: Array, turn: Callable[[Array], Array]) -> ChessboardCorners:
+    """The grid, `turn`ed when its squares have the colours the other way round, or why the colours
+    cannot tell."""
+    light_minus_dark, agreement = _square_colours(gray, grid)
+    if abs(light_minus_dark) < MIN_CONTRAST:
+        return ChessboardCorners(
+            None, f"cannot tell the board's orientation: its squares differ by {abs(light_minus_dark):.0f} grey levels"
+        )
+    if light_minus_dark < 0:
+        grid = turn(grid)
+        agreement = 1.0 - agreement
+    if agreement < MIN_AGREEMENT:
+        return ChessboardCorners(
+            None,
+            f"only {agreement:.0%} of the squares have the colour the board's orientation predicts (glare or shadow?)",
+        )
+    return ChessboardCorners(np.ascontiguousarray(grid).reshape(-1, 2))
 
 
 _REFINE_FRACTION = 0.4  # cornerSubPix half-window, as a fraction of the smallest corner spacing

@@ -14,12 +14,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armtool.calib.choices import ChessboardDetector
 from armtool.calib.model.camera import Array, CameraModel
 from armtool.calib.targets.spec import Target
 
 
-def detect_corners(gray: NDArray[Any], target: Target, camera: CameraModel) -> tuple[Array | None, str]:
-    """(corners (P, 2) or None, why not) of `target` in an 8-bit image of the camera's size."""
+def detect_corners(
+    gray: NDArray[Any], target: Target, camera: CameraModel, detector: ChessboardDetector = ChessboardDetector.CLASSIC
+) -> tuple[Array | None, str]:
+    """(corners (P, 2) or None, why not) of `target` in an 8-bit image of the camera's size
+    (`detector`: the chessboard detector, for a chessboard)."""
     if target.board is None:
         from armtool.calib.targets.apriltag import detect_tag
 
@@ -28,7 +32,7 @@ def detect_corners(gray: NDArray[Any], target: Target, camera: CameraModel) -> t
     from armtool.calib.targets.apriltag import _as_gray
     from armtool.calib.targets.boards import board_points, find_board
 
-    view = find_board(_as_gray(gray), target.board)
+    view = find_board(_as_gray(gray), target.board, detector)
     if view.reason:
         return None, view.reason
     corners = np.full((len(board_points(target.board)), 2), np.nan)

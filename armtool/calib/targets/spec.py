@@ -42,8 +42,9 @@ def declares_board(target: Any) -> bool:
     return isinstance(target, dict) and ("board" in target or str(target.get("type", "")).lower() in _BOARD_TYPES)
 
 
-def board_target(target: Any) -> BoardSpec:
-    """The board a `target:` that `declares_board` names; ArmtoolError (what, hint) when it is not usable."""
+def board_target(target: Any, allow_symmetric: bool = False) -> BoardSpec:
+    """The board a `target:` that `declares_board` names; ArmtoolError (what, hint) when it is not usable
+    (`allow_symmetric`: a chessboard that looks the same turned is usable, as for hand-eye)."""
     if not isinstance(target, dict):
         raise ArmtoolError(f"target must be a mapping, got {target!r}", hint=_BOARD_HINT)
     text = target.get("board")
@@ -61,7 +62,7 @@ def board_target(target: Any) -> BoardSpec:
             f"target.type is '{kind}' but target.board is a {spec.kind.value}",
             hint=f"write type: {spec.kind.value}, or leave type out",
         )
-    if spec.symmetric:
+    if spec.symmetric and not allow_symmetric:
         raise symmetric_board_error(spec, "target.board")
     return spec
 

@@ -3,13 +3,16 @@ however the board is turned (blur, noise, a lighting gradient, motion blur and p
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 
+from armtool.calib.choices import ChessboardDetector
 from armtool.calib.model.camera import CameraModel
 from armtool.calib.simulation.render import _rotvec, board_in_view
 from armtool.calib.targets.boards import BoardKind, board_points, find_board, parse_board
-from armtool.calib.targets.chessboard import _handedness, find_chessboard, symmetric
+from armtool.calib.targets.chessboard import _handedness, find_chessboard, lookalike_turns, symmetric
 from armtool.errors import ArmtoolError
 from tests.calib.render_board import random_board_pose, render_board
 
@@ -112,3 +115,64 @@ def test_the_spec_reads_back_and_numbers_inner_corners_like_charuco() -> None:
     charuco = parse_board("charuco:10x7:0.025:0.018:4X4_50")
     np.testing.assert_allclose(board_points(spec), board_points(charuco))
     assert parse_board(charuco.text()) == charuco
+
+
+def _reordered(monkeypatch: pytest.MonkeyPatch, reorder: Callable[[np.ndarray], np.ndarray]) -> None:
+    """Make OpenCV's classic detector return its grid of inner corners reordered (rows × columns × 2)."""
+    import cv2
+
+    find = cv2.findChessboardCorners
+
+    def reordered(image, size, *args, **kwargs):  # type: ignore[no-untyped-def]
+        found, corners = find(image, size, *args, **kwargs)
+        if found:
+            grid = corners.reshape(size[1], size[0], 2)
+            corners = np.ascontiguousarray(reorder(grid)).reshape(-1, 1, 2)
+        return found, corners
+
+    monkeypatch.setattr(cv2, "findChessboardCorners", reordered)
+
+
+@pytest.mark.parametrize("board", ["chessboard:10x7:0.03", "chessboard:7x10:0.03"])
+def test_a_grid_returned_from_its_other_end_is_turned_back(board: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The classic detector's grid turned by 180° (seen in 5 of 29 real hand-eye photos) or mirrored:
+    the same corners, in the same order, come out."""
+    spec = parse_board(board)
+    images = [render_board(CAM, pose, spec) for pose in _spun_poses(board, 3, seed=4)]
+    plain = [find_chessboard(image, spec.cols, spec.rows).pixels for image in images]
+    for reorder in (lambda g: g[::-1, ::-1], lambda g: g[:, ::-1], lambda g: g[::-1]):
+        with monkeypatch.context() as patch:
+            _reordered(patch, reorder)
+            for image, expected in zip(images, plain):
+                assert expected is not None
+                np.testing.assert_allclose(find_chessboard(image, spec.cols, spec.rows).pixels, expected, atol=1e-6)
+
+
+def test_a_square_boards_transposed_grid_is_turned_back_by_its_colours(monkeypatch: pytest.MonkeyPatch) -> None:
+    """An 8x8 board (7x7 inner corners) may come back transposed; a quarter turn swaps its squares'
+    colours, so the order is fixed up to the 180° turn that no image can tell."""
+    spec = parse_board("chessboard:8x8:0.03")
+    images = [render_board(CAM, pose, spec) for pose in _spun_poses("chessboard:8x8:0.03", 3, seed=5)]
+    plain = [find_chessboard(image, 8, 8).pixels for image in images]
+    _reordered(monkeypatch, lambda g: np.swapaxes(g, 0, 1))
+    for image, expected in zip(images, plain):
+        found = find_chessboard(image, 8, 8).pixels
+        assert expected is not None and found is not None
+        assert np.allclose(found, expected, atol=1e-6) or np.allclose(found, expected[::-1], atol=1e-6)
+    assert lookalike_turns(8, 8) == 2 and lookalike_turns(7, 7) == 4 and lookalike_turns(10, 7) == 1
+
+
+def test_the_classic_detector_is_the_default_and_sb_is_optional(monkeypatch: pytest.MonkeyPatch) -> None:
+    import cv2
+
+    spec = parse_board("chessboard:10x7:0.03")
+    image = render_board(CAM, _spun_poses("chessboard:10x7:0.03", 1, seed=6)[0], spec)
+    used: list[str] = []
+    for name in ("findChessboardCorners", "findChessboardCornersSB"):
+        original = getattr(cv2, name)
+        monkeypatch.setattr(cv2, name, lambda *a, _f=original, _n=name, **k: (used.append(_n), _f(*a, **k))[1])
+    classic = find_board(image, spec)
+    assert used == ["findChessboardCorners"]
+    sb = find_board(image, spec, ChessboardDetector.SB)
+    assert used[1:] == ["findChessboardCornersSB"]
+    assert np.abs(classic.pixels - sb.pixels).max() < 0.1  # both refined by cornerSubPix
