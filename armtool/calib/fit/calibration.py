@@ -46,6 +46,7 @@ from armtool.calib.fit.crossval import (
     ladder,
     pose_groups,
 )
+from armtool.calib.fit.determined import DEFAULT_PRECISION, Precision, Subspace, determined
 from armtool.calib.fit.holdout import holdout_ids
 from armtool.calib.fit.identify import Identifiability, analyse
 from armtool.calib.fit.measurements import Measurements
@@ -83,6 +84,7 @@ class FitOptions:
     folds: int = 5  # k-fold cross-validation of the parameter sets; below 2: none
     select: bool = True  # fit the set that cross-validation chooses (False: the requested families)
     nested: bool = True  # report the held-out residual of the whole procedure, selection included
+    precision: Precision = DEFAULT_PRECISION  # combinations determined worse than this are held at nominal
 
     @classmethod
     def requested(
@@ -144,6 +146,7 @@ class CalibrationResult:
     motion_deg: dict[str, float] = field(default_factory=dict)  # each joint's range over the fit poses
     coordinates_per_sample: float = 8.0  # measured coordinates per fit sample (8 for a tag's corners, 6 for a pose)
     fit_samples: int = 0  # samples the fit (and its cross-validation) used, outliers included
+    subspace: Subspace | None = None  # the combinations of `free` the fit moved; the others held at nominal
 
     def fitted_frames(self, handeye: bool = False) -> tuple[Array, Array]:
         return self.model.frames(self.x_handeye if handeye else self.x)
@@ -169,28 +172,39 @@ def _floor(problem: Problem, options: FitOptions) -> float:
 
 
 def solve(
-    problem: Problem, x0: Array, free: list[int], robust: bool, knee: float = 1.0, max_nfev: int | None = None
+    problem: Problem,
+    x0: Array,
+    free: list[int],
+    robust: bool,
+    knee: float = 1.0,
+    max_nfev: int | None = None,
+    basis: Array | None = None,
 ) -> tuple[Array, int]:
     """`free` fitted from x0 (the rest held): soft-L1 with the knee (noise-weighted units) when
-    robust, else Levenberg–Marquardt; (x, function evaluations)."""
+    robust, else Levenberg–Marquardt; (x, function evaluations). With `basis` (len(free), d),
+    `free` moves only in its span: x[free] = x0[free] + basis · z (`determined.Subspace`)."""
+    B = np.eye(len(free)) if basis is None else basis
+
+    def at(z: Array) -> Array:
+        x = x0.copy()
+        x[free] = x0[free] + B @ z
+        return x
 
     def fun(z: Array) -> Array:
-        x = x0.copy()
-        x[free] = z
-        return problem.residuals(x)
+        return problem.residuals(at(z))
 
     def jac(z: Array) -> Array:
-        x = x0.copy()
-        x[free] = z
-        return problem.jacobian(x, free)
+        out: Array = problem.jacobian(at(z), free) @ B
+        return out
 
     # Every parameter is a correction of about a millimetre, a milliradian or 0.1 % of gain.
-    scale = np.full(len(free), 1e-3)
+    scale = 1e-3 / np.maximum(np.linalg.norm(B, axis=0), 1e-300)
+    z0 = np.zeros(B.shape[1])
     m = problem.coordinates
-    if robust or m < len(free):
+    if robust or m < B.shape[1]:
         res = least_squares(
             fun,
-            x0[free],
+            z0,
             jac=jac,
             method="trf",
             loss="soft_l1" if robust else "linear",
@@ -199,25 +213,31 @@ def solve(
             max_nfev=max_nfev or 200,
         )
     else:
-        res = least_squares(fun, x0[free], jac=jac, method="lm", x_scale=scale, max_nfev=max_nfev or 400)
-    x = x0.copy()
-    x[free] = res.x
-    return x, int(res.nfev)
+        res = least_squares(fun, z0, jac=jac, method="lm", x_scale=scale, max_nfev=max_nfev or 400)
+    return at(res.x), int(res.nfev)
 
 
 def _settle(
-    problem: Problem, x: Array, free: list[int], robust: bool, options: FitOptions, rows: Sequence[int] | None = None
+    problem: Problem,
+    x: Array,
+    free: list[int],
+    robust: bool,
+    options: FitOptions,
+    rows: Sequence[int] | None = None,
+    basis: Array | None = None,
 ) -> tuple[Problem, Array, int]:
     """Fit, re-estimate each block's noise from the residuals of `rows`, fit again, until the
-    noise settles (one extra fit for a single block, whose weight does not move the solution)."""
+    noise settles (one extra fit for a single block, whose weight does not move the solution).
+    `basis`: `free` moves only in its span (see `solve`)."""
     nfev = 0
+    parameters = len(free) if basis is None else int(basis.shape[1])
     # One block's weight scales the whole cost: it moves the solution only through a knee in σ's.
     scale_free = len(problem.blocks) == 1 and (not robust or problem.blocks == (CORNER,))
     for _round in range(noise.ROUNDS):
         sub = problem if rows is None else problem.subset(rows)
-        x, n = solve(sub, x, free, robust, _knee(sub, options))
+        x, n = solve(sub, x, free, robust, _knee(sub, options), basis=basis)
         nfev += n
-        sigma = noise.estimate(problem, x, len(free), rows)
+        sigma = noise.estimate(problem, x, parameters, rows)
         done = scale_free or noise.settled(problem.sigma, sigma)
         problem = problem.with_sigma(sigma)
         if done:
@@ -233,6 +253,7 @@ class Fitted:
     x: Array
     free: list[int]
     ident: Identifiability
+    subspace: Subspace  # what of `free` the data determine: the fit moved only that
     inliers: list[int]
     outliers: list[int]  # rows named as outliers, in the order found
     limit: (
@@ -257,9 +278,13 @@ def fit_set(
     away from it, exact redundancies (parallel axes) become near ones that pass the test and make
     the fit crawl along a flat valley (a start from a fitted smaller set gave a condition number of
     2.6e5 against 192, and 400 Levenberg–Marquardt steps against 3). `ident`: that analysis,
-    when the caller has already made it (at the same point, of the same candidates)."""
+    when the caller has already made it (at the same point, of the same candidates).
+
+    The last fit moves only the combinations the inliers determine to `options.precision`
+    (`determined`, judged at the same point with the noise the robust rounds found); the others
+    stay at that point's (nominal) values."""
+    at = x0 if identify_at is None else identify_at
     if ident is None:
-        at = x0 if identify_at is None else identify_at
         ident = analyse(problem.model, problem.jacobian(at, candidates), candidates, options.qr_tolerance)
     free = ident.kept
     inliers = list(range(problem.samples))
@@ -285,8 +310,10 @@ def fit_set(
                 f"{len(outliers)} of {problem.samples} samples disagree with the model",
                 hint="check the joint readings and the measurements of each sample",
             )
-    problem, x, n = _settle(problem, x, free, robust=False, options=options, rows=inliers)
-    return Fitted(problem, x, free, ident, inliers, outliers, limit, nfev + n)
+    subspace = determined(problem.model, problem.subset(inliers).jacobian(at, free), free, options.precision)
+    x = subspace.project(x, at)
+    problem, x, n = _settle(problem, x, free, robust=False, options=options, rows=inliers, basis=subspace.basis)
+    return Fitted(problem, x, free, ident, subspace, inliers, outliers, limit, nfev + n)
 
 
 def _studentized_block_rms(problem: Problem, x: Array, free: list[int], inliers: list[int]) -> Array:
@@ -354,7 +381,9 @@ def fit_ladder(
             out.append(CandidateFit(problem.model, x, problem.sigma, nothing, 0, str(getattr(exc, "what", exc))))
             continue
         x = fitted.x
-        out.append(CandidateFit(problem.model, fitted.x, fitted.problem.sigma, fitted.limit, len(fitted.free)))
+        out.append(
+            CandidateFit(problem.model, fitted.x, fitted.problem.sigma, fitted.limit, fitted.subspace.dimension)
+        )
     return out
 
 
@@ -449,7 +478,7 @@ def _calibrate(
     final = problem.subset(fitted.inliers)
     x_he, n = solve(final, x_start, frames, robust=False)
     nfev += n
-    sigma = _sigma(final, x, free)
+    sigma = _sigma(final, x, free, fitted.subspace.basis)
 
     say("which zero offsets the data determines")
     zero_offsets = (
@@ -459,7 +488,7 @@ def _calibrate(
             candidate_indices,
             fitted.ident,
             x,
-            dict(zip(free, (float(v) for v in sigma))),
+            dict(zip(free, (float(v) for v in _sigma(final, x, free)))),  # an encoder zero's own σ, nothing held
         )
         if not chosen.is_nominal
         else []
@@ -496,6 +525,7 @@ def _calibrate(
         free=free,
         sigma=sigma,
         identifiability=fitted.ident,
+        subspace=fitted.subspace,
         residuals=residuals,
         outliers=outliers,
         rejected=groups.rejected,
@@ -633,13 +663,17 @@ def _check_enough_data(coordinates: int, free: int, fit_samples: int) -> None:
         )
 
 
-def _sigma(problem: Problem, x: Array, free: list[int]) -> Array:
-    """1-σ of each free parameter from the (noise-weighted) residual variance and the Gauss-Newton covariance."""
-    J = problem.jacobian(x, free)
+def _sigma(problem: Problem, x: Array, free: list[int], basis: Array | None = None) -> Array:
+    """1-σ of each free parameter from the (noise-weighted) residual variance and the Gauss-Newton
+    covariance; with `basis`, of the fit that moved `free` only in its span (the combinations
+    held at nominal contribute nothing), else as if every parameter of `free` had been fitted."""
+    B = np.eye(len(free)) if basis is None else basis
+    J = problem.jacobian(x, free) @ B
     r = problem.residuals(x)
-    s2 = float(r @ r) / max(1, problem.coordinates - len(free))
+    s2 = float(r @ r) / max(1, problem.coordinates - B.shape[1])
     try:
-        sigma: Array = np.sqrt(np.maximum(np.diag(s2 * np.linalg.inv(J.T @ J)), 0.0))
+        covariance = B @ (s2 * np.linalg.inv(J.T @ J)) @ B.T
+        sigma: Array = np.sqrt(np.maximum(np.diag(covariance), 0.0))
     except np.linalg.LinAlgError:
         sigma = np.full(len(free), math.nan)
     return sigma

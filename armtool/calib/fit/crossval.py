@@ -153,16 +153,20 @@ def pose_groups(Q: Array, tolerance: float = SAME_POSE_RAD) -> list[list[int]]:
     the same pose measured again (a settled arm, several images). Why it matters: a repeat tells
     the fit nothing new about the kinematics, so a held-out sample whose twin was fitted is not
     held out, and two repeats of a bad pose hide each other from the outlier rule."""
+    # Rows in order: a row that no earlier group's first row claimed starts a group and claims the
+    # later rows within `tolerance` of it (each row joins the earliest such group). A k-d tree in
+    # the max-norm finds them: 1000 poses took 3.4 s by pairwise comparison in Python.
+    from scipy.spatial import cKDTree
+
+    group_of = np.full(len(Q), -1)
     groups: list[list[int]] = []
-    representatives: list[Array] = []
-    for row, q in enumerate(Q):
-        for g, rep in enumerate(representatives):
-            if float(np.abs(q - rep).max()) <= tolerance:
-                groups[g].append(row)
-                break
-        else:
-            groups.append([row])
-            representatives.append(q)
+    near = cKDTree(Q).query_ball_point(Q, r=tolerance, p=np.inf) if len(Q) else []
+    for row in range(len(Q)):
+        if group_of[row] >= 0:
+            continue
+        claimed = [int(k) for k in sorted(near[row]) if k >= row and group_of[k] < 0]
+        group_of[claimed] = len(groups)
+        groups.append(claimed)
     return groups
 
 
