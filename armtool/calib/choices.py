@@ -41,6 +41,14 @@ class DistortionModel(str, Enum):
     RATIONAL = "rational"  # k1..k6, p1, p2: wide-angle lenses; needs many well-spread images
 
 
+class Criterion(str, Enum):
+    """`--criterion`: what chooses the parameter set on held-out poses: every block of the
+    residual, each divided by its noise (position and rotation together), or the position alone."""
+
+    COMBINED = "combined"
+    POSITION = "position"
+
+
 class StillBy(str, Enum):
     """What "settled" means when a bag is cut into poses: positions that stay put, or reported velocities near 0."""
 

@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-from armtool.calib.choices import SampleRole
+from armtool.calib.choices import Criterion, SampleRole
 from armtool.calib.fit import noise
 from armtool.calib.fit.crossval import (
     HAND_EYE,
@@ -45,6 +45,7 @@ from armtool.calib.fit.crossval import (
     cross_validate,
     ladder,
     pose_groups,
+    repeats_for,
 )
 from armtool.calib.fit.determined import DEFAULT_PRECISION, Precision, Subspace, determined
 from armtool.calib.fit.holdout import holdout_ids
@@ -85,6 +86,8 @@ class FitOptions:
     select: bool = True  # fit the set that cross-validation chooses (False: the requested families)
     nested: bool = True  # report the held-out residual of the whole procedure, selection included
     precision: Precision = DEFAULT_PRECISION  # combinations determined worse than this are held at nominal
+    criterion: Criterion = Criterion.COMBINED  # what chooses the parameter set on held-out poses
+    repeats: int = 0  # k-fold partitions the choice pools (0: `crossval.repeats_for` the pose count)
 
     @classmethod
     def requested(
@@ -186,7 +189,7 @@ def solve(
     B = np.eye(len(free)) if basis is None else basis
 
     def at(z: Array) -> Array:
-        x = x0.copy()
+        x: Array = x0.copy()
         x[free] = x0[free] + B @ z
         return x
 
@@ -269,6 +272,7 @@ def fit_set(
     options: FitOptions,
     identify_at: Array | None = None,
     ident: Identifiability | None = None,
+    noise_known: bool = False,
 ) -> Fitted:
     """Fit the identifiable ones of `candidates` from x0: soft-L1 rounds that name and drop the
     samples whose residual stands out (a wrong joint reading or a mislabeled image must not bend
@@ -280,9 +284,11 @@ def fit_set(
     2.6e5 against 192, and 400 Levenberg–Marquardt steps against 3). `ident`: that analysis,
     when the caller has already made it (at the same point, of the same candidates).
 
-    The last fit moves only the combinations the inliers determine to `options.precision`
-    (`determined`, judged at the same point with the noise the robust rounds found); the others
-    stay at that point's (nominal) values."""
+    The fit moves only the combinations the inliers determine to `options.precision`
+    (`determined`, judged at the same point with the noise of the last round; the others stay at
+    that point's nominal values): from the first round when the problem's noise is already known
+    (`noise_known`, a fold started from a fit on more samples), else from the second, once a
+    round has measured it."""
     at = x0 if identify_at is None else identify_at
     if ident is None:
         ident = analyse(problem.model, problem.jacobian(at, candidates), candidates, options.qr_tolerance)
@@ -291,58 +297,77 @@ def fit_set(
     outliers: list[int] = []
     x, nfev = x0.copy(), 0
     limit = np.full(len(problem.blocks), math.inf)
+    subspace = determined(problem.model, problem.jacobian(at, free), free, options.precision) if noise_known else None
     for _round in range(ROBUST_ROUNDS):
         sub = problem.subset(inliers)
-        x, n = solve(sub, x, free, robust=True, knee=_knee(sub, options))
+        basis = None if subspace is None else subspace.basis
+        if subspace is not None:
+            x = subspace.project(x, at)
+        x, n = solve(sub, x, free, robust=True, knee=_knee(sub, options), basis=basis)
         nfev += n
-        problem = problem.with_sigma(noise.estimate(problem, x, len(free), inliers))
-        z = _studentized_block_rms(problem, x, free, inliers)
+        parameters = len(free) if basis is None else int(basis.shape[1])
+        problem = problem.with_sigma(noise.estimate(problem, x, parameters, inliers))
+        z = _studentized_block_rms(problem, x, free, inliers, basis)
         median = np.median(z[inliers], axis=0)
         mad = np.median(np.abs(z[inliers] - median), axis=0)
         limit = np.maximum(_floor(problem, options), median + options.outlier_spread * 1.4826 * mad)
         new = [k for k in inliers if (z[k] > limit).any()]
+        if new:
+            outliers += new
+            inliers = [k for k in inliers if k not in new]
+            if problem.subset(inliers).coordinates < 2 * parameters:
+                raise ArmtoolError(
+                    f"{len(outliers)} of {problem.samples} samples disagree with the model",
+                    hint="check the joint readings and the measurements of each sample",
+                )
+        subspace = determined(problem.model, problem.subset(inliers).jacobian(at, free), free, options.precision)
         if not new:
             break
-        outliers += new
-        inliers = [k for k in inliers if k not in new]
-        if problem.subset(inliers).coordinates < 2 * len(free):
-            raise ArmtoolError(
-                f"{len(outliers)} of {problem.samples} samples disagree with the model",
-                hint="check the joint readings and the measurements of each sample",
-            )
-    subspace = determined(problem.model, problem.subset(inliers).jacobian(at, free), free, options.precision)
+    assert subspace is not None  # the loop ran at least once
     x = subspace.project(x, at)
     problem, x, n = _settle(problem, x, free, robust=False, options=options, rows=inliers, basis=subspace.basis)
     return Fitted(problem, x, free, ident, subspace, inliers, outliers, limit, nfev + n)
 
 
-def _studentized_block_rms(problem: Problem, x: Array, free: list[int], inliers: list[int]) -> Array:
+def _studentized_block_rms(
+    problem: Problem, x: Array, free: list[int], inliers: list[int], basis: Array | None = None
+) -> Array:
     """(N, B) each sample's noise-weighted RMS per block, studentized: (I − H_gg)^(−1/2) r_g for
-    each pose group g of the inliers, H the hat matrix J (JᵀJ)⁻¹ Jᵀ. Why: a pose far from the others
-    (an extreme joint angle, a steep tilt, a pose measured twice) pulls a fit of tens of parameters
-    towards itself and hides its own error; its residual's spread shrinks by (I − H_gg), and
-    undoing that puts every sample on the same scale. Samples left out of the fit are judged by
-    their plain residual, as held-out ones are. Per block, so that a bad position is not hidden by
-    a good rotation."""
+    each pose group g of the inliers, H the hat matrix J (JᵀJ)⁻¹ Jᵀ of what was fitted (`free`,
+    or its span of `basis`). Why: a pose far from the others (an extreme joint angle, a steep
+    tilt, a pose measured twice) pulls a fit of tens of parameters towards itself and hides its
+    own error; its residual's spread shrinks by (I − H_gg), and undoing that puts every sample on
+    the same scale. Samples left out of the fit are judged by their plain residual, as held-out
+    ones are. Per block, so that a bad position is not hidden by a good rotation."""
     k = len(problem.column_blocks)
     r = problem.raw(x) * problem.weights()
     sub = problem.subset(inliers)
-    J = sub.jacobian(x, free).reshape(len(inliers), k, len(free))
+    J = sub.jacobian(x, free)
+    if basis is not None:
+        J = J @ basis
+    p = J.shape[1]
+    J = J.reshape(len(inliers), k, p)
     seen = sub.seen
-    flat = J.reshape(-1, len(free))[seen.ravel()]
+    flat = J.reshape(-1, p)[seen.ravel()]
     A = np.linalg.pinv(flat.T @ flat)
     scaled = r.copy()
+    # Groups whose rows see the same number of coordinates are done together (every lone pose of
+    # a tracker or pose file at once): one batched eigendecomposition instead of one per group.
+    buckets: dict[int, list[list[int]]] = {}
     for group in pose_groups(problem.Q[inliers]):
-        rows = [inliers[g] for g in group]
-        Jg = J[group].reshape(-1, len(free))
-        mask = seen[group].ravel()
-        H = Jg[mask] @ A @ Jg[mask].T
-        values, vectors = np.linalg.eigh(np.eye(int(mask.sum())) - (H + H.T) / 2)
+        buckets.setdefault(int(seen[group].sum()), []).append(group)
+    for size, groups in buckets.items():
+        Jg = np.stack([J[g].reshape(-1, p)[seen[g].ravel()] for g in groups])  # (G, size, p)
+        H = Jg @ A @ np.swapaxes(Jg, 1, 2)
+        values, vectors = np.linalg.eigh(np.eye(size) - (H + np.swapaxes(H, 1, 2)) / 2)
         # a group that alone determines a parameter (1 − h ≈ 0) says nothing about its own error
-        inverse_root = vectors @ np.diag(1.0 / np.sqrt(np.maximum(values, 1e-6))) @ vectors.T
-        d = np.zeros(len(rows) * k)
-        d[mask] = inverse_root @ r[rows].ravel()[mask]
-        scaled[rows] = d.reshape(len(rows), k)
+        inverse_root = (vectors / np.sqrt(np.maximum(values, 1e-6))[:, None, :]) @ np.swapaxes(vectors, 1, 2)
+        for g, group in enumerate(groups):
+            rows = [inliers[i] for i in group]
+            mask = seen[group].ravel()
+            d = np.zeros(len(rows) * k)
+            d[mask] = inverse_root[g] @ r[rows].ravel()[mask]
+            scaled[rows] = d.reshape(len(rows), k)
     return problem.per_block(scaled)
 
 
@@ -351,39 +376,80 @@ def _started(problem: Problem, hints: dict[str, Array]) -> Problem:
 
 
 def fit_ladder(
-    problem: Problem, candidates: list[Candidate], options: FitOptions, hints: dict[str, Array]
+    problem: Problem,
+    candidates: list[Candidate],
+    options: FitOptions,
+    hints: dict[str, Array],
+    start: Sequence[CandidateFit] | None = None,
 ) -> list[CandidateFit]:
-    """Every candidate fitted on `problem`'s samples alone (frames started from them too), each
-    from the previous one's solution: what cross-validation runs on each training fold."""
+    """Every candidate fitted on `problem`'s samples alone: what cross-validation runs on each
+    training fold. Without `start`, the frames are started from these samples too and each
+    candidate from the previous one's solution. With `start` (each candidate fitted on all the
+    samples, `start[0]` hand-eye only), each candidate starts from its own fit, frames and noise:
+    a training fold holds most of those samples, so the solution is close and a few steps reach it
+    (the same minimum: nothing of the other samples is kept but the starting point)."""
+    if start is not None:
+        return [_refit(problem, candidate, begin, start[0].x, options) for candidate, begin in zip(candidates, start)]
     try:
         problem = _started(problem, hints)
         frames = problem.frame_parameters()
         problem, x, _n = _settle(problem, np.zeros(problem.model.size), frames, robust=True, options=options)
     except ArmtoolError as exc:
-        return [
-            CandidateFit(
-                problem.model,
-                np.zeros(problem.model.size),
-                problem.sigma,
-                np.full(len(problem.blocks), math.inf),
-                0,
-                exc.what,
-            )
-            for _ in candidates
-        ]
+        return [_failed(problem, np.zeros(problem.model.size), exc.what) for _ in candidates]
     out = []
     nominal = x
     for candidate in candidates:
         try:
             fitted = fit_set(problem, x, candidate.indices(problem.model, frames), options, identify_at=nominal)
         except (ArmtoolError, np.linalg.LinAlgError, ValueError) as exc:
-            nothing = np.full(len(problem.blocks), math.inf)
-            out.append(CandidateFit(problem.model, x, problem.sigma, nothing, 0, str(getattr(exc, "what", exc))))
+            out.append(_failed(problem, x, str(getattr(exc, "what", exc))))
             continue
         x = fitted.x
-        out.append(
-            CandidateFit(problem.model, fitted.x, fitted.problem.sigma, fitted.limit, fitted.subspace.dimension)
+        out.append(_candidate_fit(fitted))
+    return out
+
+
+def _candidate_fit(fitted: Fitted) -> CandidateFit:
+    return CandidateFit(fitted.problem.model, fitted.x, fitted.problem.sigma, fitted.limit, fitted.subspace.dimension)
+
+
+def _failed(problem: Problem, x: Array, why: str) -> CandidateFit:
+    return CandidateFit(problem.model, x, problem.sigma, np.full(len(problem.blocks), math.inf), 0, why)
+
+
+def _refit(
+    problem: Problem, candidate: Candidate, begin: CandidateFit, nominal: Array, options: FitOptions
+) -> CandidateFit:
+    """`candidate` fitted on `problem`'s samples, started from `begin` (its fit on more samples)."""
+    if begin.failed:
+        return begin
+    sub = problem.with_model(begin.model).with_sigma(begin.sigma)
+    frames = sub.frame_parameters()
+    try:
+        fitted = fit_set(
+            sub, begin.x, candidate.indices(begin.model, frames), options, identify_at=nominal, noise_known=True
         )
+    except (ArmtoolError, np.linalg.LinAlgError, ValueError) as exc:
+        return _failed(sub, begin.x, str(getattr(exc, "what", exc)))
+    return _candidate_fit(fitted)
+
+
+def _full_ladder(
+    problem: Problem, x_start: Array, candidates: list[Candidate], options: FitOptions, frames: list[int]
+) -> list[Fitted | ArmtoolError]:
+    """Every candidate fitted on all the fit samples, each from the previous one's solution (the
+    identifiability judged at the hand-eye-only fit): the starting points of the folds' fits,
+    and the final fit of whichever is chosen."""
+    out: list[Fitted | ArmtoolError] = []
+    x = x_start
+    for candidate in candidates:
+        try:
+            fitted = fit_set(problem, x, candidate.indices(problem.model, frames), options, identify_at=x_start)
+        except ArmtoolError as exc:
+            out.append(exc)
+            continue
+        x = fitted.x
+        out.append(fitted)
     return out
 
 
@@ -444,33 +510,47 @@ def _calibrate(
     requested = candidates[-1].indices(model, frames)
     ident = analyse(model, problem.jacobian(x_start, requested), requested, options.qr_tolerance)
     _check_identified(model, ident, requested, options)
-    _check_enough_data(problem.coordinates, len(ident.kept), len(groups.fit))
+    cross = options.folds >= 2 and len(candidates) > 1
+    if cross and len(groups.fit) < 2 * options.folds:
+        cross = False
+        warnings.append(
+            f"{len(groups.fit)} fit samples are too few for {options.folds}-fold cross-validation: "
+            "the requested parameters were fitted without checking that they generalise"
+        )
+    candidates, note = affordable(
+        candidates, model, frames, ident, problem.coordinates, len(groups.fit), cross, options
+    )
+    warnings += note
 
     chosen, crossval = candidates[-1], None
-    if options.folds >= 2 and len(candidates) > 1:
-        if len(groups.fit) >= 2 * options.folds:
-            crossval = cross_validate(
-                problem,
-                candidates,
-                lambda p: fit_ladder(p, candidates, options, hints),
-                options.folds,
-                options.seed,
-                lambda p: _knee(p, options),
-                nested=options.nested,
-                progress=say,
-            )
-            if options.select:
-                chosen = crossval.chosen
-        else:
-            warnings.append(
-                f"{len(groups.fit)} fit samples are too few for {options.folds}-fold cross-validation: "
-                "the requested parameters were fitted without checking that they generalise"
-            )
-
-    say(f"fitting {chosen.name} (robust)")
+    if cross and len(candidates) > 1:
+        say("fitting every parameter set on all fit samples")
+        full = _full_ladder(problem, x_start, candidates, options, frames)
+        begin = [_candidate_fit(f) if isinstance(f, Fitted) else _failed(problem, x_start, f.what) for f in full]
+        crossval = cross_validate(
+            problem,
+            candidates,
+            lambda p: fit_ladder(p, candidates, options, hints, start=begin),
+            options.folds,
+            options.seed,
+            lambda p: _knee(p, options),
+            nested=options.nested,
+            progress=say,
+            repeats=(lambda _poses: options.repeats) if options.repeats else repeats_for,
+            criterion=options.criterion,
+        )
+        if options.select:
+            chosen = crossval.chosen
+        picked = full[candidates.index(chosen)]
+        if isinstance(picked, ArmtoolError):
+            raise picked
+        fitted = picked
+    else:
+        say(f"fitting {chosen.name} (robust)")
+        candidate_indices = chosen.indices(model, frames)
+        known = ident if candidate_indices == requested else None  # the analysis above, at x_start too
+        fitted = fit_set(problem, x_start, candidate_indices, options, ident=known)
     candidate_indices = chosen.indices(model, frames)
-    known = ident if candidate_indices == requested else None  # the analysis above, at x_start too
-    fitted = fit_set(problem, x_start, candidate_indices, options, ident=known)
     problem, x, free = fitted.problem, fitted.x, fitted.free
     nfev += fitted.nfev
 
@@ -653,14 +733,53 @@ def _check_identified(model: CalibModel, ident: Identifiability, candidates: lis
             )
 
 
-def _check_enough_data(coordinates: int, free: int, fit_samples: int) -> None:
-    """At least two measured coordinates per identifiable parameter, or the fit is underdetermined in practice."""
-    if coordinates < 2 * free:
-        per_sample = max(1, coordinates // max(fit_samples, 1))
+MIN_COORDINATES_PER_PARAMETER = 2  # the minimum-pose rule
+
+
+def affordable(
+    candidates: list[Candidate],
+    model: CalibModel,
+    frames: list[int],
+    ident: Identifiability,
+    coordinates: int,
+    fit_samples: int,
+    cross: bool,
+    options: FitOptions,
+) -> tuple[list[Candidate], list[str]]:
+    """The minimum-pose rule: a parameter set is fitted only to at least two measured coordinates
+    per parameter it identifies (a pose measures 6, a point 3, a tag's corners 8), counted on the
+    smallest training fold when cross-validation chooses (k − 1 of k folds). The ladder's sets that
+    break it are left out, with a warning that says how many poses would allow them; when
+    `--no-select` asked for one of them, or not even hand-eye only meets it, the fit is refused."""
+    kept = set(ident.kept)
+    per_sample = coordinates / max(fit_samples, 1)
+    share = (options.folds - 1) / options.folds if cross else 1.0
+    available = math.floor(coordinates * share)
+    counts = [sum(1 for i in c.indices(model, frames) if i in kept) for c in candidates]
+    fits = [c for c, n in zip(candidates, counts) if MIN_COORDINATES_PER_PARAMETER * n <= available]
+    where = f"{available} in each training fold, " if cross else ""
+
+    def poses_for(n: int) -> int:
+        return math.ceil(MIN_COORDINATES_PER_PARAMETER * n / per_sample / share)
+
+    if len(fits) == len(candidates):
+        return candidates, []
+    largest = counts[-1]
+    if not fits or not options.select:
+        n = counts[len(fits)] if not fits else largest
+        hint = f"collect at least {poses_for(n)} poses (30-60 recommended)"
+        if options.holdout > 0:
+            hint += ", or lower --holdout"
         raise ArmtoolError(
-            f"{fit_samples} fit samples give {coordinates} measured coordinates for {free} identifiable parameters",
-            hint=f"collect at least {math.ceil(2 * free / per_sample)} poses (30-60 recommended), or lower --holdout",
+            f"{fit_samples} fit samples give {coordinates} measured coordinates ({where}two are needed per parameter) "
+            f"for {n} identifiable parameters",
+            hint=hint,
         )
+    left = [c.name for c in candidates[len(fits) :]]
+    return fits, [
+        f"{fit_samples} fit samples give {coordinates} measured coordinates ({where}two are needed per parameter): "
+        f"{', '.join(left)} ({largest} parameters) left out of the choice; about {poses_for(largest)} poses would allow it"
+    ]
 
 
 def _sigma(problem: Problem, x: Array, free: list[int], basis: Array | None = None) -> Array:

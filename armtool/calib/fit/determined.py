@@ -119,7 +119,7 @@ class Subspace:
     def project(self, x: Array, nominal: Array) -> Array:
         """x with its kinematic correction from `nominal` projected on the determined combinations
         (orthogonally in precision units); the frames as they are."""
-        out = x.copy()
+        out: Array = x.copy()
         rows = np.asarray(self.free)[self.kinematic]
         V = self.directions
         scaled = (x[rows] - nominal[rows]) / self.scale
