@@ -305,7 +305,8 @@ def _with_standard_errors(scores: list[Score]) -> list[Score]:
     best = min(scores, key=lambda s: s.loss)
     out = []
     for s in scores:
-        d = s.losses - best.losses
+        with np.errstate(invalid="ignore"):  # a candidate that failed everywhere: inf − inf
+            d = s.losses - best.losses
         se = float(np.std(d, ddof=1) / math.sqrt(len(d))) if len(d) > 1 and np.isfinite(d).all() else math.inf
         out.append(replace(s, standard_error=0.0 if s is best else se))
     return out

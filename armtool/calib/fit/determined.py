@@ -1,5 +1,5 @@
-"""Which combinations of the kinematic parameters the data determine to a stated precision, and
-the subspace the fit moves them in.
+"""Which combinations of the kinematic parameters the data determine, and the subspace the fit
+moves them in: the calibrated URDF changes only what the measurements pin down.
 
 Why: rank is not precision. The QR analysis (`identify`) drops the parameters that trade exactly
 against others, but a combination that is only nearly redundant passes it and is then fitted
@@ -10,25 +10,32 @@ right to 0.1 mm. A tool 100 mm longer would then be predicted 61 mm off.
 
 How: the noise-weighted identification Jacobian of the parameters QR kept, at the nominal robot.
 The measurement frames are always fitted, so a kinematic combination is judged with the frames
-free: their columns are projected out (J⊥ = (I − P_frames) J_kinematic, whose inverse Gram matrix
+free: their columns are projected out (J⊥ = (I − P_frames)·J_kinematic, whose inverse Gram matrix
 is the kinematic parameters' covariance with the frames fitted along). Each column is scaled by
 its parameter's stated precision (`Precision`), and in the SVD J⊥·D = U·S·Vᵀ the combination v_k
-has σ_k = 1 / s_k precision units. Those with σ_k ≤ 1 are determined; the others are held at
-nominal: the fit moves the kinematic parameters only in span(D·V_determined), frames free (a
-truncated SVD in the scaled basis, solved in that basis' coordinates).
+has σ_k = 1 / s_k precision units, and, from the fit so far, a least-squares value ẑ_k (one
+Gauss–Newton step along it, so a flat valley the fit has not crept along yet still counts).
+A combination is fitted when σ_k ≤ 1 (determined to the precision), or when its value stands out
+from nominal by |ẑ_k| ≥ 3 σ_k while σ_k ≤ 10 (imprecise, but certainly not nominal: on simulated
+SO-101 data, 3–6 cm between axes, combinations of zero offsets with σ 1.3–5 precision units came
+out 4–42 σ from nominal, and holding them left the URDF 0.3–0.9 mm off instead of 0.02–0.05);
+every other combination is held at nominal: the fit moves the kinematic parameters only in
+span(D·V_fitted), frames free (a truncated SVD in the scaled basis, solved in its coordinates).
+The tracker UR5's two held ones have σ 12.5 and 118 and |ẑ| 1.5 and 0.04 σ at 1000 poses; on
+ten 50-pose subsets σ 33–1900 and |ẑ| ≤ 2.7 σ.
 
 Why truncate rather than regularise (a ridge, which shrinks every combination by s²/(s² + λ²)):
-the calibrated URDF then changes only along combinations determined to the stated precision,
-exactly, and each held one can be named with its σ; a ridge moves every combination a little and
-leaves nothing a report can state.
+the calibrated URDF then changes only along the combinations kept, exactly, and each held one can
+be named with its σ; a ridge moves every combination a little and leaves nothing a report can
+state.
 
-Why 1 mm and 0.1° (`DEFAULT_PRECISION`): fitting a combination costs its σ², holding it at nominal
-costs its true error squared, so a combination is worth fitting when it is determined better than
-the errors a calibration is for: assembly offsets of 0.5–3 mm and 0.05–0.3° in joint origins. On
-the UR5 tracker data the gap is wide (determined combinations σ ≤ 0.08 mm-equivalents at 1000
-poses, the next 9 and 108 mm), and on the FR3's camera poses (0.64 mm noise) every combination
-that QR keeps is within 0.41 mm: a precision of 0.1 mm and 0.01° would hold 12 of its 22 and cost
-held-out accuracy that its cross-validation shows is real (docs/benchmarks.md).
+Why 1 mm and 0.1° (`DEFAULT_PRECISION`): fitting a combination costs its σ², holding it at
+nominal costs its true error squared, so a combination is worth fitting when it is determined
+better than the errors a calibration is for: assembly offsets of 0.5–3 mm and 0.05–0.3° in joint
+origins. On the UR5 tracker data the determined combinations have σ ≤ 0.08 precision units at
+1000 poses; on the FR3's camera poses (0.64 mm noise) 20 of 22 are within 0.41, and the other two
+(σ 2.3 and 5.7, 2.6 and 2.0 σ from nominal) are held, which left its 5-fold held-out camera
+position at 1.60 mm against 1.57 mm fitting them (0.1 mm and 0.01° would hold 14 and give 4.5 mm).
 """
 
 from __future__ import annotations
@@ -42,6 +49,9 @@ from numpy.typing import NDArray
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.params import Parameter, ParamKind
 from armtool.calib.model.se3 import Array
+
+SIGNIFICANT = 3.0  # |value| / σ beyond which an imprecise combination is fitted, not held
+WORST_FITTED = 10.0  # σ (precision units) beyond which a combination is held whatever its value
 
 
 @dataclass(frozen=True)
@@ -57,37 +67,44 @@ class Precision:
         return {"m": self.length_m, "rad": self.angle_rad, "1": self.gain}[p.unit]
 
     def describe(self) -> str:
-        return f"{self.length_m * 1e3:g} mm, {math.degrees(self.angle_rad):g}°, gain {self.gain:g}"
+        return f"{self.length_m * 1e3:g} mm and {math.degrees(self.angle_rad):g}°"
 
 
 DEFAULT_PRECISION = Precision()
 
 
 @dataclass(frozen=True)
-class Held:
-    """A combination of kinematic parameters held at nominal: the data determine it to σ precision
-    units only (σ > 1). `weights` is its unit vector in precision units, largest first."""
+class Combination:
+    """A combination of kinematic parameters: its σ and least-squares value in precision units
+    along its unit vector `weights` (in precision units, largest components first)."""
 
     sigma: float
+    value: float
     weights: tuple[tuple[int, float], ...]  # (parameter index, component)
 
-    def parameter_sigma(self, model: CalibModel, precision: Precision) -> list[tuple[str, float]]:
-        """The σ each parameter would have along this combination, in its unit (m, rad, 1), largest first."""
-        out = [(model.params[i].name, self.sigma * abs(w) * precision.of(model.params[i])) for i, w in self.weights]
-        return out
+    @property
+    def significance(self) -> float:
+        """|value| / σ: how many σ the data put it from nominal."""
+        return abs(self.value) / self.sigma if self.sigma > 0 else math.inf
+
+    def parameter_sigma(self, model: CalibModel, precision: Precision) -> list[tuple[Parameter, float]]:
+        """The σ each parameter has along this combination, in its unit (m, rad, 1), largest first."""
+        return [(model.params[i], self.sigma * abs(w) * precision.of(model.params[i])) for i, w in self.weights]
 
     def describe(self, model: CalibModel, precision: Precision, terms: int = 3) -> str:
-        """'wrist_3_joint.origin.rx ±30.6°, wrist_3_joint.origin.ty ±16.3 mm (σ 355 × the precision)'."""
+        """'wrist_3_joint.origin.rx ±30.6°, wrist_3_joint.origin.tx ±16.3 mm, … (σ 118 × the precision, 0.0 σ from nominal)'."""
         parts = []
-        for (name, value), (i, _w) in zip(self.parameter_sigma(model, precision)[:terms], self.weights):
-            unit = model.params[i].unit
-            text = (
-                f"±{value * 1e3:.3g} mm"
-                if unit == "m"
-                else (f"±{math.degrees(value):.3g}°" if unit == "rad" else f"±{value:.3g}")
-            )
-            parts.append(f"{name} {text}")
-        return ", ".join(parts) + f" (σ {self.sigma:.3g} × the precision)"
+        for p, value in self.parameter_sigma(model, precision)[:terms]:
+            if p.unit == "m":
+                parts.append(f"{p.name} ±{value * 1e3:.3g} mm")
+            elif p.unit == "rad":
+                parts.append(f"{p.name} ±{math.degrees(value):.3g}°")
+            else:
+                parts.append(f"{p.name} ±{value:.3g}")
+        more = ", …" if len(self.weights) > terms else ""
+        return (
+            ", ".join(parts) + more + f" (σ {self.sigma:.3g} × the precision, {self.significance:.1f} σ from nominal)"
+        )
 
 
 @dataclass(frozen=True)
@@ -99,12 +116,13 @@ class Subspace:
     kinematic: NDArray[np.bool_]  # (len(free),) which of `free` are kinematic (the others: frames)
     directions: Array  # (kinematic count, d): V, orthonormal columns in precision units
     scale: Array  # (kinematic count,): D, each kinematic parameter's precision in its unit
-    held: list[Held] = field(default_factory=list)
+    held: list[Combination] = field(default_factory=list)  # held at nominal
+    imprecise: list[Combination] = field(default_factory=list)  # fitted although σ > 1: far from nominal
     precision: Precision = DEFAULT_PRECISION
 
     @property
     def dimension(self) -> int:
-        """How many coordinates the fit moves: the frame parameters and the determined combinations."""
+        """How many coordinates the fit moves: the frame parameters and the fitted combinations."""
         return int((~self.kinematic).sum()) + int(self.directions.shape[1])
 
     @property
@@ -117,7 +135,7 @@ class Subspace:
         return out
 
     def project(self, x: Array, nominal: Array) -> Array:
-        """x with its kinematic correction from `nominal` projected on the determined combinations
+        """x with its kinematic correction from `nominal` projected on the fitted combinations
         (orthogonally in precision units); the frames as they are."""
         out: Array = x.copy()
         rows = np.asarray(self.free)[self.kinematic]
@@ -127,35 +145,44 @@ class Subspace:
         return out
 
 
-def everything(model: CalibModel, free: list[int], precision: Precision = DEFAULT_PRECISION) -> Subspace:
-    """Every parameter of `free` moves on its own (no combination held)."""
+def determined(
+    model: CalibModel,
+    J: Array,
+    free: list[int],
+    precision: Precision = DEFAULT_PRECISION,
+    residuals: Array | None = None,
+    correction: Array | None = None,
+) -> Subspace:
+    """The combinations of `free`'s kinematic parameters to fit, from J (noise-weighted, one column
+    per parameter of `free`, at the nominal robot), with the frames free. `residuals` (noise-
+    weighted, J's rows) and `correction` (x − nominal over `free`) are the fit so far, which give
+    each combination's value; without them only σ decides."""
     kinematic = np.array([model.params[i].kind is not ParamKind.FRAME for i in free], dtype=bool)
     scale = np.array([precision.of(model.params[i]) for i, k in zip(free, kinematic) if k])
-    return Subspace(list(free), kinematic, np.eye(int(kinematic.sum())), scale, [], precision)
-
-
-def determined(model: CalibModel, J: Array, free: list[int], precision: Precision = DEFAULT_PRECISION) -> Subspace:
-    """The combinations of `free`'s kinematic parameters that J (noise-weighted, one column per
-    parameter of `free`, at the nominal robot) determines to `precision`, with the frames free."""
-    kinematic = np.array([model.params[i].kind is not ParamKind.FRAME for i in free], dtype=bool)
-    scale = np.array([precision.of(model.params[i]) for i, k in zip(free, kinematic) if k])
-    K = J[:, kinematic]
-    F = J[:, ~kinematic]
+    K, F = J[:, kinematic], J[:, ~kinematic]
+    r = np.zeros(J.shape[0]) if residuals is None else residuals
     if F.shape[1]:
-        basis, _ = np.linalg.qr(F)
-        K = K - basis @ (basis.T @ K)
+        Q, _ = np.linalg.qr(F)
+        K = K - Q @ (Q.T @ K)
+        r = r - Q @ (Q.T @ r)
     if K.shape[1] == 0:
-        return Subspace(list(free), kinematic, np.zeros((0, 0)), scale, [], precision)
-    _u, s, Vt = np.linalg.svd(K * scale, full_matrices=False)
+        return Subspace(list(free), kinematic, np.zeros((0, 0)), scale, [], [], precision)
+    U, s, Vt = np.linalg.svd(K * scale, full_matrices=False)
     with np.errstate(divide="ignore"):
         sigma = np.where(s > 0, 1.0 / s, math.inf)
-    keep = sigma <= 1.0
+    now = np.zeros(len(s)) if correction is None else Vt @ (correction[kinematic] / scale)
+    value = now - (U.T @ r) * sigma  # one Gauss–Newton step along each combination
+    if residuals is None and correction is None:
+        value = np.zeros(len(s))
+    significant = np.abs(value) >= SIGNIFICANT * sigma
+    keep = (sigma <= 1.0) | (significant & (sigma <= WORST_FITTED))
     rows = np.asarray(free)[kinematic]
-    held = []
-    for k in np.flatnonzero(~keep):
-        v = Vt[k]
-        order = np.argsort(-np.abs(v))
-        weights = tuple((int(rows[j]), float(v[j])) for j in order if abs(v[j]) >= 0.05)
-        held.append(Held(float(sigma[k]), weights))
-    held.sort(key=lambda h: h.sigma)
-    return Subspace(list(free), kinematic, Vt[keep].T.copy(), scale, held, precision)
+
+    def combination(k: int) -> Combination:
+        order = np.argsort(-np.abs(Vt[k]))
+        weights = tuple((int(rows[j]), float(Vt[k, j])) for j in order if abs(Vt[k, j]) >= 0.05)
+        return Combination(float(sigma[k]), float(value[k]), weights)
+
+    held = sorted((combination(int(k)) for k in np.flatnonzero(~keep)), key=lambda c: c.sigma)
+    imprecise = sorted((combination(int(k)) for k in np.flatnonzero(keep & (sigma > 1.0))), key=lambda c: c.sigma)
+    return Subspace(list(free), kinematic, Vt[keep].T.copy(), scale, held, imprecise, precision)
