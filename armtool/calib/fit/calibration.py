@@ -94,7 +94,15 @@ class FitOptions:
 
     @classmethod
     def requested(
-        cls, params: str | None, *, holdout: float, seed: int, folds: int, select: bool, nested: bool
+        cls,
+        params: str | None,
+        *,
+        holdout: float,
+        seed: int,
+        folds: int,
+        select: bool,
+        nested: bool,
+        criterion: Criterion = Criterion.COMBINED,
     ) -> FitOptions:
         """The options `calibrate fit` was given: `--params` text (None: the default families) and the others."""
         return cls(
@@ -105,6 +113,7 @@ class FitOptions:
             folds=folds,
             select=select,
             nested=nested,
+            criterion=criterion,
         )
 
 

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armtool.calib.fit.calibration import CalibrationResult, SampleResidual
+from armtool.calib.fit.determined import Combination
 from armtool.calib.fit.problems import POSITION, Block
 from armtool.calib.model import se3
 from armtool.calib.model.se3 import Array
@@ -63,7 +64,6 @@ def calibration_document(
         entry["gain"] = round(1.0 + float(result.x[gain]), 12)
         entry["sigma_gain"] = sigma_of(gain)
         joints[j.name] = entry
-    ident = result.identifiability
     document: dict[str, Any] = {
         "format": SCHEMA,
         "dataset": dataset,
@@ -76,14 +76,7 @@ def calibration_document(
         "fitted": result.candidate.name,
         "joints": joints,
         "zero_offsets": zero_offsets_section(result),
-        "identifiability": {
-            "identified": len(result.free),
-            "candidates": len(result.free) + len(ident.dropped),
-            "condition_number": _num(ident.condition_number),
-            "observability_index": _num(ident.observability_index),
-            "identified_parameters": [model.params[i].name for i in result.free],
-            "dropped": [{"parameter": model.params[i].name, "reason": why} for i, why in ident.dropped.items()],
-        },
+        "identifiability": identifiability_section(result),
         "noise": {f"{b.name}_{b.unit}": _num(result.noise.get(b.name, math.nan)) for b in result.blocks},
         "metrics": _metrics(result),
         "cross_validation": crossval_section(result),
@@ -102,6 +95,44 @@ def calibration_document(
             "note": conventions.message(),
         }
     return document
+
+
+def identifiability_section(result: CalibrationResult) -> dict[str, Any]:
+    """What the data determine: the parameters QR keeps (rank), the combinations of them fitted and
+    those held at nominal with their σ (`fit/determined.py`), the parameters dropped and why."""
+    model, ident, subspace = result.model, result.identifiability, result.subspace
+    held = subspace.held if subspace else []
+    imprecise = subspace.imprecise if subspace else []
+    out: dict[str, Any] = {
+        "identified": subspace.dimension if subspace else len(result.free),
+        "identifiable_by_rank": len(result.free),
+        "candidates": len(result.free) + len(ident.dropped),
+        "precision": subspace.precision.describe() if subspace else None,
+        "meaning": "identified counts what the fit moved: the frame parameters and the combinations of the "
+        "identifiable ones determined to the precision (or 3 sigma from nominal); held_at_nominal lists the others, "
+        "which calibrated.urdf leaves as they were. The sigmas in `joints` are those of the fit that held them",
+        "condition_number": _num(ident.condition_number),
+        "observability_index": _num(ident.observability_index),
+        "identified_parameters": [model.params[i].name for i in result.free],
+        "held_at_nominal": [_combination(result, c) for c in held],
+        "fitted_though_imprecise": [_combination(result, c) for c in imprecise],
+        "dropped": [{"parameter": model.params[i].name, "reason": why} for i, why in ident.dropped.items()],
+    }
+    return out
+
+
+def _combination(result: CalibrationResult, c: Combination) -> dict[str, Any]:
+    """A combination: its σ in precision units, its value in σ, and each parameter's σ along it."""
+    assert result.subspace is not None
+    sigmas: dict[str, float | None] = {}
+    for p, value in c.parameter_sigma(result.model, result.subspace.precision):
+        key = f"{p.name}_{'mm' if p.unit == 'm' else ('deg' if p.unit == 'rad' else '1')}"
+        sigmas[key] = _num(value * 1e3 if p.unit == "m" else (math.degrees(value) if p.unit == "rad" else value))
+    return {
+        "sigma_in_precision_units": _num(c.sigma),
+        "sigmas_from_nominal": _num(c.significance),
+        "parameter_sigma": sigmas,
+    }
 
 
 def frames_section(result: CalibrationResult, sigma: dict[int, float]) -> dict[str, Any]:
