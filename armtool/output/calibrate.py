@@ -56,10 +56,6 @@ def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) ->
     if result.subspace is not None:
         for c in result.subspace.held:
             con.print(f"  [dim]held at nominal[/dim] {escape(c.describe(result.model, result.subspace.precision))}")
-        for c in result.subspace.imprecise:
-            con.print(
-                f"  [dim]fitted though imprecise[/dim] {escape(c.describe(result.model, result.subspace.precision))}"
-            )
     shown = list(ident.dropped.items())[:6]
     for i, why in shown:
         con.print(f"  [dim]dropped[/dim] {escape(result.model.params[i].name)}: {escape(why)}")

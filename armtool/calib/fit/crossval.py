@@ -163,11 +163,9 @@ def pose_groups(Q: Array, tolerance: float = SAME_POSE_RAD) -> list[list[int]]:
     # the max-norm finds them: 1000 poses took 3.4 s by pairwise comparison in Python.
     from scipy.spatial import cKDTree
 
-    if len(Q) == 0:
-        return []
+    if not _any_repeat(Q, tolerance):
+        return [[row] for row in range(len(Q))]
     tree = cKDTree(Q)
-    if int(tree.query_ball_point(Q, r=tolerance, p=np.inf, return_length=True).max()) == 1:
-        return [[row] for row in range(len(Q))]  # no pose repeated
     group_of = np.full(len(Q), -1)
     groups: list[list[int]] = []
     near = tree.query_ball_point(Q, r=tolerance, p=np.inf)
@@ -178,6 +176,22 @@ def pose_groups(Q: Array, tolerance: float = SAME_POSE_RAD) -> list[list[int]]:
         group_of[claimed] = len(groups)
         groups.append(claimed)
     return groups
+
+
+def _any_repeat(Q: Array, tolerance: float) -> bool:
+    """Whether two rows agree within `tolerance` in every joint: rows sorted by the first joint,
+    each compared with the next ones until they are more than `tolerance` apart in it (a handful
+    for poses spread over a workspace; the cost of a k-d tree is kept for when a pose is repeated)."""
+    if len(Q) < 2:
+        return False
+    S = Q[np.argsort(Q[:, 0], kind="stable")]
+    for k in range(1, len(S)):
+        near = S[k:, 0] - S[:-k, 0] <= tolerance
+        if not near.any():
+            return False
+        if (np.abs(S[k:][near] - S[:-k][near]).max(axis=1) <= tolerance).any():
+            return True
+    return False
 
 
 def fold_rows(groups: list[list[int]], folds: int, seed: int, repeat: int = 0) -> list[list[int]]:

@@ -13,29 +13,29 @@ The measurement frames are always fitted, so a kinematic combination is judged w
 free: their columns are projected out (J⊥ = (I − P_frames)·J_kinematic, whose inverse Gram matrix
 is the kinematic parameters' covariance with the frames fitted along). Each column is scaled by
 its parameter's stated precision (`Precision`), and in the SVD J⊥·D = U·S·Vᵀ the combination v_k
-has σ_k = 1 / s_k precision units, and, from the fit so far, a least-squares value ẑ_k (one
-Gauss–Newton step along it, so a flat valley the fit has not crept along yet still counts).
-A combination is fitted when σ_k ≤ 1 (determined to the precision), or when its value stands out
-from nominal by |ẑ_k| ≥ 3 σ_k while σ_k ≤ 10 (imprecise, but certainly not nominal: on simulated
-SO-101 data, 3–6 cm between axes, combinations of zero offsets with σ 1.3–5 precision units came
-out 4–42 σ from nominal, and holding them left the URDF 0.3–0.9 mm off instead of 0.02–0.05);
-every other combination is held at nominal: the fit moves the kinematic parameters only in
-span(D·V_fitted), frames free (a truncated SVD in the scaled basis, solved in its coordinates).
-The tracker UR5's two held ones have σ 12.5 and 118 and |ẑ| 1.5 and 0.04 σ at 1000 poses; on
-ten 50-pose subsets σ 33–1900 and |ẑ| ≤ 2.7 σ.
+has σ_k = 1 / s_k precision units. Those with σ_k ≤ 1 are determined; the others are held at
+nominal: the fit moves the kinematic parameters only in span(D·V_determined), frames free (a
+truncated SVD in the scaled basis, solved in its coordinates). Each held combination is reported
+with its σ and its least-squares value from the fit so far, in σ (one Gauss–Newton step along
+it, so that a flat valley the fit has not crept along yet still counts).
 
 Why truncate rather than regularise (a ridge, which shrinks every combination by s²/(s² + λ²)):
 the calibrated URDF then changes only along the combinations kept, exactly, and each held one can
 be named with its σ; a ridge moves every combination a little and leaves nothing a report can
 state.
 
-Why 1 mm and 0.1° (`DEFAULT_PRECISION`): fitting a combination costs its σ², holding it at
+Why 3 mm and 0.3° (`DEFAULT_PRECISION`): fitting a combination costs its σ², holding it at
 nominal costs its true error squared, so a combination is worth fitting when it is determined
 better than the errors a calibration is for: assembly offsets of 0.5–3 mm and 0.05–0.3° in joint
-origins. On the UR5 tracker data the determined combinations have σ ≤ 0.08 precision units at
-1000 poses; on the FR3's camera poses (0.64 mm noise) 20 of 22 are within 0.41, and the other two
-(σ 2.3 and 5.7, 2.6 and 2.0 σ from nominal) are held, which left its 5-fold held-out camera
-position at 1.60 mm against 1.57 mm fitting them (0.1 mm and 0.01° would hold 14 and give 4.5 mm).
+origins, the largest of them taken so as not to hold a real one. Measured, σ in units of 3 mm
+and 0.3°: the UR5 tracker data's held combinations have σ 4.2 and 39 at 1000 poses (11–630 on
+50-pose subsets), the determined ones ≤ 0.03; on simulated SO-101 tag data (40 poses, 3–6 cm
+between axes, seeds 0–3) 1 mm and 0.1° held combinations of σ 0.44–0.68 here and left the URDF
+0.34, 0.48, 0.87 and 0.044 mm off, where 3 mm and 0.3° hold none in seeds 0, 1 and 3
+(0.022–0.025 mm) and one of σ 1.7 in seed 2 (0.50 mm; 0.46 fitting it); on a simulated UR5 with
+the tracked point on the wrist_3 axis (200 poses, seeds 0–3) the two held ones (σ 1.4–2.3) leave
+the flange 0.45–0.83° from the truth, against 0.96–1.77° fitting everything and 0.79–1.04° for
+the nominal arm.
 """
 
 from __future__ import annotations
@@ -50,17 +50,14 @@ from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.params import Parameter, ParamKind
 from armtool.calib.model.se3 import Array
 
-SIGNIFICANT = 3.0  # |value| / σ beyond which an imprecise combination is fitted, not held
-WORST_FITTED = 10.0  # σ (precision units) beyond which a combination is held whatever its value
-
 
 @dataclass(frozen=True)
 class Precision:
     """How well a combination must be determined to be fitted, per parameter unit."""
 
-    length_m: float = 1e-3
-    angle_rad: float = math.radians(0.1)
-    gain: float = 1e-3  # 0.1 % of transmission ratio
+    length_m: float = 3e-3
+    angle_rad: float = math.radians(0.3)
+    gain: float = 3e-3  # 0.3 % of transmission ratio
 
     def of(self, p: Parameter) -> float:
         """The precision of one parameter, in its unit."""
@@ -117,7 +114,6 @@ class Subspace:
     directions: Array  # (kinematic count, d): V, orthonormal columns in precision units
     scale: Array  # (kinematic count,): D, each kinematic parameter's precision in its unit
     held: list[Combination] = field(default_factory=list)  # held at nominal
-    imprecise: list[Combination] = field(default_factory=list)  # fitted although σ > 1: far from nominal
     precision: Precision = DEFAULT_PRECISION
 
     @property
@@ -154,9 +150,9 @@ def determined(
     correction: Array | None = None,
 ) -> Subspace:
     """The combinations of `free`'s kinematic parameters to fit, from J (noise-weighted, one column
-    per parameter of `free`, at the nominal robot), with the frames free. `residuals` (noise-
-    weighted, J's rows) and `correction` (x − nominal over `free`) are the fit so far, which give
-    each combination's value; without them only σ decides."""
+    per parameter of `free`, at the nominal robot), with the frames free: those with σ ≤ 1
+    precision unit. `residuals` (noise-weighted, J's rows) and `correction` (x − nominal over
+    `free`) are the fit so far: they give each held combination's value, for the report."""
     kinematic = np.array([model.params[i].kind is not ParamKind.FRAME for i in free], dtype=bool)
     scale = np.array([precision.of(model.params[i]) for i, k in zip(free, kinematic) if k])
     K, F = J[:, kinematic], J[:, ~kinematic]
@@ -166,16 +162,13 @@ def determined(
         K = K - Q @ (Q.T @ K)
         r = r - Q @ (Q.T @ r)
     if K.shape[1] == 0:
-        return Subspace(list(free), kinematic, np.zeros((0, 0)), scale, [], [], precision)
+        return Subspace(list(free), kinematic, np.zeros((0, 0)), scale, [], precision)
     U, s, Vt = np.linalg.svd(K * scale, full_matrices=False)
     with np.errstate(divide="ignore"):
         sigma = np.where(s > 0, 1.0 / s, math.inf)
     now = np.zeros(len(s)) if correction is None else Vt @ (correction[kinematic] / scale)
     value = now - (U.T @ r) * sigma  # one Gauss–Newton step along each combination
-    if residuals is None and correction is None:
-        value = np.zeros(len(s))
-    significant = np.abs(value) >= SIGNIFICANT * sigma
-    keep = (sigma <= 1.0) | (significant & (sigma <= WORST_FITTED))
+    keep = sigma <= 1.0
     rows = np.asarray(free)[kinematic]
 
     def combination(k: int) -> Combination:
@@ -184,5 +177,4 @@ def determined(
         return Combination(float(sigma[k]), float(value[k]), weights)
 
     held = sorted((combination(int(k)) for k in np.flatnonzero(~keep)), key=lambda c: c.sigma)
-    imprecise = sorted((combination(int(k)) for k in np.flatnonzero(keep & (sigma > 1.0))), key=lambda c: c.sigma)
-    return Subspace(list(free), kinematic, Vt[keep].T.copy(), scale, held, imprecise, precision)
+    return Subspace(list(free), kinematic, Vt[keep].T.copy(), scale, held, precision)

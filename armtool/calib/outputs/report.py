@@ -102,20 +102,18 @@ def identifiability_section(result: CalibrationResult) -> dict[str, Any]:
     those held at nominal with their σ (`fit/determined.py`), the parameters dropped and why."""
     model, ident, subspace = result.model, result.identifiability, result.subspace
     held = subspace.held if subspace else []
-    imprecise = subspace.imprecise if subspace else []
     out: dict[str, Any] = {
         "identified": subspace.dimension if subspace else len(result.free),
         "identifiable_by_rank": len(result.free),
         "candidates": len(result.free) + len(ident.dropped),
         "precision": subspace.precision.describe() if subspace else None,
         "meaning": "identified counts what the fit moved: the frame parameters and the combinations of the "
-        "identifiable ones determined to the precision (or 3 sigma from nominal); held_at_nominal lists the others, "
-        "which calibrated.urdf leaves as they were. The sigmas in `joints` are those of the fit that held them",
+        "identifiable ones determined to the precision (sigma at most the precision); held_at_nominal lists the "
+        "others, which calibrated.urdf leaves as they were. The sigmas in `joints` are those of the fit that held them",
         "condition_number": _num(ident.condition_number),
         "observability_index": _num(ident.observability_index),
         "identified_parameters": [model.params[i].name for i in result.free],
         "held_at_nominal": [_combination(result, c) for c in held],
-        "fitted_though_imprecise": [_combination(result, c) for c in imprecise],
         "dropped": [{"parameter": model.params[i].name, "reason": why} for i, why in ident.dropped.items()],
     }
     return out
