@@ -7,7 +7,7 @@ DEMO_TMP := build/demo
 # A demo step meant to report something: says so before it runs, fails the demo on any other exit code.
 STEP := $(BIN)/python tools/demo_step.py
 
-.PHONY: demo test check docs bench clean
+.PHONY: demo test check docs bench clean ecosystem ecosystem-update
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -99,6 +99,14 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+# The ecosystem check: armtool lint on every case of ../shared/realworld, compared with the
+# committed baseline (tests/ecosystem/baseline.json); also run by `make test` (tests/test_ecosystem.py).
+ecosystem: $(STAMP)
+	$(BIN)/python tools/ecosystem.py
+
+ecosystem-update: $(STAMP)
+	$(BIN)/python tools/ecosystem.py --update
 
 check: $(STAMP)
 	$(BIN)/ruff check .

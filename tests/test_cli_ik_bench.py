@@ -29,7 +29,7 @@ def test_json_output_on_ur5(tmp_path: Path) -> None:
             "--format",
             "json",
             "--plot",
-            str(tmp_path / "bench.png"),
+            str(tmp_path / "bench.svg"),
         ],
     )
     assert result.exit_code == 0, result.output
@@ -39,7 +39,8 @@ def test_json_output_on_ur5(tmp_path: Path) -> None:
     modes = {(s["solver"], s["mode"]) for s in doc["solvers"]}
     assert modes == {("lm", "single"), ("lm", "batch")}
     assert all(isinstance(s["failure_reasons"], dict) for s in doc["solvers"])
-    assert (tmp_path / "bench.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    svg = (tmp_path / "bench.svg").read_text()
+    assert svg.startswith("<?xml") and "<svg" in svg and svg.rstrip().endswith("</svg>")
 
 
 def test_csv_and_no_batch(tmp_path: Path) -> None:

@@ -26,6 +26,7 @@ from armtool.calib.inputs.load import Inputs, input_files, load_inputs
 from armtool.calib.inputs.observations import Detect
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.camera import CameraModel
+from armtool.calib.model.joint_term import JointTerm
 from armtool.calib.outputs.ur_kinematics import UrTarget, ur_target
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
@@ -58,6 +59,7 @@ class FitJob:
     validation: Inputs | None
     ur: UrTarget | None
     conventions: ConventionCheck | None = None  # measured poses or points: how the declared reading fits
+    terms: tuple[JointTerm, ...] = ()  # the joint terms --params asks for (compliance, harmonics)
 
 
 @dataclass(frozen=True)
@@ -90,13 +92,26 @@ def prepare_fit(request: FitRequest) -> FitJob:
         vds, vchain, vcamera = validation
         require_ok(vds)
         check_same_setup(ds, chain, camera, vds, vchain, vcamera, request.validation)
+    if request.options.hand_eye_only and request.ur_kinematics is not None:
+        raise ArmtoolError(
+            "--ur-kinematics with --params none: the robot is held nominal, so there is no calibrated arm to write",
+            hint="drop --ur-kinematics, or fit kinematic parameters (the default --params origins,offsets)",
+        )
     ur = ur_target(ds, chain, request.ur_kinematics, request.ur_kinematics_in)
     inputs = input_files(ds, validation.dataset if validation else None) + ([ur.source] if ur else [])
     _check_outputs(request, inputs)
+    if plot is not None:
+        from armtool.plotting import plot_format
+
+        plot_format(plot)  # a format it can write, before the work
     conventions = None
     if ds.measurement is not None:
         conventions = checked_conventions(ds, chain, refuse=not request.keep_conventions)
-    return FitJob(request, ds, chain, camera, validation, ur, conventions)
+    from armtool.calib.model.terms.registry import build_terms
+    from armtool.model.load import urdf_text
+
+    terms = build_terms(request.options.families, chain, lambda: urdf_text(ds.urdf, ds.xacro_args, ds.package_paths))
+    return FitJob(request, ds, chain, camera, validation, ur, conventions, terms)
 
 
 def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
@@ -149,7 +164,13 @@ def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | N
     ds = job.dataset
     measurements = observed.measurements
     model = CalibModel(
-        job.chain, ds.setup, np.eye(4), np.eye(4), sensor=measurements.sensor, target=measurements.target
+        job.chain,
+        ds.setup,
+        np.eye(4),
+        np.eye(4),
+        sensor=measurements.sensor,
+        target=measurements.target,
+        terms=job.terms,
     )
     return calibrate(
         model,
@@ -167,8 +188,8 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     plot and UR kinematics file when asked for; nothing is written yet."""
     import yaml
 
-    from armtool.calib.fit.verdict import judge
-    from armtool.calib.outputs.report import calibration_document, residual_plot_png
+    from armtool.calib.fit.verdict import hand_eye_verdict, judge
+    from armtool.calib.outputs.report import calibration_document
     from armtool.calib.outputs.urdf import (
         check_reproduces,
         corrected_text,
@@ -201,13 +222,18 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
             warning = f"not scored against the truth: {exc}"
     files: dict[Path, str | bytes] = {}
     skipped: list[str] = []
-    if verdict.improves:
+    if request.options.hand_eye_only:  # asked for: the URDF is the nominal one, nothing to judge or write
+        verdict = hand_eye_verdict()
+    elif verdict.improves:
         files[request.out / "calibrated.urdf"] = new_urdf
     else:
         skipped.append(str(request.out / "calibrated.urdf"))
     files[request.out / "calibration.yaml"] = yaml.safe_dump(document, sort_keys=False, allow_unicode=True)
     if request.plot is not None:
-        files[request.plot] = residual_plot_png(result)
+        from armtool.calib.outputs.plot import calibration_figure
+        from armtool.plotting import plot_format, render
+
+        files[request.plot] = render(calibration_figure(result, str(request.dataset)), plot_format(request.plot))
     if request.ur_kinematics is not None and job.ur is not None:
         if verdict.improves:
             from armtool.calib.outputs.ur_kinematics import ur_kinematics_yaml

@@ -72,7 +72,7 @@ def fit(
     params: str | None = typer.Option(
         None,
         "--params",
-        help="Kinematic parameter families to fit: origins, offsets, gains [default: origins,offsets].",
+        help="Kinematic parameter families to fit: origins, offsets, gains; none: hand-eye only, the robot held nominal [default: origins,offsets].",
     ),
     holdout: float = typer.Option(
         0.0,
@@ -86,7 +86,7 @@ def fit(
     seed: int = typer.Option(
         0, "--seed", callback=opt.seed(), help="Random seed for the hold-out split (any integer)."
     ),
-    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG of per-sample residuals before and after."),
+    plot: Path | None = typer.Option(None, "--plot", help="Write a figure of residuals and σ's (.png, .svg, .pdf)."),
     output_format: ReportFormat = typer.Option(
         ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
@@ -176,7 +176,7 @@ def fit(
     if output_format is ReportFormat.JSON:
         write_stdout(json.dumps(json_summary(written.document), indent=2))
     print_fit_report(job, result, written)
-    if not written.verdict.improves and not allow_nominal:
+    if not written.verdict.improves and not (allow_nominal or options.hand_eye_only):
         raise typer.Exit(ExitCode.FINDINGS)
 
 

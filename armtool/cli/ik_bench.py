@@ -73,7 +73,11 @@ def ik_bench(
         help="Pose tolerance (m and rad), > 0 and ≤ 1.",
     ),
     output_format: BenchFormat = typer.Option(BenchFormat.TABLE, "--format", help="table, json or csv on stdout."),
-    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG: solve-time CDF and success per solver."),
+    plot: Path | None = typer.Option(
+        None,
+        "--plot",
+        help="Write a figure (PNG, SVG or PDF, by the extension): solve-time CDF and success per solver.",
+    ),
     xacro_arg: XacroArgs = None,
     package_path: PackagePaths = None,
     robot_config: RobotConfig = None,
@@ -93,6 +97,7 @@ def ik_bench(
     from armtool.model.chain import chain_from_xml, default_base_tip
     from armtool.model.load import load_robot_xml, load_srdf_xml
     from armtool.output.ik_bench import render_csv, render_json, render_table
+    from armtool.plotting import plot_format
 
     robot = RobotOptions(xacro_arg, package_path, robot_config)
     package_args: dict[str, str] = {}
@@ -109,6 +114,8 @@ def ik_bench(
     for name in wanted:
         check_peer_name(name)
     check_output_paths({"--plot": plot}, inputs=[urdf, srdf, kinematics_yaml])  # before the work, not after it
+    if plot is not None:
+        plot_format(plot)
     if group is not None:
         if srdf is None:
             raise ArmtoolError(
@@ -192,7 +199,8 @@ def ik_bench(
     if plot is not None:
         from armtool.ik.plot import write_plot
 
-        write_plot(plot, [r for r in reports if isinstance(r, SolverReport)])
+        title = f"{urdf.name}: {chain.base} → {chain.tip}, {samples} targets, timeout {timeout * 1e3:g} ms"
+        write_plot(plot, [r for r in reports if isinstance(r, SolverReport)], title)
         stderr().print(f"wrote {escape(str(plot))}")
 
 

@@ -209,9 +209,10 @@ def _read_groups(kinematics_yaml: Path) -> list[KinematicsGroup]:
     """The file's groups, read as `armtool lint` reads them; errors name the file and line."""
     from armtool.lint.kinematics_context import NotAMapping, groups_of
     from armtool.moveit.params import load_document
+    from armtool.moveit.substitutions import launch_values
 
-    try:
-        return groups_of(load_document(kinematics_yaml, "kinematics.yaml"))
+    try:  # `$(arg arm_id)_arm` read as the package's launch fills it in
+        return groups_of(load_document(kinematics_yaml, "kinematics.yaml"), launch_values(kinematics_yaml))
     except NotAMapping as exc:
         raise ArmtoolError(
             f"kinematics.yaml is {exc.what}, not a mapping of group names to settings",

@@ -75,7 +75,7 @@ def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) ->
         con.print(f"[yellow]rejected[/yellow] sample {escape(sid)}: {escape(why)}")
     for w in result.warnings:
         con.print(f"[yellow]warning:[/yellow] {escape(w)}")
-    color = "green" if verdict.improves else "red"
+    color = "green" if verdict.improves else ("cyan" if request.options.hand_eye_only else "red")
     con.print(f"[{color}]verdict:[/{color}] {escape(verdict.summary)}")
     if verdict.advice:
         con.print(f"  {escape(verdict.advice)}")

@@ -312,6 +312,12 @@ def test_plot_into_a_missing_directory_fails_before_the_fit(dataset: Path, tmp_p
     assert not (tmp_path / "o").exists()  # nothing written: the fit never ran
 
 
+def test_plot_of_an_unknown_format_fails_before_the_fit(dataset: Path, tmp_path: Path) -> None:
+    code, _, err = run("calibrate", "fit", dataset, "--out", tmp_path / "o", "--plot", tmp_path / "res.jpg")
+    assert code == 2 and "--plot names a file with '.jpg'" in err and "PNG, SVG or PDF" in err
+    assert not (tmp_path / "o").exists() and not (tmp_path / "res.jpg").exists()  # the fit never ran
+
+
 # ---------------------------------------------------------------- files read: internal errors
 
 

@@ -92,6 +92,11 @@ class FitOptions:
     criterion: Criterion = Criterion.COMBINED  # what chooses the parameter set on held-out poses
     repeats: int = 0  # k-fold partitions the choice pools (0: `crossval.repeats_for` the pose count)
 
+    @property
+    def hand_eye_only(self) -> bool:
+        """`--params none`: only the measurement frames, the robot held nominal (asked for, not a verdict)."""
+        return not self.families
+
     @classmethod
     def requested(
         cls,

@@ -70,6 +70,8 @@ def ladder(families: Sequence[Family]) -> list[Candidate]:
         ("offsets + origin rotations", "origin_rotation", Family.ORIGINS),
         ("origins + offsets", "origin_translation", Family.ORIGINS),
         ("+ gains", "gain", Family.GAINS),
+        ("+ compliance", "compliance", Family.COMPLIANCE),
+        ("+ harmonics", "harmonic", Family.HARMONICS),
     ]
     out = [HAND_EYE]
     kinds: set[str] = set()
@@ -82,8 +84,8 @@ def ladder(families: Sequence[Family]) -> list[Candidate]:
             label = "origin rotations"
         if kind == "origin_translation" and Family.OFFSETS not in families:
             label = "origins"
-        if kind == "gain":
-            label = (out[-1].name + " + gains") if len(out) > 1 else "gains"
+        if kind in ("gain", "compliance", "harmonic"):  # added to the set before it
+            label = f"{out[-1].name} {name}" if len(out) > 1 else name[2:]
         out.append(Candidate(label, frozenset(kinds)))
     return out
 

@@ -30,11 +30,13 @@ class Identifiability:
 
 
 def _priority(model: CalibModel, i: int) -> tuple[int, int]:
-    """Frames first (always needed), then zero offsets, origin rotations, origin translations, gains."""
+    """Frames first (always needed), then zero offsets, origin rotations, origin translations, gains, joint terms."""
     p = model.params[i]
     if p.kind is ParamKind.ORIGIN:
         return (2 if p.is_rotation else 3), i
-    return {ParamKind.FRAME: 0, ParamKind.OFFSET: 1, ParamKind.GAIN: 4}[p.kind], i
+    return {ParamKind.FRAME: 0, ParamKind.OFFSET: 1, ParamKind.GAIN: 4, ParamKind.COMPLIANCE: 5, ParamKind.HARMONIC: 6}[
+        p.kind
+    ], i
 
 
 def analyse(model: CalibModel, J: Array, candidates: list[int], tolerance: float = 1e-6) -> Identifiability:

@@ -138,6 +138,16 @@ def _value(value: float, block: Block) -> str:
     return f"{value:.2f}°" if block.unit == "deg" else f"{value:.2f} {block.unit}"
 
 
+def hand_eye_verdict() -> Verdict:
+    """`--params none`: hand-eye only was asked for, so the nominal robot is the answer, not a failure."""
+    return Verdict(
+        False,
+        False,
+        "hand-eye only (--params none): the measurement frames fitted with the robot held nominal; "
+        "its URDF is unchanged, calibrated.urdf is not written",
+    )
+
+
 def poses_needed(nominal: Score, best: Score, samples: int, folds: int, per_sample: float) -> int | None:
     """Poses in all at which `best` would beat `nominal` on held-out poses, or None if never."""
     n_train = samples * (folds - 1) / folds * per_sample  # coordinates a training fold fits

@@ -77,6 +77,7 @@ class Dataset:
     measurement: MeasurementSpec | None = None  # `observations:`: measured poses or points instead of images
     measured_rows: dict[str, Array] = field(default_factory=dict)  # sample id -> raw values
     joint_columns: dict[str, str] = field(default_factory=dict)  # robot.joint_columns: joint -> its column in samples
+    observations_file: Path | None = None  # observations.file as named, even when the section is invalid
 
     def robot_sources(
         self, xacro_args: dict[str, str] | None = None, package_paths: list[Path] | None = None
@@ -426,6 +427,7 @@ def load_dataset(directory: Path, chain_joint_names: list[str] | None = None, *,
     )
     ds.samples_file = samples_path
     ds.measurement = measurement
+    ds.observations_file = _observations_file(doc, root)
     ds.joint_columns = joint_columns
     if measurement is not None and (why := unreadable_reason(measurement.file)) is not None:
         problems.append(
@@ -453,11 +455,24 @@ def read_samples(ds: Dataset, chain_joint_names: list[str] | None = None) -> Non
         _read_measurements(ds, spec)
 
 
+def _observations_file(doc: dict[str, Any], root: Path) -> Path | None:
+    section = doc.get("observations")
+    name = section.get("file") if isinstance(section, dict) else None
+    return root / name if isinstance(name, str) and name else None
+
+
+def _measurements_unread_in_samples(ds: Dataset) -> bool:
+    """observations: names the samples file but could not be read: the samples' other columns
+    are then the measurements it would have named."""
+    return ds.measurement is None and _measured_in_samples(ds)
+
+
 def _measured_in_samples(ds: Dataset) -> bool:
     """The measurements are in the samples file itself: its rows may then go without an id (their
-    line number is one), as FIGAROH's calibration CSVs do."""
-    spec = ds.measurement
-    return spec is not None and ds.samples_file is not None and _resolve(spec.file) == _resolve(ds.samples_file)
+    line number is one), as FIGAROH's calibration CSVs do. Judged by the file observations: names,
+    so that an invalid section does not turn into a request for an id column."""
+    named, samples = ds.observations_file, ds.samples_file
+    return named is not None and samples is not None and _resolve(named) == _resolve(samples)
 
 
 def _read_measurements(ds: Dataset, spec: MeasurementSpec) -> None:
@@ -478,7 +493,8 @@ def _read_measurements(ds: Dataset, spec: MeasurementSpec) -> None:
         return
     ds.problems += [Problem(f"{where}:{p.line}", p.what, p.hint) for p in found]
     ds.measured_rows = rows
-    missing = [s for s in ds.samples if s.id not in rows]
+    reported = {sid for p in found for sid in p.samples}  # a bad row is an error already
+    missing = [s for s in ds.samples if s.id not in rows and s.id not in reported]
     for s in missing[:20]:
         ds.problems.append(
             Problem(
@@ -531,6 +547,19 @@ def _sample_rows(ds: Dataset, handle: io.StringIO, where: str, chain_joint_names
     measured = set(ds.measurement.columns) if ds.measurement is not None else set()
     known = {"id", "image", *column_of.values(), *measured}
     unknown = [h for h in header if h not in known]
+    if unknown and chain_joint_names is not None and _measurements_unread_in_samples(ds):
+        others = [u for u in unknown if u not in ds.joints]  # a dataset joint outside the chain stays an error below
+        unknown = [u for u in unknown if u in ds.joints]
+        if others:
+            ds.problems.append(
+                Problem(
+                    f"{where}:1",
+                    f"column(s) {', '.join(others)} are not joints of the chain {ds.base_link} → {ds.flange_link}, "
+                    "and observations: (which names this file) has errors, so they are not read as measurements either",
+                    "fix observations: as the errors above say; keep the columns, they hold the measurements",
+                    severity="warning",
+                )
+            )
     if unknown and chain_joint_names is not None:
         from armtool.suggest import did_you_mean
 

@@ -177,6 +177,12 @@ class RowProblem:
     line: int  # 1 is the header
     what: str
     hint: str = ""
+    samples: tuple[str, ...] = ()  # the samples whose row this is (they need no "has no row" warning)
+    cause: str = ""  # rows of one cause are reported once: "position_units", "angle_units", … ("" = its own)
+    size: float = 0.0  # the offending magnitude (m, rad), for the summary
+
+
+LISTED_ROWS = 3  # more rows of one cause than this are one problem, with the count and the first lines
 
 
 def read_rows(
@@ -185,9 +191,11 @@ def read_rows(
     """The measurement values of every row (sample id → values in the file's units and column
     order), and each bad row's problem. Raises csv.Error on broken CSV syntax. With
     `by_line` (the measurements are in the samples file itself) a file without an `id` column
-    numbers its rows by line, as the samples were."""
+    numbers its rows by line, as the samples were. Many rows of one cause (millimetres declared as
+    metres: every row) are one problem that names the cause, with the count and the first lines."""
     problems: list[RowProblem] = []
     rows: dict[str, Array] = {}
+    read = 0
     with io.StringIO(text, newline="") as handle:
         reader = csv.reader(handle)
         header = [h.strip() for h in next(reader, [])]
@@ -218,27 +226,56 @@ def read_rows(
                 problems.append(RowProblem(line, f"more than {MAX_SAMPLES} rows", "one row per sample"))
                 break
             if len(row) < len(header):
-                problems.append(RowProblem(line, f"{len(row)} values, header has {len(header)}"))
+                problems.append(RowProblem(line, f"{len(row)} values, header has {len(header)}", cause="width"))
                 continue
+            read += 1
             sid = row[id_col].strip() if id_col is not None else str(line)
             if sid in rows:
-                problems.append(RowProblem(line, f"duplicate id '{sid}'"))
+                problems.append(RowProblem(line, f"duplicate id '{sid}'", cause="duplicate_id"))
                 continue
             if sid not in sample_ids:
-                problems.append(RowProblem(line, f"sample id '{sid}' is not in the samples file"))
+                problems.append(RowProblem(line, f"sample id '{sid}' is not in the samples file", cause="unknown_id"))
                 continue
             try:
                 values = np.array([float(row[c]) for c in cols])
             except ValueError:
                 bad = next(spec.columns[k] for k, c in enumerate(cols) if not _is_number(row[c]))
-                problems.append(RowProblem(line, f"'{bad}' is not a number: {row[cols[spec.columns.index(bad)]]!r}"))
+                text = row[cols[spec.columns.index(bad)]]
+                problems.append(RowProblem(line, f"'{bad}' is not a number: {text!r}", "", (sid,), f"number:{bad}"))
                 continue
             why = _value_problem(values, spec)
             if why is not None:
-                problems.append(RowProblem(line, *why))
+                problems.append(RowProblem(line, why.what, why.hint, (sid,), why.cause, why.size))
                 continue
             rows[sid] = values
-    return rows, problems
+    return rows, _summarised(problems, read, spec)
+
+
+def _summarised(problems: list[RowProblem], rows: int, spec: MeasurementSpec) -> list[RowProblem]:
+    """Each cause shared by more than LISTED_ROWS rows as one problem at its first line: the
+    count, the first lines, and for a unit the unit the file is likely in."""
+    by_cause: dict[str, list[RowProblem]] = {}
+    for p in problems:
+        by_cause.setdefault(p.cause or f"row:{p.line}", []).append(p)
+    out: list[RowProblem] = []
+    for cause, group in by_cause.items():
+        if len(group) <= LISTED_ROWS:
+            out += group
+            continue
+        first = group[0]
+        lines = ", ".join(str(p.line) for p in group[:LISTED_ROWS]) + ", …"
+        largest = max(p.size for p in group)
+        count = f"{len(group)} of {rows} rows (lines {lines})"
+        samples = tuple(sid for p in group for sid in p.samples)
+        what, hint = f"{count}: {first.what}", first.hint
+        if cause == "position_units" and spec.convention.position_units is LengthUnit.M:
+            what = f"{count} have positions of up to {largest:g} m as declared (position_units: m): the file is likely in millimetres"
+            hint = "set observations.position_units: mm"
+        elif cause == "angle_units":
+            what = f"{count} have angles of up to {largest:g} rad: the file is likely in degrees"
+            hint = "set observations.angle_units: deg"
+        out.append(RowProblem(first.line, what, hint, samples, cause))
+    return sorted(out, key=lambda p: p.line)
 
 
 def _is_number(text: str) -> bool:
@@ -249,15 +286,27 @@ def _is_number(text: str) -> bool:
     return True
 
 
-def _value_problem(values: Array, spec: MeasurementSpec) -> tuple[str, str] | None:
+@dataclass(frozen=True)
+class _ValueProblem:
+    what: str
+    hint: str
+    cause: str
+    size: float = 0.0
+
+
+def _value_problem(values: Array, spec: MeasurementSpec) -> _ValueProblem | None:
     """Why a row's values cannot be a measurement, with the fix."""
     if not np.isfinite(values).all():
-        return "a value is NaN or infinite", "leave the sample out, or mark it in samples.csv only"
+        return _ValueProblem(
+            "a value is NaN or infinite", "leave the sample out, or mark it in samples.csv only", "nan"
+        )
     position = float(np.abs(values[:3]).max()) * spec.convention.position_units.metres
     if position > MAX_POSITION_M:
-        return (
+        return _ValueProblem(
             f"a position of {position:g} m: is it in millimetres?",
             "set observations.position_units to the unit the file uses",
+            "position_units",
+            position,
         )
     convention = spec.convention
     if isinstance(convention, PoseConvention):
@@ -267,8 +316,13 @@ def _value_problem(values: Array, spec: MeasurementSpec) -> tuple[str, str] | No
         ):
             largest = float(np.abs(values[3:]).max())
             if largest > 2 * math.pi + 0.5:
-                return f"an angle of {largest:g} rad: these look like degrees", "set observations.angle_units: deg"
+                return _ValueProblem(
+                    f"an angle of {largest:g} rad: these look like degrees",
+                    "set observations.angle_units: deg",
+                    "angle_units",
+                    largest,
+                )
         why = convention.row_problem(values)
         if why is not None:
-            return why, "check observations.rotation and rotation_columns"
+            return _ValueProblem(why, "check observations.rotation and rotation_columns", "rotation")
     return None

@@ -6,8 +6,9 @@ Both are `cMt = L · F(q)^±1 · R` with two free "measurement frames" L and R, 
 base and tool gauge (FIGAROH's metrology frames); they are fitted but never written to the URDF.
 
 bMf(q) is the URDF chain with, per moving joint j, `origin_j · SE3(exp(r_j), t_j)` (6-D origin
-correction), the reading turned into `gain_j · q_j + offset_j` (zero offset, optional gain).
-The parameter vector holds only corrections, so 0 is the nominal robot.
+correction), the reading turned into `gain_j · q_j + offset_j` (zero offset, optional gain),
+plus the model's joint terms `Σ p_jc · f_jc(q)` (compliance under gravity, harmonics: see
+`joint_term`). The parameter vector holds only corrections, so 0 is the nominal robot.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from numpy.typing import NDArray
 
 from armtool.calib.choices import Setup
 from armtool.calib.model import se3
+from armtool.calib.model.joint_term import JointTerm
 from armtool.calib.model.params import Family, Parameter, ParamKind, ParamLayout, Split
 from armtool.calib.model.se3 import Array
 from armtool.model.chain import Chain, axis_angle_batch
@@ -37,6 +39,7 @@ class CalibModel:
     params: list[Parameter] = field(default_factory=list)
     sensor: str = "camera"  # what measures (camera, tracker, ...): names the left frame's parameters
     target: str = "tag"  # what is measured (tag, board, point, ...): names the right frame's
+    terms: tuple[JointTerm, ...] = ()  # joint terms beyond geometry, in the vector after the joints
 
     def __post_init__(self) -> None:
         if not self.params:
@@ -59,12 +62,13 @@ class CalibModel:
 
     def _layout(self) -> list[Parameter]:
         joints = [(j.name, j.kind == "prismatic") for j in self.chain.joints]
-        return self.layout.parameters(self.left_name, self.right_name, joints)
+        terms = [(t.kind, t.components) for t in self.terms]
+        return self.layout.parameters(self.left_name, self.right_name, joints, terms)
 
     @property
     def layout(self) -> ParamLayout:
         """Where each parameter sits in the vector (the one place that knows the offsets)."""
-        return ParamLayout(self.chain.n)
+        return ParamLayout(self.chain.n, tuple(len(t.components) for t in self.terms))
 
     @property
     def size(self) -> int:
@@ -91,12 +95,29 @@ class CalibModel:
         origins = np.stack([j.origin @ se3.delta(parts.origin[i]) for i, j in enumerate(self.chain.joints)])
         return origins, parts.offset, 1.0 + parts.gain_error
 
+    def angle_corrections(self, x: Array, Q: Array) -> Array:
+        """(N, n) what the joint terms add to each joint's angle at the readings Q (zeros without terms)."""
+        out = np.zeros(Q.shape)
+        for term, p in zip(self.terms, self.split(x).terms):
+            out += np.einsum("njc,jc->nj", term.regressors(Q), p)
+        return out
+
+    def urdf_part(self, x: Array) -> Array:
+        """x with what a URDF cannot hold (gains, joint terms) at nominal: the calibrated URDF's kinematics."""
+        out: Array = x.copy()
+        parts = self.split(out)
+        parts.gain_error[:] = 0.0
+        for p in parts.terms:
+            p[:] = 0.0
+        return out
+
     def flange(self, x: Array, Q: Array) -> Array:
         """bMf for every row of Q (N,n): (N,4,4)."""
         origins, offsets, gains = self.joint_terms(x)
+        extra = self.angle_corrections(x, Q)
         T = np.broadcast_to(np.eye(4), (Q.shape[0], 4, 4)).copy()
         for i in range(self.chain.n):
-            T = T @ origins[i] @ self._motion(i, gains[i], offsets[i], Q[:, i])
+            T = T @ origins[i] @ self._motion(i, gains[i], offsets[i], Q[:, i], extra[:, i])
         out: Array = T @ self.chain.tip_offset
         return out
 
@@ -122,9 +143,10 @@ class CalibModel:
         n, N = self.chain.n, Q.shape[0]
         wanted = np.asarray(indices, dtype=np.intp)
         origins, offsets, gains = self.joint_terms(x)
+        extra = self.angle_corrections(x, Q)
         prefix = [np.broadcast_to(np.eye(4), (N, 4, 4))]  # prefix[i]: the chain up to joint i's origin
         for i in range(n):
-            prefix.append(prefix[i] @ origins[i] @ self._motion(i, gains[i], offsets[i], Q[:, i]))
+            prefix.append(prefix[i] @ origins[i] @ self._motion(i, gains[i], offsets[i], Q[:, i], extra[:, i]))
         F = prefix[n] @ self.chain.tip_offset
         L, R = self.frames(x)
         if self.setup is Setup.EYE_TO_HAND:
@@ -135,6 +157,7 @@ class CalibModel:
             C = G @ R
             to_c = -_adjoint_matrix(G)  # F⁻¹ turns a left twist ψ on F into −Ad_{L F⁻¹} ψ on C
         out = np.zeros((N, 6, len(wanted)))
+        term_regressors = [t.regressors(Q) for t in self.terms]
         frame = layout.FRAME_SIZE
         cols = np.flatnonzero(wanted < frame)
         if cols.size:
@@ -147,6 +170,15 @@ class CalibModel:
         for i, j in enumerate(self.chain.joints):
             start = 2 * frame + layout.PER_JOINT * i
             cols = np.flatnonzero((wanted >= start) & (wanted < start + layout.PER_JOINT))
+            term_cols = [np.flatnonzero(np.isin(wanted, layout.term(k, i))) for k in range(len(self.terms))]
+            if cols.size == 0 and not any(c.size for c in term_cols):
+                continue
+            unit = np.concatenate([j.axis, np.zeros(3)] if j.kind == "prismatic" else [np.zeros(3), j.axis])
+            moved = _adjoint_matrix(prefix[i + 1]) @ unit  # (N, 6): the joint's own motion, per radian
+            for k, found in enumerate(term_cols):  # a joint term turns the joint by its regressor per unit
+                if found.size:
+                    f = term_regressors[k][:, i, wanted[found] - layout.term(k, i)[0]]  # (N, c)
+                    out[:, :, found] = to_c @ (moved[:, :, None] * f[:, None, :])
             if cols.size == 0:
                 continue
             components = wanted[cols] - start
@@ -155,18 +187,15 @@ class CalibModel:
             if origin_cols.any():
                 xi = _right_derivatives(parts.origin[i], components[origin_cols])
                 psi[:, :, origin_cols] = _adjoint_matrix(prefix[i] @ origins[i]) @ xi
-            if (~origin_cols).any():
-                unit = np.concatenate([j.axis, np.zeros(3)] if j.kind == "prismatic" else [np.zeros(3), j.axis])
-                moved = _adjoint_matrix(prefix[i + 1]) @ unit  # (N, 6): the joint's own motion, per radian
-                for c in np.flatnonzero(~origin_cols):  # the offset, or the gain (θ moves by q per unit of gain)
-                    psi[:, :, c] = moved * (Q[:, i, None] if components[c] == 7 else 1.0)
+            for c in np.flatnonzero(~origin_cols):  # the offset, or the gain (θ moves by q per unit of gain)
+                psi[:, :, c] = moved * (Q[:, i, None] if components[c] == 7 else 1.0)
             out[:, :, cols] = to_c @ psi
         return C, out
 
-    def _motion(self, i: int, gain: float, offset: float, q: Array) -> Array:
-        """Joint i's motion transforms for the readings q: (N, 4, 4)."""
+    def _motion(self, i: int, gain: float, offset: float, q: Array, extra: Array) -> Array:
+        """Joint i's motion transforms for the readings q, with the joint terms' `extra` angle: (N, 4, 4)."""
         j = self.chain.joints[i]
-        value = gain * q + offset
+        value = gain * q + offset + extra
         M = np.broadcast_to(np.eye(4), (len(q), 4, 4)).copy()
         if j.kind == "prismatic":
             M[:, :3, 3] = value[:, None] * j.axis
@@ -182,7 +211,7 @@ class CalibModel:
         return out
 
     def with_frames(self, L0: Array, R0: Array) -> CalibModel:
-        return CalibModel(self.chain, self.setup, L0, R0, self.params, self.sensor, self.target)
+        return CalibModel(self.chain, self.setup, L0, R0, self.params, self.sensor, self.target, self.terms)
 
 
 def _right_derivatives(v: Array, components: NDArray[np.intp]) -> Array:

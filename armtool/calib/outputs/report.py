@@ -1,5 +1,5 @@
-"""What a calibration writes: calibration.yaml (everything a person or driver needs), a residual
-plot, and the numbers the terminal report shows."""
+"""What a calibration writes: calibration.yaml (everything a person or driver needs) and the
+numbers the terminal report shows (the figure is `plot`'s)."""
 
 from __future__ import annotations
 
@@ -63,6 +63,10 @@ def calibration_document(
             entry["zero_offset_uncertainty"] = _num(z.uncertainty_rad)
         entry["gain"] = round(1.0 + float(result.x[gain]), 12)
         entry["sigma_gain"] = sigma_of(gain)
+        for k, term in enumerate(model.terms):  # compliance, harmonics: not in the URDF either
+            indices = model.layout.term(k, j_index)
+            sigmas = np.array([sigma[i] if i in free else math.nan for i in indices])
+            entry.update(term.report(j_index, result.x[indices], sigmas))
         joints[j.name] = entry
     document: dict[str, Any] = {
         "format": SCHEMA,
@@ -72,7 +76,13 @@ def calibration_document(
         "frames": frames,
         "conventions": "origin_new = origin · SE3(exp(r), t) · motion(zero_offset); the reading q maps to gain·q + zero_offset",
         "in_urdf": "origin corrections and zero offsets are already folded into calibrated.urdf: do not apply them again; "
-        "gains are not (a URDF cannot hold them): apply gain·q in the driver if it differs from 1",
+        "gains are not (a URDF cannot hold them): apply gain·q in the driver if it differs from 1"
+        + (
+            "; nor are the joint terms (" + ", ".join(t.family.value for t in model.terms) + "): they add "
+            "Σ p·f(q) to each joint's angle, see docs/calibrate.md"
+            if model.terms
+            else ""
+        ),
         "fitted": result.candidate.name,
         "joints": joints,
         "zero_offsets": zero_offsets_section(result),
@@ -296,51 +306,3 @@ def zero_offsets_section(result: CalibrationResult) -> dict[str, Any]:
             "note": z.note,
         }
     return out
-
-
-def residual_plot_png(result: CalibrationResult) -> bytes:
-    """Per-sample residual (corner RMS, or position error) before (hand-eye only, grey) and after (blue); outliers in red."""
-    import cv2
-
-    rows = [r for r in result.residuals if r.role != "rejected"]
-    block = result.blocks[0]
-    W, H = 1100, 480
-    x0, y0, x1, y1 = 70, 40, W - 20, H - 70
-    img = np.full((H, W, 3), 255, np.uint8)
-    font = cv2.FONT_HERSHEY_SIMPLEX
-    cv2.rectangle(img, (x0, y0), (x1, y1), (0, 0, 0), 1)
-    values = [v for r in rows for v in (r.before[block.name], r.after[block.name]) if math.isfinite(v) and v > 0]
-    lo = math.floor(math.log10(min(values))) if values else -2
-    hi = math.ceil(math.log10(max(values))) if values else 1
-    hi = max(hi, lo + 1)
-
-    def ypos(v: float) -> int:
-        v = max(v, 10**lo)
-        return int(y1 - (math.log10(v) - lo) / (hi - lo) * (y1 - y0))
-
-    for d in range(lo, hi + 1):
-        y = ypos(10**d)
-        cv2.line(img, (x0, y), (x1, y), (225, 225, 225), 1)
-        cv2.putText(img, f"{10**d:g}", (8, y + 4), font, 0.4, (0, 0, 0), 1, cv2.LINE_AA)
-    step = (x1 - x0) / max(len(rows), 1)
-    for k, r in enumerate(rows):
-        xa = int(x0 + k * step + step * 0.15)
-        w = max(1, int(step * 0.35))
-        before, after = r.before[block.name], r.after[block.name]
-        if math.isfinite(before):
-            cv2.rectangle(img, (xa, ypos(before)), (xa + w, y1), (170, 170, 170), -1)
-        color = (40, 39, 214) if r.role == "outlier" else ((44, 160, 44) if r.role == "holdout" else (180, 119, 31))
-        if math.isfinite(after):
-            cv2.rectangle(img, (xa + w, ypos(after)), (xa + 2 * w, y1), color, -1)
-    cv2.putText(
-        img,
-        f"{block.describe()} per sample ({block.unit}, log): grey hand-eye only, blue calibrated, green held out, red outlier",
-        (x0, y1 + 40),
-        font,
-        0.45,
-        (0, 0, 0),
-        1,
-        cv2.LINE_AA,
-    )
-    ok, buf = cv2.imencode(".png", img)
-    return bytes(buf) if ok else b""

@@ -107,12 +107,11 @@ def relocate_meshes(text: str, source_dir: Path, out_dir: Path) -> str:
 
 
 def check_reproduces(text: str, model: CalibModel, x: Array, source: str) -> None:
-    """Refuse to write a URDF whose kinematics differ from the fitted model (gains aside)."""
+    """Refuse to write a URDF whose kinematics differ from the fitted model (gains and joint terms aside)."""
     from armtool.model.chain import chain_from_xml
 
     chain = chain_from_xml(parse_xml(text.encode("utf-8")), model.chain.base, model.chain.tip, source=source)
-    x = x.copy()
-    model.split(x).gain_error[:] = 0.0  # a URDF has no gains; they are reported apart
+    x = model.urdf_part(x)  # a URDF has no gains or joint terms; they are reported apart
     Q = model.chain.random(np.random.default_rng(0), 8)
     F = model.flange(x, Q)
     worst = max(float(np.abs(chain.fk(q) - T).max()) for q, T in zip(Q, F))

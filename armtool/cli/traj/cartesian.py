@@ -140,7 +140,9 @@ def cartesian(
     to: To = None,
     plot: Annotated[
         Path | None,
-        typer.Option(help="Also draw the tool path and each step's midpoint deviation from the path (PNG)."),
+        typer.Option(
+            help="Also draw the tool path and each step's midpoint deviation from the path (PNG, SVG or PDF)."
+        ),
     ] = None,
     moveit_config: MoveItConfig = None,
     xacro_arg: XacroArgs = None,
@@ -148,6 +150,10 @@ def cartesian(
     config: RobotConfig = None,
 ) -> None:
     start({"-o": output, "--plot": plot}, [urdf, waypoints, srdf])
+    if plot is not None:
+        from armtool.plotting import plot_format
+
+        plot_format(plot)  # before the work
     given = robot(
         urdf, None, moveit_config, xacro_arg, package_path, config, urdf_option="the URDF argument", srdf=srdf
     )

@@ -43,6 +43,7 @@ offsets between them zero), the form IK-Geo's solvers assume.
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 from typing import Any
 
@@ -155,10 +156,12 @@ class IkGeo(Solver):
         check_closed_form_chain("IK-Geo", chain, max_joints=6, beyond=beyond)
         if chain.n != 6:
             raise ArmtoolError(f"IK-Geo cannot take {chain.n} joints: its Python package solves 6R chains only")
-        import ik_geo
+        # Imported by name: ik_geo's own type hints lack Robot's constructors, and the peer may be absent
+        # where mypy runs, so a static import cannot be typed the same way in both places.
+        ik_geo: Any = importlib.import_module("ik_geo")
 
         family, method, H, P_chain, P = decompose(chain)
-        constructor = getattr(ik_geo.Robot, family)  # type: ignore[attr-defined]
+        constructor = getattr(ik_geo.Robot, family)
         # IK-Geo reads the chain as armtool does: its FK with the chain's own offsets matches ours.
         as_read = _ik_geo_fk(constructor(H.tolist(), P_chain.tolist()))
         self._tool = tool_transform(chain, as_read)

@@ -84,28 +84,71 @@ def test_bad_rows_are_reported_at_their_line(tmp_path: Path, clean_chain: Chain)
     assert "'99' is not in the samples file" in where["ds/poses.csv:6"]
     assert "duplicate id" in where["ds/poses.csv:7"]
     missing = [p for p in ds.problems if p.severity == "warning" and "has no usable row" in p.what]
-    assert len(missing) == 5  # samples 1-4 (lines 3-6 of poses.csv) and 5 (its row took the id of sample 0)
+    # samples 1-3 have their row's error; 4 (its row names sample 99) and 5 (its row took the id of sample 0) none
+    assert [p.what.split()[1] for p in missing] == ["4", "5"]
     assert missing[0].where.startswith("ds/joints.csv:")
 
 
 def test_millimetres_declared_as_metres_are_caught_row_by_row(tmp_path: Path, clean_chain: Chain) -> None:
-    path = write_dataset(tmp_path / "ds", make_measured(clean_chain, n=4), units="mm", manifest={"position_units": "m"})
+    m = make_measured(clean_chain, kind="point", n=3)
+    path = write_dataset(tmp_path / "ds", m, units="mm", manifest={"position_units": "m"})
     ds, _chain, _camera = load_inputs(path)
-    assert any("is it in millimetres?" in p.what for p in ds.errors)
+    assert [p.where for p in ds.errors] == ["ds/points.csv:2", "ds/points.csv:3", "ds/points.csv:4"]
+    assert all("is it in millimetres?" in p.what for p in ds.errors)
+
+
+def test_a_unit_wrong_on_every_row_is_one_error_that_names_it(tmp_path: Path, clean_chain: Chain) -> None:
+    # A tracker's millimetres declared as metres: one finding with the count and the first lines, not one per row.
+    m = make_measured(clean_chain, kind="point", n=200)
+    path = write_dataset(tmp_path / "ds", m, units="mm", manifest={"position_units": "m"})
+    ds, _chain, _camera = load_inputs(path)
+    assert len(ds.errors) == 1 and not [p for p in ds.problems if p.severity == "warning"], ds.problems
+    error = ds.errors[0]
+    assert error.where == "ds/points.csv:2"
+    assert "200 of 200 rows (lines 2, 3, 4, …)" in error.what and "likely in millimetres" in error.what
+    assert error.hint == "set observations.position_units: mm"
+
+
+def test_angles_in_degrees_declared_as_radians_are_one_error(tmp_path: Path, clean_chain: Chain) -> None:
+    path = write_dataset(tmp_path / "ds", make_measured(clean_chain, n=40, seed=3), rotation="rpy")
+    _rewrite(path, angle_units="rad")
+    ds, _chain, _camera = load_inputs(path)
+    units = [p for p in ds.errors if "likely in degrees" in p.what]
+    assert len(units) == 1 and units[0].hint == "set observations.angle_units: deg", ds.errors
+    assert not [p for p in ds.errors if "look like degrees" in p.what]  # the rows it counts, not listed again
+
+
+def _one_file(path: Path, measured: str) -> Path:
+    """The dataset with joints.csv and the measurements merged into all.csv, named as both."""
+    joints = (path / "joints.csv").read_text().splitlines()
+    rows = (path / measured).read_text().splitlines()
+    merged = [a + "," + ",".join(b.split(",")[1:]) for a, b in zip(joints, rows)]
+    (path / "all.csv").write_text("\n".join(merged) + "\n")
+    doc = _manifest(path)
+    doc["samples"] = doc["observations"]["file"] = "all.csv"
+    (path / "dataset.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    return path
+
+
+def test_an_invalid_observations_section_in_the_samples_file_keeps_its_columns(
+    tmp_path: Path, clean_chain: Chain
+) -> None:
+    # Joints and points in one CSV, observations: missing its unit: the point columns are the
+    # measurements, so the advice is to fix observations:, never to remove them.
+    path = _one_file(write_dataset(tmp_path / "ds", make_measured(clean_chain, kind="point", n=5)), "points.csv")
+    doc = _manifest(path)
+    del doc["observations"]["position_units"]
+    (path / "dataset.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    ds, _chain, _camera = load_inputs(path)
+    assert [p.what for p in ds.errors] == ["observations.position_units is missing (the unit of the positions)"]
+    about_columns = [p for p in ds.problems if "x, y, z" in p.what]
+    assert len(about_columns) == 1 and "keep the columns" in about_columns[0].hint
+    assert not [p for p in ds.problems if "remove the column" in p.hint]
 
 
 def test_joints_and_measurements_in_one_file(tmp_path: Path, clean_chain: Chain) -> None:
     # FIGAROH-style: one CSV with the joints and the measurement; its columns are no warning.
-    m = make_measured(clean_chain, n=4)
-    path = write_dataset(tmp_path / "ds", m)
-    joints = (path / "joints.csv").read_text().splitlines()
-    poses = (path / "poses.csv").read_text().splitlines()
-    merged = [a + "," + ",".join(b.split(",")[1:]) for a, b in zip(joints, poses)]
-    (path / "all.csv").write_text("\n".join(merged) + "\n")
-    doc = _manifest(path)
-    doc["samples"] = "all.csv"
-    doc["observations"]["file"] = "all.csv"
-    (path / "dataset.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    path = _one_file(write_dataset(tmp_path / "ds", make_measured(clean_chain, n=4)), "poses.csv")
     ds, _chain, _camera = load_inputs(path)
     assert not ds.problems, ds.problems
     assert len(ds.measured_rows) == 4

@@ -9,8 +9,9 @@ from armtool.calib.choices import Setup
 from armtool.calib.model import se3
 from armtool.calib.model.calib_model import CalibModel
 from armtool.calib.model.params import Family
+from armtool.calib.model.terms.registry import build_terms
 from armtool.model.chain import Chain
-from tests.calib.conftest import nominal_model
+from tests.calib.conftest import CLEAN_ARM, nominal_model
 
 
 def test_zero_parameters_give_the_urdf_chain(clean_chain: Chain) -> None:
@@ -63,12 +64,15 @@ def test_families_select_candidates(clean_chain: Chain) -> None:
     assert len(model.indices([Family.ORIGINS, Family.OFFSETS, Family.GAINS])) == model.size == 12 + 8 * clean_chain.n
 
 
+@pytest.mark.parametrize("with_terms", [False, True])
 @pytest.mark.parametrize("setup", list(Setup))
-def test_twists_move_the_pose_as_the_parameters_do(clean_chain: Chain, setup: Setup) -> None:
+def test_twists_move_the_pose_as_the_parameters_do(clean_chain: Chain, setup: Setup, with_terms: bool) -> None:
     # The fit's Jacobian rests on this: changing parameter i by dx moves cMt by exp(dx·ε_i) on the
-    # left, for every kind of parameter (both frames, origins, offsets, gains) and both setups.
+    # left, for every kind of parameter (both frames, origins, offsets, gains, joint terms) and both setups.
     rng = np.random.default_rng(3)
-    model = CalibModel(clean_chain, setup, se3.delta(rng.normal(size=6) * 0.3), se3.delta(rng.normal(size=6) * 0.3))
+    terms = build_terms([Family.COMPLIANCE, Family.HARMONICS], clean_chain, CLEAN_ARM.read_text) if with_terms else ()
+    L, R = se3.delta(rng.normal(size=6) * 0.3), se3.delta(rng.normal(size=6) * 0.3)
+    model = CalibModel(clean_chain, setup, L, R, terms=terms)
     x = rng.normal(size=model.size) * 0.01
     Q = clean_chain.random(rng, 7)
     C, eps = model.twists(x, Q, list(range(model.size)))
