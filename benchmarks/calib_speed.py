@@ -42,7 +42,9 @@ def load(dataset: Path) -> tuple[Any, Any, list[Any]]:
     job = prepare_fit(FitRequest(dataset, dataset / "unused-out", FitOptions()))
     observed = observe_samples(job, lambda _ds, _camera: {})
     m = observed.measurements
-    model = CalibModel(job.chain, job.dataset.setup, np.eye(4), np.eye(4), sensor=m.sensor, target=m.target)
+    model = CalibModel(
+        job.chain, job.dataset.setup, np.eye(4), np.eye(4), sensor=m.sensor, target=m.target, terms=job.terms
+    )
     return model, m, [s for s in observed.samples if m.reason(s.id) is None]
 
 

@@ -91,11 +91,24 @@ class FitOptions:
     precision: Precision = DEFAULT_PRECISION  # combinations determined worse than this are held at nominal
     criterion: Criterion = Criterion.COMBINED  # what chooses the parameter set on held-out poses
     repeats: int = 0  # k-fold partitions the choice pools (0: `crossval.repeats_for` the pose count)
+    # Joint terms the k-fold ladder also tries when --params was not given (`tried_families`):
+    tried: tuple[Family, ...] = (Family.COMPLIANCE, Family.HARMONICS)
 
     @property
     def hand_eye_only(self) -> bool:
         """`--params none`: only the measurement frames, the robot held nominal (asked for, not a verdict)."""
         return not self.families
+
+    def tried_families(self, model: CalibModel, fit_samples: int) -> tuple[Family, ...]:
+        """The ladder's families: those requested, then, when the k-fold chooses (the default
+        --params, folds, selection on), the joint terms of `tried` that `model` carries. Why: a
+        compliance or harmonic term is physical only where the data ask for it, and only poses a fit
+        never saw can say so; the same one-standard-error rule as every other rung keeps it or not.
+        A plain fit (`--folds 0`, `--no-select`) fits what was requested and nothing more."""
+        if self.families_explicit or not self.select or self.folds < 2 or fit_samples < 2 * self.folds:
+            return self.families
+        carried = {t.family for t in model.terms}
+        return self.families + tuple(f for f in self.tried if f in carried and f not in self.families)
 
     @classmethod
     def requested(
@@ -361,7 +374,7 @@ def fit_set(
             )
     kept = problem.subset(inliers)
     subspace = determined(
-        problem.model, kept.jacobian(at, free), free, options.precision, kept.residuals(x), (x - at)[free]
+        problem.model, kept.jacobian(x, free), free, options.precision, kept.residuals(x), (x - at)[free]
     )
     x = subspace.project(x, at)
     problem, x, n = _settle(problem, x, free, robust=False, options=options, rows=inliers, basis=subspace.basis)
@@ -528,7 +541,7 @@ def _calibrate(
     problem, x_start, nfev = _settle(problem, np.zeros(model.size), frames, robust=True, options=options)
 
     say("identifiability of the parameters")
-    candidates = ladder(options.families)
+    candidates = ladder(options.tried_families(model, len(groups.fit)))
     requested = candidates[-1].indices(model, frames)
     ident = analyse(model, problem.jacobian(x_start, requested), requested, options.qr_tolerance)
     _check_identified(model, ident, requested, options)
@@ -539,9 +552,11 @@ def _calibrate(
             f"{len(groups.fit)} fit samples are too few for {options.folds}-fold cross-validation: "
             "the requested parameters were fitted without checking that they generalise"
         )
-    candidates, note = affordable(
-        candidates, model, frames, ident, problem.coordinates, len(groups.fit), cross, options
-    )
+    asked = ladder(options.families)
+    kept, note = affordable(asked, model, frames, ident, problem.coordinates, len(groups.fit), cross, options)
+    if len(kept) == len(asked) < len(candidates):  # the tried joint terms where the poses allow them, unannounced
+        kept, _ = affordable(candidates, model, frames, ident, problem.coordinates, len(groups.fit), cross, options)
+    candidates = kept
     warnings += note
 
     chosen, crossval = candidates[-1], None
@@ -618,6 +633,7 @@ def _calibrate(
     warnings += held.warnings
     residuals += [SampleResidual(sid, "rejected", {}, {}, why) for sid, why in groups.rejected.items()]
     warnings += _fit_warnings(model, fitted.ident, free, len(fitted.inliers), options)
+    warnings += _unphysical_stiffness(model, x, dict(zip(free, (float(v) for v in sigma))))
     Q = problem.Q
     return CalibrationResult(
         model=model,
@@ -868,6 +884,28 @@ def _score_holdout(
         _comparison(hp.blocks, before, after, everything),
         _comparison(hp.blocks, before, after, keep) if keep.any() else None,
     )
+
+
+UNPHYSICAL_SIGMAS = 2.0  # a sag this many σ below zero is not noise
+
+
+def _unphysical_stiffness(model: CalibModel, x: Array, sigma: dict[int, float]) -> list[str]:
+    """A joint that yields against gravity: a fitted sag (τmax / k) below zero by more than 2 σ,
+    a negative stiffness. No joint does that, so the term stands in for something else, and the
+    report says so rather than write it as a stiffness. Seen on the real UR5 tracker data (1000
+    poses, origins + offsets + compliance): the elbow −33 ± 4 kN·m/rad beside a shoulder of
+    +37 ± 2, where the arm's are about 23 and 28: gravity torques of the URDF's inertials that are
+    not the arm's (a tool's mass, the links' mass split), or another pose-dependent error."""
+    out = []
+    for i, p in enumerate(model.params):
+        s = sigma.get(i, math.nan)
+        if p.kind is ParamKind.COMPLIANCE and math.isfinite(s) and x[i] < -UNPHYSICAL_SIGMAS * s:
+            out.append(
+                f"{p.name}: the fitted compliance is negative ({x[i] / s:.1f} σ below zero), a joint yielding "
+                "against gravity: not a physical stiffness. It stands in for another error (check the URDF's link "
+                "masses and the tool's mass, or fit without compliance: --params origins,offsets)"
+            )
+    return out
 
 
 def _fit_warnings(

@@ -64,10 +64,13 @@ def calibration_document(
         entry["gain"] = round(1.0 + float(result.x[gain]), 12)
         entry["sigma_gain"] = sigma_of(gain)
         for k, term in enumerate(model.terms):  # compliance, harmonics: not in the URDF either
+            if term.kind.value not in result.candidate.kinds:  # tried by the k-fold, not chosen: nothing fitted
+                continue
             indices = model.layout.term(k, j_index)
             sigmas = np.array([sigma[i] if i in free else math.nan for i in indices])
             entry.update(term.report(j_index, result.x[indices], sigmas))
         joints[j.name] = entry
+    fitted_terms = [t for t in model.terms if t.kind.value in result.candidate.kinds]
     document: dict[str, Any] = {
         "format": SCHEMA,
         "dataset": dataset,
@@ -78,9 +81,9 @@ def calibration_document(
         "in_urdf": "origin corrections and zero offsets are already folded into calibrated.urdf: do not apply them again; "
         "gains are not (a URDF cannot hold them): apply gain·q in the driver if it differs from 1"
         + (
-            "; nor are the joint terms (" + ", ".join(t.family.value for t in model.terms) + "): they add "
+            "; nor are the joint terms (" + ", ".join(t.family.value for t in fitted_terms) + "): they add "
             "Σ p·f(q) to each joint's angle, see docs/calibrate.md"
-            if model.terms
+            if fitted_terms
             else ""
         ),
         "fitted": result.candidate.name,
