@@ -116,7 +116,10 @@ def test_five_fold_held_out_camera_position(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     nested = summary["cross_validation"]["nested"]
-    assert nested["chosen_per_fold"] == ["origins + offsets"] * 5
+    # the default ladder tries compliance after the geometry: one outer fold keeps it (1.614 mm
+    # against 1.618 over all 114 with --params origins,offsets, measured), the others do not
+    assert nested["chosen_per_fold"].count("origins + offsets") >= 4
+    assert all(c.startswith("origins + offsets") for c in nested["chosen_per_fold"])
     assert nested["heldout_without_outliers_rms_mm"] <= 1.2
     assert nested["heldout_rms_mm"]["calibrated"] < 1.65 < 4.5 < nested["heldout_rms_mm"]["hand_eye_only"]
     assert set(summary["outliers"]) == {"112", "113"}
