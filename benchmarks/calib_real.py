@@ -300,6 +300,19 @@ def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
         + ", ".join(f"{v * 1e3:.2f}" for v in point)
         + " |"
     )
+    geometry, geometry_doc, _w, _c = fit(
+        dataset, tmp / "ur5-geometry-out", "--folds", str(folds), "--params", "origins,offsets"
+    )
+    g_errors = held_out(geometry_doc, "cross_validated_mm")
+    g_distance, g_distance_mean, g_angle, g_angle_mean = tool0_deviation(
+        tmp / "ur5-geometry-out" / "calibrated.urdf", Q
+    )
+    print(
+        f"| calibrated, --params origins,offsets ({geometry['fitted']}) | {np.mean(g_errors):.4f} / {rms(g_errors):.4f} / "
+        f"{max(g_errors):.3f} | {g_distance:.2f} / {g_distance_mean:.2f} | {g_angle:.3f} / {g_angle_mean:.3f} | "
+        + ", ".join(f"{v * 1e3:.2f}" for v in geometry["frames"]["point_in_flange"]["xyz"])
+        + " |"
+    )
     print()
     ident = summary["identifiability"]
     print(

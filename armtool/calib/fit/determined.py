@@ -33,7 +33,8 @@ nominal costs its true error squared, so a combination is worth fitting when it 
 better than the errors a calibration is for: assembly offsets of 0.5–3 mm and 0.05–0.3° in joint
 origins, the largest of them taken so as not to hold a real one. Measured, σ in units of 3 mm
 and 0.3°: the UR5 tracker data's held combinations have σ 4.2 and 39 at 1000 poses (11–630 on
-50-pose subsets), the determined ones ≤ 0.03; on simulated SO-101 tag data (40 poses, 3–6 cm
+50-pose subsets), the determined ones ≤ 0.03, judged at nominal (14 and 134 at the fit, the
+same two held, `--params origins,offsets`); on simulated SO-101 tag data (40 poses, 3–6 cm
 between axes, seeds 0–3) 1 mm and 0.1° held combinations of σ 0.44–0.68 here and left the URDF
 0.34, 0.48, 0.87 and 0.044 mm off, where 3 mm and 0.3° hold none in seeds 0, 1 and 3
 (0.022–0.025 mm) and one of σ 1.7 in seed 2 (0.50 mm; 0.46 fitting it); on a simulated UR5 with
