@@ -86,3 +86,27 @@ def test_no_fold_is_fitted_on_the_samples_it_scores(clean_chain: Chain) -> None:
         sorted(set(outer[i]) | set(outer[j])) for i in range(4) for j in range(i + 1, 4)
     )
     assert cv.nested is not None and len(cv.nested.chosen) == 4
+
+
+def test_few_poses_are_chosen_on_a_repeated_k_fold(clean_chain: Chain) -> None:
+    # 18 poses: one 5-fold partition's choice rests on folds of 3 or 4 poses, so ten partitions
+    # are pooled and each pose's held-out loss is its mean over the ten.
+    from armtool.calib.fit.crossval import repeats_for
+
+    assert repeats_for(18) == 10 and repeats_for(40) == 5 and repeats_for(200) == 1
+    m = make_measured(clean_chain, "point", n=18, seed=3)
+    problem = m.measurements.problem(m.model, m.samples)
+    candidates = ladder((Family.OFFSETS,))
+    fitted_on: list[tuple[int, ...]] = []
+
+    def spy(rows: list[int]) -> list[CandidateFit]:
+        fitted_on.append(tuple(rows))
+        return [CandidateFit(problem.model, np.zeros(problem.model.size), np.ones(1), np.full(1, np.inf), 0)] * 2
+
+    cv = cross_validate(problem, candidates, spy, 5, 0, lambda _p: 3.0, nested=False)
+    assert cv.repeats == 10
+    partitions = [fold_rows(pose_groups(problem.Q), 5, 0, r) for r in range(10)]
+    assert len({tuple(map(tuple, p)) for p in partitions}) == 10  # ten different partitions
+    expected = {tuple(sorted(set(range(18)) - set(t))) for p in partitions for t in p}
+    assert set(fitted_on) == expected
+    assert all(len(s.losses) == 18 for s in cv.scores)  # one pooled loss per pose, not per repeat
