@@ -57,6 +57,14 @@ class Intrinsics(str, Enum):
     AUTO = "auto"
 
 
+class Criterion(str, Enum):
+    """`--criterion`: what chooses the parameter set on held-out poses: every block of the
+    residual, each divided by its noise (position and rotation together), or the position alone."""
+
+    COMBINED = "combined"
+    POSITION = "position"
+
+
 class StillBy(str, Enum):
     """What "settled" means when a bag is cut into poses: positions that stay put, or reported velocities near 0."""
 

@@ -59,7 +59,8 @@ class FitJob:
     validation: Inputs | None
     ur: UrTarget | None
     conventions: ConventionCheck | None = None  # measured poses or points: how the declared reading fits
-    terms: tuple[JointTerm, ...] = ()  # the joint terms --params asks for (compliance, harmonics)
+    terms: tuple[JointTerm, ...] = ()  # the joint terms --params asks for or the k-fold tries (compliance, harmonics)
+    untried: tuple[str, ...] = ()  # why a joint term the default k-fold tries could not be (no inertials)
 
 
 @dataclass(frozen=True)
@@ -110,8 +111,34 @@ def prepare_fit(request: FitRequest) -> FitJob:
     from armtool.calib.model.terms.registry import build_terms
     from armtool.model.load import urdf_text
 
-    terms = build_terms(request.options.families, chain, lambda: urdf_text(ds.urdf, ds.xacro_args, ds.package_paths))
-    return FitJob(request, ds, chain, camera, validation, ur, conventions, terms)
+    def text() -> str:
+        return urdf_text(ds.urdf, ds.xacro_args, ds.package_paths)
+
+    tried, untried = _tried_terms(request.options, chain, text)
+    terms = build_terms(request.options.families, chain, text) + tried
+    return FitJob(request, ds, chain, camera, validation, ur, conventions, terms, untried)
+
+
+def _tried_terms(
+    options: FitOptions, chain: Chain, urdf_xml: Callable[[], str]
+) -> tuple[tuple[JointTerm, ...], tuple[str, ...]]:
+    """The joint terms the default k-fold ladder tries beyond the requested families
+    (`FitOptions.tried`): each one the robot allows (compliance needs the URDF's inertials); one
+    it does not is not a candidate, and the fit says so (the second part: why, per term)."""
+    from armtool.calib.model.terms.registry import build_terms
+
+    if options.families_explicit or not options.select or options.folds < 2:
+        return (), ()
+    out: list[JointTerm] = []
+    untried: list[str] = []
+    for family in options.tried:
+        if family in options.families:
+            continue
+        try:
+            out += build_terms([family], chain, urdf_xml)
+        except ArmtoolError as exc:
+            untried.append(f"the k-fold did not try {family.value}: {exc.what}")
+    return tuple(out), tuple(untried)
 
 
 def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
@@ -172,7 +199,7 @@ def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | N
         target=measurements.target,
         terms=job.terms,
     )
-    return calibrate(
+    result = calibrate(
         model,
         measurements,
         observed.samples,
@@ -181,6 +208,8 @@ def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | N
         validation_ids=observed.validation_ids,
         progress=progress,
     )
+    result.warnings.extend(job.untried)
+    return result
 
 
 def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from armtool.calib.choices import Quality, ReportFormat, Setup
+from armtool.calib.choices import Criterion, Quality, ReportFormat, Setup
 from armtool.calib.limits import MAX_SIMULATED, TAG_SIZE_M
 from armtool.cli import options as opt
 from armtool.cli.options import DatasetConfig, PackagePaths, RobotConfig, XacroArgs
@@ -130,6 +130,12 @@ def fit(
         "--keep-conventions",
         help="Fit measured poses or points as declared even when another reading of the file fits far better.",
     ),
+    criterion: Criterion = typer.Option(
+        Criterion.COMBINED,
+        "--criterion",
+        help="What chooses the parameter set on held-out poses: combined (position and rotation, each divided by "
+        "its noise) or position (measured poses and points).",
+    ),
 ) -> None:
     """Calibrate: per-joint origin corrections and zero offsets, with the sensor and target frames."""
     require("calib")  # exit 2 with the install command when the extra is missing
@@ -142,7 +148,9 @@ def fit(
     from armtool.output.calibrate import print_fit_report
 
     robot = opt.RobotOptions(xacro_arg, package_path, config)
-    options = FitOptions.requested(params, holdout=holdout, seed=seed, folds=folds, select=select, nested=nested)
+    options = FitOptions.requested(
+        params, holdout=holdout, seed=seed, folds=folds, select=select, nested=nested, criterion=criterion
+    )
     opt.check_out_dir(out)
     request = FitRequest(
         dataset,

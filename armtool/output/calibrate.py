@@ -52,10 +52,10 @@ def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) ->
         if nested:
             con.print(escape(nested))
     con.print(_frames_text(result))
-    con.print(
-        f"fitted {escape(result.candidate.name)}: {len(result.free)} of {len(result.free) + len(ident.dropped)} parameters identified; "
-        f"condition number {ident.condition_number:.1f}, observability index {ident.observability_index:.3g}"
-    )
+    con.print(escape(_identified_text(result)))
+    if result.subspace is not None:
+        for c in result.subspace.held:
+            con.print(f"  [dim]held at nominal[/dim] {escape(c.describe(result.model, result.subspace.precision))}")
     shown = list(ident.dropped.items())[:6]
     for i, why in shown:
         con.print(f"  [dim]dropped[/dim] {escape(result.model.params[i].name)}: {escape(why)}")
@@ -65,8 +65,9 @@ def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) ->
         con.print(_zero_offset_table(result))
         if not all(z.physical for z in result.zero_offsets if z.identified):
             con.print(
-                "  [dim]offsets marked 'no' only balance origin errors the poses cannot separate from them; "
-                "calibrated.urdf is right as a whole, but do not re-zero encoders on them (calibration.yaml: zero_offsets)[/dim]"
+                "  [dim]offsets marked 'no' only balance origin errors the poses cannot separate from them: they are "
+                "right inside calibrated.urdf, with the origin corrections, but do not re-zero encoders on them "
+                "(calibration.yaml: zero_offsets)[/dim]"
             )
     for sid, why in result.outliers.items():
         con.print(f"[yellow]outlier[/yellow] sample {escape(sid)}: {escape(why)}")
@@ -96,6 +97,26 @@ def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) ->
     )
     if ur is not None and ur in files.files:
         say(f"wrote {ur}: pass it to the UR description as kinematics_params:={ur}")
+
+
+def _identified_text(result: CalibrationResult) -> str:
+    """'fitted origins + offsets: 25 of 51 parameters determined (27 identifiable by rank, 2 combinations
+    held at nominal: σ beyond 1 mm and 0.1°); condition number …'."""
+    ident, subspace = result.identifiability, result.subspace
+    candidates = len(result.free) + len(ident.dropped)
+    text = f"fitted {result.candidate.name}: "
+    if subspace is None or not subspace.held:
+        text += f"{len(result.free)} of {candidates} parameters identified"
+    else:
+        held = len(subspace.held)
+        text += (
+            f"{subspace.dimension} of {candidates} parameters determined ({len(result.free)} identifiable by rank; "
+            f"{held} combination{'s' if held > 1 else ''} of them held at nominal: not determined to "
+            f"{subspace.precision.describe()}, each below with its σ)"
+        )
+    return (
+        text + f"; condition number {ident.condition_number:.1f}, observability index {ident.observability_index:.3g}"
+    )
 
 
 def _noise_text(result: CalibrationResult) -> str:

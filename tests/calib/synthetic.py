@@ -107,15 +107,17 @@ def make_measured(
     seed: int = 0,
     frame: PoseFrame = PoseFrame.SENSOR_IN_TARGET,
     errors: bool = True,
+    point: Array | None = None,
 ) -> Measured:
     """Measured target-in-sensor poses (or points) of a true robot with injected errors, plus
-    Gaussian noise: position noise_mm per coordinate, rotation noise_deg per axis."""
+    Gaussian noise: position noise_mm per coordinate, rotation noise_deg per axis. `point`: where
+    a tracked point sits (in the flange, eye-to-hand), instead of 5 cm off it."""
     rng = np.random.default_rng(seed)
     sensor, target = ("camera", "board") if kind == "pose" else ("tracker", "point")
     nominal = CalibModel(chain, setup, np.eye(4), np.eye(4), sensor=sensor, target=target)
     L, R = _sensor_frames(setup, rng)
     if kind == "point":
-        R = se3.make(t=R[:3, 3])
+        R = se3.make(t=R[:3, 3] if point is None else point)
     x_true = true_errors(nominal, SimulationSpec(), rng) if errors else np.zeros(nominal.size)
     Q = chain.random(rng, n + 20)
     Q_fit, Q_val = Q[:n], Q[n:]

@@ -106,17 +106,22 @@ def test_rpy_read_in_the_other_order_is_found_and_the_fix_named(tmp_path: Path) 
 def test_five_fold_held_out_camera_position(tmp_path: Path) -> None:
     """The issue's goal: the 5-fold held-out camera-position residual, the choice of parameters
     made inside each outer training set (nested), at most 1.2 mm RMS. Met on the 112 poses the
-    procedure keeps; the two it names as outliers (one 55°-tilted pose recorded twice, 7.8 mm
-    under every model tried, the authors' calibration included) bring the RMS over all 114 to 1.57 mm."""
+    procedure keeps (1.19 mm on this split); the two it names as outliers (one 55°-tilted pose
+    recorded twice, 7.8 mm under every model tried, the authors' calibration included) bring the
+    RMS over all 114 to 1.61 mm (1.57 mm when the two combinations determined worse than 1 mm and
+    0.1° are fitted too; docs/benchmarks.md pools five splits)."""
     result = runner.invoke(
         app, ["calibrate", "fit", str(manifest(tmp_path / "fr3")), "-o", str(tmp_path / "out"), "--format", "json"]
     )
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     nested = summary["cross_validation"]["nested"]
-    assert nested["chosen_per_fold"] == ["origins + offsets"] * 5
+    # the default ladder tries compliance after the geometry: one outer fold keeps it (1.614 mm
+    # against 1.618 over all 114 with --params origins,offsets, measured), the others do not
+    assert nested["chosen_per_fold"].count("origins + offsets") >= 4
+    assert all(c.startswith("origins + offsets") for c in nested["chosen_per_fold"])
     assert nested["heldout_without_outliers_rms_mm"] <= 1.2
-    assert nested["heldout_rms_mm"]["calibrated"] < 1.6 < 4.5 < nested["heldout_rms_mm"]["hand_eye_only"]
+    assert nested["heldout_rms_mm"]["calibrated"] < 1.65 < 4.5 < nested["heldout_rms_mm"]["hand_eye_only"]
     assert set(summary["outliers"]) == {"112", "113"}
     assert summary["verdict"]["improves_on_nominal"]
     camera = summary["frames"]["camera_in_flange"]

@@ -39,6 +39,23 @@ def _priority(model: CalibModel, i: int) -> tuple[int, int]:
     ], i
 
 
+def restricted(ident: Identifiability, J: Array, candidates: list[int], subset: list[int]) -> Identifiability:
+    """The analysis of `subset` from `ident`, that of all `candidates` (J's columns), when `subset`
+    comes first in the priority order (frames and the kinds before some kind: each rung of the
+    ladder): the reduction decides a column from those before it alone, so the kept and dropped
+    ones, and why, are the same; only the conditioning is of the subset's own columns. Why: the
+    explanations' regressions cost a tenth of the default fit on 1000 tracker poses, once per rung."""
+    members = set(subset)
+    kept = [i for i in ident.kept if i in members]
+    columns = [candidates.index(i) for i in kept]
+    scaled = J[:, columns] / np.linalg.norm(J[:, columns], axis=0)
+    s = np.linalg.svd(scaled, compute_uv=False) if kept else np.zeros(0)
+    cond = float(s[0] / s[-1]) if s.size and s[-1] > 0 else math.inf
+    o1 = float(np.exp(np.mean(np.log(np.maximum(s, 1e-300)))) / math.sqrt(J.shape[0])) if s.size else 0.0
+    dropped = {i: why for i, why in ident.dropped.items() if i in members}
+    return Identifiability(kept, dropped, cond, o1, s)
+
+
 def analyse(model: CalibModel, J: Array, candidates: list[int], tolerance: float = 1e-6) -> Identifiability:
     """J has one column per candidate (same order as `candidates`)."""
     norms = np.linalg.norm(J, axis=0)

@@ -63,6 +63,7 @@ class Problem(ABC):
 
     blocks: tuple[Block, ...]
     column_blocks: NDArray[np.intp]  # (k,) the block of each of a sample's k coordinates
+    linear = False  # residuals linear in the parameters (`linearized`): solved in closed form
 
     def __init__(self, model: CalibModel, Q: Array, sigma: Array | None = None) -> None:
         self.model, self.Q = model, Q

@@ -18,6 +18,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from armtool.calib.choices import Criterion
 from armtool.calib.fit.crossval import CrossValidation, Score
 from armtool.calib.fit.problems import CORNER, Block
 
@@ -42,7 +43,11 @@ def judge(
     motion_deg: dict[str, float],
     blocks: Sequence[Block] = (CORNER,),
 ) -> Verdict:
-    """The verdict on a fit of `chosen_name` (what `calibrate` fitted) given its cross-validation."""
+    """The verdict on a fit of `chosen_name` (what `calibrate` fitted) given its cross-validation.
+    It names the criterion that decided (`CrossValidation.criterion`), says of every block in
+    which the fitted set is worse than the nominal robot on held-out poses that it is, and for a
+    refusal gives the standard error that decided it (the nominal robot's, of its difference
+    from the best set: the best set's own is 0 by construction)."""
     if crossval is None:
         if chosen_is_nominal:
             return Verdict(False, False, "only the measurement frames were fitted: the robot's URDF is unchanged")
@@ -55,31 +60,40 @@ def judge(
     chosen = crossval.score_of(chosen_name)
     kinematic = [s for s in crossval.scores[1:] if math.isfinite(s.loss)]
     best = min(kinematic, key=lambda s: s.loss) if kinematic else None
-    k = crossval.folds
+    how = f"{crossval.folds}-fold{_repeated(crossval)}, by {_criterion(crossval.criterion, blocks)}"
     if not chosen_is_nominal and chosen.loss < nominal.loss:
         return Verdict(
             True,
             True,
-            f"{chosen_name} predicts held-out poses better than the nominal robot ({k}-fold): "
-            f"{_figures(chosen, blocks)} against {_figures(nominal, blocks)} RMS with hand-eye only",
+            f"{chosen_name} predicts held-out poses better than the nominal robot ({how}): "
+            f"{_figures(chosen, blocks)} against {_figures(nominal, blocks)} RMS with hand-eye only"
+            + _worse(chosen, nominal, blocks, crossval.criterion),
         )
     if best is None:
         return Verdict(
             False, True, "no kinematic parameter set could be fitted on the training folds", _kind(motion_deg)
         )
     if chosen_is_nominal:
+        difference = nominal.loss - best.loss
+        if difference > 0:
+            why = (
+                f"score {best.loss:.3g} against {nominal.loss:.3g}: lower by {difference:.2g}, within one standard "
+                f"error of the difference ({nominal.standard_error:.2g}), so the smaller set, the nominal robot, is kept"
+            )
+        else:
+            why = f"score {best.loss:.3g} against {nominal.loss:.3g}"
         summary = (
-            f"no kinematic calibration beats the nominal robot on held-out poses ({k}-fold): "
+            f"no kinematic calibration beats the nominal robot on held-out poses ({how}): "
             f"the best, {best.candidate.name}, {_figures(best, blocks)} against {_figures(nominal, blocks)} RMS "
-            f"with hand-eye only (score {best.loss:.3g} against {nominal.loss:.3g}, standard error {best.standard_error:.2g})"
+            f"with hand-eye only ({why})"
         )
     else:
         summary = (
-            f"{chosen_name} predicts held-out poses worse than the nominal robot ({k}-fold): "
+            f"{chosen_name} predicts held-out poses worse than the nominal robot ({how}): "
             f"{_figures(chosen, blocks)} against {_figures(nominal, blocks)} RMS with hand-eye only "
             f"(score {chosen.loss:.3g} against {nominal.loss:.3g})"
         )
-    needed = poses_needed(nominal, best, fit_samples, k, coordinates_per_sample)
+    needed = poses_needed(nominal, best, fit_samples, crossval.folds, coordinates_per_sample)
     if needed is None:
         advice = (
             "more poses of the same kind will not help: the kinematic parameters explain nothing the nominal robot "
@@ -93,6 +107,35 @@ def judge(
             + _kind(motion_deg)
         )
     return Verdict(False, True, summary, advice, needed)
+
+
+def _repeated(crossval: CrossValidation) -> str:
+    return f" repeated {crossval.repeats} times" if crossval.repeats > 1 else ""
+
+
+def _criterion(criterion: Criterion, blocks: Sequence[Block]) -> str:
+    """What decided, in words."""
+    if criterion is Criterion.POSITION:
+        return "the position alone (--criterion position)"
+    if len(blocks) > 1:
+        return "the combined score (" + " and ".join(b.name for b in blocks) + ", each divided by its noise)"
+    return f"the {blocks[0].describe()} score"
+
+
+def _worse(chosen: Score, nominal: Score, blocks: Sequence[Block], criterion: Criterion) -> str:
+    """'; its held-out rotation is worse, 0.31° against 0.28° …': what the criterion did not weigh in its favour."""
+    worse = [b for b in blocks if chosen.rms.get(b.name, math.nan) > nominal.rms.get(b.name, math.nan)]
+    if not worse:
+        return ""
+    parts = [f"{b.name} {_value(chosen.rms[b.name], b)} against {_value(nominal.rms[b.name], b)}" for b in worse]
+    text = "; but it is worse held out in " + ", ".join(parts)
+    if criterion is Criterion.COMBINED and any(b.name == "position" for b in worse):
+        text += ": to choose by position first, pass --criterion position"
+    return text
+
+
+def _value(value: float, block: Block) -> str:
+    return f"{value:.2f}°" if block.unit == "deg" else f"{value:.2f} {block.unit}"
 
 
 def hand_eye_verdict() -> Verdict:
@@ -122,11 +165,7 @@ def poses_needed(nominal: Score, best: Score, samples: int, folds: int, per_samp
 
 def _figures(score: Score, blocks: Sequence[Block]) -> str:
     """'1.95 px' or '1.57 mm, 0.22°': a candidate's held-out RMS per block."""
-    parts = []
-    for b in blocks:
-        value = score.rms.get(b.name, math.nan)
-        parts.append(f"{value:.2f}°" if b.unit == "deg" else f"{value:.2f} {b.unit}")
-    return ", ".join(parts)
+    return ", ".join(_value(score.rms.get(b.name, math.nan), b) for b in blocks)
 
 
 def _kind(motion_deg: dict[str, float]) -> str:

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armtool.calib.fit.calibration import CalibrationResult, SampleResidual
+from armtool.calib.fit.determined import Combination
 from armtool.calib.fit.problems import POSITION, Block
 from armtool.calib.model import se3
 from armtool.calib.model.se3 import Array
@@ -63,11 +64,13 @@ def calibration_document(
         entry["gain"] = round(1.0 + float(result.x[gain]), 12)
         entry["sigma_gain"] = sigma_of(gain)
         for k, term in enumerate(model.terms):  # compliance, harmonics: not in the URDF either
+            if term.kind.value not in result.candidate.kinds:  # tried by the k-fold, not chosen: nothing fitted
+                continue
             indices = model.layout.term(k, j_index)
             sigmas = np.array([sigma[i] if i in free else math.nan for i in indices])
             entry.update(term.report(j_index, result.x[indices], sigmas))
         joints[j.name] = entry
-    ident = result.identifiability
+    fitted_terms = [t for t in model.terms if t.kind.value in result.candidate.kinds]
     document: dict[str, Any] = {
         "format": SCHEMA,
         "dataset": dataset,
@@ -78,22 +81,15 @@ def calibration_document(
         "in_urdf": "origin corrections and zero offsets are already folded into calibrated.urdf: do not apply them again; "
         "gains are not (a URDF cannot hold them): apply gain·q in the driver if it differs from 1"
         + (
-            "; nor are the joint terms (" + ", ".join(t.family.value for t in model.terms) + "): they add "
+            "; nor are the joint terms (" + ", ".join(t.family.value for t in fitted_terms) + "): they add "
             "Σ p·f(q) to each joint's angle, see docs/calibrate.md"
-            if model.terms
+            if fitted_terms
             else ""
         ),
         "fitted": result.candidate.name,
         "joints": joints,
         "zero_offsets": zero_offsets_section(result),
-        "identifiability": {
-            "identified": len(result.free),
-            "candidates": len(result.free) + len(ident.dropped),
-            "condition_number": _num(ident.condition_number),
-            "observability_index": _num(ident.observability_index),
-            "identified_parameters": [model.params[i].name for i in result.free],
-            "dropped": [{"parameter": model.params[i].name, "reason": why} for i, why in ident.dropped.items()],
-        },
+        "identifiability": identifiability_section(result),
         "noise": {f"{b.name}_{b.unit}": _num(result.noise.get(b.name, math.nan)) for b in result.blocks},
         "metrics": _metrics(result),
         "cross_validation": crossval_section(result),
@@ -112,6 +108,42 @@ def calibration_document(
             "note": conventions.message(),
         }
     return document
+
+
+def identifiability_section(result: CalibrationResult) -> dict[str, Any]:
+    """What the data determine: the parameters QR keeps (rank), the combinations of them fitted and
+    those held at nominal with their σ (`fit/determined.py`), the parameters dropped and why."""
+    model, ident, subspace = result.model, result.identifiability, result.subspace
+    held = subspace.held if subspace else []
+    out: dict[str, Any] = {
+        "identified": subspace.dimension if subspace else len(result.free),
+        "identifiable_by_rank": len(result.free),
+        "candidates": len(result.free) + len(ident.dropped),
+        "precision": subspace.precision.describe() if subspace else None,
+        "meaning": "identified counts what the fit moved: the frame parameters and the combinations of the "
+        "identifiable ones determined to the precision (sigma at most the precision); held_at_nominal lists the "
+        "others, which calibrated.urdf leaves as they were. The sigmas in `joints` are those of the fit that held them",
+        "condition_number": _num(ident.condition_number),
+        "observability_index": _num(ident.observability_index),
+        "identified_parameters": [model.params[i].name for i in result.free],
+        "held_at_nominal": [_combination(result, c) for c in held],
+        "dropped": [{"parameter": model.params[i].name, "reason": why} for i, why in ident.dropped.items()],
+    }
+    return out
+
+
+def _combination(result: CalibrationResult, c: Combination) -> dict[str, Any]:
+    """A combination: its σ in precision units, its value in σ, and each parameter's σ along it."""
+    assert result.subspace is not None
+    sigmas: dict[str, float | None] = {}
+    for p, value in c.parameter_sigma(result.model, result.subspace.precision):
+        key = f"{p.name}_{'mm' if p.unit == 'm' else ('deg' if p.unit == 'rad' else '1')}"
+        sigmas[key] = _num(value * 1e3 if p.unit == "m" else (math.degrees(value) if p.unit == "rad" else value))
+    return {
+        "sigma_in_precision_units": _num(c.sigma),
+        "sigmas_from_nominal": _num(c.significance),
+        "parameter_sigma": sigmas,
+    }
 
 
 def frames_section(result: CalibrationResult, sigma: dict[int, float]) -> dict[str, Any]:

@@ -14,7 +14,7 @@ from armtool.calib.model.params import Family
 from armtool.calib.simulation.truth import score
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
-from tests.calib.synthetic import make_problem
+from tests.calib.synthetic import make_measured, make_problem
 
 NO_CV = FitOptions(folds=0)  # the fit itself; choosing the parameter set is tested in test_crossval.py
 
@@ -75,10 +75,33 @@ def test_rejected_detections_are_reported(clean_chain: Chain) -> None:
     assert result.rejected == {"3": "blurred"}
 
 
-def test_too_few_samples_is_a_clear_error(clean_chain: Chain) -> None:
-    p = make_problem(clean_chain, n=6, seed=6)
-    with pytest.raises(ArmtoolError, match="identifiable parameters"):
-        calibrate(p.model, p.measurements, p.samples, NO_CV)
+def test_too_few_poses_for_the_full_set_choose_a_smaller_one(clean_chain: Chain) -> None:
+    # 20 tracked points give 60 coordinates, 48 in each 5-fold training set: the minimum-pose
+    # rule (two coordinates per parameter) leaves out the sets that need more than 24 parameters.
+    m = make_measured(clean_chain, "point", n=20, noise_mm=0.05, seed=5)
+    result = calibrate(m.model, m.measurements, m.samples, FitOptions(nested=False))
+    assert result.crossval is not None
+    left_out = [w for w in result.warnings if "left out of the choice" in w]
+    assert len(left_out) == 1 and "48 in each training fold" in left_out[0] and "origins + offsets" in left_out[0]
+    names = [c.name for c in result.candidates]
+    assert "origins + offsets" not in names and result.candidate.name in names
+
+
+def test_too_few_poses_for_any_set_are_refused_with_the_rule(clean_chain: Chain) -> None:
+    m = make_measured(clean_chain, "point", n=4, noise_mm=0.05, seed=5)
+    with pytest.raises(ArmtoolError, match="two are needed per parameter") as refused:
+        calibrate(m.model, m.measurements, m.samples, NO_CV)
+    assert "--holdout" not in (refused.value.hint or "")  # it was not given
+    m = make_measured(clean_chain, "point", n=8, noise_mm=0.05, seed=5)
+    with pytest.raises(ArmtoolError, match="two are needed per parameter") as refused:
+        calibrate(m.model, m.measurements, m.samples, FitOptions(folds=0, holdout=0.5))
+    assert "lower --holdout" in (refused.value.hint or "")
+
+
+def test_a_set_asked_for_without_selection_is_refused_when_the_poses_cannot_carry_it(clean_chain: Chain) -> None:
+    m = make_measured(clean_chain, "point", n=12, noise_mm=0.05, seed=5)
+    with pytest.raises(ArmtoolError, match="two are needed per parameter"):
+        calibrate(m.model, m.measurements, m.samples, FitOptions(folds=0, select=False))
 
 
 def test_a_joint_that_never_moves_is_reported(clean_chain: Chain) -> None:

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from armtool.calib.fit.calibration import FitOptions, calibrate, fit_ladder
-from armtool.calib.fit.crossval import HAND_EYE, cross_validate, fold_rows, ladder, pose_groups
+from armtool.calib.fit.calibration import FitOptions, calibrate
+from armtool.calib.fit.crossval import HAND_EYE, CandidateFit, cross_validate, fold_rows, ladder, pose_groups
 from armtool.calib.fit.verdict import judge
 from armtool.calib.model.params import Family
 from armtool.model.chain import Chain
@@ -68,19 +68,45 @@ def test_no_fold_is_fitted_on_the_samples_it_scores(clean_chain: Chain) -> None:
     m = make_measured(clean_chain, "point", n=30, seed=3)
     problem = m.measurements.problem(m.model, m.samples)
     candidates = ladder((Family.OFFSETS,))
-    options = FitOptions()
-    fitted_on: list[set[bytes]] = []
+    fitted_on: list[list[int]] = []
 
-    def spy(sub):  # type: ignore[no-untyped-def]
-        fitted_on.append({q.tobytes() for q in sub.Q})
-        return fit_ladder(sub, candidates, options, {})
+    def spy(rows: list[int]) -> list[CandidateFit]:
+        fitted_on.append(rows)
+        return [CandidateFit(problem.model, np.zeros(problem.model.size), np.ones(1), np.full(1, np.inf), 0, "spy")] * 2
 
-    cv = cross_validate(problem, candidates, spy, 3, 0, lambda _p: 3.0, nested=True)
-    everything = {q.tobytes() for q in problem.Q}
-    outer = fold_rows(pose_groups(problem.Q), 3, 0)
-    outer_tests = [{problem.Q[r].tobytes() for r in fold} for fold in outer]
-    assert fitted_on[:3] == [everything - t for t in outer_tests]
-    for k, test in enumerate(outer_tests):
-        for inner in fitted_on[3 + 3 * k : 6 + 3 * k]:  # the inner folds of outer training set k
-            assert inner and not inner & test
-    assert cv.nested is not None and len(cv.nested.chosen) == 3
+    cv = cross_validate(problem, candidates, spy, 4, 0, lambda _p: 3.0, nested=True, repeats=lambda _n: 1)
+    outer = fold_rows(pose_groups(problem.Q), 4, 0)
+    everything = set(range(problem.samples))
+    assert [set(r) for r in fitted_on[:4]] == [everything - set(t) for t in outer]
+    # Each outer training set chooses by a 3-fold over the other outer folds: the training set
+    # without folds i and j serves both outer folds, and is fitted once (6 pairs, not 12).
+    pairs = [set(r) for r in fitted_on[4:]]
+    assert len(pairs) == 6 and len({tuple(r) for r in fitted_on}) == len(fitted_on)
+    assert sorted(sorted(everything - p) for p in pairs) == sorted(
+        sorted(set(outer[i]) | set(outer[j])) for i in range(4) for j in range(i + 1, 4)
+    )
+    assert cv.nested is not None and len(cv.nested.chosen) == 4
+
+
+def test_few_poses_are_chosen_on_a_repeated_k_fold(clean_chain: Chain) -> None:
+    # 18 poses: one 5-fold partition's choice rests on folds of 3 or 4 poses, so ten partitions
+    # are pooled and each pose's held-out loss is its mean over the ten.
+    from armtool.calib.fit.crossval import repeats_for
+
+    assert repeats_for(18) == 10 and repeats_for(40) == 5 and repeats_for(200) == 1
+    m = make_measured(clean_chain, "point", n=18, seed=3)
+    problem = m.measurements.problem(m.model, m.samples)
+    candidates = ladder((Family.OFFSETS,))
+    fitted_on: list[tuple[int, ...]] = []
+
+    def spy(rows: list[int]) -> list[CandidateFit]:
+        fitted_on.append(tuple(rows))
+        return [CandidateFit(problem.model, np.zeros(problem.model.size), np.ones(1), np.full(1, np.inf), 0)] * 2
+
+    cv = cross_validate(problem, candidates, spy, 5, 0, lambda _p: 3.0, nested=False)
+    assert cv.repeats == 10
+    partitions = [fold_rows(pose_groups(problem.Q), 5, 0, r) for r in range(10)]
+    assert len({tuple(map(tuple, p)) for p in partitions}) == 10  # ten different partitions
+    expected = {tuple(sorted(set(range(18)) - set(t))) for p in partitions for t in p}
+    assert set(fitted_on) == expected
+    assert all(len(s.losses) == 18 for s in cv.scores)  # one pooled loss per pose, not per repeat

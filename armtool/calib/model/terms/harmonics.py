@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from armtool.calib.model.joint_term import RegressorCache
 from armtool.calib.model.params import Family, ParamKind
 from armtool.calib.model.se3 import Array
 from armtool.model.chain import Chain
@@ -29,11 +30,16 @@ class Harmonics:
 
     def __init__(self, chain: Chain) -> None:
         self._revolute = chain.revolute.astype(float)
+        self._cache = RegressorCache()  # a fit evaluates the same readings' regressors many times
 
     def regressors(self, Q: Array) -> Array:
-        out = np.stack([np.sin(Q), np.cos(Q), np.sin(2 * Q), np.cos(2 * Q)], axis=-1)
-        result: Array = out * self._revolute[None, :, None]
-        return result
+        def compute(readings: Array) -> Array:
+            out = np.stack([np.sin(readings), np.cos(readings), np.sin(2 * readings), np.cos(2 * readings)], axis=-1)
+            result: Array = out * self._revolute[None, :, None]
+            return result
+
+        found: Array = self._cache.get(Q, compute)
+        return found
 
     def report(self, j: int, values: Array, sigmas: Array) -> dict[str, Any]:
         """Each amplitude in degrees, with its σ (None: not fitted)."""
