@@ -4,8 +4,10 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 DEMO_TMP := build/demo
+# A demo step meant to report something: says so before it runs, fails the demo on any other exit code.
+STEP := $(BIN)/python tools/demo_step.py
 
-.PHONY: demo test check docs bench clean
+.PHONY: demo test check docs bench clean ecosystem ecosystem-update
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -18,11 +20,13 @@ demo: $(STAMP)
 	@echo "== armtool lint on a clean arm (URDF + SRDF + kinematics.yaml): expect no findings"
 	$(BIN)/armtool lint fixtures/robots/clean_arm/urdf fixtures/robots/clean_arm/config
 	@echo
-	@echo "== armtool lint on a broken arm and a broken MoveIt config: expect findings (exit code 1)"
-	-$(BIN)/armtool lint fixtures/robots/broken_arm fixtures/robots/clean_arm/config_broken
+	@echo "== armtool lint on a broken arm and a broken MoveIt config"
+	@$(STEP) 1 "errors and warnings in the URDF, SRDF and kinematics.yaml" -- \
+	  $(BIN)/armtool lint fixtures/robots/broken_arm fixtures/robots/clean_arm/config_broken
 	@echo
 	@echo "== armtool lint on a xacro arm: findings point into the .xacro sources"
-	-$(BIN)/armtool lint fixtures/robots/xacro_arm
+	@$(STEP) 0 "2 warnings located in the xacro macro file; warnings do not fail lint" -- \
+	  $(BIN)/armtool lint fixtures/robots/xacro_arm
 	@echo
 	@echo "== armtool rules U301"
 	$(BIN)/armtool rules U301
@@ -36,7 +40,8 @@ demo: $(STAMP)
 	$(BIN)/armtool calibrate check $$d/dataset; \
 	$(BIN)/armtool calibrate fit $$d/dataset --out $$d/out --holdout 0.25; \
 	echo "-- calibrated.urdf differs from the nominal one only in joint origins:"; \
-	diff fixtures/robots/clean_arm/urdf/clean_arm.urdf $$d/out/calibrated.urdf | head -8 || true
+	$(STEP) 1 "differences; diff exits 1 when files differ" --head 8 -- \
+	  diff fixtures/robots/clean_arm/urdf/clean_arm.urdf $$d/out/calibrated.urdf
 	@echo
 	@echo "== armtool servo-sim + armtool limits --mode auto: find the stops of a simulated 5-joint AX-12A arm, write limits YAML and URDF limits"
 	@set -e; d=$$(mktemp -d); \
@@ -56,7 +61,7 @@ demo: $(STAMP)
 	head -n 30 $(DEMO_TMP)/shoulder_lut.h
 	$(BIN)/armtool servo-lut apply $(DEMO_TMP)/lut.json --angles 45,150,255
 	@echo
-	@echo "== armtool servo-lut on the simulated AX-12A arm: limits, measure with the encoder, fit, check (exit 1 above 0.5 deg)"
+	@echo "== armtool servo-lut on the simulated AX-12A arm: limits, measure with the encoder, fit, check against --max-err 0.5 deg (it would exit 1 above it)"
 	@set -e; d=$(DEMO_TMP)/sim; mkdir -p $$d; : > $$d/ports; \
 	$(BIN)/armtool servo-sim fixtures/servo/ax12_arm.yaml --duration 120 > $$d/ports & sim=$$!; \
 	trap 'kill $$sim 2>/dev/null || true' EXIT; \
@@ -85,12 +90,23 @@ demo: $(STAMP)
 	for f in circle_timed.csv circle_thin.csv circle_slow.yaml joined.csv; do \
 	  $(BIN)/armtool traj check $$d/$$f --urdf $$U --joint-limits $$JL; done; \
 	$(BIN)/armtool traj plot $$d/joined.csv --urdf $$U --joint-limits $$JL --base base_link --tip tool0 -o $$d/joined.png; \
-	echo "-- a trajectory that is too fast: traj check names the point, time and joint (exit 1)"; \
+	echo "-- a trajectory that is too fast: traj check names the point, time and joint"; \
 	$(BIN)/armtool traj retime $$d/joined.csv --scale 1.5 -o $$d/too_fast.csv; \
-	$(BIN)/armtool traj check $$d/too_fast.csv --urdf $$U --joint-limits $$JL | tail -n 4 || true
+	$(STEP) 1 "findings, the limits it exceeds; its last 4 lines shown" --tail 4 -- \
+	  $(BIN)/armtool traj check $$d/too_fast.csv --urdf $$U --joint-limits $$JL
+	@echo
+	@echo "== make demo: every step behaved as expected (the steps marked 'expect ...' reported what they announced, with its exit code)"
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+# The ecosystem check: armtool lint on every case of ../shared/realworld, compared with the
+# committed baseline (tests/ecosystem/baseline.json); also run by `make test` (tests/test_ecosystem.py).
+ecosystem: $(STAMP)
+	$(BIN)/python tools/ecosystem.py
+
+ecosystem-update: $(STAMP)
+	$(BIN)/python tools/ecosystem.py --update
 
 check: $(STAMP)
 	$(BIN)/ruff check .

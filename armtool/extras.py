@@ -27,11 +27,12 @@ DISTRIBUTIONS: dict[str, str] = {
     "serial": "pyserial",
     "dynamixel_sdk": "dynamixel-sdk",
     "rosbags": "rosbags",
+    "matplotlib": "matplotlib",
 }
 
 # Extra -> the modules its commands import (tests/test_extras.py keeps this and pyproject.toml in step).
 MODULES: dict[Extra, tuple[str, ...]] = {
-    "ik": ("numpy", "scipy", "pinocchio", "numba", "cv2"),  # numba: lm; cv2: the --plot PNG
+    "ik": ("numpy", "scipy", "pinocchio", "numba", "matplotlib"),  # numba: lm; matplotlib: --plot
     "calib": (
         "numpy",
         "scipy",
@@ -39,9 +40,11 @@ MODULES: dict[Extra, tuple[str, ...]] = {
         "cv2",
         "rosbags",
         "threadpoolctl",
-    ),  # pinocchio: fit's URDF check, simulate's IK; rosbags: import-bag; threadpoolctl: fit's small matrices
+        "matplotlib",
+    ),  # pinocchio: fit's URDF check, simulate's IK; rosbags: import-bag; threadpoolctl: fit's small matrices;
+    # matplotlib: fit --plot
     "servo": ("numpy", "scipy", "serial", "dynamixel_sdk"),  # servo-sim needs none of them
-    "traj": ("numpy", "scipy", "pinocchio", "numba", "cv2"),  # lm for IK, cv2 for the PNGs
+    "traj": ("numpy", "scipy", "pinocchio", "numba", "matplotlib"),  # lm for IK, matplotlib for the plots
 }
 
 # Where a module comes from when the running command's extra does not have it.
@@ -53,6 +56,7 @@ _HOME: dict[str, Extra] = {
     "serial": "servo",
     "dynamixel_sdk": "servo",
     "rosbags": "calib",
+    "matplotlib": "calib",
 }
 
 _current: Extra | None = None  # the extra of the running command, for missing_extra_error

@@ -21,9 +21,9 @@ import numpy as np
 def run(images: int, seed: int, distortion: bool) -> str:
     import cv2
 
-    from armtool.calib.apriltag import detect_tag, pnp_pose, tag_object_points
-    from armtool.calib.render import random_view_pose, render_tag, tag_in_view
-    from armtool.calib.simulate import default_camera
+    from armtool.calib.simulation.render import random_view_pose, render_tag, tag_in_view
+    from armtool.calib.simulation.simulate import default_camera
+    from armtool.calib.targets.apriltag import detect_tag, pnp_pose, tag_object_points
 
     cv2.setNumThreads(1)
     camera = default_camera(distortion)

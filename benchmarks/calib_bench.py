@@ -55,16 +55,16 @@ def robot_file(relative: str) -> Path:
 def run_case(
     robot: str, seed: int, samples: int, bad: int, workdir: Path, quality: str = "typical", setup: str = "eye_to_hand"
 ) -> dict[str, object]:
-    from armtool.calib.apriltag import tag_object_points
     from armtool.calib.choices import Quality, Setup
-    from armtool.calib.dataset import require_ok
-    from armtool.calib.fit import FitOptions, calibrate
-    from armtool.calib.inputs import load_inputs
-    from armtool.calib.model import CalibModel
-    from armtool.calib.observations import observe
-    from armtool.calib.problems import CornerMeasurements
-    from armtool.calib.simulate import SimulationSpec, simulate
-    from armtool.calib.truth import load_truth, score
+    from armtool.calib.fit.calibration import FitOptions, calibrate
+    from armtool.calib.fit.measurements import CornerMeasurements
+    from armtool.calib.inputs.dataset import require_ok
+    from armtool.calib.inputs.load import load_inputs
+    from armtool.calib.inputs.observations import observe
+    from armtool.calib.model.calib_model import CalibModel
+    from armtool.calib.simulation.simulate import SimulationSpec, simulate
+    from armtool.calib.simulation.truth import load_truth, score
+    from armtool.calib.targets.apriltag import tag_object_points
 
     rel, base, flange = ROBOTS[robot]
     out = workdir / f"{robot}-{seed}-{bad}-{quality}-{setup}"

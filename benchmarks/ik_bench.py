@@ -1,15 +1,25 @@
-"""IK benchmark: every armtool solver beside TRAC-IK (pytracik), roboticstoolbox's ik_LM and ikpy, one process (offline).
+"""IK benchmark: every armtool solver beside TRAC-IK (pytracik), roboticstoolbox's ik_LM, ikpy and the
+closed-form EAIK and IK-Geo, one process (offline).
 
-TRAC-IK's protocol on six arms, each at its real tool frame: Panda (panda_link0 → panda_hand),
-UR5 (→ tool0), Kinova j2s6s200 (→ j2s6s200_end_effector) and the 5-DOF SO-101 (base_link →
+TRAC-IK's protocol on seven arms, each at its real tool frame: Panda (panda_link0 → panda_hand),
+UR5 and UR10 (→ tool0), Kinova j2s6s200 (→ j2s6s200_end_effector) and the 5-DOF SO-101 (base_link →
 gripper_frame_link) from example-robot-data; xArm6 and xArm7 (link_base → link_eef) from the
 real-repository corpus (xarm_ros2's xarm_device.urdf.xacro with dof:=6 / dof:=7, read in place;
 an arm whose files are absent is skipped with a message). N configurations uniform within the
 limits → FK → targets; every solve from the mid-range seed; 5 ms timeout; success = every twist
 component within 1e-5 and q within the limits, by armtool's FK (`armtool.ik.bench.solver_report`),
-whatever the solver claims. All solvers see the same targets; `lm` also runs batched (its
-`call_batch` over every target, --batch-calls calls per round). ikpy is slow (~10 ms a solve) and runs on the first --ikpy-samples targets
-only. A peer that is not installed is skipped with its install command (`pip install 'armtool[peers]'`).
+whatever the solver claims. All solvers see the same targets; every solver with a batch mode of its
+own (`lm`, EAIK's `IK_batched` on one thread) also runs batched (its `call_batch` over every target,
+--batch-calls calls per round). ikpy is slow (~10 ms a solve) and runs on the first --ikpy-samples targets
+only. A peer that is not installed is skipped with its install command (`pip install 'armtool[peers]'`);
+one that cannot take an arm (EAIK and IK-Geo on a 7-DOF arm, EAIK on xArm6) is listed under the
+arm's table with the reason.
+
+Closed-form rows (`analytic`, `eaik`, `ik-geo`) are solved when any of their solutions passes the
+check; "solutions" is the mean number of distinct verified solutions per target, "missing" how many
+of the other closed-form solvers' solutions (their union) the row lacks (armtool.ik.bench.compare_solutions),
+median over rounds. The issue-29 lines compare `analytic` with EAIK: its median at most EAIK's in
+every round, its batch at least 5× EAIK's single-threaded `IK_batched`, no solution missing.
 
 What is timed (armtool.ik.bench.TIMING): each solver's own solve call (with its own checks of its
 inputs) and nothing else, for every row alike. Putting the target into a solver's input form (a
@@ -41,7 +51,7 @@ the solver). Only solvers with a timeout can fail that way. Process CPU time cou
 Markdown tables and PASS/FAIL lines for the IK-speed issue's targets go to stdout; progress and
 skipped solvers or arms to stderr. Exit code 0, or 1 with --strict when a target is missed.
 
-    python benchmarks/ik_bench.py [--samples 1000] [--rounds 3] [--block 50] [--batch-calls 4] [--warmup 100] [--robots panda,ur5,xarm6,xarm7,kinova,so101]
+    python benchmarks/ik_bench.py [--samples 1000] [--rounds 3] [--block 50] [--batch-calls 4] [--warmup 100] [--robots panda,ur5,ur10,xarm6,xarm7,kinova,so101]
         [--solvers lm,analytic] [--corpus ../shared/realworld]
 """
 
@@ -75,13 +85,14 @@ XARM = "xarm_ros2/xarm_description/urdf/xarm_device.urdf.xacro"
 ROBOTS = {
     "panda": Robot("erd", "panda_description/urdf/panda.urdf", "panda_link0", "panda_hand"),
     "ur5": Robot("erd", "ur_description/urdf/ur5_robot.urdf", None, "tool0"),
+    "ur10": Robot("erd", "ur_description/urdf/ur10_robot.urdf", None, "tool0"),
     "xarm6": Robot("corpus", XARM, "link_base", "link_eef", {"dof": "6"}),
     "xarm7": Robot("corpus", XARM, "link_base", "link_eef", {"dof": "7"}),
     "kinova": Robot("erd", "kinova_description/robots/kinova.urdf", None, "j2s6s200_end_effector"),
     "so101": Robot("erd", "so_arm_description/urdf/so101.urdf", "base_link", "gripper_frame_link"),
 }
 DEFAULT_CORPUS = Path(__file__).resolve().parents[1] / ".." / "shared" / "realworld"
-PEERS = ("pytracik", "rtb-lm", "ikpy", "pykdl")
+PEERS = ("pytracik", "rtb-lm", "ikpy", "pykdl", "eaik", "ik-geo")
 TOLERANCE = 1e-5
 KDL_PUBLISHED_PANDA = 62.0  # % success of KDL NR_JL on Panda in TRAC-IK's protocol
 MAX_SPREAD = 0.20  # spread of lm's per-round ratio to rtb's median, (max - min) / min
@@ -137,12 +148,17 @@ class Row:
     failures: int  # median over rounds
     stalled: int | None  # failures with < timeout/2 of process CPU in >= timeout of wall (None for batched rows)
     round_medians_us: tuple[float, ...]  # per round: the spread shows how noisy the machine was
+    solutions: float | None = None  # closed-form rows: distinct verified solutions per target
+    missing: int | None = None  # closed-form rows: the other closed-form solvers' solutions it lacks (median)
+    round_solves_per_s: tuple[float, ...] = ()
 
 
 def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float) -> Row:
     med = statistics.median
     over = None if batch else int(med([sum(t > timeout * 1e6 for t in r.wall_times_us) for r in reports]))
     stall = None if batch else int(med([r.stalled_failures or 0 for r in reports]))
+    solutions = None if reports[0].distinct_solutions is None else med([r.distinct_solutions for r in reports])
+    missing = None if reports[0].missing_solutions is None else int(med([r.missing_solutions for r in reports]))
     return Row(
         label,
         batch,
@@ -156,6 +172,9 @@ def summarize(label: str, batch: bool, reports: Sequence[Any], timeout: float) -
         int(med([r.failures for r in reports])),
         stall,
         tuple(r.wall_us["median"] for r in reports),
+        solutions,
+        missing,
+        tuple(r.solves_per_s for r in reports),
     )
 
 
@@ -170,9 +189,10 @@ def interleaved_round(
     return time_interleaved(entries, targets, args.block, rotate=round_index, batch_calls=args.batch_calls)
 
 
-def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row]] | None:
+def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row], dict[str, str]] | None:
+    """(title, rows by label, {solver: why it cannot take the arm}) for one arm; None when its files are absent."""
     from armtool.errors import ArmtoolError
-    from armtool.ik.bench import BenchConfig, Entry, first, make_targets, solver_report, warm_up
+    from armtool.ik.bench import BenchConfig, Entry, compare_solutions, first, make_targets, solver_report, warm_up
     from armtool.ik.peers import make_peer
     from armtool.ik.registry import make_solver, solver_names
 
@@ -184,6 +204,7 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
     targets = make_targets(chain, config)
 
     entries: list[Any] = []
+    not_applicable: dict[str, str] = {}
     for solver_name in solver_names():
         if args.solvers and solver_name not in args.solvers:
             continue
@@ -191,16 +212,24 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
             solver = make_solver(solver_name, chain, timeout=args.timeout, tolerance=TOLERANCE)
         except ArmtoolError as exc:  # e.g. analytic: no closed form for this arm
             log(f"  {name}: {solver_name} skipped: {exc.what}")
+            not_applicable[solver_name] = exc.what
             continue
         entries.append(Entry(solver))
-        if solver_name == "lm":
+        if solver.has_batch():
             entries.append(Entry(solver, batch=True))
     for peer_name in args.peers:
-        peer = make_peer(peer_name, chain, root, timeout=args.timeout, tolerance=TOLERANCE)
+        try:
+            peer = make_peer(peer_name, chain, root, timeout=args.timeout, tolerance=TOLERANCE)
+        except ArmtoolError as exc:  # e.g. EAIK: 7 joints, or no decomposition
+            log(f"  {name}: {peer_name} not applicable: {exc.what}")
+            not_applicable[peer_name] = exc.what
+            continue
         if isinstance(peer, str):
             log(f"warning: peer {peer_name} skipped: {peer}")
             continue
         entries.append(Entry(peer, limit=args.ikpy_samples if peer_name == "ikpy" else None))
+        if peer.has_batch():
+            entries.append(Entry(peer, batch=True))
 
     for entry in entries:
         if not entry.batch:
@@ -218,12 +247,12 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
     for r in range(args.rounds):
         log(f"  {name} round {r + 1}/{args.rounds}: " + ", ".join(e.label for e in entries) + " (taking turns)")
         timed = interleaved_round(entries, targets, args, r)
-        for entry in entries:
-            reports[entry.label].append(
-                solver_report(chain, entry.solver, first(targets, entry.limit), config, timed[entry.label])
-            )
+        made = [solver_report(chain, e.solver, first(targets, e.limit), config, timed[e.label]) for e in entries]
+        compare_solutions(chain, made)
+        for entry, report in zip(entries, made):
+            reports[entry.label].append(report)
     rows = {e.label: summarize(e.label, e.batch, reports[e.label], args.timeout) for e in entries}
-    return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows
+    return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows, not_applicable
 
 
 def ratio(a: float, b: float | None) -> str:
@@ -237,33 +266,50 @@ def round_ratios(row: Row, reference: Row | None) -> list[float]:
     return [a / b for a, b in zip(row.round_medians_us, reference.round_medians_us) if b > 0]
 
 
-def print_table(title: str, rows: dict[str, Row]) -> None:
+def us(value: float) -> str:
+    """Microseconds: one decimal below 100 (closed forms take a few), whole above."""
+    return f"{value:.1f}" if value < 100 else f"{value:,.0f}"
+
+
+def print_table(title: str, rows: dict[str, Row], not_applicable: dict[str, str] | None = None) -> None:
     from armtool.ik.bench import TIMING
 
-    tracik, rtb = rows.get("pytracik"), rows.get("rtb-lm")
+    tracik, rtb, eaik = rows.get("pytracik"), rows.get("rtb-lm"), rows.get("eaik")
     print(f"### {title}\n")
     print(
         "| solver | N | success % | failures (stalled) | median µs | p95 µs | CPU median µs | solves/s | > timeout "
-        "| median vs pytracik | median vs rtb-lm | CPU median vs rtb-lm | solves/s vs rtb-lm |"
+        "| solutions | missing | median vs pytracik | median vs rtb-lm | CPU median vs rtb-lm | solves/s vs rtb-lm "
+        "| median vs eaik |"
     )
-    print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+    print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
     for row in rows.values():
         over = "-" if row.over_timeout is None else str(row.over_timeout)
         fails = str(row.failures) + ("" if row.stalled is None else f" ({row.stalled})")
+        sols = "-" if row.solutions is None else f"{row.solutions:.2f}"
+        lacks = "-" if row.missing is None else str(row.missing)
         print(
-            f"| {row.label} | {row.samples} | {row.success:.1f} | {fails} | {row.median_us:,.0f} | {row.p95_us:,.0f} | {row.cpu_median_us:,.0f} | "
-            f"{row.solves_per_s:,.0f} | {over} | {ratio(row.median_us, tracik.median_us if tracik else None)} | "
+            f"| {row.label} | {row.samples} | {row.success:.1f} | {fails} | {us(row.median_us)} | {us(row.p95_us)} | {us(row.cpu_median_us)} | "
+            f"{row.solves_per_s:,.0f} | {over} | {sols} | {lacks} | {ratio(row.median_us, tracik.median_us if tracik else None)} | "
             f"{ratio(row.median_us, rtb.median_us if rtb else None)} | {ratio(row.cpu_median_us, rtb.cpu_median_us if rtb else None)} | "
-            f"{ratio(row.solves_per_s, rtb.solves_per_s if rtb else None)} |"
+            f"{ratio(row.solves_per_s, rtb.solves_per_s if rtb else None)} | {ratio(row.median_us, eaik.median_us if eaik else None)} |"
         )
+    for solver in not_applicable or {}:
+        print(f"| {solver} | - | n/a |" + " - |" * 13)
     print(f"\nTiming: {TIMING}.")
-    shown = [row for row in rows.values() if row.label in ("lm", "lm (batch)", "pytracik", "rtb-lm")]
+    for solver, why in (not_applicable or {}).items():
+        print(f"{solver} n/a: {why}")
+    shown = [
+        row for row in rows.values() if row.label in ("lm", "lm (batch)", "pytracik", "rtb-lm", "analytic", "eaik")
+    ]
     if any(len(row.round_medians_us) > 1 for row in shown):
         parts = [row.label + " " + ", ".join(f"{t:,.0f}" for t in row.round_medians_us) for row in shown]
         print("Median µs per round: " + "; ".join(parts))
     lm = rows.get("lm")
     if lm is not None and rtb is not None:
         print("lm / rtb-lm median, per round: " + ", ".join(f"{r:.2f}×" for r in round_ratios(lm, rtb)))
+    analytic = rows.get("analytic")
+    if analytic is not None and eaik is not None:
+        print("analytic / eaik median, per round: " + ", ".join(f"{r:.2f}×" for r in round_ratios(analytic, eaik)))
     print()
 
 
@@ -277,7 +323,7 @@ def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
     lm, batch, tracik, rtb = rows.get("lm"), rows.get("lm (batch)"), rows.get("pytracik"), rows.get("rtb-lm")
     if lm is None or batch is None:
         check(None, "lm is not available")
-        return out
+        return out + closed_form_checks(robot, rows)
     stall_note = f"; {lm.stalled} of {lm.failures} failures stalled by the machine" if lm.stalled else ""
     check(lm.success >= 99.9, f"lm success >= 99.9 % ({lm.success:.1f} %{stall_note})")
     if tracik:
@@ -319,6 +365,7 @@ def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
                 a.success == 100.0 and a.median_us <= 50,
                 f"analytic 100 % with median <= 50 µs ({a.success:.1f} %, {a.median_us:.0f} µs)",
             )
+    out += closed_form_checks(robot, rows)
     if robot == "panda":
         kdl = rows.get("kdl-nr-jl")
         if kdl is not None:
@@ -326,6 +373,48 @@ def checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
                 abs(kdl.success - KDL_PUBLISHED_PANDA) <= 3,
                 f"kdl-nr-jl success within 3 points of {KDL_PUBLISHED_PANDA:.0f} % ({kdl.success:.1f} %)",
             )
+    return out
+
+
+MIN_BATCH_VS_EAIK = 5.0  # issue 29: analytic's batch >= 5x EAIK's single-threaded IK_batched
+
+
+def closed_form_checks(robot: str, rows: dict[str, Row]) -> list[tuple[str, str]]:
+    """Issue 29's targets where EAIK solves the arm: analytic's median <= EAIK's in every round, its
+    batch >= 5x EAIK's single-threaded batch throughput, no solution of the other closed forms missing."""
+    eaik, analytic = rows.get("eaik"), rows.get("analytic")
+    if eaik is None or analytic is None:
+        return []
+    out: list[tuple[str, str]] = []
+
+    def check(ok: bool | None, text: str) -> None:
+        out.append(("SKIP" if ok is None else "PASS" if ok else "FAIL", f"{robot}: {text}"))
+
+    rounds = list(zip(analytic.round_medians_us, eaik.round_medians_us))
+    check(
+        all(a <= b for a, b in rounds),
+        "analytic median <= 1.0× EAIK's in every round ("
+        + ", ".join(f"{a:.1f} vs {b:.1f} µs, {a / b:.2f}×" for a, b in rounds)
+        + ")",
+    )
+    check(
+        analytic.success >= 100.0 and analytic.missing == 0,
+        f"analytic solves every target with no solution missing ({analytic.success:.1f} %, "
+        f"{analytic.missing} missing, {analytic.solutions:.2f} vs EAIK's {eaik.solutions:.2f} per target)"
+        if analytic.solutions is not None and eaik.solutions is not None
+        else f"analytic solves every target with no solution missing ({analytic.success:.1f} %)",
+    )
+    batch, eaik_batch = rows.get("analytic (batch)"), rows.get("eaik (batch)")
+    if batch is None or eaik_batch is None:
+        check(None, "analytic batch >= 5× EAIK's IK_batched (one of them has no batch row)")
+    else:
+        per_round = [a / b for a, b in zip(batch.round_solves_per_s, eaik_batch.round_solves_per_s) if b > 0]
+        check(
+            bool(per_round) and min(per_round) >= MIN_BATCH_VS_EAIK,
+            f"analytic batch >= {MIN_BATCH_VS_EAIK:g}× EAIK's single-threaded IK_batched in every round ("
+            + ", ".join(f"{r:.2f}×" for r in per_round)
+            + ")",
+        )
     return out
 
 
@@ -400,8 +489,8 @@ def main() -> int:
         if done is None:
             results.append(("SKIP", f"{robot}: not benchmarked (files absent)"))
             continue
-        title, rows = done
-        print_table(title, rows)
+        title, rows, not_applicable = done
+        print_table(title, rows, not_applicable)
         results += checks(robot, rows)
         sys.stdout.flush()
     print("Targets of the IK-speed issue (medians of the rounds, same process as the peers):")

@@ -122,7 +122,7 @@ def test_fit_end_to_end(dataset: Path, tmp_path: Path) -> None:
     assert doc["format"] == "armtool-calibration/1" and set(doc["joints"]) == {f"joint{i}" for i in range(1, 7)}
     # calibrated.urdf is the calibrated robot: registered on the validation poses it matches the
     # true robot (written by simulate) to the same accuracy as the fitted model.
-    from armtool.calib.truth import registered_errors
+    from armtool.calib.simulation.truth import registered_errors
 
     calibrated = load_chain(out / "calibrated.urdf", "base_link", "tool0")
     true = load_chain(dataset / "truth" / "robot_true.urdf", "base_link", "tool0")
@@ -223,8 +223,8 @@ def test_validation_dataset_of_another_setup_is_refused(dataset: Path, tmp_path:
     fit = armtool("calibrate", "fit", str(dataset), "--out", str(tmp_path / "o"), "--validation", str(other))
     assert fit.returncode == 2 and "setup (eye_in_hand vs eye_to_hand)" in fit.stderr
     # ... refused while the inputs are checked, before any tag detection on the main dataset
-    from armtool.calib.fit import FitOptions
-    from armtool.calib.params import parse_families
+    from armtool.calib.fit.calibration import FitOptions
+    from armtool.calib.model.params import parse_families
     from armtool.calib.pipeline import FitRequest, prepare_fit
     from armtool.errors import ArmtoolError
 
@@ -288,9 +288,9 @@ def test_eye_in_hand_simulate_and_fit(tmp_path: Path) -> None:
 
 def test_fit_from_pre_detected_corners(dataset: Path, tmp_path: Path) -> None:
     """corners.csv from another detector feeds the same solver; the images are not needed."""
-    from armtool.calib.camera import load_intrinsics
-    from armtool.calib.dataset import load_dataset
-    from armtool.calib.observations import observe
+    from armtool.calib.inputs.dataset import load_dataset
+    from armtool.calib.inputs.observations import observe
+    from armtool.calib.model.camera import load_intrinsics
 
     ds = load_dataset(dataset)
     observations = observe(ds, load_intrinsics(ds.intrinsics), workers=1)

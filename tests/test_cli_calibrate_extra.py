@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from armtool.calib.camera import load_intrinsics
+from armtool.calib.model.camera import load_intrinsics
 from armtool.cli import app
 from tests.calib.board_images import APRILGRID, TRUE_CAMERA, board_images
 

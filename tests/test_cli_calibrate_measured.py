@@ -11,9 +11,9 @@ from pathlib import Path
 import yaml
 from typer.testing import CliRunner
 
-from armtool.calib.apriltag import tag_object_points  # noqa: F401  (calib extra present)
-from armtool.calib.camera import save_intrinsics
 from armtool.calib.choices import Setup
+from armtool.calib.model.camera import save_intrinsics
+from armtool.calib.targets.apriltag import tag_object_points  # noqa: F401  (calib extra present)
 from armtool.cli import app
 from armtool.model.chain import load_chain
 from tests.calib.conftest import CLEAN_ARM
@@ -37,8 +37,12 @@ def test_check_and_fit_a_pose_dataset(tmp_path: Path) -> None:
     assert check.exit_code == 0, check.output
     assert "the declared conventions fit best" in check.output
     out = tmp_path / "out"
-    result = runner.invoke(app, ["calibrate", "fit", str(ds), "-o", str(out), "--format", "json", "--no-nested"])
+    pdf = tmp_path / "fit.pdf"
+    result = runner.invoke(
+        app, ["calibrate", "fit", str(ds), "-o", str(out), "--format", "json", "--no-nested", "--plot", str(pdf)]
+    )
     assert result.exit_code == 0, result.output
+    assert pdf.read_bytes()[:5] == b"%PDF-"  # the format the extension names
     summary = json.loads(result.stdout)
     assert summary["fitted"] == "origins + offsets"
     assert set(summary["frames"]) == {"camera_in_flange", "board_in_base"}
@@ -82,6 +86,27 @@ def test_check_names_the_rpy_order_and_the_setup(tmp_path: Path) -> None:
     # with the pose inverted: the same equations, so both fixes are named.
     assert "set observations.pose: target_in_sensor" in flat
     assert "fit exactly as well with setup: eye_in_hand" in flat
+
+
+def test_params_none_fits_only_the_frames_and_exits_0(tmp_path: Path) -> None:
+    # Hand-eye only, asked for: the baseline every calibration is compared with. The robot is held
+    # nominal, so calibrated.urdf is not written, and that is the answer, not a failed verdict.
+    m = make_measured(CHAIN, "point", n=30, setup=Setup.EYE_TO_HAND, seed=5)
+    ds = write_dataset(tmp_path / "ds", m)
+    out = tmp_path / "out"
+    result = armtool("calibrate", "fit", str(ds), "-o", str(out), "--params", "none", "--holdout", "0.3")
+    assert result.returncode == 0, result.stderr
+    assert not (out / "calibrated.urdf").exists()
+    assert "hand-eye only (--params none)" in " ".join(result.stderr.split())
+    assert "not written:" not in result.stderr  # nothing was refused
+    doc = yaml.safe_load((out / "calibration.yaml").read_text())
+    assert doc["fitted"] == "hand-eye only"
+    assert all(name.startswith(("tracker", "point")) for name in doc["identifiability"]["identified_parameters"])
+    assert set(doc["frames"]) == {"tracker_in_base", "point_in_flange"}
+    holdout = doc["metrics"]["holdout_rms_mm"]
+    assert holdout["hand_eye_only"] == holdout["calibrated"] > 0  # scored on the held-out poses
+    refused = armtool("calibrate", "fit", str(ds), "-o", str(out), "--params", "none", "--ur-kinematics", "u.yaml")
+    assert refused.returncode == 2 and "no calibrated arm to write" in refused.stderr
 
 
 def test_points_in_millimetres_declared_as_metres(tmp_path: Path) -> None:
@@ -147,7 +172,7 @@ def test_a_validation_dataset_in_its_own_conventions(tmp_path: Path) -> None:
     m = make_measured(CHAIN, "pose", n=40, noise_mm=0.1, noise_deg=0.02, seed=15)
     ds = write_dataset(tmp_path / "ds", m, rotation="quaternion", units="mm")
     other = make_measured(CHAIN, "pose", n=12, noise_mm=0.1, noise_deg=0.02, seed=15)  # the same robot and placements
-    from armtool.calib.conventions import PoseFrame
+    from armtool.calib.inputs.conventions import PoseFrame
 
     vds = write_dataset(tmp_path / "vds", other, rotation="matrix", units="m", frame=PoseFrame.TARGET_IN_SENSOR)
     args = [

@@ -29,17 +29,18 @@ def test_json_output_on_ur5(tmp_path: Path) -> None:
             "--format",
             "json",
             "--plot",
-            str(tmp_path / "bench.png"),
+            str(tmp_path / "bench.svg"),
         ],
     )
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
-    assert doc["schema_version"] == 2 and doc["config"]["samples"] == 20
+    assert doc["schema_version"] == 3 and doc["config"]["samples"] == 20
     assert "the solver's own solve call only" in doc["timing"] and "outside the timed region" in doc["timing"]
     modes = {(s["solver"], s["mode"]) for s in doc["solvers"]}
     assert modes == {("lm", "single"), ("lm", "batch")}
     assert all(isinstance(s["failure_reasons"], dict) for s in doc["solvers"])
-    assert (tmp_path / "bench.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    svg = (tmp_path / "bench.svg").read_text()
+    assert svg.startswith("<?xml") and "<svg" in svg and svg.rstrip().endswith("</svg>")
 
 
 def test_csv_and_no_batch(tmp_path: Path) -> None:
@@ -340,3 +341,43 @@ def test_moveit_config_gives_robot_group_timeout_and_solver() -> None:
     assert (
         "MoveIt's solver kdl_kinematics_plugin/KDLKinematicsPlugin (armtool's kdl-nr-jl stands for it)" in result.stderr
     )
+
+
+def test_closed_form_peers_count_solutions_and_say_why_they_cannot_take_an_arm(tmp_path: Path) -> None:
+    """--peers eaik,ik-geo: on UR5 both solve every target with the same solution sets (JSON and CSV);
+    on a general 6R arm EAIK's row says it has no decomposition, and the others still run."""
+    import pytest
+
+    pytest.importorskip("eaik")
+    pytest.importorskip("ik_geo")
+    urdf = erd(ARMS["ur5"][0])
+    base = ["ik-bench", str(urdf), "--samples", "10", "--solvers", "lm", "--peers", "eaik,ik-geo"]
+    result = runner.invoke(app, [*base, "--format", "json"])
+    assert result.exit_code == 0, result.output
+    rows = {(r["solver"], r["mode"]): r for r in json.loads(result.stdout)["solvers"]}
+    assert set(rows) == {("lm", "single"), ("lm", "batch"), ("eaik", "single"), ("eaik", "batch"), ("ik-geo", "single")}
+    for key in [("eaik", "single"), ("eaik", "batch"), ("ik-geo", "single")]:
+        row = rows[key]
+        assert row["success_rate"] == 1.0 and row["distinct_solutions"] >= 4, row
+        assert row["missing_solutions"] == 0 and row["targets_missing_solutions"] == 0
+    assert rows[("eaik", "single")]["distinct_solutions"] == rows[("ik-geo", "single")]["distinct_solutions"]
+    assert rows[("ik-geo", "single")]["method"] == "three_parallel_two_intersecting (closed form)"
+    assert rows[("lm", "single")]["distinct_solutions"] is None and rows[("lm", "single")]["missing_solutions"] is None
+    table = runner.invoke(app, [*base, "--no-batch"])
+    assert (
+        table.exit_code == 0 and "missing" in table.stdout and "Methods: eaik: 6R-THREE_INNER_PARALLEL" in table.stdout
+    )
+    csv_rows = list(csv.DictReader(io.StringIO(runner.invoke(app, [*base, "--no-batch", "--format", "csv"]).stdout)))
+    assert {r["solver"]: r["missing_solutions"] for r in csv_rows} == {"lm": "", "eaik": "0", "ik-geo": "0"}
+
+    from tests.ik.robots import GENERAL_6R
+
+    general = tmp_path / "general6r.urdf"
+    general.write_text(GENERAL_6R)
+    result = runner.invoke(
+        app, ["ik-bench", str(general), "--samples", "3", "--solvers", "lm", "--peers", "eaik", "--format", "json"]
+    )
+    assert result.exit_code == 0, result.output
+    rows = {r["solver"]: r for r in json.loads(result.stdout)["solvers"]}
+    assert rows["eaik"]["applicable"] is False and "no subproblem decomposition" in rows["eaik"]["reason"]
+    assert rows["lm"]["applicable"] and "eaik not applicable" in result.stderr

@@ -25,7 +25,7 @@ def _help(*command: str) -> str:
 def test_option_help_keeps_brackets() -> None:
     assert "(needs armtool[peers])" in _help("ik-bench")
     assert "[default: 0.005, or the group's in --kinematics-yaml]" in _help("ik-bench")
-    assert "gains [default: origins,offsets]" in _help("calibrate", "fit")
+    assert "held nominal [default: origins,offsets]" in _help("calibrate", "fit")
     # options declared as Annotated[..., typer.Option(...)] (the robot options, traj's)
     assert "whose [tool.armtool.lint] xacro-args" in _help("tree")
     assert "whose [tool.armtool.lint] xacro-args" in _help("traj", "time")

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-HEAVY = ("pinocchio", "cv2", "scipy", "numpy", "yourdfpy", "trimesh", "pydantic")
+HEAVY = ("pinocchio", "cv2", "scipy", "numpy", "matplotlib", "yourdfpy", "trimesh", "pydantic")
 
 # Runs the CLI in-process, then prints {"exit": code, "modules": [...]} as the last line of stdout.
 _PROBE = """\

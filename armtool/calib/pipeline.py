@@ -12,27 +12,24 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from armtool.calib.camera import CameraModel
-from armtool.calib.dataset import Dataset, Sample, require_ok
-from armtool.calib.fit import CalibrationResult, FitOptions, calibrate
-from armtool.calib.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
-from armtool.calib.inputs import Inputs, input_files, load_inputs
-from armtool.calib.model import CalibModel
-from armtool.calib.observations import Observation
-from armtool.calib.problems import CornerMeasurements, Measurements
-from armtool.calib.ur_kinematics import UrTarget, ur_target
-from armtool.calib.verdict import Verdict
+from armtool.calib.fit.calibration import CalibrationResult, FitOptions, calibrate
+from armtool.calib.fit.convention_check import ConventionCheck, checked_conventions
+from armtool.calib.fit.holdout import VALIDATION_PREFIX, check_same_setup, validation_samples
+from armtool.calib.fit.measurements import CornerMeasurements, Measurements
+from armtool.calib.fit.verdict import Verdict
+from armtool.calib.inputs.dataset import Dataset, Sample, require_ok
+from armtool.calib.inputs.load import Inputs, input_files, load_inputs
+from armtool.calib.inputs.observations import Detect
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.camera import CameraModel
+from armtool.calib.model.joint_term import JointTerm
+from armtool.calib.outputs.ur_kinematics import UrTarget, ur_target
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
-
-if TYPE_CHECKING:
-    from armtool.calib.convention_check import ConventionCheck
-
-Detect = Callable[[Dataset, CameraModel], dict[str, Observation]]  # tag corners of every sample
 
 
 @dataclass(frozen=True)
@@ -62,6 +59,7 @@ class FitJob:
     validation: Inputs | None
     ur: UrTarget | None
     conventions: ConventionCheck | None = None  # measured poses or points: how the declared reading fits
+    terms: tuple[JointTerm, ...] = ()  # the joint terms --params asks for (compliance, harmonics)
 
 
 @dataclass(frozen=True)
@@ -94,32 +92,26 @@ def prepare_fit(request: FitRequest) -> FitJob:
         vds, vchain, vcamera = validation
         require_ok(vds)
         check_same_setup(ds, chain, camera, vds, vchain, vcamera, request.validation)
+    if request.options.hand_eye_only and request.ur_kinematics is not None:
+        raise ArmtoolError(
+            "--ur-kinematics with --params none: the robot is held nominal, so there is no calibrated arm to write",
+            hint="drop --ur-kinematics, or fit kinematic parameters (the default --params origins,offsets)",
+        )
     ur = ur_target(ds, chain, request.ur_kinematics, request.ur_kinematics_in)
     inputs = input_files(ds, validation.dataset if validation else None) + ([ur.source] if ur else [])
     _check_outputs(request, inputs)
+    if plot is not None:
+        from armtool.plotting import plot_format
+
+        plot_format(plot)  # a format it can write, before the work
     conventions = None
     if ds.measurement is not None:
         conventions = checked_conventions(ds, chain, refuse=not request.keep_conventions)
-    return FitJob(request, ds, chain, camera, validation, ur, conventions)
+    from armtool.calib.model.terms.registry import build_terms
+    from armtool.model.load import urdf_text
 
-
-def checked_conventions(ds: Dataset, chain: Chain, refuse: bool) -> ConventionCheck:
-    """How the nominal robot explains the measurements as declared and in every other reading;
-    with `refuse`, a reading that fits far better is an error that names the dataset.yaml lines to change."""
-    from armtool.calib.convention_check import check_conventions
-
-    assert ds.measurement is not None
-    from armtool.calib.fit import one_blas_thread
-
-    with one_blas_thread():
-        found = check_conventions(chain, ds.setup, ds.measurement, ds.measured_rows, ds.samples)
-    if refuse and found.better is not None:
-        raise ArmtoolError(
-            found.message(),
-            f"{ds.root.name}/dataset.yaml",
-            found.fix() + " (or fit as declared with `armtool calibrate fit --keep-conventions`)",
-        )
-    return found
+    terms = build_terms(request.options.families, chain, lambda: urdf_text(ds.urdf, ds.xacro_args, ds.package_paths))
+    return FitJob(request, ds, chain, camera, validation, ur, conventions, terms)
 
 
 def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
@@ -159,7 +151,7 @@ def observe_samples(job: FitJob, detect: Detect) -> Observed:
 def _measurements(ds: Dataset, camera: CameraModel | None, detect: Detect) -> Measurements:
     """A dataset's measured poses or points, or the target corners detected in its images."""
     if ds.measurement is not None:
-        from armtool.calib.measured import dataset_measurements
+        from armtool.calib.fit.measurements import dataset_measurements
 
         return dataset_measurements(ds.measurement, ds.measured_rows)
     assert camera is not None  # prepare_fit refused an image dataset without intrinsics
@@ -172,7 +164,13 @@ def run_fit(job: FitJob, observed: Observed, progress: Callable[[str], None] | N
     ds = job.dataset
     measurements = observed.measurements
     model = CalibModel(
-        job.chain, ds.setup, np.eye(4), np.eye(4), sensor=measurements.sensor, target=measurements.target
+        job.chain,
+        ds.setup,
+        np.eye(4),
+        np.eye(4),
+        sensor=measurements.sensor,
+        target=measurements.target,
+        terms=job.terms,
     )
     return calibrate(
         model,
@@ -190,16 +188,16 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     plot and UR kinematics file when asked for; nothing is written yet."""
     import yaml
 
-    from armtool.calib.report import calibration_document, residual_plot_png
-    from armtool.calib.truth import has_truth, truth_scores
-    from armtool.calib.urdf_out import (
+    from armtool.calib.fit.verdict import hand_eye_verdict, judge
+    from armtool.calib.outputs.report import calibration_document
+    from armtool.calib.outputs.urdf import (
         check_reproduces,
         corrected_text,
-        expanded_text,
         joint_corrections,
         relocate_meshes,
     )
-    from armtool.calib.verdict import judge
+    from armtool.calib.simulation.truth import has_truth, truth_scores
+    from armtool.model.load import urdf_text
 
     request, ds = job.request, job.dataset
     verdict = judge(
@@ -211,7 +209,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         result.motion_deg,
         result.blocks,
     )
-    text = expanded_text(ds.urdf, ds.xacro_args, ds.package_paths)
+    text = urdf_text(ds.urdf, ds.xacro_args, ds.package_paths)
     corrected = corrected_text(text, joint_corrections(result.model, result.x), ds.urdf.name)
     new_urdf = relocate_meshes(corrected, ds.urdf.parent, request.out)
     check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)
@@ -224,16 +222,21 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
             warning = f"not scored against the truth: {exc}"
     files: dict[Path, str | bytes] = {}
     skipped: list[str] = []
-    if verdict.improves:
+    if request.options.hand_eye_only:  # asked for: the URDF is the nominal one, nothing to judge or write
+        verdict = hand_eye_verdict()
+    elif verdict.improves:
         files[request.out / "calibrated.urdf"] = new_urdf
     else:
         skipped.append(str(request.out / "calibrated.urdf"))
     files[request.out / "calibration.yaml"] = yaml.safe_dump(document, sort_keys=False, allow_unicode=True)
     if request.plot is not None:
-        files[request.plot] = residual_plot_png(result)
+        from armtool.calib.outputs.plot import calibration_figure
+        from armtool.plotting import plot_format, render
+
+        files[request.plot] = render(calibration_figure(result, str(request.dataset)), plot_format(request.plot))
     if request.ur_kinematics is not None and job.ur is not None:
         if verdict.improves:
-            from armtool.calib.ur_kinematics import ur_kinematics_yaml
+            from armtool.calib.outputs.ur_kinematics import ur_kinematics_yaml
 
             files[request.ur_kinematics] = ur_kinematics_yaml(new_urdf, job.ur.joints, job.ur.hash, "calibrated.urdf")
         else:

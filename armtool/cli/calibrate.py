@@ -4,32 +4,21 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING
 
 import typer
 
 from armtool.calib.choices import Quality, ReportFormat, Setup
 from armtool.calib.limits import MAX_SIMULATED, TAG_SIZE_M
 from armtool.cli import options as opt
-from armtool.cli.options import PackagePaths, RobotConfig, XacroArgs
+from armtool.cli.options import DatasetConfig, PackagePaths, RobotConfig, XacroArgs
 from armtool.errors import ExitCode
 from armtool.extras import require
 
-# check and fit: the dataset names its robot and the robot's xacro arguments (robot.xacro_args).
-DatasetConfig = Annotated[
-    Path | None,
-    typer.Option(
-        "--config",
-        help="armtool.toml or pyproject.toml whose [tool.armtool.lint] package-paths apply (default: the nearest "
-        "one; the dataset's robot.xacro_args give the xacro arguments, --xacro-arg overrides them).",
-    ),
-]
-
 if TYPE_CHECKING:
-    from armtool.calib.camera import CameraModel
-    from armtool.calib.dataset import Dataset
-    from armtool.calib.observations import Observation
-    from armtool.model.chain import Chain
+    from armtool.calib.inputs.dataset import Dataset
+    from armtool.calib.inputs.observations import Observation
+    from armtool.calib.model.camera import CameraModel
 
 HELP = "Fit a real arm's kinematic errors from images (an AprilTag or a board) or measured poses and points; write a corrected URDF."
 
@@ -43,7 +32,7 @@ app = typer.Typer(
 
 def _detect(ds: Dataset, camera: CameraModel) -> dict[str, Observation]:
     """Tag corners of every sample, with a progress bar."""
-    from armtool.calib.observations import observe
+    from armtool.calib.inputs.observations import observe
     from armtool.console import progress_bar
 
     with progress_bar() as bar:
@@ -63,41 +52,17 @@ def check(
     require("calib")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
-    from armtool.calib.inputs import detection_problems, load_inputs
-    from armtool.cli.options import RobotOptions
+    from armtool.calib.check import check_dataset
     from armtool.console import stderr
     from armtool.output.calibrate import print_check_report
 
-    robot = RobotOptions(xacro_arg, package_path, config)  # --xacro-arg wins over the dataset's robot.xacro_args
-    ds, chain, camera = load_inputs(dataset, robot.given_args, robot.package_paths)
-    if detect and chain is not None and camera is not None and ds.samples:
-        ds.problems += detection_problems(ds, _detect(ds, camera))
-    note = _check_conventions(ds, chain) if chain is not None else None
+    robot = opt.RobotOptions(xacro_arg, package_path, config)  # --xacro-arg wins over the dataset's robot.xacro_args
+    ds, note = check_dataset(dataset, robot.given_args, robot.package_paths, _detect if detect else None)
     print_check_report(ds)
     if note:
         stderr().print(f"[dim]conventions:[/dim] {escape(note)}")
     if ds.errors:
         raise typer.Exit(ExitCode.FINDINGS)
-
-
-def _check_conventions(ds: Dataset, chain: Chain) -> str | None:
-    """Measured poses or points: whether another reading of the file fits far better (an error
-    naming the dataset.yaml lines to change), or how well the declared one fits."""
-    if ds.measurement is None or ds.errors or len(ds.measured_rows) < 3:
-        return None  # before the imports: the pipeline brings the fit and SciPy's optimizer
-    from armtool.calib.dataset import Problem
-    from armtool.calib.pipeline import checked_conventions
-    from armtool.errors import ArmtoolError
-
-    try:
-        found = checked_conventions(ds, chain, refuse=False)
-    except ArmtoolError as exc:
-        ds.problems.append(Problem(exc.where or "dataset.yaml", exc.what, exc.hint or ""))
-        return None
-    if found.better is not None:
-        ds.problems.append(Problem("dataset.yaml", found.message(), found.fix()))
-        return None
-    return found.message()
 
 
 @app.command("fit")
@@ -107,7 +72,7 @@ def fit(
     params: str | None = typer.Option(
         None,
         "--params",
-        help="Kinematic parameter families to fit: origins, offsets, gains [default: origins,offsets].",
+        help="Kinematic parameter families to fit: origins, offsets, gains; none: hand-eye only, the robot held nominal [default: origins,offsets].",
     ),
     holdout: float = typer.Option(
         0.0,
@@ -121,7 +86,7 @@ def fit(
     seed: int = typer.Option(
         0, "--seed", callback=opt.seed(), help="Random seed for the hold-out split (any integer)."
     ),
-    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG of per-sample residuals before and after."),
+    plot: Path | None = typer.Option(None, "--plot", help="Write a figure of residuals and σ's (.png, .svg, .pdf)."),
     output_format: ReportFormat = typer.Option(
         ReportFormat.TEXT, "--format", help="text (report on stderr) or json (summary on stdout)."
     ),
@@ -170,26 +135,15 @@ def fit(
     require("calib")  # exit 2 with the install command when the extra is missing
     from rich.markup import escape
 
-    from armtool.calib.fit import FitOptions
-    from armtool.calib.params import parse_families
+    from armtool.calib.fit.calibration import FitOptions
+    from armtool.calib.outputs.report import json_summary
     from armtool.calib.pipeline import FitRequest, fit_files, observe_samples, prepare_fit, run_fit, write_files
-    from armtool.calib.report import json_summary
-    from armtool.cli.options import RobotOptions
-    from armtool.console import say, stderr, write_stdout
+    from armtool.console import stderr, write_stdout
     from armtool.output.calibrate import print_fit_report
 
-    robot = RobotOptions(xacro_arg, package_path, config)
-    families = parse_families("origins,offsets" if params is None else params)
+    robot = opt.RobotOptions(xacro_arg, package_path, config)
+    options = FitOptions.requested(params, holdout=holdout, seed=seed, folds=folds, select=select, nested=nested)
     opt.check_out_dir(out)
-    options = FitOptions(
-        families=families,
-        families_explicit=params is not None,
-        holdout=holdout,
-        seed=seed,
-        folds=folds,
-        select=select,
-        nested=nested,
-    )
     request = FitRequest(
         dataset,
         out,
@@ -213,19 +167,8 @@ def fit(
     write_files(written.files, out)
     if output_format is ReportFormat.JSON:
         write_stdout(json.dumps(json_summary(written.document), indent=2))
-    print_fit_report(
-        result,
-        written.document.get("against_truth"),
-        out,
-        plot,
-        written.verdict,
-        [p for p in written.files if p != ur_kinematics],
-        written.skipped,
-        job.conventions,
-    )
-    if ur_kinematics is not None and ur_kinematics in written.files:
-        say(f"wrote {ur_kinematics}: pass it to the UR description as kinematics_params:={ur_kinematics}")
-    if not written.verdict.improves and not allow_nominal:
+    print_fit_report(job, result, written)
+    if not written.verdict.improves and not (allow_nominal or options.hand_eye_only):
         raise typer.Exit(ExitCode.FINDINGS)
 
 
@@ -276,15 +219,14 @@ def simulate(
 ) -> None:
     """Write a synthetic dataset with known injected errors (truth kept apart), to rehearse a pose set."""
     require("calib")  # exit 2 with the install command when the extra is missing
-    from armtool.calib.simulate import SimulationSpec
-    from armtool.calib.simulate import simulate as run
+    from armtool.calib.simulation.simulate import SimulationSpec
+    from armtool.calib.simulation.simulate import simulate as run
     from armtool.calib.targets.spec import fit_board
-    from armtool.cli.options import RobotOptions
     from armtool.console import progress_bar, say
 
     opt.check_out_dir(out)
     opt.check_chain_ends(base, flange)
-    robot = RobotOptions(xacro_arg, package_path, config)
+    robot = opt.RobotOptions(xacro_arg, package_path, config)
     args = robot.xacro_args(urdf)
     spec = SimulationSpec(
         samples=samples,

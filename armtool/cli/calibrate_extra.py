@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import typer
 
@@ -16,9 +15,6 @@ from armtool.calib.limits import MAX_IMAGES, MAX_TAG_ID, TAG_SIZE_M
 from armtool.cli import options as opt
 from armtool.errors import ArmtoolError
 from armtool.extras import require
-
-if TYPE_CHECKING:
-    from armtool.calib.targets.spec import Target
 
 BOARD_HELP = (
     "The printed board: chessboard:COLSxROWS:SQUARE (squares, not inner corners; metres), "
@@ -53,19 +49,14 @@ def camera(
 ) -> None:
     """Fit camera intrinsics and lens distortion from images of a chessboard, a ChArUco board or an AprilTag grid."""
     require("calib")  # exit 2 with the install command when the extra is missing
-    from armtool.calib.boards import parse_board
-    from armtool.calib.intrinsics import calibrate_images, image_paths, write_intrinsics
+    from armtool.calib.fit.intrinsics import calibrate_images, image_paths, write_intrinsics
+    from armtool.calib.targets.boards import parse_board
     from armtool.console import progress_bar, write_stdout
     from armtool.fileio import check_output_paths
     from armtool.output.calibrate import print_camera_report
 
     spec = parse_board(board)
     paths = image_paths(images)
-    if len(paths) > MAX_IMAGES:
-        raise ArmtoolError(
-            f"{len(paths)} images given, at most {MAX_IMAGES} are read",
-            hint="pass a subset: 15-40 well-spread views are enough",
-        )
     check_output_paths({"--out": out}, paths)
     with progress_bar() as bar:
         task = bar.add_task("finding the board", total=len(paths))
@@ -159,8 +150,9 @@ def import_bag(
 ) -> None:
     """Turn a ROS bag (images + joint states) into a calibration dataset: one sample per settled pose."""
     require("calib")  # exit 2 with the install command when the extra is missing
-    from armtool.calib.bag_import import ImportOptions
-    from armtool.calib.bag_import import import_bag as run
+    from armtool.calib.inputs.bag_import import ImportOptions
+    from armtool.calib.inputs.bag_import import import_bag as run
+    from armtool.calib.targets.spec import named_target
     from armtool.console import stderr, write_stdout
     from armtool.output.calibrate import print_bag_report
 
@@ -177,7 +169,7 @@ def import_bag(
         intrinsics=intrinsics,
         camera_info_topic=camera_info_topic,
         setup=setup,
-        target=_import_target(target, tag_size, family, tag_id),
+        target=named_target(target, tag_size, family, tag_id),
         still_by=still_by,
         tolerance=tolerance,
         max_velocity=max_velocity,
@@ -191,20 +183,6 @@ def import_bag(
     if output_format is ReportFormat.JSON:
         write_stdout(json.dumps(result.summary(), indent=2))
     print_bag_report(result)
-
-
-def _import_target(target: str | None, tag_size: float | None, family: str = "tag36h11", tag_id: int = 0) -> Target:
-    """The board of `import-bag --target`, or the AprilTag (whose --tag-size is then required)."""
-    from armtool.calib.targets.spec import Target, fit_board
-
-    if target is not None:
-        return Target(board=fit_board(target, "--target"))
-    if tag_size is None:
-        raise ArmtoolError(
-            "--tag-size is required for an AprilTag target",
-            hint="measure the black square's edge on the print, in metres (e.g. --tag-size 0.08), or pass --target BOARD",
-        )
-    return Target(family, tag_id, tag_size)
 
 
 def register(app: typer.Typer) -> None:

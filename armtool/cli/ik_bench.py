@@ -73,7 +73,11 @@ def ik_bench(
         help="Pose tolerance (m and rad), > 0 and ≤ 1.",
     ),
     output_format: BenchFormat = typer.Option(BenchFormat.TABLE, "--format", help="table, json or csv on stdout."),
-    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG: solve-time CDF and success per solver."),
+    plot: Path | None = typer.Option(
+        None,
+        "--plot",
+        help="Write a figure (PNG, SVG or PDF, by the extension): solve-time CDF and success per solver.",
+    ),
     xacro_arg: XacroArgs = None,
     package_path: PackagePaths = None,
     robot_config: RobotConfig = None,
@@ -85,14 +89,15 @@ def ik_bench(
     from armtool.cli.options import RobotOptions
     from armtool.console import say, stderr, write_stdout
     from armtool.fileio import check_output_paths
-    from armtool.ik.bench import BenchConfig, Entry, NotApplicable, SolverReport, make_targets, run_bench
+    from armtool.ik.bench import BenchConfig, NotApplicable, SolverReport, make_targets, run_bench, run_header
     from armtool.ik.group import GroupSettings, counterpart_solver, group_chain, group_settings
-    from armtool.ik.peers import check_peer_name, make_peer, native_stdout_to_stderr, peer_names
+    from armtool.ik.lineup import build_lineup
+    from armtool.ik.peers import check_peer_name, native_stdout_to_stderr, peer_names
     from armtool.ik.registry import solver_class, solver_names
-    from armtool.ik.solver import Solver
     from armtool.model.chain import chain_from_xml, default_base_tip
     from armtool.model.load import load_robot_xml, load_srdf_xml
     from armtool.output.ik_bench import render_csv, render_json, render_table
+    from armtool.plotting import plot_format
 
     robot = RobotOptions(xacro_arg, package_path, robot_config)
     package_args: dict[str, str] = {}
@@ -109,6 +114,8 @@ def ik_bench(
     for name in wanted:
         check_peer_name(name)
     check_output_paths({"--plot": plot}, inputs=[urdf, srdf, kinematics_yaml])  # before the work, not after it
+    if plot is not None:
+        plot_format(plot)
     if group is not None:
         if srdf is None:
             raise ArmtoolError(
@@ -139,73 +146,38 @@ def ik_bench(
     chain = chain_from_xml(root, base, tip, source=urdf.name)
     if timeout is None:
         timeout = settings.timeout_s or 0.005
-    position_only = settings.position_only
-    # Position-only: every solver gets the chain with a free (virtual) wrist at the tip.
-    solve_chain = chain.with_free_orientation() if position_only else chain
+    config = BenchConfig(
+        samples=samples,
+        rng_seed=seed,
+        seed_mode=seed_mode,
+        timeout=timeout,
+        tolerance=tolerance,
+        position_only=settings.position_only,
+    )
     # Native peers print on fd 1 themselves (TRAC-IK: a WARNING per solve of a 1-joint chain): while
     # solvers are built and run, fd 1 is stderr, so stdout carries the JSON/CSV/table only.
     with native_stdout_to_stderr():
-        built: list[Solver] = []
-        rows_na: list[NotApplicable] = []
-        for name in names:
-            # An unknown name is a usage error (exit 2); a solver that cannot take this chain gets an n/a row.
-            cls = solver_class(name)
-            if position_only and not cls.position_only_capable:
-                rows_na.append(
-                    NotApplicable(
-                        name,
-                        "it solves full poses of the real chain only; this group is position-only (position_only_ik)",
-                    )
-                )
-                continue
-            try:
-                built.append(cls(solve_chain, timeout=timeout, tolerance=tolerance, seed=seed))
-            except ArmtoolError as exc:  # e.g. no closed form for this chain: its row says so, the others run
-                rows_na.append(NotApplicable(name, exc.what + (f" (hint: {exc.hint})" if exc.hint else "")))
-        peer_list = []
-        for name in wanted:
-            if position_only:
-                rows_na.append(
-                    NotApplicable(name, "peers solve full poses only; this group is position-only (position_only_ik)")
-                )
-                continue
-            peer = make_peer(name, chain, root, timeout=timeout, tolerance=tolerance)
-            if isinstance(peer, str):
-                say(peer, label=f"peer {name} skipped:", style="yellow")
-            else:
-                peer_list.append(peer)
-        config = BenchConfig(
-            samples=samples,
-            rng_seed=seed,
-            seed_mode=seed_mode,
+        lineup = build_lineup(
+            names,
+            wanted,
+            chain,
+            root,
             timeout=timeout,
             tolerance=tolerance,
-            position_only=position_only,
+            seed=seed,
+            position_only=config.position_only,
         )
-        targets = make_targets(solve_chain, config)
-        for row in rows_na:
+        targets = make_targets(lineup.chain, config)
+        for name, why in lineup.not_installed:
+            say(why, label=f"peer {name} skipped:", style="yellow")
+        for row in lineup.not_applicable:
             say(row.reason, label=f"{row.solver} not applicable:", style="yellow")
-        stderr().print(
-            escape(
-                f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
-                + (f", {how}" if how else "")
-                + f"; {samples} targets, seed {seed_mode.value}, "
-                f"timeout {timeout * 1e3:g} ms, tolerance {tolerance:g}"
-                + (
-                    "; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position, the solvers"
-                    " get the chain with a free virtual wrist at the tip"
-                    if position_only
-                    else ""
-                )
-            )
-        )
+        stderr().print(escape(run_header(chain, config, how)))
         from rich.progress import TaskID
 
         from armtool.console import progress_bar
 
-        entries = [Entry(s) for s in [*built, *peer_list]]
-        if batch:
-            entries += [Entry(s, batch=True) for s in built if s.has_batch()]
+        entries = lineup.entries(batch)
         with progress_bar(label_width=16) as bar:
             tasks: dict[str, TaskID] = {e.label: bar.add_task(e.label, total=samples) for e in entries}
 
@@ -215,9 +187,9 @@ def ik_bench(
             # The solvers take turns on blocks of targets, so a change of the CPU's speed during
             # the run (turbo, thermal limits, other programs) lands on all of them alike.
             reports: list[SolverReport | NotApplicable] = list(
-                run_bench(solve_chain, entries, targets, config, progress=advance)
+                run_bench(lineup.chain, entries, targets, config, progress=advance)
             )
-    reports += rows_na
+    reports += lineup.not_applicable
     if output_format is BenchFormat.JSON:
         write_stdout(render_json(chain, config, reports))
     elif output_format is BenchFormat.CSV:
@@ -227,7 +199,8 @@ def ik_bench(
     if plot is not None:
         from armtool.ik.plot import write_plot
 
-        write_plot(plot, [r for r in reports if isinstance(r, SolverReport)])
+        title = f"{urdf.name}: {chain.base} → {chain.tip}, {samples} targets, timeout {timeout * 1e3:g} ms"
+        write_plot(plot, [r for r in reports if isinstance(r, SolverReport)], title)
         stderr().print(f"wrote {escape(str(plot))}")
 
 
@@ -243,21 +216,13 @@ def _from_moveit_config(
 ) -> tuple[Path | None, Path | None, Path | None, dict[str, str], str | None]:
     """URDF, SRDF, kinematics.yaml, the URDF's xacro arguments and the group, from a MoveIt
     config package; what the command line gives wins."""
-    from armtool.ik.group import kinematics_groups
+    from armtool.ik.group import planning_group
 
     pkg, urdf = robot.moveit_package(directory, urdf, "the URDF argument")
     srdf = srdf or pkg.srdf
     kinematics_yaml = kinematics_yaml or pkg.kinematics
     if group is None and base is None and tip is None:
-        configured = kinematics_groups(kinematics_yaml) if kinematics_yaml is not None else []
-        if len(configured) != 1:
-            raise ArmtoolError(
-                f"{len(configured) or 'no'} groups in {kinematics_yaml or 'the package (no kinematics.yaml)'}: "
-                "pass --group NAME",
-                str(directory),
-                "groups: " + (", ".join(configured) or "none"),
-            )
-        group = configured[0]
+        group = planning_group(kinematics_yaml, directory)
     return urdf, srdf, kinematics_yaml, pkg.urdf_xacro_args, group
 
 

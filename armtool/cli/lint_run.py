@@ -97,7 +97,10 @@ def run(request: LintRequest) -> int:
     if fmt is None:
         fmt = OutputFormat.GITHUB if os.environ.get("GITHUB_ACTIONS") == "true" else OutputFormat.TEXT
     report = LintReport(
-        findings, len(result.files), fixable=sum(1 for f in findings if f.edit is not None and not r.fix)
+        findings,
+        len(result.files),
+        fixable=sum(1 for f in findings if f.edit is not None and not r.fix),
+        checked=result.checked,
     )
     write_stdout(formatter(fmt).render(report, color=sys.stdout.isatty() and "NO_COLOR" not in os.environ))
     failing = any(f.severity.rank >= cfg.fail_on.rank for f in findings)

@@ -314,6 +314,15 @@ RobotConfig = Annotated[
         "(default: the nearest one).",
     ),
 ]
+# check and fit: the dataset names its robot and the robot's xacro arguments (robot.xacro_args).
+DatasetConfig = Annotated[
+    Path | None,
+    typer.Option(
+        "--config",
+        help="armtool.toml or pyproject.toml whose [tool.armtool.lint] package-paths apply (default: the nearest "
+        "one; the dataset's robot.xacro_args give the xacro arguments, --xacro-arg overrides them).",
+    ),
+]
 MoveItConfig = Annotated[
     Path | None,
     typer.Option(
@@ -356,10 +365,23 @@ class RobotOptions:
         describe its robot and go to a given URDF too (one the file does not declare is ignored, as
         xacro does; --xacro-arg wins). `urdf_option` names how the command takes a URDF, for the hint."""
         from armtool.model.packages import PackageResolver
-        from armtool.moveit.package import read_package
+        from armtool.moveit.package import read_package, stale_entry_error
 
         pkg = read_package(directory, PackageResolver(self.package_paths))
         chosen = urdf or pkg.urdf
+        for what, needed in (("URDF", urdf is None), ("SRDF", True)):
+            stale = stale_entry_error(pkg, what) if needed else None
+            if stale is not None:
+                raise stale
+        for what, relative, missing in pkg.stale:
+            if what == "SRDF" and pkg.srdf is not None and pkg.srdf != missing:
+                from armtool.console import say
+
+                say(
+                    f".setup_assistant names {relative}, which does not exist; "
+                    f"using {pkg.srdf.relative_to(pkg.root).as_posix()}",
+                    label="note:",
+                )
         if chosen is None:
             raise ArmtoolError(
                 "cannot tell the robot of the MoveIt config: " + "; ".join(pkg.problems),

@@ -7,9 +7,13 @@ from pathlib import Path
 
 import typer
 
-from armtool.cli.options import PackagePaths, RobotConfig, XacroArgs
+from armtool.cli.options import MoveItConfig, PackagePaths, RobotConfig, XacroArgs
+from armtool.errors import ArmtoolError
 
-HELP = "Print a URDF's kinematic tree (links, joints, types, axes, limits), or write it as a dot/Mermaid graph."
+HELP = (
+    "Print a URDF's kinematic tree (links, joints, types, axes, position, velocity and effort limits), "
+    "or write it as a dot/Mermaid graph."
+)
 
 
 class TreeFormat(str, Enum):
@@ -19,7 +23,9 @@ class TreeFormat(str, Enum):
 
 
 def tree(
-    urdf: Path = typer.Argument(..., help="URDF or xacro of the robot."),
+    urdf: Path | None = typer.Argument(
+        None, help="URDF or xacro of the robot (default: the --moveit-config package's)."
+    ),
     output_format: TreeFormat = typer.Option(
         TreeFormat.TEXT, "--format", help="text (like check_urdf), dot (Graphviz, like urdf_to_graphviz) or mermaid."
     ),
@@ -27,6 +33,7 @@ def tree(
     xacro_arg: XacroArgs = None,
     package_path: PackagePaths = None,
     config: RobotConfig = None,
+    moveit_config: MoveItConfig = None,
 ) -> None:
     from armtool.cli.options import RobotOptions
     from armtool.console import write_stdout
@@ -34,9 +41,15 @@ def tree(
     from armtool.model.load import load_robot_xml
     from armtool.model.tree import read_tree, render_dot, render_mermaid, render_text
 
-    check_output_paths({"--output": output}, inputs=[urdf])  # `-o arm.urdf` must not overwrite the robot
     robot = RobotOptions(xacro_arg, package_path, config)
-    model = read_tree(load_robot_xml(urdf, robot.xacro_args(urdf), robot.package_paths))
+    package_args: dict[str, str] = {}
+    if moveit_config is not None:
+        pkg, urdf = robot.moveit_package(moveit_config, urdf, "the URDF argument")
+        package_args = pkg.urdf_xacro_args
+    if urdf is None:
+        raise ArmtoolError("no robot given", hint="pass the URDF (or xacro), or --moveit-config DIR")
+    check_output_paths({"--output": output}, inputs=[urdf])  # `-o arm.urdf` must not overwrite the robot
+    model = read_tree(load_robot_xml(urdf, robot.xacro_args(urdf, package_args), robot.package_paths))
     render = {TreeFormat.TEXT: render_text, TreeFormat.DOT: render_dot, TreeFormat.MERMAID: render_mermaid}[
         output_format
     ]

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from armtool.ik.modes import SeedMode
+from armtool.ik.solutions import distinct, missing, refine
 from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
 
@@ -49,6 +50,22 @@ class Targets:
     q_true: Array  # (N, n)
     poses: Array  # (N, 4, 4)
     seeds: Array  # (N, n)
+
+
+def run_header(chain: Chain, config: BenchConfig, how: str = "") -> str:
+    """The line a run starts with: the chain, how it was chosen, and the protocol's settings."""
+    text = (
+        f"{chain.name}: {chain.base} → {chain.tip}, {chain.n} joints ({', '.join(chain.joint_names)})"
+        + (f", {how}" if how else "")
+        + f"; {config.samples} targets, seed {config.seed_mode.value}, "
+        f"timeout {config.timeout * 1e3:g} ms, tolerance {config.tolerance:g}"
+    )
+    if config.position_only:
+        text += (
+            "; position only (position_only_ik in kinematics.yaml): targets and checks on the tip position, the solvers"
+            " get the chain with a free virtual wrist at the tip"
+        )
+    return text
 
 
 def make_targets(chain: Chain, config: BenchConfig) -> Targets:
@@ -85,7 +102,9 @@ class SolverReport:
     orientation_error_rad: dict[str, float]
     seed_distance: dict[str, float]
     repeatability: float | None
-    mean_solutions: float | None
+    # Closed-form rows (answers with `solutions`): distinct solutions per target that pass armtool's
+    # check (armtool.ik.solutions), mean over the targets; None for the other rows.
+    distinct_solutions: float | None
     failed_condition_numbers: dict[str, float]
     failures: int
     claimed_but_wrong: int  # the solver said success, our FK disagreed
@@ -95,8 +114,16 @@ class SolverReport:
     stalled_failures: int | None = (
         None  # failures past the timeout with < timeout/2 of CPU: the machine was busy (None: batch)
     )
+    # Closed-form rows beside other closed-form rows (compare_solutions): how many of the solutions the
+    # others found (their union, distinct) this row lacks, in total and on how many targets.
+    missing_solutions: int | None = None
+    targets_missing_solutions: int | None = None
+    method: str = ""  # how the solver solves this chain (Solver.method: a closed form's family)
     wall_times_us: list[float] = field(default_factory=list, repr=False)  # every solve, in target order
     solved: list[bool] = field(default_factory=list, repr=False)  # our FK verdict per target
+    # Closed-form rows: per target, its distinct solutions that pass armtool's check, each refined onto
+    # the exact solution it approximates (armtool.ik.solutions.refine; (k, n) arrays).
+    verified: list[Array] = field(default_factory=list, repr=False)
 
 
 @dataclass(frozen=True)
@@ -153,9 +180,14 @@ def time_solves(solver: Solver, poses: Array, seeds: Array, progress: Callable[[
     perf_counter, process_time = time.perf_counter, time.process_time
     for i in range(N):
         prepared = prepare(poses[i], seeds[i])
-        w0, c0 = perf_counter(), process_time()
+        # The wall clock is read innermost: a process_time() read costs ~1 µs on the development VM
+        # (a system call), which would be timed in every row, a quarter of EAIK's solve.
+        c0 = process_time()
+        w0 = perf_counter()
         raw = call(prepared)
-        wall[i], cpu[i] = perf_counter() - w0, process_time() - c0
+        w1 = perf_counter()
+        c1 = process_time()
+        wall[i], cpu[i] = w1 - w0, c1 - c0
         results.append(answer(raw))
         if progress:
             progress(1)
@@ -166,9 +198,11 @@ def time_batch(solver: Solver, poses: Array, seeds: Array) -> Timed:
     """One call_batch() over every target; each answer is charged an equal share of it."""
     N = poses.shape[0]
     prepared = solver.prepare_batch(poses, seeds)
-    w0, c0 = time.perf_counter(), time.process_time()
+    c0 = time.process_time()
+    w0 = time.perf_counter()
     raw = solver.call_batch(prepared)
-    total_wall, total_cpu = time.perf_counter() - w0, time.process_time() - c0
+    w1 = time.perf_counter()
+    total_wall, total_cpu = w1 - w0, time.process_time() - c0
     return Timed(solver.answer_batch(raw), np.full(N, total_wall / N), np.full(N, total_cpu / N), batch=True)
 
 
@@ -230,9 +264,12 @@ def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchC
         both = ok[:m] & ok2
         same = both & (_joint_distance(chain, Q[:m], Q2) < 1e-6)
         repeat = float(same.sum() / both.sum()) if both.any() else None  # nothing to compare
-    solutions = None
-    if any(r.solutions for r in results):
-        solutions = float(np.mean([len(r.solutions) for r in results]))
+    verified = []
+    if solver.returns_all_solutions or any(r.solutions for r in results):  # a closed-form row
+        verified = [
+            distinct(chain, refine(chain, np.array(r.solutions).reshape(-1, chain.n), pose))
+            for r, pose in zip(judged, targets.poses)
+        ]
     conds = []
     for i in np.flatnonzero(~ok)[:200]:
         s = np.linalg.svd(chain.jacobian(targets.q_true[i]), compute_uv=False)
@@ -249,15 +286,35 @@ def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchC
         orientation_error_rad=_summary(rot[ok]),
         seed_distance=_summary(_joint_distance(chain, Q[ok], targets.seeds[ok])),
         repeatability=repeat,
-        mean_solutions=solutions,
+        distinct_solutions=float(np.mean([v.shape[0] for v in verified])) if verified else None,
         failed_condition_numbers=_summary(np.array(conds)),
         failures=int((~ok).sum()),
         claimed_but_wrong=int((claimed & ~ok).sum()),
         failure_reasons=dict(sorted(reasons.items(), key=lambda item: -item[1])),
         stalled_failures=None if batch else int(((~ok) & (wall >= config.timeout) & (cpu < config.timeout / 2)).sum()),
+        method=solver.method,
         wall_times_us=list(wall * 1e6),
         solved=[bool(x) for x in ok],
+        verified=verified,
     )
+
+
+def compare_solutions(chain: Chain, reports: Sequence[SolverReport]) -> None:
+    """Fill in each closed-form row's missing solutions: per target, the distinct verified solutions of
+    the other closed-form solvers (their union; the same solver's other mode is not another solver)
+    that this row does not have. Rows without another closed-form solver beside them keep None."""
+    rows = [r for r in reports if r.distinct_solutions is not None]
+    for row in rows:
+        others = [o for o in rows if o.solver != row.solver]
+        if not others:
+            continue
+        count = targets = 0
+        for t in range(min(len(r.verified) for r in [row, *others])):
+            union = distinct(chain, np.vstack([o.verified[t] for o in others]))
+            lacking = missing(chain, row.verified[t], union)
+            count += lacking
+            targets += lacking > 0
+        row.missing_solutions, row.targets_missing_solutions = count, targets
 
 
 @dataclass(frozen=True)
@@ -347,4 +404,6 @@ def run_bench(
         if not e.batch:
             warm_up(chain, e.solver)
     timed = time_interleaved(entries, targets, block, progress=progress)
-    return [solver_report(chain, e.solver, first(targets, e.limit), config, timed[e.label]) for e in entries]
+    reports = [solver_report(chain, e.solver, first(targets, e.limit), config, timed[e.label]) for e in entries]
+    compare_solutions(chain, reports)
+    return reports

@@ -190,13 +190,29 @@ def kinematics_groups(kinematics_yaml: Path) -> list[str]:
     return [g.name for g in _read_groups(kinematics_yaml)]
 
 
+def planning_group(kinematics_yaml: Path | None, package: Path) -> str:
+    """The group of a MoveIt config package when none is named: the one group its kinematics.yaml
+    configures (MoveIt gives an IK solver to those groups only). None or several is an error that
+    lists them and says to pass --group (ik-bench and traj cartesian --moveit-config)."""
+    configured = kinematics_groups(kinematics_yaml) if kinematics_yaml is not None else []
+    if len(configured) != 1:
+        raise ArmtoolError(
+            f"{len(configured) or 'no'} groups in {kinematics_yaml or 'the package (no kinematics.yaml)'}: "
+            "pass --group NAME",
+            str(package),
+            "groups: " + (", ".join(configured) or "none"),
+        )
+    return configured[0]
+
+
 def _read_groups(kinematics_yaml: Path) -> list[KinematicsGroup]:
     """The file's groups, read as `armtool lint` reads them; errors name the file and line."""
     from armtool.lint.kinematics_context import NotAMapping, groups_of
     from armtool.moveit.params import load_document
+    from armtool.moveit.substitutions import launch_values
 
-    try:
-        return groups_of(load_document(kinematics_yaml, "kinematics.yaml"))
+    try:  # `$(arg arm_id)_arm` read as the package's launch fills it in
+        return groups_of(load_document(kinematics_yaml, "kinematics.yaml"), launch_values(kinematics_yaml))
     except NotAMapping as exc:
         raise ArmtoolError(
             f"kinematics.yaml is {exc.what}, not a mapping of group names to settings",

@@ -1,89 +1,64 @@
-"""A PNG for ik-bench: solve-time CDF per solver (log time axis) and success rate bars.
+"""The figure of `ik-bench --plot FILE` (PNG, SVG or PDF): per solver, the fraction of targets
+solved within a time (a CDF of the timed solve calls on a log axis; failures never count as solved,
+so a curve ends at its success rate), and each row's success rate as a bar.
 
-Drawn with OpenCV, which armtool already depends on, rather than adding matplotlib.
+Drawn with matplotlib in armtool's one style (`armtool.plotting`), as `calibrate fit --plot` and
+`traj plot` are.
 """
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from armtool.errors import ArmtoolError
+from armtool import plotting
 from armtool.ik.bench import SolverReport
 
-_COLORS = [
-    (180, 119, 31),
-    (14, 127, 255),
-    (44, 160, 44),
-    (40, 39, 214),
-    (189, 103, 148),
-    (75, 86, 140),
-    (194, 119, 227),
-    (127, 127, 127),
-]
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
-def write_plot(path: Path, reports: list[SolverReport]) -> None:
-    import cv2
-
-    W, H = 1100, 520
-    img = np.full((H, W, 3), 255, np.uint8)
-    font = cv2.FONT_HERSHEY_SIMPLEX
-    # Left: CDF of wall time (µs, log scale).
-    x0, y0, x1, y1 = 70, 40, 700, 460
-    cv2.rectangle(img, (x0, y0), (x1, y1), (0, 0, 0), 1)
+def bench_figure(reports: list[SolverReport], title: str) -> Figure:
+    """The figure of one run's rows; `title` says which chain and how many targets."""
     singles = [r for r in reports if r.mode == "single" and r.wall_times_us]
-    all_times = np.concatenate([np.asarray(r.wall_times_us) for r in singles]) if singles else np.array([1.0, 10.0])
-    lo = math.floor(math.log10(max(all_times.min(), 0.1)))
-    hi = math.ceil(math.log10(max(all_times.max(), 1.0)))
-    hi = max(hi, lo + 1)
+    with plotting.style():
+        fig = plotting.figure(12.0, max(4.8, 1.4 + 0.3 * len(reports)))
+        cdf, bars = fig.subplots(1, 2, width_ratios=[1.7, 1.0])
+        colors = {name: f"C{k % 10}" for k, name in enumerate(dict.fromkeys(r.solver for r in reports))}
+        for r in singles:
+            times = np.asarray(r.wall_times_us, dtype=np.float64)
+            solved = np.sort(times[np.asarray(r.solved, dtype=bool)]) if r.solved else np.zeros(0)
+            if solved.size == 0:
+                continue
+            fraction = np.arange(1, solved.size + 1) / times.size
+            cdf.step(solved, fraction, where="post", color=colors[r.solver], label=r.solver)
+        cdf.set_xscale("log")
+        cdf.set_ylim(0, 1.02)
+        cdf.set_title("solve time of the solved targets (one timed call each)")
+        cdf.set_xlabel("solve time (µs, log)")
+        cdf.set_ylabel("fraction of targets solved within")
+        if singles:
+            cdf.legend(loc="upper left")
+        labels = [r.solver + (" (batch)" if r.mode == "batch" else "") for r in reports]
+        y = np.arange(len(reports))
+        rates = [100.0 * r.success_rate for r in reports]
+        drawn = bars.barh(y, rates, color=[colors[r.solver] for r in reports], edgecolor="white")
+        for patch, r in zip(drawn, reports):
+            patch.set_hatch("//" if r.mode == "batch" else "")
+        for k, rate in enumerate(rates):
+            bars.annotate(f"{rate:.1f} %", (rate, k), xytext=(3, 0), textcoords="offset points", va="center")
+        bars.set_yticks(y, labels)
+        bars.set_ylim(len(reports) - 0.5, -0.5)
+        bars.set_xlim(0, 118)
+        bars.set_xticks([0, 25, 50, 75, 100])
+        bars.grid(axis="y", visible=False)
+        bars.set_title("success (checked by armtool's FK)")
+        bars.set_xlabel("targets solved (%)")
+        fig.suptitle(title, horizontalalignment="left", x=0.01)
+    return fig
 
-    def xpos(us: float) -> int:
-        return int(x0 + (math.log10(max(us, 10**lo)) - lo) / (hi - lo) * (x1 - x0))
 
-    for decade in range(lo, hi + 1):
-        x = xpos(10**decade)
-        cv2.line(img, (x, y0), (x, y1), (220, 220, 220), 1)
-        cv2.putText(img, f"1e{decade}", (x - 14, y1 + 18), font, 0.4, (0, 0, 0), 1, cv2.LINE_AA)
-    for frac in (0.0, 0.25, 0.5, 0.75, 1.0):
-        y = int(y1 - frac * (y1 - y0))
-        cv2.putText(img, f"{frac:.2f}", (x0 - 40, y + 4), font, 0.4, (0, 0, 0), 1, cv2.LINE_AA)
-    cv2.putText(
-        img,
-        "solve time (us, log) - fraction of targets solved within",
-        (x0, y1 + 40),
-        font,
-        0.45,
-        (0, 0, 0),
-        1,
-        cv2.LINE_AA,
-    )
-    for k, r in enumerate(singles):
-        color = _COLORS[k % len(_COLORS)]
-        times = np.sort(np.asarray(r.wall_times_us)[np.asarray(r.solved, dtype=bool)])
-        if times.size == 0:
-            continue
-        ys = np.arange(1, times.size + 1) / len(r.wall_times_us)  # failures never count as solved
-        pts = np.array([[xpos(t), int(y1 - f * (y1 - y0))] for t, f in zip(times, ys)], np.int32)
-        cv2.polylines(img, [pts], False, color, 2, cv2.LINE_AA)
-        cv2.putText(img, r.solver, (x0 + 10, y0 + 20 + 18 * k), font, 0.5, color, 1, cv2.LINE_AA)
-    # Right: success bars.
-    bx0, by1 = 760, 460
-    bar_w = max(8, min(40, int(300 / max(len(reports), 1)) - 6))
-    for k, r in enumerate(reports):
-        color = _COLORS[k % len(_COLORS)]
-        h = int(r.success_rate * 400)
-        x = bx0 + k * (bar_w + 6)
-        cv2.rectangle(img, (x, by1 - h), (x + bar_w, by1), color, -1)
-        cv2.putText(img, f"{100 * r.success_rate:.0f}", (x, by1 - h - 4), font, 0.35, (0, 0, 0), 1, cv2.LINE_AA)
-        label = r.solver[:10] + ("*" if r.mode == "batch" else "")
-        cv2.putText(img, label, (x, by1 + 14 + 12 * (k % 2)), font, 0.33, (0, 0, 0), 1, cv2.LINE_AA)
-    cv2.putText(img, "success % (* batch)", (bx0, 30), font, 0.5, (0, 0, 0), 1, cv2.LINE_AA)
-    ok, data = cv2.imencode(".png", img)
-    if not ok:
-        raise ArmtoolError("could not encode the plot", str(path))
-    from armtool.fileio import write_atomic
-
-    write_atomic(path, data.tobytes())
+def write_plot(path: Path, reports: list[SolverReport], title: str) -> None:
+    plotting.save(bench_figure(reports, title), path)

@@ -37,7 +37,8 @@ class Answer:
     claimed: bool  # the solver's own verdict: it says q reaches the target
     iterations: int = 0
     reason: str = ""  # why the solver gave up, in its own terms (empty when it claims success)
-    # Every solution found (closed-form solvers return all of them; q is the first).
+    # Every solution found (closed-form solvers return all of them, in their order of preference,
+    # nearest the seed first; q is the first). The answer is judged on these: see Solver.judge.
     solutions: tuple[Array, ...] = ()
 
 
@@ -49,7 +50,7 @@ class IKResult:
     orientation_error_rad: float
     iterations: int
     reason: str = ""
-    # Every solution found (closed-form solvers return all of them; q is the first).
+    # A closed-form solver's solutions that pass armtool's check (q is the first of them); empty for others.
     solutions: tuple[Array, ...] = field(default=())
 
 
@@ -146,6 +147,11 @@ class Solver:
     # False for solvers whose method needs the real chain (closed forms): they cannot take a
     # position-only chain (Chain.with_free_orientation) and are reported as not applicable.
     position_only_capable: ClassVar[bool] = True
+    # Closed-form solvers return every solution (Answer.solutions): ik-bench counts and compares them.
+    # (A solver whose answers carry solutions is treated so too.)
+    returns_all_solutions: ClassVar[bool] = False
+    # How this solver solves this chain, for the benchmark's row (a closed form's family); "" if nothing to say.
+    method: str = ""
 
     def __init__(
         self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
@@ -192,12 +198,26 @@ class Solver:
         return self.judge(self.answer(self.call(self.prepare(target, seed))), target)
 
     def judge(self, answer: Answer, target: Array) -> IKResult:
-        """The answer checked by our own FK (`verify`): success is its verdict, not the solver's."""
-        q = np.asarray(answer.q, dtype=float)
-        if q.shape != (self.chain.n,):
-            q = q.reshape(self.chain.n)
+        """The answer checked by our own FK (`verify`): success is its verdict, not the solver's.
+
+        A closed-form answer (one with `solutions`) succeeds when any of its solutions passes the
+        check: q is then the first that passes, in the solver's order, and the result's `solutions`
+        are those that pass."""
+        q = np.asarray(answer.q, dtype=float).reshape(self.chain.n)
         ok, pos, rot = verify(self.chain, q, target, self.tolerance)
-        return IKResult(ok, q, pos, rot, answer.iterations, "" if ok else self.failure_reason(answer), answer.solutions)
+        if not answer.solutions:
+            return IKResult(ok, q, pos, rot, answer.iterations, "" if ok else self.failure_reason(answer))
+        passed: list[Array] = []
+        for s in answer.solutions:
+            s = np.asarray(s, dtype=float).reshape(self.chain.n)
+            good, p, r = verify(self.chain, s, target, self.tolerance)
+            if good:
+                if not passed:
+                    q, pos, rot = s, p, r
+                passed.append(s)
+        ok = bool(passed)
+        reason = "" if ok else self.failure_reason(answer)
+        return IKResult(ok, q, pos, rot, answer.iterations, reason, tuple(passed))
 
     def failure_reason(self, answer: Answer) -> str:
         """Why an answer that armtool's check rejected failed: the solver's reason, or why its claim was wrong."""
@@ -234,21 +254,41 @@ class Solver:
         self, answers: list[Answer], targets: Array, *, tolerance: float | None = None, position_only: bool = False
     ) -> list[IKResult]:
         """judge() for many answers at once (verify_batch); by default at the solver's own tolerance,
-        and on the whole pose (position_only: on the position, see verify_batch)."""
+        and on the whole pose (position_only: on the position, see verify_batch). Closed-form answers
+        as in judge(): every solution is checked, the first that passes is the result."""
         if not answers:
             return []
-        Q = np.array([np.asarray(a.q, dtype=float).reshape(self.chain.n) for a in answers])
+        n = self.chain.n
+        # Each answer's q, then its solutions, checked in one batch; owner[k]: the answer of row k.
+        rows = [
+            [np.asarray(a.q, dtype=float).reshape(n), *(np.asarray(s, dtype=float).reshape(n) for s in a.solutions)]
+            for a in answers
+        ]
+        owner = np.repeat(np.arange(len(rows)), [len(r) for r in rows])
+        Q = np.array([q for r in rows for q in r])
+        targets = np.asarray(targets, dtype=float)
         ok, pos, rot = verify_batch(
             self.chain,
             Q,
-            np.asarray(targets, dtype=float),
+            targets[owner],
             self.tolerance if tolerance is None else tolerance,
             position_only=position_only,
         )
-        return [
-            IKResult(o, q, p, r, a.iterations, "" if o else self.failure_reason(a), a.solutions)
-            for o, q, p, r, a in zip(ok.tolist(), Q, pos.tolist(), rot.tolist(), answers)
-        ]
+        results = []
+        start = 0
+        for a, r in zip(answers, rows):
+            pick, passed = start, ()
+            if a.solutions:
+                good = [start + 1 + k for k in range(len(a.solutions)) if ok[start + 1 + k]]
+                passed = tuple(Q[k] for k in good)
+                pick = good[0] if good else start
+                success = bool(good)
+            else:
+                success = bool(ok[start])
+            reason = "" if success else self.failure_reason(a)
+            results.append(IKResult(success, Q[pick], float(pos[pick]), float(rot[pick]), a.iterations, reason, passed))
+            start += len(r)
+        return results
 
     def _batch_arrays(self, targets: Array, seeds: Array) -> tuple[Array, Array]:
         targets = np.asarray(targets, dtype=float)

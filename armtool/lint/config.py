@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import fnmatch
 import os
+import re
 import sys
 from pathlib import Path
 from typing import Any
@@ -118,23 +119,46 @@ def find_pyproject(start: Path) -> Path | None:
     return None
 
 
-def _paths_table(value: Any, key: str, where: str, root: Path) -> dict[str, Path]:
-    if not isinstance(value, dict) or not all(isinstance(v, str) for v in value.values()):
-        raise ArmtoolError(
-            f"'{key}' must be a table of glob = \"path\"",
-            where,
-            f'e.g. {key} = {{ "config/*.srdf" = "urdf/arm.urdf.xacro" }}',
-        )
+class _Place:
+    """Where a setting of one configuration file is written: `at(key, ...)` is `file:line` of
+    that key inside the armtool section (found in the text only when an error needs it)."""
+
+    def __init__(self, path: Path, text: str, section: tuple[str, ...]) -> None:
+        self.path, self.text, self.section = path, text, section
+        self._lines: dict[tuple[str, ...], int] | None = None
+
+    def at(self, *keys: str, inside: bool = True) -> str:
+        from armtool.toml_lines import key_lines, line_of
+
+        if self._lines is None:
+            self._lines = key_lines(self.text)
+        line = line_of(self._lines, (*self.section, *keys) if inside else keys)
+        return f"{self.path}:{line}" if line is not None else str(self.path)
+
+
+def _paths_table(value: Any, key: str, place: _Place, root: Path) -> dict[str, Path]:
+    hint = f'e.g. {key} = {{ "config/*.srdf" = "urdf/arm.urdf.xacro" }}'
+    if not isinstance(value, dict):
+        raise ArmtoolError(f"'{key}' must be a table of glob = \"path\", not {_kind(value)}", place.at(key), hint)
+    for glob, target in value.items():
+        if not isinstance(target, str):
+            raise ArmtoolError(
+                f"'{key}.{glob}' must be a path (a string), not {_kind(target)}", place.at(key, glob), hint
+            )
     return {str(k): root / v for k, v in value.items()}
 
 
-def _xacro_args(value: Any, where: str) -> dict[str, list[dict[str, str]]]:
+def _xacro_args(value: Any, place: _Place) -> dict[str, list[dict[str, str]]]:
     hint = (
         'e.g. xacro-args = { "urdf/ur.urdf.xacro" = { name = "ur", ur_type = "ur5e" } }, or a list of such '
         'tables for variants: "robots/gen3.xacro" = [{ dof = "6" }, { dof = "7" }]'
     )
     if not isinstance(value, dict):
-        raise ArmtoolError("'xacro-args' must be a table of glob = { name = value }", where, hint)
+        raise ArmtoolError(
+            f"'xacro-args' must be a table of glob = {{ name = value }}, not {_kind(value)}",
+            place.at("xacro-args"),
+            hint,
+        )
     out: dict[str, list[dict[str, str]]] = {}
     for pattern, args in value.items():
         if isinstance(args, list) and all(isinstance(a, str) and ":=" in a for a in args):
@@ -142,11 +166,20 @@ def _xacro_args(value: Any, where: str) -> dict[str, list[dict[str, str]]]:
         sets = args if isinstance(args, list) and args and all(isinstance(a, dict) for a in args) else [args]
         for one in sets:
             if not isinstance(one, dict) or not all(isinstance(v, (str, int, float, bool)) for v in one.values()):
-                raise ArmtoolError(f"'xacro-args.{pattern}' must be a table of name = value", where, hint)
+                raise ArmtoolError(
+                    f"'xacro-args.{pattern}' must be a table of name = value", place.at("xacro-args", pattern), hint
+                )
         out[str(pattern)] = [
             {str(k): (str(v).lower() if isinstance(v, bool) else str(v)) for k, v in one.items()} for one in sets
         ]
     return out
+
+
+def _kind(value: Any) -> str:
+    """What a TOML value is, for messages: "a string", "a list", "a table"."""
+    kinds: list[tuple[type, str]] = [(bool, "a boolean"), (str, "a string"), (int, "a number"), (float, "a number")]
+    kinds += [(list, "a list"), (dict, "a table")]
+    return next((name for kind, name in kinds if isinstance(value, kind)), "a date or time")
 
 
 def check_selector(sel: str, key: str, where: str | None = None) -> str:
@@ -172,25 +205,47 @@ def parse_selectors(text: str, flag: str) -> list[str]:
     return [check_selector(s, flag) for s in items]
 
 
-def _selectors(value: Any, key: str, where: str, allow_empty: bool = True) -> list[str]:
+def _selectors(value: Any, key: tuple[str, ...], place: _Place, allow_empty: bool = True) -> list[str]:
+    name = ".".join(key)
     if isinstance(value, str):
         value = [value]
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise ArmtoolError(f"'{key}' must be a list of rule codes", where, 'e.g. select = ["U", "S101"]')
+        what = (
+            _kind(value)
+            if not isinstance(value, list)
+            else "a list holding " + _kind(next(v for v in value if not isinstance(v, str)))
+        )
+        raise ArmtoolError(
+            f"'{name}' must be a list of rule codes, not {what}", place.at(*key), 'a list such as ["U", "S101"]'
+        )
     if not value and not allow_empty:
         raise ArmtoolError(
-            f"'{key}' is empty: no rule would run",
-            where,
+            f"'{name}' is empty: no rule would run",
+            place.at(*key),
             'list codes or prefixes (select = ["U", "S101"]), or remove the key for all rules',
         )
-    return [check_selector(sel, f"'{key}'", where) for sel in value]
+    return [check_selector(sel, f"'{name}'", place.at(*key)) for sel in value]
 
 
-def _severity(value: Any, where: str) -> Severity:
+def _severity(value: Any, key: tuple[str, ...], place: _Place) -> Severity:
+    if not isinstance(value, str):
+        raise ArmtoolError(
+            f"'{'.'.join(key)}' must be a severity (a string), not {_kind(value)}",
+            place.at(*key),
+            'use "error", "warning" or "info"',
+        )
     try:
-        return Severity(str(value).lower())
+        return Severity(value.lower())
     except ValueError:
-        raise ArmtoolError(f"unknown severity '{value}'", where, "use error, warning or info") from None
+        raise ArmtoolError(f"unknown severity '{value}'", place.at(*key), "use error, warning or info") from None
+
+
+def _table(value: Any, name: str, where: str, hint: str) -> dict[str, Any]:
+    """`value` if it is a table; a string, a list (`[[...]]`) or a number where armtool's settings
+    table belongs is an error, never a configuration read as empty."""
+    if not isinstance(value, dict):
+        raise ArmtoolError(f"{name} must be a table, not {_kind(value)}", where, hint)
+    return value
 
 
 def load_config(path: Path | None = None) -> LintConfig:
@@ -219,67 +274,100 @@ def load_config(path: Path | None = None) -> LintConfig:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ArmtoolError(f"invalid TOML: {exc}", str(path)) from None
+        # tomllib says where in its message: "... (at line 2, column 3)", or "(at end of document)"
+        found = re.search(r"\(at line (\d+), column (\d+)\)$", str(exc))
+        end = text.count("\n") + (0 if text.endswith("\n") or not text else 1)
+        where = f"{path}:{found.group(1)}:{found.group(2)}" if found else f"{path}:{max(end, 1)}"
+        message = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)$", "", str(exc))
+        raise ArmtoolError(f"invalid TOML: {message}", where, "fix the TOML syntax there") from None
     except RecursionError:  # the parser recurses per nested array or inline table
         raise ArmtoolError(
             "TOML nested too deeply to read", str(path), "no armtool setting nests more than a few levels"
         ) from None
     name = "[lint]" if own_file else "[tool.armtool.lint]"
-    where = f"{path} {name}"
+    place = _Place(path, text, ("lint",) if own_file else ("tool", "armtool", "lint"))
     if own_file:
-        section = data.get("lint")
         tool = data.get("tool")
         if isinstance(tool, dict) and "armtool" in tool:  # pyproject.toml's layout in armtool's own file: never read
             raise ArmtoolError(
                 "armtool.toml holds [tool.armtool], which only a pyproject.toml has",
-                str(path),
+                place.at("tool", "armtool", inside=False),
                 "in armtool.toml the settings go under [lint] ([lint.xacro-args], ...)",
             )
+        top = data
+        unknown_top = sorted(set(top) - {"lint"})
+        section = top.get("lint")
     else:
-        # `tool = "armtool"` or `[tool] armtool = 1`: not a table where one is needed. Another tool's
-        # pyproject.toml may use `tool` for itself only if it is not a table: then it is not ours.
-        tool = data.get("tool")
-        ours = tool.get("armtool") if isinstance(tool, dict) else None
-        if ours is not None and not isinstance(ours, dict):
-            raise ArmtoolError(
-                "[tool.armtool] must be a table", f"{path}", "write [tool.armtool.lint] with its keys below it"
-            )
-        section = ours.get("lint") if isinstance(ours, dict) else None
+        # pyproject.toml's [tool] holds one table per tool (PEP 518); armtool's is [tool.armtool],
+        # and its settings are [tool.armtool.lint]. `tool = "armtool"`, `tool.armtool = "lint"`,
+        # `[[tool.armtool]]`: not a table where one is needed, refused at its line.
+        hint = "write [tool.armtool.lint] with its keys below it"
+        if "tool" not in data:
+            return LintConfig(root=path.parent, source=path)
+        tool = _table(data["tool"], "[tool]", place.at("tool", inside=False), hint)
+        if "armtool" not in tool:
+            return LintConfig(root=path.parent, source=path)
+        top = _table(tool["armtool"], "[tool.armtool]", place.at("tool", "armtool", inside=False), hint)
+        unknown_top = sorted(set(top) - {"lint"})
+        section = top.get("lint")
+    if unknown_top:  # lint's keys one level too high (`[tool.armtool]` then `select = ...`): never ignored
+        container = "armtool.toml" if own_file else "[tool.armtool]"
+        keys = (unknown_top[0],) if own_file else ("tool", "armtool", unknown_top[0])
+        raise ArmtoolError(
+            f"unknown key(s) in {container}: {', '.join(unknown_top)}",
+            place.at(*keys, inside=False),
+            f"put {unknown_top[0]} = ... under {name}"
+            if unknown_top[0] in _KEYS
+            else f"the only table armtool reads here is {name}",
+        )
     if section is None:
         return LintConfig(root=path.parent, source=path)
-    if not isinstance(section, dict):
-        raise ArmtoolError(f"{name} must be a table", where, f"write {name} with its keys below it")
-    unknown = set(section) - _KEYS
+    section = _table(section, name, place.at(), f"write {name} with its keys below it")
+    unknown = sorted(set(section) - _KEYS)
     if unknown:
         raise ArmtoolError(
-            f"unknown key(s): {', '.join(sorted(unknown))}", where, "known keys: " + ", ".join(sorted(_KEYS))
+            f"unknown key(s) in {name}: {', '.join(unknown)}",
+            place.at(unknown[0]),
+            "known keys: " + ", ".join(sorted(_KEYS)),
         )
     cfg = LintConfig(root=path.parent, source=path)
     if "select" in section:
-        cfg.select = _selectors(section["select"], "select", where, allow_empty=False)
+        cfg.select = _selectors(section["select"], ("select",), place, allow_empty=False)
     if "ignore" in section:
-        cfg.ignore = _selectors(section["ignore"], "ignore", where)
+        cfg.ignore = _selectors(section["ignore"], ("ignore",), place)
     pfi = section.get("per-file-ignores", {})
     if not isinstance(pfi, dict):
-        raise ArmtoolError("'per-file-ignores' must be a table of glob = [codes]", where)
-    cfg.per_file_ignores = {str(k): _selectors(v, f"per-file-ignores.{k}", where) for k, v in pfi.items()}
+        raise ArmtoolError(
+            f"'per-file-ignores' must be a table of glob = [codes], not {_kind(pfi)}",
+            place.at("per-file-ignores"),
+            'e.g. per-file-ignores = { "urdf/legacy_*.urdf" = ["U401"] }',
+        )
+    cfg.per_file_ignores = {str(k): _selectors(v, ("per-file-ignores", k), place) for k, v in pfi.items()}
     sev = section.get("severity", {})
     if not isinstance(sev, dict):
-        raise ArmtoolError("'severity' must be a table of code = \"error|warning|info\"", where)
+        raise ArmtoolError(
+            f"'severity' must be a table of code = \"error|warning|info\", not {_kind(sev)}",
+            place.at("severity"),
+            'e.g. severity = { U401 = "error" }',
+        )
     for sel, value in sev.items():
-        _selectors([sel], "severity", where)
-        cfg.severity[sel] = _severity(value, where)
+        _selectors([sel], ("severity", sel), place)
+        cfg.severity[sel] = _severity(value, ("severity", sel), place)
     if "fail-on" in section:
-        cfg.fail_on = _severity(section["fail-on"], where)
+        cfg.fail_on = _severity(section["fail-on"], ("fail-on",), place)
     paths = section.get("package-paths", [])
     if isinstance(paths, str):
         paths = [paths]
     if not isinstance(paths, list) or not all(isinstance(p, str) for p in paths):
-        raise ArmtoolError("'package-paths' must be a list of directories", where, 'e.g. package-paths = ["src"]')
+        raise ArmtoolError(
+            "'package-paths' must be a list of directories (strings)",
+            place.at("package-paths"),
+            'e.g. package-paths = ["src"]',
+        )
     cfg.package_paths = [path.parent / p for p in paths]
-    cfg.xacro_args = _xacro_args(section.get("xacro-args", {}), where)
-    cfg.urdf = _paths_table(section.get("urdf", {}), "urdf", where, path.parent)
-    cfg.srdf = _paths_table(section.get("srdf", {}), "srdf", where, path.parent)
+    cfg.xacro_args = _xacro_args(section.get("xacro-args", {}), place)
+    cfg.urdf = _paths_table(section.get("urdf", {}), "urdf", place, path.parent)
+    cfg.srdf = _paths_table(section.get("srdf", {}), "srdf", place, path.parent)
     return cfg
 
 

@@ -57,7 +57,8 @@ def rules_markdown() -> str:
         "",
         "Written from the rules' docstrings by `python -m armtool.lint.docs > docs/rules.md`;",
         "`armtool rules CODE` prints the same text. Letters: U URDF, X xacro, S SRDF, K kinematics.yaml,",
-        "L joint_limits.yaml, P pilz_cartesian_limits.yaml, C controllers files.",
+        "L joint_limits.yaml, P pilz_cartesian_limits.yaml, C controllers files, M a MoveIt config package's "
+        ".setup_assistant.",
         "",
         "| code | name | severity | fix | what it does |",
         "|---|---|---|---|---|",

@@ -23,6 +23,7 @@ from armtool.model.xmlsource import XmlSyntaxProblem, declares_entities, parse_x
 if TYPE_CHECKING:  # imported on use (xacro costs start-up time; SRDF support is not always needed)
     from lxml import etree
 
+    from armtool.lint.checked import PackageChecked
     from armtool.lint.srdf_context import SrdfContext
     from armtool.model.xacro_source import Expansion
 
@@ -41,12 +42,15 @@ class FileKind(str, Enum):
     JOINT_LIMITS = "joint_limits"
     PILZ = "pilz"
     CONTROLLERS = "controllers"
+    SETUP_ASSISTANT = "setup_assistant"
 
 
 def file_kind(path: Path) -> FileKind | None:
     """The kind a file's name says; for MoveIt's YAML files its content decides later whether it
     is MoveIt's (UR's default_kinematics.yaml, Franka's joint_limits.yaml are not)."""
     name = path.name.lower()
+    if name == ".setup_assistant":
+        return FileKind.SETUP_ASSISTANT
     if name.endswith(".srdf") or name.endswith(".srdf.xacro"):
         return FileKind.SRDF
     if name.endswith(".urdf"):
@@ -142,6 +146,7 @@ class LintOptions:
 class LintResult(NamedTuple):
     findings: list[Finding]
     files: list[Path]
+    checked: list[PackageChecked] = []  # noqa: RUF012 (read-only; per package, what its files were checked against)
 
 
 def rules_for(target: Target) -> list[Rule]:
@@ -247,6 +252,9 @@ class Linter:
         self._exact_cache: dict[tuple[Path, tuple[tuple[str, str], ...]], UrdfContext | None] = {}
         self.package_cache: dict[Path, Any] = {}  # MoveIt config package root -> its controllers (moveit_files)
         self.yaml_documents: dict[Path, Any] = {}  # resolved path -> its YAML nodes or parse error (moveit_files)
+        self.run_files: set[Path] = set()  # every file of this run, resolved (a fragment's includer among them?)
+        # file linted (resolved) -> (URDF, SRDF) it was checked against (display paths, None: none) and its kind
+        self.counterparts: dict[str, tuple[str | None, str | None, str]] = {}
 
     def _read(self, path: Path) -> bytes:
         """The file's bytes; inline ignore comments are read from them too, not from a second read."""
@@ -380,6 +388,7 @@ class Linter:
             return findings
         if ctx.from_xacro and not ctx.links and not ctx.joints:
             return findings  # a macro library: nothing to check until a robot uses it
+        self.note_counterparts(path, path, None, "urdf")
         return findings + list(self._run(ctx, Target.URDF))
 
     def _lint_variants(self, path: Path, sets: list[dict[str, str]]) -> list[Finding]:
@@ -534,6 +543,7 @@ class Linter:
         ctx, findings = self.load_srdf(path)
         if ctx is None:
             return findings
+        self.note_counterparts(path, ctx.urdf.path if ctx.urdf is not None else None, path, "srdf")
         return findings + list(self._run(ctx, Target.SRDF))
 
     # ---- kinematics.yaml -----------------------------------------------------
@@ -565,8 +575,10 @@ class Linter:
             if len(usable) == 1:
                 return next(iter(usable.values())), "", ""
             covering = [c for c in usable.values() if set(groups) <= set(c.groups)]
-            if len(covering) == 1:
-                return covering[0], "", ""
+            if len(covering) == 1 or (groups and covering):
+                return covering[0], "", ""  # every one of them defines the file's groups: each check holds
+            if len({frozenset(c.groups) for c in usable.values()}) == 1:
+                return next(iter(usable.values())), "", ""  # the same groups (an SRDF and its exported copy)
             if usable:
                 return None, "several SRDFs beside it: " + ", ".join(sorted(p.name for p in usable)), pass_srdf
         return None, failure or "no SRDF found beside it", hint or pass_srdf
@@ -581,10 +593,11 @@ class Linter:
             may_be_unusable_moveit,
             read_groups,
         )
+        from armtool.moveit.substitutions import launch_values
 
         text = self.read_text(path)
         try:
-            groups = read_groups(text)
+            groups = read_groups(text, launch_values(path) if "$(" in text else None)
         except yaml.YAMLError as exc:
             return [invalid_yaml("K001", path, exc)]
         except NotAMapping as exc:
@@ -615,12 +628,43 @@ class Linter:
         if srdf_ctx is None:
             findings.append(_file_finding("K002", path, 1, 1, f"cannot check group names: {why}", hint))
         ctx = KinematicsContext(path, groups, srdf_ctx)
+        self.note_counterparts(path, None, srdf_ctx.path if srdf_ctx is not None else None, "kinematics")
+        if srdf_ctx is not None and not set(names) <= set(srdf_ctx.groups):
+            ctx.variant_groups = self.srdf_variant_groups(srdf_ctx.path)
         return findings + list(self._run(ctx, Target.KINEMATICS))
+
+    def srdf_variant_groups(self, srdf: Path) -> set[str]:
+        """The groups an SRDF xacro defines with the other argument values its sources write down
+        (`hand:=true` of a `<xacro:if value="$(arg hand)">`): a kinematics.yaml written for every
+        variant configures groups the default expansion lacks."""
+        from armtool.lint.srdf_context import SrdfContext
+        from armtool.lint.srdf_variant import MAX_TRIES, compared_arguments
+
+        if not srdf.name.lower().endswith(".xacro"):
+            return set()
+        base = self._expand(srdf)
+        if isinstance(base, Finding):
+            return set()
+        args = self.xacro_args_for(srdf)
+        out: set[str] = set()
+        for change in compared_arguments(srdf, base.files)[:MAX_TRIES]:
+            expansion = self._expand(srdf, exact={**args, **change})
+            if not isinstance(expansion, Finding):
+                out.update(SrdfContext(srdf, expansion.root, Locator(srdf), None).groups)
+        return out
 
     # ---- a MoveIt config package's other YAML files ----------------------------------
     def srdf_for_package_file(self, path: Path) -> SrdfContext | None:
         """The SRDF a package YAML file (joint_limits.yaml, controllers) belongs to: as for kinematics.yaml."""
         return self._find_srdf(path, [])[0]
+
+    def given_urdf(self, path: Path) -> Path | None:
+        """The URDF the user gave for this file: --urdf, or the configuration's `urdf` table."""
+        return self.options.urdf or self.options.config.urdf_for(path)
+
+    def urdf_model(self, path: Path) -> UrdfContext | None:
+        """A URDF or xacro loaded once per run (None when it does not load)."""
+        return self._urdf_model(path)[0]
 
     def paired_srdf(self, path: Path) -> SrdfContext | None:
         """The SRDF with its URDF (loaded once per run; its own findings are reported when it is linted)."""
@@ -644,19 +688,70 @@ class Linter:
         elif kind is None and path.is_file():
             kind = sniff_kind(self._read(path))
         if kind is FileKind.SRDF:
-            return self.lint_srdf(path)
+            return self._through_includer(path, self.lint_srdf(path))
         if kind is FileKind.KINEMATICS:
             return self.lint_kinematics(path)
-        if kind in (FileKind.JOINT_LIMITS, FileKind.PILZ, FileKind.CONTROLLERS):
+        if kind in (FileKind.JOINT_LIMITS, FileKind.PILZ, FileKind.CONTROLLERS, FileKind.SETUP_ASSISTANT):
             from armtool.lint import moveit_files
 
             lint = {
                 FileKind.JOINT_LIMITS: moveit_files.lint_joint_limits,
                 FileKind.PILZ: moveit_files.lint_pilz,
                 FileKind.CONTROLLERS: moveit_files.lint_controllers,
+                FileKind.SETUP_ASSISTANT: moveit_files.lint_setup_assistant,
             }[kind]
             return lint(self, path)
-        return self.lint_urdf(path)
+        return self._through_includer(path, self.lint_urdf(path))
+
+    def note_counterparts(self, path: Path, urdf: Path | None, srdf: Path | None, kind: str) -> None:
+        """Record what a file of this kind (a FileKind value) was checked against (the run's
+        "checked:" summary, armtool.lint.checked)."""
+        if path != STDIN:
+            self.counterparts[str(path.resolve())] = (
+                display_path(urdf) if urdf is not None else None,
+                display_path(srdf) if srdf is not None else None,
+                kind,
+            )
+
+    def _through_includer(self, path: Path, found: list[Finding]) -> list[Finding]:
+        """A xacro that does not stand alone (armtool.lint.fragments) and that a file of its
+        package includes: checked through that file (its findings that point into this one),
+        or, when that file is linted in the same run, left to it; an X003 note says so."""
+        from armtool.lint.fragments import needs_includer, top_includer
+
+        if path == STDIN or not path.name.lower().endswith(".xacro"):
+            return found
+        if not any(needs_includer(f.code, f.message) and f.severity.value == "error" for f in found):
+            return found
+        top = top_includer(path)
+        if top is None:
+            return found
+        mine, shown = path.resolve(), display_path(top)
+        expansion = self._expand(top)
+        if isinstance(expansion, Finding) or mine not in {p.resolve() for p in expansion.files}:
+            return [
+                _file_finding(
+                    "X003",
+                    path,
+                    1,
+                    1,
+                    f"included by {shown} (with other xacro arguments than the ones given: its expansion does not "
+                    "include it); not checked as a robot on its own, nor through it",
+                    f"lint {shown} with the --xacro-arg values that include this file",
+                )
+            ]
+        note = _file_finding(
+            "X003",
+            path,
+            1,
+            1,
+            f"included by {shown}, which defines what it needs: checked through its expansion, not as a robot "
+            "on its own",
+            f"lint {shown} to check the robot this file is part of",
+        )
+        if top.resolve() in self.run_files:
+            return [note]
+        return [note, *(f for f in self.lint_file(top) if Path(f.path).resolve() == mine)]
 
     def lint(self, path: Path) -> list[Finding]:
         """lint_file() without the findings that inline ignore comments silence.
@@ -699,6 +794,7 @@ _TARGET_OF_KIND: dict[FileKind | None, Target] = {
     FileKind.JOINT_LIMITS: Target.JOINT_LIMITS,
     FileKind.PILZ: Target.PILZ,
     FileKind.CONTROLLERS: Target.CONTROLLERS,
+    FileKind.SETUP_ASSISTANT: Target.SETUP_ASSISTANT,
 }
 MAX_WORKERS = 8
 
@@ -709,11 +805,12 @@ def _cpus() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 
-def _lint_all(files: list[Path], options: LintOptions) -> Iterator[list[Finding]]:
-    """Findings per file, in the order of `files` (inline ignores applied)."""
+def _lint_all(files: list[Path], linter: Linter) -> Iterator[list[Finding]]:
+    """Findings per file, in the order of `files` (inline ignores applied); what each file was
+    checked against lands in linter.counterparts, the workers' too."""
     import os
 
-    linter = Linter(options)
+    linter.run_files = {p.resolve() for p in files if p != STDIN}
     workers = min(_cpus(), MAX_WORKERS)
     if len(files) < PARALLEL_MIN_FILES or workers < 2 or not hasattr(os, "fork"):
         for path in files:
@@ -792,7 +889,8 @@ def _lint_forked(linter: Linter, files: list[Path], workers: int) -> Iterator[li
             os.waitpid(pid, 0)
             if not blob:
                 raise RuntimeError("a lint worker process ended without reporting (killed?)")
-            sent, failures = marshal.loads(blob)
+            sent, failures, counterparts = marshal.loads(blob)
+            linter.counterparts.update(counterparts)
             for index, rows in sent:
                 results[index] = [_finding_from_row(row) for row in rows]
             for index, pickled in failures:
@@ -849,7 +947,7 @@ def _worker(linter: Linter, files: list[Path], tasks_r: int, results_w: int) -> 
                 failures.append((index, pickle.dumps(RuntimeError(f"{type(outcome).__name__}: {outcome}"))))
         else:
             sent.append((index, [_finding_to_row(f) for f in outcome]))
-    blob = marshal.dumps((sent, failures))
+    blob = marshal.dumps((sent, failures, linter.counterparts))
     view = memoryview(blob)
     while view:
         view = view[os.write(results_w, view) :]
@@ -892,15 +990,38 @@ def _finding_from_row(row: tuple[object, ...]) -> Finding:
     )
 
 
-def _package_files(options: LintOptions) -> list[Path]:
+def _package_files(options: LintOptions) -> tuple[list[Path], list[Finding]]:
     """--moveit-config: the package's files as its launch files load them (its URDF, with the
-    .setup_assistant's xacro arguments, is also what its SRDF is checked against)."""
+    .setup_assistant's xacro arguments, is also what its SRDF is checked against), and an M102
+    finding for a URDF or SRDF not found (nor given with --urdf / --srdf)."""
     from armtool.moveit.package import read_package
 
     assert options.moveit_config is not None
     resolver = PackageResolver([*options.package_paths, *options.config.package_paths])
     pkg = read_package(options.moveit_config, resolver)
     files = pkg.files()
+    missing: list[Finding] = []
+    marker = pkg.root / ".setup_assistant"
+    where = marker if marker.is_file() else pkg.root / "package.xml"
+    for what, found, given, flag in (
+        ("URDF", pkg.urdf, options.urdf, "--urdf"),
+        ("SRDF", pkg.srdf, options.srdf, "--srdf"),
+    ):
+        if given is not None and (found is None or not found.is_file()):
+            files.insert(0, given)
+        elif found is None:
+            why = next((p for p in pkg.problems if "was not found" in p), "") if what == "URDF" else ""
+            missing.append(
+                _file_finding(
+                    "M102",
+                    where,
+                    1,
+                    1,
+                    f"no {what} found for the MoveIt config ({why or _NOT_FOUND[what]}): it was not checked, nor were "
+                    "the package's files against it",
+                    f"pass {flag} PATH",
+                )
+            )
     if pkg.urdf is not None and pkg.urdf.is_file():
         options.file_args[pkg.urdf.resolve()] = dict(pkg.urdf_xacro_args)
         if options.urdf is None:
@@ -908,17 +1029,28 @@ def _package_files(options: LintOptions) -> list[Path]:
         files.insert(0, pkg.urdf)
     if pkg.srdf is not None and options.srdf is None and pkg.srdf.is_file():
         options.srdf = pkg.srdf
-    return files
+    if marker.is_file():
+        files.append(marker)
+    return files, missing
+
+
+_NOT_FOUND = {
+    "URDF": ".setup_assistant names none and config/ has no <robot>.urdf.xacro or <robot>.urdf",
+    "SRDF": ".setup_assistant names none and config/ has no <robot>.srdf and no single SRDF",
+}
 
 
 def lint_paths(paths: Iterable[Path], options: LintOptions) -> LintResult:
     paths = list(paths)
+    findings: list[Finding] = []
     if options.moveit_config is not None:
-        paths += _package_files(options)
+        package_files, findings = _package_files(options)
+        paths += package_files
     files = collect_files(paths)
     config = options.config
-    findings: list[Finding] = []
-    for file_findings in _lint_all(files, options):
+    findings = [config.adjust(f) for f in findings if config.keeps(f)]
+    linter = Linter(options)
+    for file_findings in _lint_all(files, linter):
         for finding in file_findings:
             if config.keeps(finding):
                 findings.append(config.adjust(finding))
@@ -927,4 +1059,7 @@ def lint_paths(paths: Iterable[Path], options: LintOptions) -> LintResult:
 
         findings = merge_shared_defects(findings)
     unique = {(f.path, f.line, f.column, f.code, f.message): f for f in findings}
-    return LintResult(sorted(unique.values(), key=lambda f: f.sort_key), files)
+    from armtool.lint.checked import by_package
+
+    checked = by_package(files, linter.counterparts)
+    return LintResult(sorted(unique.values(), key=lambda f: f.sort_key), files, checked)

@@ -25,6 +25,7 @@ LOADER_CODE: dict[str, str] = {
     "joint_limits": "L001",
     "pilz": "P001",
     "controllers": "C001",
+    "setup_assistant": "M101",
 }
 
 

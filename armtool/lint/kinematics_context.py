@@ -26,6 +26,7 @@ class GroupSettings:
     column: int
     settings: dict[str, YamlValue] = field(default_factory=dict)
     not_a_mapping: str | None = None  # what stands where the settings belong ("5", "a list", "nothing")
+    written: str = ""  # the key as written, when launch substitutions made `name` of it ($(arg arm_id)_arm)
 
 
 class NotAMapping(Exception):
@@ -43,6 +44,7 @@ class KinematicsContext(FileContext):
         super().__init__(path, Locator(path))
         self.groups = groups
         self.srdf = srdf
+        self.variant_groups: set[str] = set()  # groups of the SRDF xacro's other argument values
 
 
 def _plain(node: Any) -> Any:
@@ -59,21 +61,22 @@ def _plain(node: Any) -> Any:
     return None
 
 
-def read_groups(text: str) -> list[GroupSettings]:
+def read_groups(text: str, known: dict[str, str] | None = None) -> list[GroupSettings]:
     """Groups from a MoveIt kinematics.yaml in any layout `armtool.moveit.params` reads (ROS 1
     `arm: {...}`; ROS 2 `/**` or a node name, `ros__parameters`, `robot_description_kinematics`).
+    A key's launch substitutions are replaced by the `known` values (armtool.moveit.substitutions).
     Raises yaml.YAMLError, and NotAMapping when the settings are a list or a scalar (an empty
     file has no groups)."""
     from armtool.moveit.params import parse
 
-    return groups_of(parse(text))
+    return groups_of(parse(text), known)
 
 
-def groups_of(root: Any) -> list[GroupSettings]:
+def groups_of(root: Any, known: dict[str, str] | None = None) -> list[GroupSettings]:
     """read_groups() of a document already parsed (`armtool.moveit.params.parse`)."""
     import yaml
 
-    from armtool.moveit.params import moveit_section, shape
+    from armtool.moveit.params import moveit_section, name_ref, shape
 
     node = moveit_section(root, "robot_description_kinematics").mapping
     if node is None:
@@ -84,7 +87,11 @@ def groups_of(root: Any) -> list[GroupSettings]:
         raise NotAMapping(shape(node), node.start_mark.line + 1, node.start_mark.column + 1)
     groups = []
     for key, value in node.value:
-        group = GroupSettings(str(key.value), key.start_mark.line + 1, key.start_mark.column + 1)
+        written = str(key.value)
+        resolved = name_ref(written, known).resolved if "$(" in written else written
+        group = GroupSettings(resolved or written, key.start_mark.line + 1, key.start_mark.column + 1)
+        if resolved is not None and resolved != written:
+            group.written = written
         if not isinstance(value, yaml.MappingNode):
             group.not_a_mapping = shape(value)
         else:

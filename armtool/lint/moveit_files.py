@@ -40,6 +40,12 @@ class Linter(Protocol):
 
     def paired_srdf(self, path: Path) -> SrdfContext | None: ...
 
+    def given_urdf(self, path: Path) -> Path | None: ...
+
+    def urdf_model(self, path: Path) -> UrdfContext | None: ...
+
+    def note_counterparts(self, path: Path, urdf: Path | None, srdf: Path | None, kind: str) -> None: ...
+
     def run_rules(self, ctx: FileContext, target: Target) -> Iterator[Finding]: ...
 
 
@@ -84,18 +90,21 @@ def _ros(path: Path, ros2_params: bool) -> int | None:
 
 def robot_for(linter: Linter, path: Path) -> tuple[SrdfContext | None, UrdfContext | None, dict[str, str]]:
     """The SRDF a package file belongs to (found as kinematics.yaml's is), the URDF paired with
-    it, and the xacro arguments that URDF is expanded with (for launch substitutions in keys)."""
+    it, and the values of launch substitutions in its keys: the xacro arguments that URDF is
+    expanded with, over what the package's launch files give (armtool.moveit.substitutions)."""
     from armtool.lint.pairing import read_setup_assistant
+    from armtool.moveit.substitutions import launch_values
 
+    launched = launch_values(path)  # ROS 1 `$(arg NAME)` as the package's launch fills it in
     srdf = linter.srdf_for_package_file(path)
     if srdf is None:
-        return None, None, {}
+        return None, None, launched
     paired = linter.paired_srdf(srdf.path)
     if paired is None or paired.urdf is None:
-        return srdf, None, {}
+        return srdf, None, launched
     setup = read_setup_assistant(path.parent)
     extra = setup.urdf_xacro_args if setup is not None else {}
-    return paired, paired.urdf, linter.xacro_args_for(paired.urdf.path, extra)
+    return paired, paired.urdf, {**launched, **linter.xacro_args_for(paired.urdf.path, extra)}
 
 
 def lint_joint_limits(linter: Linter, path: Path) -> list[Finding]:
@@ -107,9 +116,45 @@ def lint_joint_limits(linter: Linter, path: Path) -> list[Finding]:
         return findings  # not MoveIt's: another tool's limits file
     srdf, urdf, args = robot_for(linter, path)
     doc = read_joint_limits(path, root, args)
+    if urdf is None:
+        urdf = limits_urdf(linter, path, [e.name.bare for e in doc.joints])
+        if urdf is not None:
+            doc = read_joint_limits(path, root, {**args, **urdf.xacro_args})
+    linter.note_counterparts(
+        path, urdf.path if urdf is not None else None, srdf.path if srdf is not None else None, "joint_limits"
+    )
     ctx = JointLimitsContext(path, doc, _ros(path, doc.section.ros2_params), srdf, urdf, args)
     ctx.in_moveit_package = srdf is not None or _moveit_package(path)
     return list(linter.run_rules(ctx, Target.JOINT_LIMITS))
+
+
+URDF_DIRS = ("urdf", "robots", "robot")  # where a description package keeps its robots
+
+
+def limits_urdf(linter: Linter, path: Path, joints: list[str]) -> UrdfContext | None:
+    """The URDF a joint_limits.yaml with no SRDF is compared with: `--urdf` (or the configuration's
+    `urdf` for the file), else the one robot of its own ROS package (its urdf/ or robots/
+    directory) that has every joint the file names: a description package that keeps its
+    limits beside its robot (khi_duaro_description's config/duaro_joint_limits.yaml)."""
+    from armtool.model.packages import package_root
+
+    given = linter.given_urdf(path)
+    if given is not None:
+        return linter.urdf_model(given)
+    root = package_root(path.parent, 3)
+    if root is None or not joints:
+        return None
+    found: list[UrdfContext] = []
+    for place in URDF_DIRS:
+        try:
+            files = sorted(p for p in (root / place).iterdir() if p.name.lower().endswith((".urdf", ".urdf.xacro")))
+        except OSError:
+            continue
+        for file in files:
+            ctx = linter.urdf_model(file)
+            if ctx is not None and ctx.links and set(joints) <= ctx.joint_names:
+                found.append(ctx)
+    return found[0] if len(found) == 1 else None
 
 
 def _moveit_package(path: Path) -> bool:
@@ -141,6 +186,7 @@ def lint_pilz(linter: Linter, path: Path) -> list[Finding]:
         return []  # not Pilz's Cartesian limits
     where = key_node(section.mapping, "cartesian_limits")
     ctx = PilzContext(path, limits, position(where) if where is not None else None, _ros(path, section.ros2_params))
+    linter.note_counterparts(path, None, None, "pilz")
     return list(linter.run_rules(ctx, Target.PILZ))
 
 
@@ -199,4 +245,46 @@ def lint_controllers(linter: Linter, path: Path) -> list[Finding]:
     ctx = ControllersContext(
         path, moveit, robot, package, _ros(path, parameter_nodes(root) is not None), srdf, urdf, args
     )
+    linter.note_counterparts(
+        path, urdf.path if urdf is not None else None, srdf.path if srdf is not None else None, "controllers"
+    )
     return list(linter.run_rules(ctx, Target.CONTROLLERS))
+
+
+def lint_setup_assistant(linter: Linter, path: Path) -> list[Finding]:
+    """M101: a MoveIt config package's .setup_assistant naming a URDF or SRDF that does not exist."""
+    from armtool.lint.file_findings import file_finding
+    from armtool.lint.pairing import present_instead, read_setup_assistant, setup_assistant_line
+
+    linter.read_text(path)  # for inline ignore comments
+    setup = read_setup_assistant(path.parent)
+    if setup is None or setup.package_dir.resolve() != path.parent.resolve():
+        return []
+    linter.note_counterparts(path, None, None, "setup_assistant")
+    entries: list[tuple[str, str, Path]] = []
+    if setup.urdf_package and setup.urdf_relative:
+        found = linter.resolver.find(setup.urdf_package, setup.package_dir)
+        if found is not None:
+            entries.append(("URDF", setup.urdf_relative, found / setup.urdf_relative))
+    if setup.srdf_relative:
+        entries.append(("SRDF", setup.srdf_relative, setup.package_dir / setup.srdf_relative))
+    out = []
+    for what, relative, file in entries:
+        if file.is_file():
+            continue
+        instead = present_instead(file)
+        line = setup_assistant_line(setup.package_dir, relative)
+        out.append(
+            file_finding(
+                "M101",
+                path,
+                line,
+                1,
+                f".setup_assistant names the {what} {relative}, which does not exist"
+                + (f" (did you mean '{instead}'?)" if instead else ""),
+                f"write relative_path: {Path(relative).parent.joinpath(instead).as_posix()}"
+                if instead
+                else "write the relative path of the package's file, as the Setup Assistant would",
+            )
+        )
+    return out

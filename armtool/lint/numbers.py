@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from itertools import chain
 
 from lxml import etree
@@ -33,6 +34,20 @@ def parse_floats(text: str | None) -> list[float] | None:
         return list(map(float, text.split()))
     except ValueError:
         return None
+
+
+_DECIMAL = re.compile(r"\s*[+-]?(\d*)\.(\d+)(?:[eE]([+-]?\d+))?\s*")
+
+
+def half_unit_written(text: str) -> float:
+    """Half a unit in the last digit of a decimal number as written (`5.23599` -> 5e-6,
+    `1.5e-3` -> 5e-5): how far the exact value it stands for may lie. 0 for a number written
+    without a fractional part (`3`, `1e2`), whose precision the text does not show."""
+    match = _DECIMAL.fullmatch(text)
+    if match is None:
+        return 0.0
+    exponent = int(match.group(3) or 0)
+    return 0.5 * 10.0 ** (exponent - len(match.group(2)))
 
 
 def fmt(value: float) -> str:

@@ -111,6 +111,32 @@ def read_setup_assistant(start: Path) -> SetupAssistant | None:
     return SetupAssistant(directory, urdf_package, urdf_relative, dict(urdf_xacro_args), srdf_relative)
 
 
+def present_instead(missing: Path) -> str | None:
+    """The file beside a missing one that it most likely became: the same name with another
+    ending (`wxai.srdf` -> `wxai.srdf.xacro`), else the closest name; None when none is close."""
+    from armtool.suggest import closest
+
+    try:
+        names = sorted(p.name for p in missing.parent.iterdir() if p.is_file())
+    except OSError:
+        return None
+    stem = missing.name.split(".")[0]
+    grown = [n for n in names if n.startswith(missing.name + ".") or missing.name.startswith(n + ".")]
+    if grown:
+        return grown[0]
+    same_stem = [n for n in names if n.split(".")[0] == stem and n.endswith(tuple(URDF_SUFFIXES + SRDF_SUFFIXES))]
+    return same_stem[0] if len(same_stem) == 1 else closest(missing.name, names)
+
+
+def setup_assistant_line(package_dir: Path, relative: str) -> int:
+    """The line of a package's .setup_assistant that writes `relative` (1 when not found)."""
+    try:
+        lines = (package_dir / ".setup_assistant").read_text(encoding="utf-8", errors="replace").splitlines()
+    except OSError:
+        return 1
+    return next((i for i, line in enumerate(lines, 1) if relative in line), 1)
+
+
 @functools.lru_cache(maxsize=64)  # keyed on the text: a file changed since is parsed again
 def _setup_fields(text: str) -> tuple[str | None, str | None, dict[str, str], str | None] | None:
     """The URDF's package, relative path and xacro arguments and the SRDF's relative path that a

@@ -48,6 +48,9 @@ RULE_TABLE: tuple[tuple[str, str, str], ...] = (
     ("U505", "ros2-control-unknown-joint", "u505_ros2_control_unknown_joint:Ros2ControlUnknownJoint"),
     ("X001", "xacro-error", "x001_xacro_error:XacroError"),
     ("X002", "urdf-is-xacro", "x002_urdf_is_xacro:UrdfIsXacro"),
+    ("X003", "include-fragment", "x003_include_fragment:IncludeFragment"),
+    ("M101", "setup-assistant-missing-file", "m101_setup_assistant_missing_file:SetupAssistantMissingFile"),
+    ("M102", "moveit-config-file-not-found", "m102_moveit_config_file_not_found:MoveItConfigFileNotFound"),
     ("S001", "invalid-srdf", "s001_invalid_srdf:InvalidSrdf"),
     ("S002", "urdf-not-found", "s002_urdf_not_found:UrdfNotFound"),
     ("S003", "srdf-for-other-variant", "s003_srdf_for_other_variant:SrdfForOtherVariant"),
@@ -65,6 +68,7 @@ RULE_TABLE: tuple[tuple[str, str, str], ...] = (
     ("S110", "robot-name-mismatch", "s110_robot_name_mismatch:RobotNameMismatch"),
     ("S111", "virtual-joint-not-root", "s111_virtual_joint_not_root:VirtualJointNotRoot"),
     ("S112", "passive-joint-in-group", "s112_passive_joint_in_group:PassiveJointInGroup"),
+    ("S113", "virtual-joint-incomplete", "s113_virtual_joint_incomplete:VirtualJointIncomplete"),
     ("K101", "kinematics-unknown-group", "k101_kinematics_unknown_group:KinematicsUnknownGroup"),
     ("K102", "unknown-solver-plugin", "k102_unknown_solver_plugin:UnknownSolverPlugin"),
     ("K103", "non-positive-timeout", "k103_non_positive_timeout:NonPositiveTimeout"),
@@ -102,6 +106,7 @@ _TARGET_OF_LETTER = {
     "L": Target.JOINT_LIMITS,
     "P": Target.PILZ,
     "C": Target.CONTROLLERS,
+    "M": Target.SETUP_ASSISTANT,
 }
 _loaded: dict[str, type[Rule]] = {}
 
@@ -124,7 +129,24 @@ def rules_for(target: Target) -> list[type[Rule]]:
 # Reported by the engine while it loads a file (bad XML, no <robot>, xacro failed, no URDF beside
 # an SRDF, ...); their check() finds nothing, so a lint run need not import them to run them.
 LOADER_CODES = frozenset(
-    {"U001", "U002", "U003", "X001", "X002", "S001", "S002", "S003", "K001", "K002", "L001", "P001", "C001"}
+    {
+        "U001",
+        "U002",
+        "U003",
+        "X001",
+        "X002",
+        "X003",
+        "M101",
+        "M102",
+        "S001",
+        "S002",
+        "S003",
+        "K001",
+        "K002",
+        "L001",
+        "P001",
+        "C001",
+    }
 )
 
 

@@ -18,6 +18,7 @@ class Target(str, Enum):
     JOINT_LIMITS = "joint_limits"
     PILZ = "pilz"
     CONTROLLERS = "controllers"
+    SETUP_ASSISTANT = "setup_assistant"
 
 
 DOC_SECTIONS = ("What it does", "Why is this bad?", "Example", "Use instead")

@@ -235,6 +235,26 @@ class PackageResolver:
                 return candidate
         return None
 
+    def suggest(self, name: str, near: Path) -> tuple[str, Path | None] | None:
+        """The package most likely meant by a missing `name`, and where it lives: looked for from
+        the file outwards, the packages below each enclosing directory of the file's own package up
+        to its repository (the nearest level with a close name wins), then everything the resolver sees
+        (--package-path, ROS_PACKAGE_PATH, ament prefixes). A package of an unrelated repository
+        that happens to sit beside this one comes only after the file's own repository."""
+        from armtool.suggest import closest
+
+        near = near.absolute()
+        own = package_root(near)
+        tiers = [dict(self._trees.index(directory)) for directory in self._levels(own)] or [{}]
+        if own is not None:
+            tiers[0].setdefault(package_name(own) or own.name, own)
+        for tier in tiers:
+            match = closest(name, tier)
+            if match is not None:
+                return match, tier[match]
+        match = closest(name, self.known_names(near))
+        return (match, self.find(match, near)) if match is not None else None
+
     def known_names(self, near: Path | None = None) -> list[str]:
         """Every package name this resolver can see from `near`: for did-you-mean hints (an error
         path, so the scans it needs are paid only when something is missing)."""

@@ -1,5 +1,10 @@
 """The kinematic tree of a URDF as text (like ROS's `check_urdf`), Graphviz dot (like `urdf_to_graphviz`) or Mermaid.
 
+Each moving joint shows its limits, velocity and effort included: `velocity="0"` makes a joint
+unplannable (time parameterization divides by it) and `effort="0"` leaves controllers and
+simulators unable to move it, so a zero is marked ZERO, and a revolute or prismatic joint without
+them (urdfdom rejects a `<limit>` without effort or velocity) says so.
+
 Plain lxml, no numpy: `armtool tree` must start as fast as `armtool lint`.
 """
 
@@ -23,6 +28,9 @@ class TreeJoint:
     lower: str | None
     upper: str | None
     mimic: str | None
+    velocity: str | None = None  # <limit velocity>, as written (rad/s or m/s)
+    effort: str | None = None  # <limit effort>, as written (N·m or N)
+    has_limit: bool = False  # the joint has a <limit> element
 
 
 @dataclass
@@ -57,6 +65,9 @@ def read_tree(root: etree._Element) -> Tree:
             limit.get("lower") if limit is not None and kind in ("revolute", "prismatic") else None,
             limit.get("upper") if limit is not None and kind in ("revolute", "prismatic") else None,
             mimic.get("joint") if mimic is not None else None,
+            limit.get("velocity") if limit is not None and moving else None,
+            limit.get("effort") if limit is not None and moving else None,
+            limit is not None,
         ))  # fmt: skip
     tree = Tree(root.get("name", ""), links, joints)
     child_links = {j.child for j in joints}
@@ -66,12 +77,35 @@ def read_tree(root: etree._Element) -> Tree:
     return tree
 
 
+def _is_zero(value: str) -> bool:
+    try:
+        return float(value) == 0.0
+    except ValueError:
+        return False
+
+
+def _rate(j: TreeJoint, what: str, value: str | None, unit: str) -> str | None:
+    """`velocity 2 rad/s`, `velocity 0 rad/s (ZERO)`, or `no velocity` where urdfdom needs one."""
+    if value is None:
+        needed = j.type in ("revolute", "prismatic") or (j.type == "continuous" and j.has_limit)
+        return f"no {what}" if needed else None
+    value = " ".join(value.split())
+    return f"{what} {value} {unit}" + (" (ZERO)" if _is_zero(value) else "")
+
+
 def _describe(j: TreeJoint) -> str:
     parts = [j.type]
     if j.axis is not None:
         parts.append(f"axis [{j.axis}]")
     if j.lower is not None or j.upper is not None:
         parts.append(f"limits [{j.lower or '0'}, {j.upper or '0'}]")
+    prismatic = j.type == "prismatic"
+    for what, value, unit in (
+        ("velocity", j.velocity, "m/s" if prismatic else "rad/s"),
+        ("effort", j.effort, "N" if prismatic else "N·m"),
+    ):
+        if j.axis is not None and (shown := _rate(j, what, value, unit)) is not None:
+            parts.append(shown)
     if j.mimic:
         parts.append(f"mimics {j.mimic}")
     return ", ".join(parts)

@@ -107,8 +107,9 @@ class XacroFailure(Exception):
 class _MissingPackage(Exception):
     """Raised by our $(find) so that the failure names the package (xacro wraps it)."""
 
-    def __init__(self, name: str, similar: str | None = None) -> None:
-        maybe = f" (did you mean '{similar}'?)" if similar else ""
+    def __init__(self, name: str, similar: str | None = None, where: Path | None = None) -> None:
+        place = f", in {display_path(where)}" if where is not None else ""
+        maybe = f" (did you mean '{similar}'{place}?)" if similar else ""
         super().__init__(f"package '{name}' not found for $(find {name}){maybe}")
         self.name = name
         self.similar = similar
@@ -235,9 +236,8 @@ def _hooked(xacro: Any, files: list[Path], resolver: PackageResolver, top: Path)
     def eval_find(pkg: str) -> str:
         found = resolver.find(pkg, top.parent)
         if found is None:
-            from armtool.suggest import closest
-
-            raise _MissingPackage(pkg, closest(pkg, resolver.known_names(top.parent)))
+            suggestion = resolver.suggest(pkg, top.parent)
+            raise _MissingPackage(pkg, suggestion[0] if suggestion else None, suggestion[1] if suggestion else None)
         return str(found)
 
     xacro.parse = parse

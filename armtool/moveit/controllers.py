@@ -4,8 +4,9 @@ Two kinds of file, in both ROS generations:
 
 - MoveIt's own list of the controllers it sends trajectories to. ROS 2 (`moveit_controllers.yaml`,
   read by moveit_simple_controller_manager): `moveit_simple_controller_manager: controller_names:
-  [...]` and one `<name>: {type, action_ns, joints}` per name; `type` is FollowJointTrajectory or
-  GripperCommand, anything else is skipped ("Unknown controller type"). ROS 1
+  [...]` and one `<name>: {type, action_ns, joints}` per name; `type` is FollowJointTrajectory,
+  GripperCommand or (since moveit2#3246, 2025, on Rolling and Jazzy) ParallelGripperCommand, anything
+  else is skipped ("Unknown controller type"). ROS 1
   (`simple_moveit_controllers.yaml`, `controllers.yaml`): `controller_list: [{name, type, joints}]`.
 - The controllers the robot runs. ROS 2 (`ros2_controllers.yaml`, read by controller_manager):
   `controller_manager: ros__parameters: <name>: {type: pkg/Class}`, and each controller's own
@@ -37,8 +38,12 @@ from armtool.moveit.params import (
 if TYPE_CHECKING:
     import yaml
 
-# The action types moveit_simple_controller_manager builds a handle for (MoveIt 1 and 2).
+# The action types moveit_simple_controller_manager builds a handle for: MoveIt 1's (and MoveIt 2's
+# up to Humble), and MoveIt 2's since moveit2#3246 (2025, backported to Jazzy): its
+# ParallelGripperCommandControllerHandle, for control_msgs/ParallelGripperCommand
+# (parallel_gripper_action_controller/GripperActionController).
 MOVEIT_TYPES = ("FollowJointTrajectory", "GripperCommand")
+MOVEIT2_TYPES = (*MOVEIT_TYPES, "ParallelGripperCommand")
 MOVEIT_MANAGERS = (
     "moveit_simple_controller_manager/MoveItSimpleControllerManager",
     "moveit_ros_control_interface/Ros2ControlManager",
@@ -128,6 +133,12 @@ class MoveItControllers:
     listed: list[Scalar]  # ROS 2 controller_names (in ROS 1 every controller_list item is listed)
     listed_at: tuple[int, int]  # where the list is written
     controllers: dict[str, Controller] = field(default_factory=dict)  # names with settings
+    ros2: bool = True  # MoveIt 2's layout (controller_names), else MoveIt 1's controller_list
+
+    @property
+    def known_types(self) -> tuple[str, ...]:
+        """The controller types this generation's moveit_simple_controller_manager builds."""
+        return MOVEIT2_TYPES if self.ros2 else MOVEIT_TYPES
 
 
 @dataclass
@@ -167,7 +178,7 @@ def read_moveit_controllers(path: Path, root: yaml.Node | None) -> MoveItControl
     if entries is None:
         return None
     where = key_node(doc, "controller_list")
-    out = MoveItControllers(path, manager, [], position(where) if where is not None else (1, 1))
+    out = MoveItControllers(path, manager, [], position(where) if where is not None else (1, 1), ros2=False)
     for entry in entries:
         named = as_scalar(child(entry, "name"))
         if named is None:

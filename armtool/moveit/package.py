@@ -42,6 +42,8 @@ class MoveItPackage:
     urdf_xacro_args: dict[str, str] = field(default_factory=dict)
     urdf_why: str = ""
     srdf: Path | None = None
+    srdf_why: str = ""
+    stale: list[tuple[str, str, Path]] = field(default_factory=list)  # (URDF/SRDF, relative path, missing file)
     kinematics: Path | None = None
     joint_limits: Path | None = None
     pilz_limits: Path | None = None
@@ -104,6 +106,39 @@ def _controllers_choice(config: Path, robot: str | None) -> Path | None:
     return None
 
 
+def _package_srdf(config: Path, robot: str | None) -> Path | None:
+    """`config/<robot>.srdf` (or its .srdf.xacro), else the only SRDF (or, of none, the only SRDF
+    xacro) of config/."""
+    for name in (f"{robot}.srdf", f"{robot}.srdf.xacro") if robot else ():
+        if (config / name).is_file():
+            return config / name
+    for pattern in ("*.srdf", "*.srdf.xacro"):
+        found = sorted(p for p in config.glob(pattern) if p.is_file())
+        if len(found) == 1:
+            return found[0]
+        if found:
+            return None
+    return None
+
+
+def stale_entry_error(pkg: MoveItPackage, what: str) -> ArmtoolError | None:
+    """The error for a command that needs the package's URDF or SRDF (`what`) when its
+    .setup_assistant names a file that does not exist and nothing took its place."""
+    from armtool.lint.pairing import present_instead, setup_assistant_line
+
+    chosen = pkg.urdf if what == "URDF" else pkg.srdf
+    for kind, relative, missing in pkg.stale:
+        if kind == what and chosen == missing:
+            instead = present_instead(missing)
+            return ArmtoolError(
+                f"the {what} that .setup_assistant names, {relative}, does not exist"
+                + (f" (did you mean '{instead}'?)" if instead else ""),
+                f"{pkg.root / '.setup_assistant'}:{setup_assistant_line(pkg.root, relative)}",
+                f"correct relative_path in .setup_assistant, or pass the {what} with --{what.lower()}",
+            )
+    return None
+
+
 def read_package(directory: Path, resolver: PackageResolver) -> MoveItPackage:
     """The files of the MoveIt config package at `directory` (its root or any directory in it).
     Raises ArmtoolError when it is not a MoveIt config package."""
@@ -139,6 +174,8 @@ def read_package(directory: Path, resolver: PackageResolver) -> MoveItPackage:
             )
         else:
             pkg.urdf, pkg.urdf_why = found / setup.urdf_relative, "named by .setup_assistant"
+            if not pkg.urdf.is_file():
+                pkg.stale.append(("URDF", setup.urdf_relative, pkg.urdf))
     elif robot and (config / f"{robot}.urdf").is_file():
         pkg.urdf, pkg.urdf_why = config / f"{robot}.urdf", f"config/{robot}.urdf"
     if setup is not None:
@@ -147,13 +184,18 @@ def read_package(directory: Path, resolver: PackageResolver) -> MoveItPackage:
         pkg.problems.append("no URDF: .setup_assistant names none and config/ has no <robot>.urdf.xacro")
     # SRDF
     if setup is not None and setup.srdf_relative:
-        pkg.srdf = root / setup.srdf_relative
-    elif robot and (config / f"{robot}.srdf").is_file():
-        pkg.srdf = config / f"{robot}.srdf"
+        pkg.srdf, pkg.srdf_why = root / setup.srdf_relative, "named by .setup_assistant"
+        if not pkg.srdf.is_file():  # renamed since (wxai.srdf -> wxai.srdf.xacro): the launch's own file
+            pkg.stale.append(("SRDF", setup.srdf_relative, pkg.srdf))
+            instead = _package_srdf(config, robot)
+            if instead is not None:
+                pkg.srdf = instead
+                pkg.srdf_why = (
+                    f"config/{instead.name}: .setup_assistant names {setup.srdf_relative}, which does not exist"
+                )
     else:
-        srdfs = sorted(config.glob("*.srdf"))
-        if len(srdfs) == 1:
-            pkg.srdf = srdfs[0]
+        pkg.srdf = _package_srdf(config, robot)
+        pkg.srdf_why = f"config/{pkg.srdf.name}" if pkg.srdf is not None else ""
     # YAML files
     for attr, file_name in (
         ("kinematics", "kinematics.yaml"),

@@ -10,17 +10,16 @@ from typing import TYPE_CHECKING, Any
 from rich.markup import escape
 from rich.table import Table
 
-from armtool.console import stderr
+from armtool.console import say, stderr
 
 if TYPE_CHECKING:  # each command imports only what it uses
-    from armtool.calib.bag_import import ImportResult
-    from armtool.calib.boards import BoardSpec
-    from armtool.calib.convention_check import ConventionCheck
-    from armtool.calib.dataset import Dataset
-    from armtool.calib.fit import CalibrationResult
-    from armtool.calib.intrinsics import IntrinsicsResult
-    from armtool.calib.problems import Block
-    from armtool.calib.verdict import Verdict
+    from armtool.calib.fit.calibration import CalibrationResult
+    from armtool.calib.fit.intrinsics import IntrinsicsResult
+    from armtool.calib.fit.problems import Block
+    from armtool.calib.inputs.bag_import import ImportResult
+    from armtool.calib.inputs.dataset import Dataset
+    from armtool.calib.pipeline import FitFiles, FitJob
+    from armtool.calib.targets.boards import BoardSpec
 
 
 def print_check_report(ds: Dataset) -> None:
@@ -36,19 +35,12 @@ def print_check_report(ds: Dataset) -> None:
     out.print(f"{len(ds.samples)} samples, {errors} error(s), {warnings} warning(s)")
 
 
-def print_fit_report(
-    result: CalibrationResult,
-    truth: dict[str, Any] | None,
-    out: Path,
-    plot: Path | None,
-    verdict: Verdict | None = None,
-    written: list[Path] | None = None,
-    skipped: list[str] | None = None,
-    conventions: ConventionCheck | None = None,
-) -> None:
+def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) -> None:
     """The fit report on stderr: residuals before and after, noise, cross-validation, the verdict,
-    identifiability, zero offsets, outliers, warnings."""
+    identifiability, zero offsets, outliers, warnings, the files written."""
     con = stderr()
+    request, conventions, verdict = job.request, job.conventions, files.verdict
+    truth = files.document.get("against_truth")
     ident = result.identifiability
     if conventions is not None:
         con.print(f"[dim]conventions:[/dim] {escape(conventions.message())}")
@@ -82,12 +74,11 @@ def print_fit_report(
         con.print(f"[yellow]rejected[/yellow] sample {escape(sid)}: {escape(why)}")
     for w in result.warnings:
         con.print(f"[yellow]warning:[/yellow] {escape(w)}")
-    if verdict is not None:
-        color = "green" if verdict.improves else "red"
-        con.print(f"[{color}]verdict:[/{color}] {escape(verdict.summary)}")
-        if verdict.advice:
-            con.print(f"  {escape(verdict.advice)}")
-    for path in skipped or []:
+    color = "green" if verdict.improves else ("cyan" if request.options.hand_eye_only else "red")
+    con.print(f"[{color}]verdict:[/{color}] {escape(verdict.summary)}")
+    if verdict.advice:
+        con.print(f"  {escape(verdict.advice)}")
+    for path in files.skipped:
         con.print(
             f"[yellow]not written:[/yellow] {escape(path)} (it would be worse than the nominal URDF on held-out poses)"
         )
@@ -95,10 +86,16 @@ def print_fit_report(
             con.print(
                 f"  [yellow]{escape(path)} already exists from an earlier run: it is not this run's result[/yellow]"
             )
-    files = written if written is not None else [out / "calibrated.urdf", out / "calibration.yaml"]
+    ur = request.ur_kinematics
+    written = [p for p in files.files if p != ur]
+    plot = request.plot
     con.print(
-        escape("wrote " + " and ".join(str(f) for f in files) + (f" and {plot}" if plot and plot not in files else ""))
+        escape(
+            "wrote " + " and ".join(str(f) for f in written) + (f" and {plot}" if plot and plot not in written else "")
+        )
     )
+    if ur is not None and ur in files.files:
+        say(f"wrote {ur}: pass it to the UR description as kinematics_params:={ur}")
 
 
 def _noise_text(result: CalibrationResult) -> str:
@@ -187,7 +184,7 @@ def _nested_text(result: CalibrationResult) -> str:
             f"{b.name} {n.rms[b.name]:.3f}{u} RMS (max {n.maximum[b.name]:.3f}{u}; "
             f"{n.inlier_rms[b.name]:.3f}{u} without {outliers}) against {n.hand_eye_rms[b.name]:.3f}{u} hand-eye only"
         )
-    from armtool.calib.crossval import describe_choices
+    from armtool.calib.fit.crossval import describe_choices
 
     return (
         f"whole procedure on held-out poses (nested {cv.folds}-fold, choosing {describe_choices(n.chosen)}): "
@@ -197,7 +194,7 @@ def _nested_text(result: CalibrationResult) -> str:
 
 def _frames_text(result: CalibrationResult) -> str:
     """The two fitted placements, position in mm and rpy in degrees, with σ."""
-    from armtool.calib.report import frames_section
+    from armtool.calib.outputs.report import frames_section
 
     frames = frames_section(result, dict(zip(result.free, result.sigma)))
     lines = []
@@ -217,7 +214,7 @@ def _frames_text(result: CalibrationResult) -> str:
 
 
 def _zero_offset_table(result: CalibrationResult) -> Table:
-    """Each zero offset and whether it may be used to re-zero the encoder (see calib/zero_offsets.py)."""
+    """Each zero offset and whether it may be used to re-zero the encoder (see calib/fit/zero_offsets.py)."""
     table = Table(title="zero offsets (encoder zero corrections, already in calibrated.urdf)", title_justify="left")
     table.add_column("joint")
     table.add_column("offset °", justify="right")

@@ -13,7 +13,9 @@ from armtool.ik.bench import TIMING, BenchConfig, NotApplicable, SolverReport
 from armtool.model.chain import Chain
 
 # 2: times exclude armtool's FK check of the answers (TIMING); failure_reasons per solver.
-SCHEMA_VERSION = 2
+# 3: closed-form rows: distinct_solutions (verified, distinct, per target) replaces mean_solutions;
+#    missing_solutions and targets_missing_solutions against the other closed-form rows; method.
+SCHEMA_VERSION = 3
 Row = SolverReport | NotApplicable
 
 
@@ -43,12 +45,34 @@ def main_failure(r: SolverReport) -> str:
     return f"{reason} ({count} of {r.failures})"
 
 
+def missing_cell(r: SolverReport) -> str:
+    """A closed-form row's solutions missing against the others: "count (targets)", "-" when not compared."""
+    if r.missing_solutions is None:
+        return "-"
+    return str(r.missing_solutions) + (f" ({r.targets_missing_solutions} targets)" if r.missing_solutions else "")
+
+
+def _caption(reports: list[Row]) -> str:
+    methods = [
+        f"{r.solver}: {r.method}" for r in reports if isinstance(r, SolverReport) and r.method and r.mode == "single"
+    ]
+    lines = [f"Timing: {TIMING}."]
+    if any(isinstance(r, SolverReport) and r.distinct_solutions is not None for r in reports):
+        lines.append(
+            "solutions: distinct solutions per target that pass the check (closed-form rows; a row is solved when any "
+            "does); missing: the other closed-form solvers' solutions (their union) this row lacks."
+        )
+    if methods:
+        lines.append("Methods: " + "; ".join(methods) + ".")
+    return "\n".join(lines)
+
+
 def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
     from rich.console import Console
     from rich.markup import escape
     from rich.table import Table
 
-    table = Table(title=escape(_title(chain, config)), caption=escape(f"Timing: {TIMING}."), caption_justify="left")
+    table = Table(title=escape(_title(chain, config)), caption=escape(_caption(reports)), caption_justify="left")
     for col in (
         "solver",
         "success %",
@@ -62,13 +86,14 @@ def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
         "median seed dist",
         "repeatable %",
         "solutions",
+        "missing",
         "cond@fail",
         "main failure reason",
     ):
         table.add_column(col, justify="left" if col in ("solver", "main failure reason") else "right")
     for r in reports:
         if isinstance(r, NotApplicable):
-            table.add_row(escape(r.solver), "n/a", *["-"] * 11, escape(r.reason))
+            table.add_row(escape(r.solver), "n/a", *["-"] * 12, escape(r.reason))
             continue
         table.add_row(
             escape(r.solver + (" (batch)" if r.mode == "batch" else "")),
@@ -82,7 +107,8 @@ def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
             "-" if config.position_only else _sci(r.orientation_error_rad["max"]),
             "-" if math.isnan(r.seed_distance["median"]) else f"{r.seed_distance['median']:.2f}",
             "-" if r.repeatability is None else f"{100 * r.repeatability:.0f}",
-            "-" if r.mean_solutions is None else f"{r.mean_solutions:.1f}",
+            "-" if r.distinct_solutions is None else f"{r.distinct_solutions:.2f}",
+            missing_cell(r),
             "-" if r.failures == 0 else _sci(r.failed_condition_numbers["median"]),
             escape(main_failure(r)),
         )
@@ -106,7 +132,8 @@ def render_table(chain: Chain, config: BenchConfig, reports: list[Row]) -> None:
 def _row_json(r: Row) -> dict[str, object]:
     if isinstance(r, NotApplicable):
         return {"solver": r.solver, "mode": r.mode, "applicable": False, "reason": r.reason, "success_rate": None}
-    return {"applicable": True, **{k: v for k, v in asdict(r).items() if k not in ("wall_times_us", "solved")}}
+    hidden = ("wall_times_us", "solved", "verified")
+    return {"applicable": True, **{k: v for k, v in asdict(r).items() if k not in hidden}}
 
 
 def render_json(chain: Chain, config: BenchConfig, reports: list[Row]) -> str:
@@ -159,17 +186,20 @@ def render_csv(reports: list[Row]) -> str:
             "max_orientation_error_rad",
             "median_seed_distance",
             "repeatability",
-            "mean_solutions",
+            "distinct_solutions",
+            "missing_solutions",
+            "targets_missing_solutions",
             "failures",
             "claimed_but_wrong",
             "stalled_failures",
             "main_failure_reason",
+            "method",
             "not_applicable",
         ]
     )
     for r in reports:
         if isinstance(r, NotApplicable):
-            writer.writerow([r.solver, r.mode] + [""] * 16 + [r.reason])
+            writer.writerow([r.solver, r.mode] + [""] * 19 + [r.reason])
             continue
         writer.writerow(
             [
@@ -186,11 +216,14 @@ def render_csv(reports: list[Row]) -> str:
                 r.orientation_error_rad["max"],
                 r.seed_distance["median"],
                 "" if r.repeatability is None else r.repeatability,
-                "" if r.mean_solutions is None else r.mean_solutions,
+                "" if r.distinct_solutions is None else r.distinct_solutions,
+                "" if r.missing_solutions is None else r.missing_solutions,
+                "" if r.targets_missing_solutions is None else r.targets_missing_solutions,
                 r.failures,
                 r.claimed_but_wrong,
                 "" if r.stalled_failures is None else r.stalled_failures,
                 main_failure(r) if r.failures else "",
+                r.method,
                 "",
             ]
         )

@@ -16,6 +16,7 @@ class JsonFormatter:
             "schema_version": SCHEMA_VERSION,
             "files_checked": report.files_checked,
             "summary": {sev.value: report.count(sev) for sev in (Severity.ERROR, Severity.WARNING, Severity.INFO)},
+            "checked": [p.as_dict() for p in report.checked],
             "findings": [
                 {
                     "path": f.path,

@@ -36,7 +36,17 @@ class TextFormatter:
                     out.append(f"      {paint('hint:', '2')} {f.hint}")
             out.append("")
         files = _plural(report.files_checked, "file")
-        if not report.findings:
+        if report.checked:
+            from armtool.lint.checked import lines
+
+            out += [paint(line, "2") for line in lines(report.checked)]
+        unpaired = sum(len(p.unpaired) for p in report.checked)
+        if not report.findings and unpaired:
+            out.append(
+                f"No problems in what was checked ({files}); {_plural(unpaired, 'file')} could not be paired "
+                "with the file its checks need (see checked:)."
+            )
+        elif not report.findings:
             out.append(f"{paint('All checks passed', '32')} ({files} checked).")
         else:
             counts = ", ".join(

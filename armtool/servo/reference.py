@@ -10,7 +10,7 @@ instrument sees that. References, by `--reference` spec:
 * `manual`: a person reads a protractor and types the angle.
 * `csv:FILE`: readings taken by other means, keyed by command: `command_ticks,reference_deg`.
 * `camera:DEVICE[,tag=ID][,family=NAME][,intrinsics=FILE]`: an AprilTag flat on the horn, seen by
-  a camera (the calibrate work's detector, `armtool.calib.apriltag.detect_tag`), aligned to the
+  a camera (the calibrate work's detector, `armtool.calib.targets.apriltag.detect_tag`), aligned to the
   servo's frame by two moves before measuring.
 """
 
@@ -197,7 +197,7 @@ class CameraReference:
         size_m: float = 0.03,
         settle_frames: int = 3,
     ) -> None:
-        from armtool.calib.apriltag import detect_tag
+        from armtool.calib.targets.apriltag import detect_tag
 
         self.spec = f"camera:{device}"
         self.detect_tag = detect_tag
@@ -231,7 +231,7 @@ class CameraReference:
             raise ArmtoolError(f"{self.spec}: {tag.reason}", hint="put the tag flat on the horn, in view and in focus")
         corners = np.asarray(tag.corners_px, dtype=np.float64)
         if self.camera is not None:
-            from armtool.calib.apriltag import pnp_pose
+            from armtool.calib.targets.apriltag import pnp_pose
 
             cMt, _rms, _ambiguous = pnp_pose(corners, self.size_m, self.camera)
             rot = cMt[:3, :3]
@@ -264,7 +264,7 @@ def _apriltag_detector() -> Callable[..., object] | None:
     try:
         import importlib
 
-        module = importlib.import_module("armtool.calib.apriltag")
+        module = importlib.import_module("armtool.calib.targets.apriltag")
     except ImportError:
         return None
     fn = getattr(module, "detect_tag", None)
@@ -285,7 +285,7 @@ def _camera_reference(arg: str) -> CameraReference:
             elif key == "size" and sep:
                 kw["size_m"] = float(value)
             elif key == "intrinsics" and sep:
-                from armtool.calib.camera import load_intrinsics
+                from armtool.calib.model.camera import load_intrinsics
 
                 kw["camera"] = load_intrinsics(Path(value))
             else:
@@ -340,7 +340,7 @@ def open_reference(spec: str, ask: Callable[[str], str] | None = None) -> Refere
     if kind == "camera":
         if _apriltag_detector() is None:
             raise ArmtoolError(
-                "the camera reference is not available yet: armtool.calib.apriltag has no tag detector",
+                "the camera reference is not available yet: armtool.calib.targets.apriltag has no tag detector",
                 hint="use --reference encoder:PORT, manual or csv:FILE for now",
             )
         return _camera_reference(arg)

@@ -68,7 +68,7 @@ class CartesianResult:
     reason: StopReason
     detail: str
     inserted: int  # points added by the precision check
-    max_deviation_m: float  # worst tool-position deviation at points and joint midpoints
+    max_deviation_m: float  # worst tool-position deviation at the joint midpoints of the achieved steps
     max_deviation_rad: float
     relative_jumps: list[int] = field(default_factory=list)  # step k: from point k to k+1
     absolute_jumps: list[int] = field(default_factory=list)
@@ -185,9 +185,7 @@ class _Stepper:
     def __init__(self, chain: Chain, solver: PoseSolver, options: CartesianOptions) -> None:
         self.chain, self.solver, self.o = chain, solver, options
         self.inserted = 0
-        self.dev_m = 0.0
-        self.dev_rad = 0.0
-        self.steps_m: list[float] = []
+        self.steps_m: list[float] = []  # per kept step: the tool at its joint midpoint vs the path
         self.steps_rad: list[float] = []
 
     def deviation(self, q: Array, target: Array) -> tuple[float, float]:
@@ -209,7 +207,6 @@ class _Stepper:
         mid_pose = seg.pose_at((la + lb) / 2)
         dm, dr = self.deviation((qa + qb) / 2, mid_pose)
         if (dm <= self.o.precision_m and dr <= self.o.precision_rad) or depth >= self.o.max_depth:
-            self.dev_m, self.dev_rad = max(self.dev_m, dm), max(self.dev_rad, dr)
             self.steps_m.append(dm)
             self.steps_rad.append(dr)
             return [(lb, qb)]
@@ -369,6 +366,9 @@ def compute_cartesian(
             ),
         )
     fraction = 1.0 if not reason else float(params[cut - 1])
+    # The deviations of the achieved steps only: not of a step cut off as a jump, nor of the
+    # halves of a step whose other half failed (refine forgets those).
+    kept_m, kept_rad = np.asarray(stepper.steps_m[: cut - 1]), np.asarray(stepper.steps_rad[: cut - 1])
     return CartesianResult(
         q[:cut],
         np.asarray(poses[:cut]),
@@ -377,10 +377,10 @@ def compute_cartesian(
         reason,
         detail,
         stepper.inserted,
-        stepper.dev_m,
-        stepper.dev_rad,
+        float(kept_m.max(initial=0.0)),
+        float(kept_rad.max(initial=0.0)),
         relative,
         absolute,
-        np.asarray(stepper.steps_m[: cut - 1]),
-        np.asarray(stepper.steps_rad[: cut - 1]),
+        kept_m,
+        kept_rad,
     )

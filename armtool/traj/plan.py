@@ -12,8 +12,9 @@ from pathlib import Path
 import numpy as np
 
 from armtool.errors import ArmtoolError
-from armtool.model.chain import Chain, load_chain, rpy_matrix
+from armtool.model.chain import Chain, rpy_matrix
 from armtool.traj import cartesian as cart
+from armtool.traj.start import Srdf
 from armtool.traj.trajectory import Array, Trajectory
 
 MAX_WAYPOINT_BYTES = 16 * 1024 * 1024  # ~300 000 poses: far more than a taught path holds
@@ -57,6 +58,7 @@ class CartesianPlan:
     result: cart.CartesianResult
     trajectory: Trajectory  # the achieved joint path (untimed)
     start_how: str = "--start"  # where the start configuration came from
+    chain_how: str = "--base/--tip"  # where the chain came from: a group of the SRDF, the default chain
 
 
 def floats(text: str, n: int, option: str) -> list[float]:
@@ -70,16 +72,19 @@ def floats(text: str, n: int, option: str) -> list[float]:
     return values
 
 
-def start_configuration(chain: Chain, start: str | None, urdf: Path | None = None, srdf: Path | None = None) -> Array:
+def _start(
+    chain: Chain,
+    start: str | None,
+    urdf: Path,
+    srdf: Srdf | None,
+    xacro_args: Mapping[str, str] | None,
+    package_paths: Sequence[Path],
+) -> tuple[Array, str]:
     """--start, else the default start of `armtool.traj.start` (never a singular one)."""
-    return _start(chain, start, urdf, srdf)[0]
-
-
-def _start(chain: Chain, start: str | None, urdf: Path | None, srdf: Path | None) -> tuple[Array, str]:
     if start is None:
         from armtool.traj.start import default_start
 
-        chosen = default_start(chain, urdf or Path("."), srdf, chain.name)
+        chosen = default_start(chain, urdf, srdf, chain.name, xacro_args, package_paths)
         return chosen.q, chosen.how
     q0 = np.asarray(floats(start, chain.n, "--start"), dtype=np.float64)
     if not chain.within_limits(q0):
@@ -167,24 +172,61 @@ def plan_cartesian(
     srdf: Path | None = None,
     xacro_args: Mapping[str, str] | None = None,
     package_paths: Sequence[Path] = (),
+    *,
+    group: str | None = None,
+    group_why: str = "",
+    srdf_xacro_args: Mapping[str, str] | None = None,
 ) -> CartesianPlan:
-    """The joint path along `spec` from `start`, as far as it could be followed."""
+    """The joint path along `spec` from `start`, as far as it could be followed. The chain is
+    `group`'s of the SRDF, built as MoveIt builds it (`armtool.ik.group`), else base → tip (by
+    default the longest chain from the root). The SRDF (a .srdf.xacro expanded with
+    `srdf_xacro_args`, else `xacro_args`) also gives the default start."""
     from armtool.ik.registry import make_solver
+    from armtool.model.chain import chain_from_xml
+    from armtool.model.load import load_robot_xml
+    from armtool.traj.start import read_srdf
 
     if not urdf.is_file():
         raise ArmtoolError("URDF not found", str(urdf))
     spec.check()
+    if group is not None and (base is not None or tip is not None):
+        raise ArmtoolError(
+            f"give either --group or --base/--tip, not both (group '{group}'{group_why and f': {group_why}'})"
+        )
+    if group is not None and srdf is None:
+        raise ArmtoolError(
+            "--group needs --srdf", hint="pass the MoveIt SRDF that defines the group, or --moveit-config DIR"
+        )
     if srdf is not None and not srdf.is_file():
         raise ArmtoolError("SRDF not found", str(srdf))
-    chain = load_chain(urdf, base, tip, xacro_args=xacro_args, package_paths=package_paths)
-    q0, how = _start(chain, start, urdf, srdf)
+    root = load_robot_xml(urdf, xacro_args, package_paths)
+    semantic = None
+    if srdf is not None:
+        semantic = read_srdf(srdf, srdf_xacro_args if srdf_xacro_args is not None else xacro_args, package_paths)
+    how = (
+        "--base/--tip"
+        if base is not None or tip is not None
+        else "the default chain (pass --base/--tip or --group for another)"
+    )
+    if group is not None and semantic is not None:
+        from armtool.ik.group import group_chain
+
+        found = group_chain(semantic.root, group, root, source=str(srdf))
+        base, tip = found.base, found.tip
+        how = f"group '{group}' of {semantic.path.name}" + (f" ({group_why})" if group_why else "")
+    chain = chain_from_xml(root, base, tip, source=urdf.name)
+    q0, start_how = _start(chain, start, urdf, semantic, xacro_args, package_paths)
     segs = segments(spec, chain.fk(q0))
     # lm's table of poses is built only if a point needs it: a path's next point is near its seed.
     ik = make_solver(solver, chain, **({"lazy_table": True} if solver == "lm" else {}))
     result = cart.compute_cartesian(chain, ik, q0, segs, options)
     prismatic = tuple(not r for r in chain.revolute)
     return CartesianPlan(
-        chain, result, Trajectory(tuple(chain.joint_names), result.q, source=str(urdf), prismatic=prismatic), how
+        chain,
+        result,
+        Trajectory(tuple(chain.joint_names), result.q, source=str(urdf), prismatic=prismatic),
+        start_how,
+        how,
     )
 
 
@@ -208,7 +250,8 @@ def report_lines(result: cart.CartesianResult, plan: CartesianPlan | None = None
     if plan is not None:
         chain = plan.chain
         lines += [
-            f"chain: base '{chain.base}' -> tip '{chain.tip}', {chain.n} joints ({', '.join(chain.joint_names)})",
+            f"chain: {plan.chain_how}: base '{chain.base}' -> tip '{chain.tip}', {chain.n} joints "
+            f"({', '.join(chain.joint_names)})",
             f"start: {plan.start_how}: " + ", ".join(f"{v:.4g}" for v in result.q[0]),
         ]
     lines += [

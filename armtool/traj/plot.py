@@ -1,23 +1,35 @@
-"""A PNG of a trajectory: per joint its position, velocity and acceleration over time (or over the
-point index for an untimed path), with the limits as red lines; optionally the tool path.
+"""The figures of `traj plot` and `traj cartesian --plot` (PNG, SVG or PDF, by the extension).
 
-Drawn with OpenCV, which armtool already depends on, as `ik-bench --plot` is (no matplotlib).
-Velocities and accelerations are the file's own if it has them, else finite differences.
+- A trajectory: per joint its position, velocity and acceleration over time (over the point index
+  for an untimed path), the limits as red dashed lines; with a chain, the tool path in three
+  projections. Velocities and accelerations are the file's own if it has them, else finite
+  differences.
+- A Cartesian path: the tool path in three projections and, per step, how far the tool at the
+  joint midpoint lies from the ideal path (the precision check's measure), against the bounds.
+
+Drawn with matplotlib in armtool's one style (`armtool.plotting`), as `calibrate fit --plot` and
+`ik-bench --plot` are.
 """
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armtool import plotting
 from armtool.errors import ArmtoolError
 from armtool.model.chain import Chain
 from armtool.traj.limits import JointLimits
 from armtool.traj.trajectory import Array, Trajectory
 
-_BLUE, _RED, _GREY, _BLACK = (180, 119, 31), (40, 39, 214), (200, 200, 200), (0, 0, 0)
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure, SubFigure
+
+_PROJECTIONS = ((0, 1, "x", "y"), (0, 2, "x", "z"), (1, 2, "y", "z"))
 
 
 def _series(traj: Trajectory) -> tuple[Array, Array, Array | None, Array | None, str]:
@@ -30,142 +42,103 @@ def _series(traj: Trajectory) -> tuple[Array, Array, Array | None, Array | None,
     return t, q, v, a, "time (s)"
 
 
-def _panel(
-    img: np.ndarray, box: tuple[int, int, int, int], x: Array, y: Array, limits: tuple[float, float] | None, title: str
-) -> None:
-    import cv2
+def _curve(ax: Axes, x: Array, y: Array, bounds: tuple[float, ...], title: str) -> None:
+    """A quantity over x with its bounds (red dashed; a non-finite bound is not drawn)."""
+    ax.plot(x, y, color=plotting.CALIBRATED, linewidth=1.2, marker="." if len(x) < 50 else None)
+    for bound in bounds:
+        if math.isfinite(bound):
+            ax.axhline(bound, color=plotting.LIMIT, linestyle="--", linewidth=1.0)
+    ax.set_title(title, loc="left")
 
-    x0, y0, x1, y1 = box
-    cv2.rectangle(img, (x0, y0), (x1, y1), _BLACK, 1)
-    lo, hi = float(np.min(y)), float(np.max(y))
-    if limits is not None and all(math.isfinite(v) for v in limits):
-        lo, hi = min(lo, limits[0]), max(hi, limits[1])
-    pad = (hi - lo) * 0.05 or 1.0
-    lo, hi = lo - pad, hi + pad
-    xl, xh = float(x[0]), float(x[-1]) if x[-1] > x[0] else float(x[0]) + 1.0
 
-    def px(xv: Array, yv: Array) -> np.ndarray:
-        return np.stack(
-            [x0 + (xv - xl) / (xh - xl) * (x1 - x0), y1 - (yv - lo) / (hi - lo) * (y1 - y0)], axis=1
-        ).astype(np.int32)
+def _tool_path(sub: Figure | SubFigure, P: Array) -> None:
+    """The tool path's three projections, equal aspect, in metres."""
+    for ax, (i, k, a, b) in zip(sub.subplots(1, 3), _PROJECTIONS):
+        ax.plot(P[:, i], P[:, k], color=plotting.CALIBRATED, linewidth=1.2)
+        ax.plot(P[0, i], P[0, k], "o", color=plotting.NOMINAL, markersize=4, label="start")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_title(f"tool path {a}-{b}", loc="left")
+        ax.set_xlabel(f"{a} (m)")
+        ax.set_ylabel(f"{b} (m)")
+    sub.axes[0].legend(loc="best")
 
-    if lo < 0 < hi:
-        cv2.line(
-            img, tuple(px(np.array([xl]), np.array([0.0]))[0]), tuple(px(np.array([xh]), np.array([0.0]))[0]), _GREY, 1
+
+def trajectory_figure(traj: Trajectory, limits: JointLimits, chain: Chain | None = None) -> Figure:
+    """Per joint its position (velocity, acceleration) with the limits; the tool path with a chain."""
+    x, q, v, a, xlabel = _series(traj)
+    P = None
+    if chain is not None:
+        missing = [nm for nm in chain.joint_names if nm not in traj.joint_names]
+        if missing:
+            raise ArmtoolError(
+                f"the trajectory lacks joint(s) {', '.join(missing)} of the chain {chain.base} -> {chain.tip}",
+                traj.source,
+            )
+        P = np.array([chain.fk(qi)[:3, 3] for qi in traj.reorder(chain.joint_names).positions])
+    n = len(traj.joint_names)
+    cols = 1 if v is None else 3
+    joints_height = 1.7 * n
+    path_height = 3.2 if P is not None else 0.0
+    with plotting.style():
+        fig = plotting.figure(4.4 * cols if cols == 3 else 7.0, joints_height + path_height + 0.6)
+        joints_fig: Figure | SubFigure = fig
+        path_fig: SubFigure | None = None
+        if P is not None:
+            joints_fig, path_fig = fig.subfigures(2, 1, squeeze=False, height_ratios=[joints_height, path_height])[:, 0]
+        axes = joints_fig.subplots(n, cols, sharex=True, squeeze=False)
+        for j, name in enumerate(traj.joint_names):
+            k = limits.names.index(name) if name in limits.names else None
+            unit = "m" if (k is not None and limits.prismatic[k]) else "rad"
+            lower = float(limits.lower[k]) if k is not None else math.nan
+            upper = float(limits.upper[k]) if k is not None else math.nan
+            _curve(axes[j, 0], x, q[:, j], (lower, upper), f"{name} position ({unit})")
+            if v is not None and a is not None:
+                vl = float(limits.velocity[k]) if k is not None else math.nan
+                al = float(limits.acceleration[k]) if k is not None else math.nan
+                _curve(axes[j, 1], x, v[:, j], (-vl, vl), f"{name} velocity ({unit}/s)")
+                _curve(axes[j, 2], x, a[:, j], (-al, al), f"{name} acceleration ({unit}/s²)")
+        for ax in axes[-1]:
+            ax.set_xlabel(xlabel)
+        if P is not None and path_fig is not None:
+            _tool_path(path_fig, P)
+        fig.suptitle(
+            f"{traj.source}: {traj.n_points} points; red dashed: the limits",
+            horizontalalignment="left",
+            x=0.01,
         )
-    if limits is not None:
-        for v in limits:
-            if math.isfinite(v):
-                a, b = px(np.array([xl, xh]), np.array([v, v]))
-                cv2.line(img, tuple(a), tuple(b), _RED, 1, cv2.LINE_AA)
-    cv2.polylines(img, [px(x, y)], False, _BLUE, 1, cv2.LINE_AA)
-    font = cv2.FONT_HERSHEY_SIMPLEX
-    cv2.putText(img, title, (x0 + 4, y0 + 14), font, 0.4, _BLACK, 1, cv2.LINE_AA)
-    cv2.putText(img, f"{hi:.3g}", (x0 - 52, y0 + 10), font, 0.35, _BLACK, 1, cv2.LINE_AA)
-    cv2.putText(img, f"{lo:.3g}", (x0 - 52, y1), font, 0.35, _BLACK, 1, cv2.LINE_AA)
+    return fig
+
+
+def cartesian_figure(
+    chain: Chain, q: Array, dev_m: Array, dev_rad: Array, precision_m: float, precision_rad: float
+) -> Figure:
+    """The tool path of a Cartesian joint path (three projections) and, per step, how far the tool at
+    the joint midpoint lies from the ideal path, with the --precision bounds."""
+    P = np.array([chain.fk(qi)[:3, 3] for qi in q])
+    steps = np.arange(len(dev_m), dtype=np.float64)
+    with plotting.style():
+        fig = plotting.figure(12.0, 7.0)
+        top, bottom = fig.subfigures(2, 1, squeeze=False, height_ratios=[1.1, 1.0])[:, 0]
+        _tool_path(top, P)
+        left, right = bottom.subplots(1, 2)
+        _curve(left, steps, dev_m * 1000, (precision_m * 1000,), "midpoint deviation per step (mm)")
+        _curve(right, steps, dev_rad, (precision_rad,), "midpoint deviation per step (rad)")
+        for ax in (left, right):
+            ax.set_xlabel("step")
+            ax.set_ylim(bottom=0)
+        fig.suptitle(
+            f"{chain.base} → {chain.tip}: {len(q)} points; red dashed: the --precision bounds",
+            horizontalalignment="left",
+            x=0.01,
+        )
+    return fig
 
 
 def write_plot(path: Path, traj: Trajectory, limits: JointLimits, chain: Chain | None = None) -> None:
-
-    if path.suffix.lower() != ".png":
-        raise ArmtoolError("the plot is a PNG", str(path), "name the output *.png")
-    x, q, v, a, xlabel = _series(traj)
-    n = len(traj.joint_names)
-    cols = 1 if v is None else 3
-    extra = 1 if chain is not None else 0
-    ph, pw, left, top = 120, 340, 70, 30
-    H = top + (n + extra) * (ph + 30) + 30
-    W = left + cols * (pw + 70)
-    img = np.full((H, W, 3), 255, np.uint8)
-    for j, name in enumerate(traj.joint_names):
-        k = limits.names.index(name) if name in limits.names else None
-        unit = "m" if (k is not None and limits.prismatic[k]) else "rad"
-        y0 = top + j * (ph + 30)
-        pos_lim = (float(limits.lower[k]), float(limits.upper[k])) if k is not None else None
-        _panel(img, (left, y0, left + pw, y0 + ph), x, q[:, j], pos_lim, f"{name} position ({unit})")
-        if v is not None and a is not None:
-            vl = float(limits.velocity[k]) if k is not None else math.nan
-            al = float(limits.acceleration[k]) if k is not None else math.nan
-            _panel(
-                img, (left + pw + 70, y0, left + 2 * pw + 70, y0 + ph), x, v[:, j], (-vl, vl), f"velocity ({unit}/s)"
-            )
-            _panel(
-                img,
-                (left + 2 * (pw + 70), y0, left + 3 * pw + 140, y0 + ph),
-                x,
-                a[:, j],
-                (-al, al),
-                f"acceleration ({unit}/s2)",
-            )
-    if chain is not None:
-        names = [nm for nm in chain.joint_names if nm not in traj.joint_names]
-        if names:
-            raise ArmtoolError(
-                f"the trajectory lacks joint(s) {', '.join(names)} of the chain {chain.base} -> {chain.tip}",
-                traj.source,
-            )
-        qc = traj.reorder(chain.joint_names).positions
-        P = np.array([chain.fk(qi)[:3, 3] for qi in qc])
-        y0 = top + n * (ph + 30)
-        for c, (i, k, label) in enumerate(
-            ((0, 1, "tool path x-y (m)"), (0, 2, "tool path x-z (m)"), (1, 2, "tool path y-z (m)"))
-        ):
-            x0 = left + c * (pw + 70)
-            side = min(pw, ph)
-            _xy(img, (x0, y0, x0 + side, y0 + side), P[:, i], P[:, k], label)
-    _save(img, f"{traj.source}: {traj.n_points} points, x = {xlabel}; red = limits", left, path)
-
-
-def _xy(img: np.ndarray, box: tuple[int, int, int, int], a: Array, b: Array, title: str) -> None:
-    """An equal-aspect plot of a curve (tool path projection)."""
-    import cv2
-
-    x0, y0, x1, y1 = box
-    cv2.rectangle(img, (x0, y0), (x1, y1), _BLACK, 1)
-    ca, cb = (a.max() + a.min()) / 2, (b.max() + b.min()) / 2
-    span = max(np.ptp(a), np.ptp(b), 1e-6) * 1.1
-    pts = np.stack([x0 + ((a - ca) / span + 0.5) * (x1 - x0), y1 - ((b - cb) / span + 0.5) * (y1 - y0)], axis=1).astype(
-        np.int32
-    )
-    cv2.polylines(img, [pts], False, _BLUE, 1, cv2.LINE_AA)
-    cv2.putText(img, title, (x0 + 4, y0 + 14), cv2.FONT_HERSHEY_SIMPLEX, 0.4, _BLACK, 1, cv2.LINE_AA)
-    cv2.putText(
-        img, f"span {span * 1000:.0f} mm", (x0 + 4, y1 - 6), cv2.FONT_HERSHEY_SIMPLEX, 0.35, _BLACK, 1, cv2.LINE_AA
-    )
+    plotting.save(trajectory_figure(traj, limits, chain), path, "-o")
 
 
 def write_cartesian_plot(
     path: Path, chain: Chain, q: Array, dev_m: Array, dev_rad: Array, precision_m: float, precision_rad: float
 ) -> None:
-    """The tool path of a Cartesian joint path (three projections) and, per step, how far the tool at
-    the joint midpoint lies from the ideal path (the precision check's measure), with the bound."""
-
-    if path.suffix.lower() != ".png":
-        raise ArmtoolError("the plot is a PNG", str(path), "name the output *.png")
-    P = np.array([chain.fk(qi)[:3, 3] for qi in q])
-    W, H = 1100, 560
-    img = np.full((H, W, 3), 255, np.uint8)
-    for c, (i, k, label) in enumerate(
-        ((0, 1, "tool path x-y (m)"), (0, 2, "tool path x-z (m)"), (1, 2, "tool path y-z (m)"))
-    ):
-        x0 = 70 + c * 340
-        _xy(img, (x0, 30, x0 + 280, 310), P[:, i], P[:, k], label)
-    steps = np.arange(len(dev_m), dtype=np.float64) if len(dev_m) > 1 else np.array([0.0, 1.0])
-    m = dev_m * 1000 if len(dev_m) > 1 else np.zeros(2)
-    r = dev_rad if len(dev_rad) > 1 else np.zeros(2)
-    _panel(img, (70, 350, 520, 520), steps, m, (0.0, precision_m * 1000), "midpoint deviation (mm) per step")
-    _panel(img, (600, 350, 1050, 520), steps, r, (0.0, precision_rad), "midpoint deviation (rad) per step")
-    _save(img, f"{chain.base} -> {chain.tip}: {len(q)} points; red = --precision bounds", 70, path)
-
-
-def _save(img: np.ndarray, title: str, left: int, path: Path) -> None:
-    """Title the image and write it as a PNG (atomically)."""
-    import cv2
-
-    from armtool.fileio import write_atomic
-
-    cv2.putText(img, title, (left, 18), cv2.FONT_HERSHEY_SIMPLEX, 0.45, _BLACK, 1, cv2.LINE_AA)
-    ok, buf = cv2.imencode(".png", img)
-    if not ok:
-        raise ArmtoolError("could not encode the PNG", str(path))
-    write_atomic(path, buf.tobytes())
+    plotting.save(cartesian_figure(chain, q, dev_m, dev_rad, precision_m, precision_rad), path)

@@ -59,3 +59,29 @@ def test_targets_are_ratios_to_rtb_in_every_round() -> None:
     verdicts = dict((text.split(": ", 1)[1].split(" (")[0], v) for v, text in script.checks("ur5", rows))
     assert verdicts["lm median <= 1.0× rtb ik_LM's in every round"] == "FAIL"
     assert [v for t, v in verdicts.items() if t.startswith("lm's ratio to rtb ik_LM's median steady")] == ["FAIL"]
+
+
+def test_closed_form_targets_are_analytic_against_eaik_in_every_round() -> None:
+    script = load_script("ik_bench")
+
+    def closed(label: str, rounds: tuple[float, ...], per_s: tuple[float, ...], missing: int = 0) -> Any:
+        base = row(script, label, rounds, per_s=per_s[1])
+        return script.Row(*list(vars(base).values())[:12], 7.0, missing, per_s)
+
+    rows = {
+        "analytic": closed("analytic", (3.0, 7.0, 3.2), (1.0, 1.0, 1.0)),
+        "analytic (batch)": closed("analytic (batch)", (0.2, 0.4, 0.2), (5e5, 2.6e5, 5.1e5)),
+        "eaik": closed("eaik", (3.5, 7.5, 3.6), (1.0, 1.0, 1.0)),
+        "eaik (batch)": closed("eaik (batch)", (1.0, 2.0, 1.0), (1e5, 5e4, 1e5)),
+    }
+    verdicts = {text.split(": ", 1)[1].split(" (")[0]: v for v, text in script.checks("ur5", rows)}
+    assert verdicts["analytic median <= 1.0× EAIK's in every round"] == "PASS"
+    assert verdicts["analytic solves every target with no solution missing"] == "PASS"
+    assert verdicts["analytic batch >= 5× EAIK's single-threaded IK_batched in every round"] == "PASS"
+    # One round slower than EAIK, one solution missing, one round's batch below 5x: each fails.
+    rows["analytic"] = closed("analytic", (3.0, 7.6, 3.2), (1.0, 1.0, 1.0), missing=1)
+    rows["analytic (batch)"] = closed("analytic (batch)", (0.2, 0.4, 0.2), (5e5, 2.4e5, 5.1e5))
+    verdicts = {text.split(": ", 1)[1].split(" (")[0]: v for v, text in script.checks("ur5", rows)}
+    assert verdicts["analytic median <= 1.0× EAIK's in every round"] == "FAIL"
+    assert verdicts["analytic solves every target with no solution missing"] == "FAIL"
+    assert verdicts["analytic batch >= 5× EAIK's single-threaded IK_batched in every round"] == "FAIL"

@@ -14,8 +14,8 @@ from functools import cache
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.boards import parse_board
-from armtool.calib.camera import CameraModel
+from armtool.calib.model.camera import CameraModel
+from armtool.calib.targets.boards import parse_board
 from tests.calib.render_board import render_board, spread_board_poses
 
 TRUE_CAMERA = CameraModel(

@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from armtool.calib.camera import CameraModel
 from armtool.calib.choices import Setup
-from armtool.calib.model import CalibModel
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.camera import CameraModel
 from armtool.model.chain import Chain, load_chain
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -10,9 +10,9 @@ from typing import Any
 import numpy as np
 import yaml
 
-from armtool.calib import se3
-from armtool.calib.conventions import PoseFrame
-from armtool.calib.problems import PointMeasurements, PoseMeasurements
+from armtool.calib.fit.measurements import PointMeasurements, PoseMeasurements
+from armtool.calib.inputs.conventions import PoseFrame
+from armtool.calib.model import se3
 from armtool.model.chain import rpy_matrix
 from tests.calib.conftest import CLEAN_ARM
 from tests.calib.synthetic import Measured

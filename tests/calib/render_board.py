@@ -1,4 +1,4 @@
-"""Board images for the tests: `armtool.calib.render.render_board` (the exact inverse mapping of the
+"""Board images for the tests: `armtool.calib.simulation.render.render_board` (the exact inverse mapping of the
 tag renderer, for chessboards, ChArUco boards and AprilTag grids) with the photometry the tests
 want, and the poses a user takes (`random_board_pose`, `spread_board_poses`).
 
@@ -14,10 +14,10 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.boards import BoardSpec
-from armtool.calib.camera import Array, CameraModel
-from armtool.calib.render import _rotvec, board_in_view, board_outline_m
-from armtool.calib.render import render_board as _render
+from armtool.calib.model.camera import Array, CameraModel
+from armtool.calib.simulation.render import _rotvec, board_in_view, board_outline_m
+from armtool.calib.simulation.render import render_board as _render
+from armtool.calib.targets.boards import BoardSpec
 
 
 def render_board(

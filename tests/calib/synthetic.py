@@ -11,18 +11,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armtool.calib import se3
-from armtool.calib.apriltag import tag_object_points
-from armtool.calib.camera import CameraModel
 from armtool.calib.choices import Setup
-from armtool.calib.conventions import PoseFrame
-from armtool.calib.dataset import Sample
-from armtool.calib.model import CalibModel
-from armtool.calib.observations import Observation
-from armtool.calib.problems import CornerMeasurements, Measurements, PointMeasurements, PoseMeasurements
-from armtool.calib.se3 import Array
-from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
-from armtool.calib.truth import Truth
+from armtool.calib.fit.measurements import CornerMeasurements, Measurements, PointMeasurements, PoseMeasurements
+from armtool.calib.inputs.conventions import PoseFrame
+from armtool.calib.inputs.dataset import Sample
+from armtool.calib.inputs.observations import Observation
+from armtool.calib.model import se3
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.camera import CameraModel
+from armtool.calib.model.se3 import Array
+from armtool.calib.simulation.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
+from armtool.calib.simulation.truth import Truth
+from armtool.calib.targets.apriltag import tag_object_points
 from armtool.model.chain import Chain
 
 

@@ -11,15 +11,15 @@ import pytest
 import yaml
 from typer.testing import CliRunner
 
-from armtool.calib.boards import board_points, parse_board
 from armtool.calib.choices import Setup
-from armtool.calib.dataset import Sample
-from armtool.calib.fit import FitOptions, calibrate
-from armtool.calib.model import CalibModel
-from armtool.calib.observations import Observation
-from armtool.calib.problems import CornerMeasurements
-from armtool.calib.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
-from armtool.calib.truth import Truth, score
+from armtool.calib.fit.calibration import FitOptions, calibrate
+from armtool.calib.fit.measurements import CornerMeasurements
+from armtool.calib.inputs.dataset import Sample
+from armtool.calib.inputs.observations import Observation
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.simulation.simulate import SimulationSpec, _place, _visible, default_camera, true_errors
+from armtool.calib.simulation.truth import Truth, score
+from armtool.calib.targets.boards import board_points, parse_board
 from armtool.cli import app
 from armtool.model.chain import Chain
 from tests.ik.robots import erd

@@ -65,7 +65,7 @@ def snapshot(root: Path) -> dict[Path, bytes]:
 
 def _write_dataset(root: Path, n: int = 12, seed: int = 0) -> Path:
     """A corners.csv dataset of the bundled arm: n poses, corners projected from a perturbed robot."""
-    from armtool.calib.camera import save_intrinsics
+    from armtool.calib.model.camera import save_intrinsics
     from armtool.model.chain import load_chain
     from tests.calib.synthetic import make_problem
 
@@ -312,6 +312,12 @@ def test_plot_into_a_missing_directory_fails_before_the_fit(dataset: Path, tmp_p
     assert not (tmp_path / "o").exists()  # nothing written: the fit never ran
 
 
+def test_plot_of_an_unknown_format_fails_before_the_fit(dataset: Path, tmp_path: Path) -> None:
+    code, _, err = run("calibrate", "fit", dataset, "--out", tmp_path / "o", "--plot", tmp_path / "res.jpg")
+    assert code == 2 and "--plot names a file with '.jpg'" in err and "PNG, SVG or PDF" in err
+    assert not (tmp_path / "o").exists() and not (tmp_path / "res.jpg").exists()  # the fit never ran
+
+
 # ---------------------------------------------------------------- files read: internal errors
 
 
@@ -382,7 +388,7 @@ def test_broken_camera_yaml_gives_the_line(dataset: Path) -> None:
 
 
 def test_image_that_is_a_directory_is_not_reported_missing(dataset: Path, tmp_path: Path) -> None:
-    from armtool.calib.files import unreadable_reason
+    from armtool.calib.inputs.files import unreadable_reason
 
     (tmp_path / "images").mkdir()
     assert unreadable_reason(tmp_path / "images") == "is a directory, not a file"
@@ -424,9 +430,9 @@ def test_image_that_is_a_directory_is_not_reported_missing(dataset: Path, tmp_pa
 
 
 def test_detecting_in_an_image_that_is_a_directory_says_so(dataset: Path, tmp_path: Path) -> None:
-    from armtool.calib.camera import load_intrinsics
-    from armtool.calib.dataset import load_dataset
-    from armtool.calib.observations import observe
+    from armtool.calib.inputs.dataset import load_dataset
+    from armtool.calib.inputs.observations import observe
+    from armtool.calib.model.camera import load_intrinsics
 
     (dataset / "corners.csv").unlink()
     text = (dataset / "dataset.yaml").read_text().replace("corners: corners.csv\n", "")
@@ -469,7 +475,7 @@ def _png(path: Path, width: int, height: int, pixels: bool = True) -> Path:
 
 
 def test_huge_image_is_refused_before_decoding(tmp_path: Path) -> None:
-    from armtool.calib.files import read_gray
+    from armtool.calib.inputs.files import read_gray
 
     bomb = _png(tmp_path / "bomb.png", 200_000, 200_000, pixels=False)
     t0 = time.monotonic()
@@ -485,7 +491,7 @@ def test_huge_image_is_refused_before_decoding(tmp_path: Path) -> None:
 def test_jpeg_header_size_is_read() -> None:
     import cv2
 
-    from armtool.calib.files import header_size
+    from armtool.calib.inputs.files import header_size
 
     ok, buf = cv2.imencode(".jpg", np.zeros((30, 50), np.uint8))
     assert ok and header_size(buf.tobytes()) == (50, 30)
@@ -618,8 +624,8 @@ def test_broken_truth_is_a_message(dataset: Path) -> None:
     """truth/ is only for scoring a simulated dataset: a broken one is an ArmtoolError (the fit
     then warns and writes its result), never a KeyError or RecursionError."""
     from armtool.calib.choices import Setup
-    from armtool.calib.model import CalibModel
-    from armtool.calib.truth import load_truth
+    from armtool.calib.model.calib_model import CalibModel
+    from armtool.calib.simulation.truth import load_truth
     from armtool.model.chain import load_chain
 
     model = CalibModel(load_chain(CLEAN_ARM, "base_link", "tool0"), Setup.EYE_TO_HAND, np.eye(4), np.eye(4))

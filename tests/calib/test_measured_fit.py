@@ -9,12 +9,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from armtool.calib import se3
 from armtool.calib.choices import Setup
-from armtool.calib.conventions import PoseFrame
-from armtool.calib.fit import FitOptions, calibrate
-from armtool.calib.report import calibration_document
-from armtool.calib.truth import score
+from armtool.calib.fit.calibration import FitOptions, calibrate
+from armtool.calib.inputs.conventions import PoseFrame
+from armtool.calib.model import se3
+from armtool.calib.outputs.report import calibration_document
+from armtool.calib.simulation.truth import score
 from armtool.model.chain import Chain
 from tests.calib.synthetic import make_measured
 

@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 from typer.testing import CliRunner
 
-from armtool.calib.boards import find_board, parse_board
+from armtool.calib.targets.boards import find_board, parse_board
 from armtool.cli import app
 
 PHOTOS = Path(__file__).resolve().parents[2] / "fixtures" / "calib" / "opencv_chessboard"

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from armtool.calib.fit import FitOptions, calibrate
-from armtool.calib.truth import score
+from armtool.calib.fit.calibration import FitOptions, calibrate
+from armtool.calib.simulation.truth import score
 from armtool.model.chain import load_chain
 from tests.calib.synthetic import make_problem
 from tests.ik.robots import erd
@@ -32,14 +32,14 @@ def test_every_bad_sample_is_named_on_rendered_images(tmp_path) -> None:  # type
     the earlier rule (max(2 px, 5 × median)) missed a wrist reading error here."""
     import numpy as np
 
-    from armtool.calib.apriltag import tag_object_points
-    from armtool.calib.camera import load_intrinsics
-    from armtool.calib.dataset import load_dataset
-    from armtool.calib.model import CalibModel
-    from armtool.calib.observations import observe
-    from armtool.calib.problems import CornerMeasurements
-    from armtool.calib.simulate import SimulationSpec, simulate
-    from armtool.calib.truth import load_truth
+    from armtool.calib.fit.measurements import CornerMeasurements
+    from armtool.calib.inputs.dataset import load_dataset
+    from armtool.calib.inputs.observations import observe
+    from armtool.calib.model.calib_model import CalibModel
+    from armtool.calib.model.camera import load_intrinsics
+    from armtool.calib.simulation.simulate import SimulationSpec, simulate
+    from armtool.calib.simulation.truth import load_truth
+    from armtool.calib.targets.apriltag import tag_object_points
 
     path, base, flange, _ = CASES["ur5"]
     out = tmp_path / "ds"

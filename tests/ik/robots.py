@@ -36,3 +36,39 @@ PLANAR_2R = """<robot name="planar">
   <joint name="tool_joint" type="fixed"><parent link="l2"/><child link="tool"/><origin xyz="0.3 0 0" rpy="0 0 0"/></joint>
 </robot>
 """
+
+
+def _revolute(
+    name: str, parent: str, child: str, xyz: str, rpy: str, axis: str = "0 0 1", kind: str = "revolute"
+) -> str:
+    limit = '<limit lower="-3" upper="3" effort="1" velocity="1"/>' if kind != "continuous" else ""
+    return (
+        f'  <joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="{xyz}" rpy="{rpy}"/><axis xyz="{axis}"/>{limit}</joint>\n'
+    )
+
+
+# A 6R arm with no two axes parallel or meeting: no closed form (EAIK has no decomposition for it).
+GENERAL_6R = (
+    '<robot name="general6r">\n'
+    + "".join(f'  <link name="l{i}"/>\n' for i in range(7))
+    + '  <link name="tool"/>\n'
+    + _revolute("j1", "l0", "l1", "0 0 0.1", "0 0 0")
+    + _revolute("j2", "l1", "l2", "0.05 0.02 0.2", "1.2 0.3 0")
+    + _revolute("j3", "l2", "l3", "0.3 0.04 0.03", "0.2 -0.4 0.1")
+    + _revolute("j4", "l3", "l4", "0.06 0.25 0.02", "-0.9 0.1 0.3")
+    + _revolute("j5", "l4", "l5", "0.03 0.07 0.12", "0.7 0.5 -0.2")
+    + _revolute("j6", "l5", "l6", "0.05 -0.04 0.09", "-0.6 0.2 0.4")
+    + '  <joint name="tool_joint" type="fixed"><parent link="l6"/><child link="tool"/><origin xyz="0 0 0.05" rpy="0.1 0.2 0.3"/></joint>\n'
+    + "</robot>\n"
+)
+
+# Two coaxial continuous joints: the tip's pose depends on q1 + q2 only, so a target has a solution
+# for every q1 (and q and q + 2π are one configuration): solution sets can be built by hand.
+COAXIAL_2R = (
+    '<robot name="coaxial">\n  <link name="base"/>\n  <link name="l1"/>\n  <link name="l2"/>\n  <link name="tool"/>\n'
+    + _revolute("j1", "base", "l1", "0 0 0.1", "0 0 0", kind="continuous")
+    + _revolute("j2", "l1", "l2", "0 0 0.2", "0 0 0", kind="continuous")
+    + '  <joint name="tool_joint" type="fixed"><parent link="l2"/><child link="tool"/><origin xyz="0.3 0 0"/></joint>\n'
+    + "</robot>\n"
+)

@@ -264,3 +264,108 @@ def test_the_report_checks_every_answer_once(monkeypatch: pytest.MonkeyPatch) ->
             if not r.success:
                 reasons[r.reason] = reasons.get(r.reason, 0) + 1
         assert report.failure_reasons == reasons
+
+
+# ---- closed-form rows: distinct solutions, and the ones a row misses ----------------------------------------------
+
+
+class HandMade(Solver):
+    """Closed form by hand on COAXIAL_2R (the pose depends on q1 + q2 only): for q1 in `starts`,
+    (q1, s − q1) with s = the target's q1 + q2; plus `extra` solutions as given (wrong or repeats)."""
+
+    summary = "test double"
+    returns_all_solutions = True
+
+    def __init__(self, chain: Any, name: str, starts: list[float], extra: tuple[tuple[float, float], ...] = ()) -> None:
+        super().__init__(chain)
+        self.name, self.starts, self.extra = name, starts, extra
+
+    def call(self, prepared: Any) -> Any:
+        target, seed = prepared
+        s = float(np.arctan2(target[1, 0], target[0, 0]))
+        qs = [np.array([a, s - a]) for a in self.starts] + [np.array(e) for e in self.extra]
+        return Answer(qs[0], True, 0, "", tuple(qs)) if qs else Answer(seed, False, 0, "nothing")
+
+
+def coaxial_reports(*solvers: HandMade, samples: int = 6) -> dict[str, Any]:
+    from armtool.ik.bench import Entry, run_bench
+
+    chain = solvers[0].chain
+    config = BenchConfig(samples=samples, repeat=0)
+    reports = run_bench(chain, [Entry(s) for s in solvers], make_targets(chain, config), config)
+    return {r.solver: r for r in reports}
+
+
+def test_closed_form_rows_count_distinct_verified_solutions_and_the_ones_they_miss() -> None:
+    from lxml import etree
+
+    from armtool.model.chain import chain_from_xml
+    from tests.ik.robots import COAXIAL_2R
+
+    chain = chain_from_xml(etree.fromstring(COAXIAL_2R))
+    tau = 2 * np.pi
+    full = HandMade(chain, "full", [0.1, 0.2, 0.3, 0.1 + tau])  # the last repeats the first, a turn on
+    short = HandMade(chain, "short", [0.2, 0.1], extra=((5.0, 5.0),))  # lacks 0.3; (5, 5) is wrong
+    none = HandMade(chain, "none", [])
+    rows = coaxial_reports(full, short, none)
+    assert rows["full"].success_rate == rows["short"].success_rate == 1.0 and rows["none"].success_rate == 0.0
+    assert rows["full"].distinct_solutions == 3.0 and rows["short"].distinct_solutions == 2.0
+    assert rows["none"].distinct_solutions == 0.0
+    assert (rows["full"].missing_solutions, rows["full"].targets_missing_solutions) == (0, 0)
+    assert (rows["short"].missing_solutions, rows["short"].targets_missing_solutions) == (6, 6)
+    assert (rows["none"].missing_solutions, rows["none"].targets_missing_solutions) == (18, 6)
+    # A row's solutions keep the solver's order (the first that passes is its answer's q).
+    assert np.allclose(rows["short"].verified[0][0][0], 0.2)
+
+
+def test_missing_solutions_need_another_closed_form_solver() -> None:
+    from lxml import etree
+
+    from armtool.ik.bench import Entry, compare_solutions, run_bench
+    from armtool.model.chain import chain_from_xml
+    from tests.ik.robots import COAXIAL_2R
+
+    chain = chain_from_xml(etree.fromstring(COAXIAL_2R))
+    alone = HandMade(chain, "alone", [0.1, 0.2])
+    config = BenchConfig(samples=3, repeat=0)
+    targets = make_targets(chain, config)
+    reports = run_bench(chain, [Entry(alone), Entry(Liar(chain))], targets, config)
+    assert reports[0].missing_solutions is None and reports[0].distinct_solutions == 2.0
+    assert reports[1].distinct_solutions is None and reports[1].missing_solutions is None  # not a closed form
+    # The same solver's other mode is not another solver.
+    twin = [reports[0], run_solver(chain, alone, targets, config)]
+    compare_solutions(chain, twin)
+    assert twin[0].missing_solutions is None
+
+
+class Offset(Solver):
+    """One solution: the target's configuration, plus `offset` (passes a 1e-5 check, off by > 1e-6 rad)."""
+
+    summary = "test double"
+    returns_all_solutions = True
+
+    def __init__(self, chain: Any, name: str, offset: tuple[float, float], truth: Any) -> None:
+        super().__init__(chain)
+        self.name, self.offset, self.truth = name, np.array(offset), truth
+
+    def call(self, prepared: Any) -> Any:
+        target, _ = prepared
+        q = self.truth[int(np.argmin([np.abs(self.chain.fk(t) - target).max() for t in self.truth]))] + self.offset
+        return Answer(q, True, 0, "", (q,))
+
+
+def test_two_approximations_of_one_solution_are_not_missing_from_each_other() -> None:
+    from lxml import etree
+
+    from armtool.ik.bench import Entry, run_bench
+    from armtool.model.chain import chain_from_xml
+    from tests.ik.robots import PLANAR_2R
+
+    chain = chain_from_xml(etree.fromstring(PLANAR_2R))
+    config = BenchConfig(samples=5, repeat=0)
+    targets = make_targets(chain, config)
+    exact = Offset(chain, "exact", (0.0, 0.0), targets.q_true)
+    near = Offset(chain, "near", (4e-6, -3e-6), targets.q_true)  # a nearest-model solver's answers
+    reports = run_bench(chain, [Entry(exact), Entry(near)], targets, config)
+    assert [r.success_rate for r in reports] == [1.0, 1.0]
+    assert [r.missing_solutions for r in reports] == [0, 0] and [r.distinct_solutions for r in reports] == [1.0, 1.0]

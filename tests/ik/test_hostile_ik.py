@@ -271,6 +271,8 @@ def test_plot_is_checked_before_the_work(tmp_path: Path, monkeypatch: pytest.Mon
     assert code == 2 and "is also an input" in err
     code, _, err = run("ik-bench", str(urdf), *QUICK, "--plot", str(tmp_path))
     assert code == 2 and "is a directory" in err
+    code, _, err = run("ik-bench", str(urdf), *QUICK, "--plot", str(tmp_path / "ik.jpg"))
+    assert code == 2 and "--plot names a file with '.jpg'" in err and "PNG, SVG or PDF" in err, err
 
 
 @pytest.mark.skipif(os.geteuid() == 0 if hasattr(os, "geteuid") else True, reason="root may write anywhere")

@@ -1,7 +1,7 @@
 """Peer adapters: a missing peer is reported with its install command; present ones solve in chain order.
 
 The solving tests skip (importorskip) when a peer's library is absent; `pip install 'armtool[peers]'`
-brings pytracik, roboticstoolbox-python and ikpy; PyKDL comes from apt (python3-pykdl).
+brings pytracik, roboticstoolbox-python, ikpy, eaik and ik-geo; PyKDL comes from apt (python3-pykdl).
 """
 
 from __future__ import annotations
@@ -62,7 +62,7 @@ def test_missing_peer_returns_its_install_command(name: str, monkeypatch: pytest
 
 
 def test_install_commands() -> None:
-    for name in ("pytracik", "rtb-lm", "ikpy"):
+    for name in ("pytracik", "rtb-lm", "ikpy", "eaik", "ik-geo"):
         assert "pip install 'armtool[peers]'" in PEERS[name][2]
     assert PEERS["pykdl"][1:] == ("PyKDL", "apt install python3-pykdl (ROS)")
 
@@ -105,8 +105,11 @@ def test_path_urdf_of_a_chain_that_starts_below_the_root() -> None:
 # ---- with the peer installed ----------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("robot", ["ur5", "panda"])
-@pytest.mark.parametrize("name", sorted(PEERS))
+CLOSED_FORM = {"eaik", "ik-geo"}  # 6R at most: on a spherical-wrist arm instead of Panda
+SOLVED = [(name, robot) for name in sorted(PEERS) for robot in ("ur5", "kinova" if name in CLOSED_FORM else "panda")]
+
+
+@pytest.mark.parametrize(("name", "robot"), SOLVED)
 def test_peer_solves_fk_targets_in_chain_order(name: str, robot: str) -> None:
     solver = peer(name, robot)
     chain = solver.chain

@@ -11,6 +11,7 @@ from typing import Any
 import pytest
 from typer.testing import CliRunner
 
+from armtool.errors import ArmtoolError
 from tests import realworld
 
 if not realworld.PRESENT:
@@ -39,11 +40,13 @@ def test_realworld_ik_case(case: dict[str, Any], monkeypatch: pytest.MonkeyPatch
     monkeypatch.chdir(CORPUS)
     argv = _fewer_samples(SCORE.build_cmd([], case, str(CORPUS)))
     result = CliRunner().invoke(app, argv)
-    err = result.stderr
-    if result.exception is not None and not isinstance(result.exception, SystemExit):
+    err, exit_code = result.stderr, result.exit_code
+    if isinstance(result.exception, ArmtoolError):  # what armtool.cli.main does with it: exit 2, said on stderr
+        err, exit_code = err + f"error: {result.exception}\n", 2
+    elif result.exception is not None and not isinstance(result.exception, SystemExit):
         err += f"\nTraceback (most recent call last): {type(result.exception).__name__}: {result.exception}"
     res: dict[str, Any] = {"crash": None, "ik_mismatches": []}
-    SCORE.score_ik(case, result.exit_code, result.stdout, err, res)
+    SCORE.score_ik(case, exit_code, result.stdout, err, res)
     assert res["crash"] is None, res["crash"]
     assert res["ik_mismatches"] == [], res["ik_mismatches"]
 

@@ -128,20 +128,31 @@ def test_bad_xacro_args_table_is_a_clear_error(tmp_path: Path) -> None:
     assert "armtool.toml" in (err.value.where or "")
 
 
+PROJECT = '# a project that uses armtool\n[project]\nname = "arm"\n\n[tool.black]\nline-length = 100\n\n'
+
+
 @pytest.mark.parametrize(
-    ("name", "toml", "says"),
+    ("name", "toml", "says", "line"),
     [
-        ("pyproject.toml", 'tool.armtool = "lint"\n', "[tool.armtool] must be a table"),
-        ("pyproject.toml", '[tool]\narmtool = "lint"\n', "[tool.armtool] must be a table"),
-        ("pyproject.toml", '[tool.armtool]\nlint = "strict"\n', "[tool.armtool.lint] must be a table"),
-        ("armtool.toml", 'lint = "strict"\n', "[lint] must be a table"),
-        ("armtool.toml", 'tool.armtool = "lint"\n', "armtool.toml holds [tool.armtool]"),
-        ("armtool.toml", '[tool.armtool.lint]\nselect = ["U1"]\n', "armtool.toml holds [tool.armtool]"),
+        ("pyproject.toml", 'tool.armtool = "lint"\n' + PROJECT, "[tool.armtool] must be a table, not a string", 1),
+        ("pyproject.toml", '[tool]\nblack = {}\narmtool = "lint"\n', "[tool.armtool] must be a table, not a string", 3),
+        ("pyproject.toml", 'tool = { armtool = ["lint"] }\n', "[tool.armtool] must be a table, not a list", 1),
+        ("pyproject.toml", PROJECT + "[[tool.armtool]]\nlint = {}\n", "[tool.armtool] must be a table, not a list", 8),
+        ("pyproject.toml", 'tool = "armtool"\n', "[tool] must be a table, not a string", 1),
+        ("pyproject.toml", '[tool.armtool]\nlint = "strict"\n', "[tool.armtool.lint] must be a table, not a string", 2),
+        ("pyproject.toml", PROJECT + "[[tool.armtool.lint]]\n", "[tool.armtool.lint] must be a table, not a list", 8),
+        ("pyproject.toml", '[tool.armtool]\nselect = ["U1"]\n', "unknown key(s) in [tool.armtool]: select", 2),
+        ("armtool.toml", 'lint = "strict"\n', "[lint] must be a table, not a string", 1),
+        ("armtool.toml", 'select = ["U1"]\n', "unknown key(s) in armtool.toml: select", 1),
+        ("armtool.toml", 'tool.armtool = "lint"\n', "armtool.toml holds [tool.armtool]", 1),
+        ("armtool.toml", '[tool.armtool.lint]\nselect = ["U1"]\n', "armtool.toml holds [tool.armtool]", 1),
     ],
 )
 def test_armtool_settings_that_are_not_tables_are_a_config_error_exit_2(
-    tmp_path: Path, name: str, toml: str, says: str
+    tmp_path: Path, name: str, toml: str, says: str, line: int
 ) -> None:
+    """`[tool.armtool]` written as a string was refused without its line; armtool's keys one level
+    too high (`[tool.armtool]` then `select = ...`) were ignored with exit 0."""
     from tests.lint.test_hostile_lint import invoke
 
     (tmp_path / name).write_text(toml)
@@ -151,4 +162,54 @@ def test_armtool_settings_that_are_not_tables_are_a_config_error_exit_2(
     assert says in err
     with pytest.raises(ArmtoolError) as info:
         load_config(tmp_path / name)
-    assert name in (info.value.where or "")
+    assert info.value.where == f"{tmp_path / name}:{line}"
+
+
+@pytest.mark.parametrize(
+    ("toml", "says", "line"),
+    [
+        (
+            'select = "U3"\nxacro-args = ["name:=ur"]\n',
+            "'xacro-args' must be a table of glob = { name = value }, not a list",
+            2,
+        ),
+        ('per-file-ignores = ["U401"]\n', "'per-file-ignores' must be a table of glob = [codes], not a list", 1),
+        (
+            '\nper-file-ignores = { "urdf/*.urdf" = { U401 = true } }\n',
+            "'per-file-ignores.urdf/*.urdf' must be a list of rule codes, not a table",
+            2,
+        ),
+        ('select = [["U"]]\n', "'select' must be a list of rule codes, not a list holding a list", 1),
+        ("ignore = 401\n", "'ignore' must be a list of rule codes, not a number", 1),
+        ('fail-on = ["error"]\n', "'fail-on' must be a severity (a string), not a list", 1),
+        ('severity = ["U401"]\n', "'severity' must be a table of code = \"error|warning|info\", not a list", 1),
+        ("package-paths = [1]\n", "'package-paths' must be a list of directories (strings)", 1),
+        ('urdf = ["urdf/arm.urdf"]\n', "'urdf' must be a table of glob = \"path\", not a list", 1),
+        (
+            '\n[tool.armtool.lint.srdf]\n"config/*.yaml" = 3\n',
+            "'srdf.config/*.yaml' must be a path (a string), not a number",
+            3,
+        ),
+        (
+            '\n[tool.armtool.lint.severity]\nU401 = ["error"]\n',
+            "'severity.U401' must be a severity (a string), not a list",
+            3,
+        ),
+        ('doc = """\nselect = 3\n"""\n', "unknown key(s) in [tool.armtool.lint]: doc", 1),
+    ],
+)
+def test_a_value_of_the_wrong_shape_is_refused_at_its_line(tmp_path: Path, toml: str, says: str, line: int) -> None:
+    """A table where a list belongs, a list where a string belongs: refused with file:line, never read as empty."""
+    path = tmp_path / "pyproject.toml"
+    path.write_text("[tool.armtool.lint]\n" + toml)
+    with pytest.raises(ArmtoolError) as info:
+        load_config(path)
+    assert says in info.value.what and info.value.where == f"{path}:{line + 1}"
+
+
+def test_invalid_toml_names_its_line_and_column(tmp_path: Path) -> None:
+    path = tmp_path / "pyproject.toml"
+    path.write_text('[tool.armtool.lint]\nselect = ["U3"\nignore = []\n')
+    with pytest.raises(ArmtoolError) as info:
+        load_config(path)
+    assert info.value.what.startswith("invalid TOML: ") and info.value.where == f"{path}:3:1"

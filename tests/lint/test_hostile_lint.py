@@ -292,13 +292,22 @@ def test_non_utf8_pyproject_is_exit_2_with_the_line(arm: Path) -> None:
 
 
 @pytest.mark.parametrize(
-    "toml, expected", [('tool = "armtool"\n', 0), ("[tool]\narmtool = 1\n", 2), ("[tool.armtool]\nlint = 3\n", 2)]
+    "toml, says",
+    [
+        (
+            'tool = "armtool"\n',
+            "[tool] must be a table, not a string (/pyproject.toml:1)",
+        ),  # PEP 518: [tool] is a table
+        ("[tool]\narmtool = 1\n", "[tool.armtool] must be a table, not a number (/pyproject.toml:2)"),
+        ("[tool.armtool]\nlint = 3\n", "[tool.armtool.lint] must be a table, not a number (/pyproject.toml:2)"),
+    ],
 )
-def test_pyproject_with_armtool_not_a_table(toml: str, expected: int, arm: Path) -> None:
+def test_pyproject_with_armtool_not_a_table(toml: str, says: str, arm: Path) -> None:
     (arm / "pyproject.toml").write_text(toml)
     code, _, err = invoke("lint", "urdf/clean_arm.urdf", cwd=arm)
-    assert code == expected, err
-    assert "internal error" not in err
+    assert code == 2, err
+    message, where = says.split(" (")
+    assert message in err and f"{where}" in err and "internal error" not in err
 
 
 def test_huge_axis_is_reported_with_a_finite_fix(tmp_path: Path) -> None:

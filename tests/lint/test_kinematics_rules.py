@@ -246,3 +246,36 @@ def test_k002_hint_names_the_real_cause(tmp_path: Path) -> None:
     assert "arm.srdf.xacro could not be loaded" in k002.message
     assert k002.hint is not None and "arm.srdf.xacro was found but cannot be used" in k002.hint
     assert "--xacro-arg name:=VALUE" in k002.hint and "--srdf" not in k002.hint
+
+
+@pytest.mark.parametrize(
+    ("other", "expected"),
+    [
+        (SRDF, []),  # an exported copy: the same groups
+        (SRDF.replace('name="gripper"', 'name="hand"'), []),  # another SRDF that also defines group arm
+        (SRDF.replace('name="arm"><joint', 'name="arm6"><joint'), []),  # only arm.srdf defines arm: that one
+    ],
+)
+def test_k002_several_srdfs_beside_it_that_define_its_groups(
+    tmp_path: Path, other: str, expected: list[tuple[str, int]]
+) -> None:
+    """Issue 27 item 5: several SRDFs beside a kinematics.yaml are no reason to skip the check when
+    they define its groups (panda_ign_moveit2: panda.srdf and panda.srdf.xacro)."""
+    config = tmp_path / "config"
+    config.mkdir()
+    (config / "other.srdf").write_text(other, encoding="utf-8")
+    found = lint_yaml(tmp_path, "arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n")
+    assert codes(found) == expected
+    every = lint_paths([config / "kinematics.yaml"], LintOptions()).findings
+    assert [f.code for f in every if f.code == "K002"] == []
+
+
+def test_k002_several_srdfs_none_of_which_defines_its_groups(tmp_path: Path) -> None:
+    config = tmp_path / "config"
+    config.mkdir()
+    (config / "other.srdf").write_text(SRDF.replace('name="arm"><joint', 'name="arm6"><joint'), encoding="utf-8")
+    (config / "arm.srdf").write_text(SRDF.replace('name="arm"><joint', 'name="arm7"><joint'), encoding="utf-8")
+    path = config / "kinematics.yaml"
+    path.write_text("arm:\n  kinematics_solver: kdl_kinematics_plugin/KDLKinematicsPlugin\n", encoding="utf-8")
+    (hit,) = [f for f in lint_paths([path], LintOptions()).findings if f.code == "K002"]
+    assert "several SRDFs beside it: arm.srdf, other.srdf" in hit.message

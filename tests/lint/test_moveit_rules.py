@@ -132,6 +132,63 @@ def test_l106_limit_above_the_urdf(package: Path) -> None:
     assert 'velocity="2.0"' in hits[0].message and hits[0].severity is Severity.WARNING
 
 
+def test_l106_hint_says_at_least_for_a_lower_bound(tmp_path: Path) -> None:
+    """A min_position below the URDF's lower is fixed by raising it: the hint says 'at least', not 'at most'."""
+    path = tmp_path / "limits.yaml"
+    path.write_text("joint_limits:\n  joint2: {has_position_limits: true, min_position: -2.5, max_position: 2.5}\n")
+    low, high = found(lint(path, urdf=ROBOTS / "clean_arm" / "urdf" / "clean_arm.urdf"), "L106")
+    assert low.message.startswith("joint 'joint2': min_position -2.5")
+    assert "at least the URDF's -2" in (low.hint or "") and "at most the URDF's 2" in (high.hint or "")
+
+
+LIMITS_ONLY = "joint_limits:\n  joint2: {has_velocity_limits: true, max_velocity: 3.0}\n"
+
+
+def test_l106_a_limits_file_without_srdf_is_compared_with_the_given_urdf(tmp_path: Path) -> None:
+    """Issue 27 item 2: `lint limits.yaml --urdf robot.urdf` compares it even with no SRDF around."""
+    path = tmp_path / "limits.yaml"
+    path.write_text(LIMITS_ONLY)
+    assert found(lint(path), "L106") == []
+    (hit,) = found(lint(path, urdf=ROBOTS / "clean_arm" / "urdf" / "clean_arm.urdf"), "L106")
+    assert (hit.line, hit.message.split(" is beyond")[0]) == (2, "joint 'joint2': max_velocity 3.0")
+
+
+def test_l106_a_description_package_limits_file_is_compared_with_its_robot(tmp_path: Path) -> None:
+    """khi_duaro_description: config/duaro_joint_limits.yaml beside urdf/duaro.urdf.xacro, no SRDF."""
+    shutil.copytree(ROBOTS / "clean_arm", tmp_path / "clean_arm")
+    config = tmp_path / "clean_arm" / "config"
+    for name in ("clean_arm.srdf", "kinematics.yaml"):
+        (config / name).unlink()
+    (config / "joint_limits.yaml").write_text(LIMITS_ONLY)
+    hits = found(lint(tmp_path / "clean_arm"), "L106")
+    assert [(Path(h.path).name, h.line) for h in hits] == [("joint_limits.yaml", 2)]
+
+
+@pytest.mark.parametrize(
+    ("written", "reported"),
+    [
+        ("5.23599", False),  # radians(300) = 5.2359878 at the 5 decimals written
+        ("5.236", False),
+        ("5.2360", False),  # 5.2360 ± 0.00005 holds 5.2359878
+        ("5.23600", True),  # 5.23600 ± 0.000005 does not
+        ("6.283", True),  # 20 % above
+        ("10.4717", True),
+        ("6", True),  # a whole number shows no precision
+    ],
+)
+def test_l106_tolerance_is_the_precision_written(tmp_path: Path, written: str, reported: bool) -> None:
+    """Issue 27 item 3: half a unit in the last digit written, not a percentage."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(
+        (ROBOTS / "clean_arm" / "urdf" / "clean_arm.urdf")
+        .read_text()
+        .replace('velocity="2.0"', 'velocity="5.235987756"', 1)
+    )
+    limits = tmp_path / "limits.yaml"
+    limits.write_text(f"joint_limits:\n  joint1: {{has_velocity_limits: true, max_velocity: {written}}}\n")
+    assert bool(found(lint(limits, urdf=urdf), "L106")) is reported
+
+
 def test_l107_scaling_factor(package: Path) -> None:
     path = package / "config" / "joint_limits.yaml"
     edit(path, "default_acceleration_scaling_factor: 0.25", "default_acceleration_scaling_factor: 25.0")
@@ -246,6 +303,24 @@ def test_c104_misspelt_types(package: Path) -> None:
         "controller 'arm_controller': no controller type 'joint_trajectory_controller/JointTrajectroyController'",
         "controller 'joint_state_broadcaster': 'joint_state_controller/JointStateController' is a ROS 1 controller type",
     ]
+
+
+def test_c104_parallel_gripper_command_is_moveit_2s_and_not_moveit_1s(package: Path) -> None:
+    """moveit2#3246 (Jazzy, Rolling) added ParallelGripperCommand to moveit_simple_controller_manager:
+    it drives its joints (no C102, no C104); MoveIt 1's controller_list has no such handle."""
+    edit(package / "config" / "moveit_controllers.yaml", "type: GripperCommand", "type: ParallelGripperCommand")
+    findings = lint(package / "config")
+    assert found(findings, "C104") == [] and found(findings, "C102") == []
+    ros1 = package / "config" / "simple_moveit_controllers.yaml"
+    ros1.write_text(
+        "controller_list:\n  - name: gripper_controller\n    action_ns: gripper_cmd\n"
+        "    type: ParallelGripperCommand\n    joints: [left_finger_joint]\n"
+    )
+    (hit,) = found(lint(ros1), "C104")
+    assert (hit.line, hit.message.split(";")[0]) == (
+        4,
+        "controller 'gripper_controller': type 'ParallelGripperCommand' is not one MoveIt knows",
+    )
 
 
 def test_c104_leaves_other_real_controllers_and_substitutions_alone(tmp_path: Path) -> None:

@@ -16,10 +16,10 @@ def test_codes_and_names_are_unique_and_well_formed() -> None:
     names = [r.name for r in RULES]
     assert len(set(codes)) == len(codes) and len(set(names)) == len(names)
     for rule in RULES:
-        assert re.fullmatch(r"[UXSKLPC]\d{3}", rule.code), rule.code
+        assert re.fullmatch(r"[UXSKLPCM]\d{3}", rule.code), rule.code
         assert re.fullmatch(r"[a-z0-9]+(-[a-z0-9]+)*", rule.name), rule.name
         letters = {"U": "urdf", "X": "urdf", "S": "srdf", "K": "kinematics"}
-        letters |= {"L": "joint_limits", "P": "pilz", "C": "controllers"}
+        letters |= {"L": "joint_limits", "P": "pilz", "C": "controllers", "M": "setup_assistant"}
         assert rule.target.value == letters[rule.code[0]]
 
 

@@ -484,6 +484,51 @@ def test_s111_virtual_joint_child_is_not_the_root(tmp_path: Path) -> None:
     assert "root link 'base_link'" in next(f for f in found if f.code == "S111").message
 
 
+@pytest.mark.parametrize(
+    ("child", "kind", "severity"),
+    [
+        ("link1", "fixed", Severity.ERROR),  # a moving joint carries link1: MoveIt's skip loses the attachment
+        ("tool0", "fixed", Severity.ERROR),
+        ("mount", "fixed", Severity.INFO),  # fixed to the root: the skip changes nothing (Gazebo's world link)
+        ("mount", "floating", Severity.ERROR),  # a floating base MoveIt skips: it never moves
+    ],
+)
+def test_s111_is_graded_by_what_moveit_does(tmp_path: Path, child: str, kind: str, severity: Severity) -> None:
+    """Issue 27 item 5: MoveIt skips a virtual joint whose child is not the root; where fixed joints
+    attach that child to the root and the virtual joint is fixed, nothing is lost."""
+    urdf = ARM_URDF.replace(
+        "</robot>",
+        f"{LINK.format(name='world')}\n"
+        '<joint name="world_to_mount" type="fixed"><parent link="world"/><child link="mount"/></joint>\n'
+        f"{LINK.format(name='mount')}\n"
+        '<joint name="mount_to_base" type="fixed"><parent link="mount"/><child link="base_link"/></joint>\n</robot>',
+    )
+    (tmp_path / "arm.urdf").write_text(urdf, encoding="utf-8")
+    path = tmp_path / "config" / "arm.srdf"
+    path.parent.mkdir()
+    path.write_text(
+        f'<robot name="arm">\n<virtual_joint name="vj" type="{kind}" parent_frame="odom" child_link="{child}"/>\n</robot>\n'
+    )
+    (hit,) = [f for f in lint_paths([path], LintOptions(urdf=tmp_path / "arm.urdf")).findings if f.code == "S111"]
+    assert (hit.line, hit.severity) == (2, severity)
+    assert ("harmless" in hit.message) is (severity is Severity.INFO)
+
+
+def test_s113_virtual_joint_without_a_name(tmp_path: Path) -> None:
+    """srdfdom drops it: "Name of virtual joint is not specified"."""
+    found = lint_srdf(
+        tmp_path,
+        '<virtual_joint type="floating" parent_frame="odom" child_link="base_link"/>',
+        '<virtual_joint name="vj" parent_frame="odom" child_link="base_link"/>',
+        '<virtual_joint name="ok" type="fixed" parent_frame="world" child_link="base_link"/>',
+    )
+    hits = [(f.line, f.message.split(" (URDF:")[0]) for f in found if f.code == "S113"]
+    assert hits == [
+        (2, '<virtual_joint> without name: srdfdom drops it ("Name of virtual joint is not specified")'),
+        (3, '<virtual_joint> without type: srdfdom drops it ("Type of virtual joint is not specified")'),
+    ]
+
+
 def test_s112_passive_joint_inside_a_group(tmp_path: Path) -> None:
     found = lint_srdf(
         tmp_path,

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from armtool.lint.finding import Severity
+from armtool.lint.finding import Finding, Severity
 from tests.lint.helpers import LINK, codes, lint_text, revolute, robot
 
 BASE = '<link name="base"/>'
@@ -93,6 +93,42 @@ def test_u202_limit_without_effort_and_velocity(tmp_path: Path) -> None:
 )
 def test_limit_values(tmp_path: Path, limit: str, code: str) -> None:
     assert codes(lint_text(tmp_path, two_links(revolute("j1", "base", "l1", limit=limit)))) == [(code, 4)]
+
+
+def _caster_base(actuation: str, arm_effort: str = "10") -> str:
+    """A base with two driven arm joints and a passive caster (effort 0), and `actuation` elements."""
+    caster = (
+        '<joint name="caster" type="continuous"><parent link="base"/><child link="l2"/><axis xyz="0 0 1"/>'
+        '<limit effort="0" velocity="3"/></joint>'
+    )
+    arm = revolute("j1", "base", "l1", limit=f'lower="-1" upper="1" effort="{arm_effort}" velocity="1"')
+    arm += revolute("j2", "l1", "l3")
+    body = "\n".join(LINK.format(name=n) for n in ("base", "l1", "l2", "l3"))
+    return robot(f"{body}\n{arm}\n{caster}\n{actuation}")
+
+
+def _u204(findings: list[Finding]) -> list[str]:
+    return [f.message for f in findings if f.code == "U204"]
+
+
+ROS2_CONTROL = '<ros2_control name="hw" type="system"><joint name="j1"/><joint name="j2"/></ros2_control>'
+TRANSMISSION = (
+    '<transmission name="t1"><joint name="j1"/></transmission><transmission name="t2"><joint name="j2"/></transmission>'
+)
+
+
+@pytest.mark.parametrize("actuation", [ROS2_CONTROL, TRANSMISSION, ""])
+def test_u204_effort_0_on_a_passive_joint_is_true(tmp_path: Path, actuation: str) -> None:
+    """effort 0 on a joint nothing drives (not named by the transmissions / ros2_control that name
+    the others; continuous, where the model names no actuation): the caster of trossen's mobile_ai."""
+    assert _u204(lint_text(tmp_path, _caster_base(actuation))) == []
+    # the driven (or ranged) joint with effort 0 is still reported
+    assert _u204(lint_text(tmp_path, _caster_base(actuation, arm_effort="0"))) == ["joint 'j1': effort limit is 0"]
+
+
+def test_u204_effort_0_on_a_driven_continuous_joint_is_reported(tmp_path: Path) -> None:
+    driven = ROS2_CONTROL.replace('"j1"', '"caster"')
+    assert _u204(lint_text(tmp_path, _caster_base(driven))) == ["joint 'caster': effort limit is 0"]
 
 
 def test_u206_continuous_with_limits_but_not_zero_placeholders(tmp_path: Path) -> None:
@@ -203,6 +239,25 @@ def test_inertia_products_are_used(tmp_path: Path) -> None:
     # Diagonal 1,1,1 with ixy=2 has principal moments -1, 1, 3: not positive definite.
     link = '<link name="l1"><inertial><mass value="1"/><inertia ixx="1" ixy="2" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>'
     assert [f.code for f in lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link))] == ["U404"]
+
+
+def test_u405_a_singular_tensor_hidden_by_rounding_is_caught(tmp_path: Path) -> None:
+    """All six entries 0.01 (Sawyer's right_hand with gazebo:=true): moments 0, 0, 0.03, whose
+    closed form gives the zero as about -1e-17; that is rounding (U404: singular), not a negative
+    moment, and the tensor breaks the triangle inequality."""
+    link = '<link name="l1"><inertial><mass value="0.01"/><inertia ixx="0.01" ixy="0.01" ixz="0.01" iyy="0.01" iyz="0.01" izz="0.01"/></inertial></link>'
+    found = [f for f in lint_text(tmp_path, two_links(revolute("j1", "base", "l1"), link)) if f.code != "U402"]
+    assert [(f.code, f.severity) for f in found] == [("U404", Severity.INFO), ("U405", Severity.ERROR)]
+    assert "principal moments 0, 0, 0.03 break the triangle inequality" in found[1].message
+
+
+def test_u405_a_negligible_dummy_tensor_is_info(tmp_path: Path) -> None:
+    """Every entry 1e-6 beside a real link (anymal's and Sawyer's dummy frame links): the letter is
+    broken, the dynamics are not changed: info."""
+    dummy = '<link name="l1"><inertial><mass value="1e-6"/><inertia ixx="1e-6" ixy="1e-6" ixz="1e-6" iyy="1e-6" iyz="1e-6" izz="1e-6"/></inertial></link>'
+    text = robot(f"{LINK.format(name='base')}\n{dummy}\n{revolute('j1', 'base', 'l1')}")
+    found = [f for f in lint_text(tmp_path, text) if f.code == "U405"]
+    assert [(f.severity, f.message.endswith("(a dummy?)")) for f in found] == [(Severity.INFO, True)]
 
 
 def test_float_noise_inertia_is_quiet(tmp_path: Path) -> None:

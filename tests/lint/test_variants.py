@@ -94,3 +94,46 @@ def test_srdf_of_another_robot_is_one_finding_and_not_checked_name_by_name(tmp_p
     )
     (finding,) = lint_paths([srdf], LintOptions(urdf=urdf)).findings  # was one S108 per link
     assert finding.code == "S003" and "does not describe arm.urdf: 6 of the 7" in finding.message
+
+
+DOF_ARM = f"""<?xml version="1.0"?>
+<robot name="arm" {X}>
+  <xacro:arg name="dof" default="7"/>
+  <link name="base"/>
+  {joint("j1", "base", "l1")}
+  <xacro:if value="${{$(arg dof) == 7}}">{joint("j7", "l1", "l7")}</xacro:if>
+  <xacro:unless value="${{$(arg dof) == 7}}">{joint("j6", "l1", "wrist6")}</xacro:unless>
+</robot>
+"""
+
+
+def _variant_folders(tmp_path: Path, six: str) -> Path:
+    """config/<six>/arm.srdf (written for dof:=6) beside config/7dof/arm.srdf."""
+    (tmp_path / "urdf").mkdir()
+    (tmp_path / "urdf" / "arm.urdf.xacro").write_text(DOF_ARM)
+    for folder, tip in ((six, "wrist6"), ("7dof", "l7")):
+        (tmp_path / "config" / folder).mkdir(parents=True)
+        (tmp_path / "config" / folder / "arm.srdf").write_text(
+            f'<robot name="arm"><group name="arm"><chain base_link="base" tip_link="{tip}"/></group>'
+            f'<disable_collisions link1="l1" link2="{tip}" reason="Adjacent"/></robot>\n'
+        )
+    return tmp_path / "config" / six / "arm.srdf"
+
+
+def test_an_srdf_in_a_variant_folder_is_checked_against_its_variant(tmp_path: Path) -> None:
+    """Issue 27 item 6: config/6dof/ says dof:=6; never names missing from the 7-DoF default."""
+    srdf = _variant_folders(tmp_path, "6dof")
+    findings = lint_paths([srdf], LintOptions(urdf=tmp_path / "urdf" / "arm.urdf.xacro")).findings
+    assert [f.code for f in findings] == []
+    broken = srdf.read_text().replace('link2="wrist6"', 'link2="wrist7"')
+    srdf.write_text(broken)  # a typo in the 6-DoF SRDF is still one
+    findings = lint_paths([srdf], LintOptions(urdf=tmp_path / "urdf" / "arm.urdf.xacro")).findings
+    assert [(f.code, "wrist7" in f.message) for f in findings] == [("S108", True)]
+
+
+def test_an_srdf_in_a_variant_folder_that_names_no_value_could_not_be_checked(tmp_path: Path) -> None:
+    srdf = _variant_folders(tmp_path, "short")
+    findings = lint_paths([srdf], LintOptions(urdf=tmp_path / "urdf" / "arm.urdf.xacro")).findings
+    assert [f.code for f in findings] == ["S003"]
+    assert "could not be checked: it sits in the variant folder 'short'" in findings[0].message
+    assert "pass --xacro-arg NAME:=VALUE for this variant" in findings[0].message

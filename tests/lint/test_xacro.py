@@ -109,13 +109,30 @@ def test_a_missing_package_suggests_the_closest_package_name_around_the_file(tmp
     main = tmp_path / "ws" / "arm_moveit_config" / "robot.urdf.xacro"
     main.write_text(MAIN.replace('filename="macros.xacro"', 'filename="$(find foo_description)/macros.xacro"'))
     (f,) = [f for f in lint_paths([main], LintOptions()).findings if f.code == "X001"]
-    assert "package 'foo_description' not found for $(find foo_description) (did you mean 'foo_description2'?)" in (
-        f.message
-    )
+    assert (
+        "package 'foo_description' not found for $(find foo_description) "
+        f"(did you mean 'foo_description2', in {tmp_path / 'ws' / 'foo_description2'}?)"
+    ) in f.message
     assert f.hint is not None and f.hint.startswith("write $(find foo_description2) if that is the package meant")
     main.write_text(MAIN.replace('filename="macros.xacro"', 'filename="$(find gripper_support)/macros.xacro"'))
     (g,) = [f for f in lint_paths([main], LintOptions()).findings if f.code == "X001"]
     assert "did you mean" not in g.message and g.hint is not None and g.hint.startswith("pass --package-path")
+
+
+def test_a_missing_package_is_suggested_from_its_own_repository_first(tmp_path: Path) -> None:
+    """Issue 27 item 7: two repositories side by side (no .git: a corpus, a download folder); the
+    close name in the file's own repository wins over a closer one in the unrelated repository."""
+    for repo, name in (("sawyer_robot", "sawyer_tools_description"), ("khi_robot", "intera_tool_description")):
+        (tmp_path / "src" / repo / name).mkdir(parents=True)
+        (tmp_path / "src" / repo / name / "package.xml").write_text(f"<package><name>{name}</name></package>")
+    own = tmp_path / "src" / "sawyer_robot" / "sawyer_description"
+    own.mkdir()
+    (own / "package.xml").write_text("<package><name>sawyer_description</name></package>")
+    main = own / "robot.urdf.xacro"
+    main.write_text(MAIN.replace('filename="macros.xacro"', 'filename="$(find intera_tools_description)/m.xacro"'))
+    (f,) = [f for f in lint_paths([main], LintOptions()).findings if f.code == "X001"]
+    where = tmp_path / "src" / "sawyer_robot" / "sawyer_tools_description"
+    assert f"(did you mean 'sawyer_tools_description', in {where}?)" in f.message
 
 
 def test_package_uri_in_include_fails_as_in_xacro_and_says_why(tmp_path: Path) -> None:

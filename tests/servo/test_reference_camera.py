@@ -17,8 +17,8 @@ from armtool.servo.lut.measure import Driver, Motion, align_reference, measure, 
 from armtool.servo.reference import CameraReference, open_reference
 from armtool.servo.sim import SimBus
 
-render = pytest.importorskip("armtool.calib.render")
-camera_mod = pytest.importorskip("armtool.calib.camera")
+render = pytest.importorskip("armtool.calib.simulation.render")
+camera_mod = pytest.importorskip("armtool.calib.model.camera")
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="the simulator needs a pty")
 
 CAM = camera_mod.CameraModel(np.array([[500.0, 0, 160], [0, 500.0, 120], [0, 0, 1]]), np.zeros(0), 320, 240)

@@ -122,6 +122,10 @@ def test_ur5_wrist_flip_is_caught_by_both_rules_and_avoided_by_analytic() -> Non
     lm = cart.compute_cartesian(chain, make_solver("lm", chain), qa, [seg], opts)
     assert lm.reason == "jump" and lm.relative_jumps and lm.absolute_jumps
     assert lm.relative_jumps[0] == lm.absolute_jumps[0] and lm.fraction < 1
+    # the worst deviation is the achieved steps' (it was the cut-off flip's: 1581 mm / π rad)
+    assert lm.max_deviation_m == lm.midpoint_deviation_m.max() <= opts.precision_m
+    assert lm.max_deviation_rad == lm.midpoint_deviation_rad.max() <= opts.precision_rad
+    assert len(lm.midpoint_deviation_m) == len(lm.q) - 1
     analytic = cart.compute_cartesian(chain, make_solver("analytic", chain), qa, [seg], opts)
     assert analytic.fraction == 1.0 and not analytic.relative_jumps and not analytic.absolute_jumps
 

@@ -24,7 +24,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.camera import Array
+from armtool.calib.model.camera import Array
 
 MIN_CONTRAST = 8.0  # grey levels between the black and the white squares: below, the colours cannot be told
 MIN_AGREEMENT = 0.8  # share of squares whose colour must agree with the chosen order

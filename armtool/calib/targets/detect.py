@@ -14,19 +14,19 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armtool.calib.camera import Array, CameraModel
+from armtool.calib.model.camera import Array, CameraModel
 from armtool.calib.targets.spec import Target
 
 
 def detect_corners(gray: NDArray[Any], target: Target, camera: CameraModel) -> tuple[Array | None, str]:
     """(corners (P, 2) or None, why not) of `target` in an 8-bit image of the camera's size."""
     if target.board is None:
-        from armtool.calib.apriltag import detect_tag
+        from armtool.calib.targets.apriltag import detect_tag
 
         det = detect_tag(gray, target.family, target.tag_id, camera)
         return (np.asarray(det.corners_px, dtype=np.float64), "") if det.ok else (None, det.reason)
-    from armtool.calib.apriltag import _as_gray
-    from armtool.calib.boards import board_points, find_board
+    from armtool.calib.targets.apriltag import _as_gray
+    from armtool.calib.targets.boards import board_points, find_board
 
     view = find_board(_as_gray(gray), target.board)
     if view.reason:

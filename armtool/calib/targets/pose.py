@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from armtool.calib.camera import Array, CameraModel
+from armtool.calib.model.camera import Array, CameraModel
 
 # IPPE's two solutions are "similar" when the worse one reprojects within this factor of the
 # better one, or within this many px (both fit the corners to about their noise).

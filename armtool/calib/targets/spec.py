@@ -19,13 +19,13 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from armtool.calib.boards import BoardKind, BoardSpec, board_points, parse_board
-from armtool.calib.camera import Array
+from armtool.calib.model.camera import Array
+from armtool.calib.targets.boards import BoardKind, BoardSpec, board_points, board_size_m, parse_board
 from armtool.errors import ArmtoolError
 
 
 class DeclaresTarget(Protocol):
-    """What a dataset (armtool.calib.dataset.Dataset) says of its target."""
+    """What a dataset (armtool.calib.inputs.dataset.Dataset) says of its target."""
 
     family: str
     tag_id: int
@@ -106,7 +106,7 @@ class Target:
         """(P, 3) points in the target frame; an observation's corners are (P, 2) in this order."""
         if self.board is not None:
             return board_points(self.board)
-        from armtool.calib.apriltag import tag_object_points
+        from armtool.calib.targets.apriltag import tag_object_points
 
         return tag_object_points(self.size_m)
 
@@ -141,9 +141,20 @@ class Target:
         for a board, whose z points into it, a half turn about x moved to the pattern's centre."""
         if self.board is None:
             return np.eye(4)
-        from armtool.calib.render import board_size_m
-
         width, height = board_size_m(self.board)
         return np.array(
             [[1.0, 0.0, 0.0, width / 2], [0.0, -1.0, 0.0, height / 2], [0.0, 0.0, -1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
         )
+
+
+def named_target(target: str | None, tag_size: float | None, family: str = "tag36h11", tag_id: int = 0) -> Target:
+    """The target a command line names: the board of `--target`, or the AprilTag (whose --tag-size is then
+    required), as `import-bag` takes them."""
+    if target is not None:
+        return Target(board=fit_board(target, "--target"))
+    if tag_size is None:
+        raise ArmtoolError(
+            "--tag-size is required for an AprilTag target",
+            hint="measure the black square's edge on the print, in metres (e.g. --tag-size 0.08), or pass --target BOARD",
+        )
+    return Target(family, tag_id, tag_size)

@@ -57,7 +57,8 @@ COMMANDS = (  # name, function, help
     (
         "plot",
         check.plot_cmd,
-        "Draw positions, velocities and accelerations per joint with their limits (PNG); with --tip also the tool path.",
+        "Draw positions, velocities and accelerations per joint with their limits (PNG, SVG or PDF); "
+        "with --tip also the tool path.",
     ),
 )
 for name, function, text in COMMANDS:

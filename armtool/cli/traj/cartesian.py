@@ -40,8 +40,16 @@ def cartesian(
     srdf: Annotated[
         Path | None,
         typer.Option(
-            help="SRDF whose home/ready group state is the default start (default: one beside the URDF "
-            "for the same robot, in its package or a sibling *moveit_config* package)."
+            help="SRDF or .srdf.xacro: its home/ready group state is the default start, and it defines --group "
+            "(default: the --moveit-config package's, else one beside the URDF for the same robot, in its "
+            "package or a sibling *moveit_config* package)."
+        ),
+    ] = None,
+    group: Annotated[
+        str | None,
+        typer.Option(
+            help="MoveIt planning group whose chain to follow, built as MoveIt builds it (needs --srdf or "
+            "--moveit-config; with --moveit-config the default is the one group its kinematics.yaml configures)."
         ),
     ] = None,
     line: Annotated[
@@ -132,7 +140,9 @@ def cartesian(
     to: To = None,
     plot: Annotated[
         Path | None,
-        typer.Option(help="Also draw the tool path and each step's midpoint deviation from the path (PNG)."),
+        typer.Option(
+            help="Also draw the tool path and each step's midpoint deviation from the path (PNG, SVG or PDF)."
+        ),
     ] = None,
     moveit_config: MoveItConfig = None,
     xacro_arg: XacroArgs = None,
@@ -140,8 +150,27 @@ def cartesian(
     config: RobotConfig = None,
 ) -> None:
     start({"-o": output, "--plot": plot}, [urdf, waypoints, srdf])
-    given = robot(urdf, None, moveit_config, xacro_arg, package_path, config, urdf_option="the URDF argument")
+    if plot is not None:
+        from armtool.plotting import plot_format
+
+        plot_format(plot)  # before the work
+    given = robot(
+        urdf, None, moveit_config, xacro_arg, package_path, config, urdf_option="the URDF argument", srdf=srdf
+    )
     assert given is not None  # a robot is required
+    group_why = ""
+    if moveit_config is not None and group is None and base is None and tip is None:
+        from armtool.errors import ArmtoolError
+        from armtool.ik.group import planning_group
+
+        if given.srdf is None:
+            raise ArmtoolError(
+                "the --moveit-config package has no SRDF: its planning group's chain is unknown",
+                str(moveit_config),
+                "pass --srdf FILE (and --group NAME), or --base/--tip",
+            )
+        group = planning_group(given.kinematics, moveit_config)
+        group_why = "the one group of --moveit-config's kinematics.yaml"
     from rich.markup import escape
 
     from armtool.console import stderr
@@ -166,9 +195,12 @@ def cartesian(
         spec,
         steps,
         solver.value,
-        srdf or given.srdf,
+        given.srdf,
         dict(given.xacro_args),
         given.package_paths,
+        group=group,
+        group_why=group_why,
+        srdf_xacro_args=dict(given.srdf_xacro_args),
     )
     for text in plan.report_lines(done.result, done):
         stderr().print(escape(text))

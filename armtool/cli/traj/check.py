@@ -85,7 +85,7 @@ def check_cmd(
 
 def plot_cmd(
     path: TrajIn,
-    output: Annotated[Path, typer.Option("--output", "-o", help="PNG to write.")],
+    output: Annotated[Path, typer.Option("--output", "-o", help="Figure to write: PNG, SVG or PDF, by the extension.")],
     urdf: Urdf = None,
     joint_limits: JointLimitsYaml = None,
     acc: AccLimit = None,
@@ -98,6 +98,9 @@ def plot_cmd(
 ) -> None:
     start({"-o": output}, [path, urdf, joint_limits])
     from armtool.console import stderr
+    from armtool.plotting import plot_format
+
+    plot_format(output, "-o")  # before the work
     from armtool.traj.pipeline import read_input
     from armtool.traj.plot import write_plot
 

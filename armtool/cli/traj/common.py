@@ -97,7 +97,9 @@ class Robot:
     joint_limits: Path | None
     xacro_args: tuple[tuple[str, str], ...]
     package_paths: tuple[Path, ...]
-    srdf: Path | None = None  # the --moveit-config package's (cartesian's home/ready start state)
+    srdf: Path | None = None  # --srdf, else the --moveit-config package's (cartesian's group and start state)
+    srdf_xacro_args: tuple[tuple[str, str], ...] = ()  # for a .srdf.xacro
+    kinematics: Path | None = None  # the --moveit-config package's kinematics.yaml (cartesian's group)
 
 
 def robot(
@@ -110,27 +112,39 @@ def robot(
     *,
     urdf_option: str,
     required: bool = True,
+    srdf: Path | None = None,
 ) -> Robot | None:
-    """--urdf and --joint-limits, or what --moveit-config's package loads (its URDF, its
-    config/joint_limits.yaml); given options win, and the package's xacro arguments apply either
-    way (RobotOptions.moveit_package). None when no robot is given and none is `required`.
-    `urdf_option` is how the command takes a URDF, for hints ("--urdf URDF", "the URDF argument")."""
+    """--urdf and --joint-limits (and --srdf), or what --moveit-config's package loads (its URDF,
+    SRDF, config/joint_limits.yaml and kinematics.yaml); given options win, and the package's
+    xacro arguments apply either way (RobotOptions.moveit_package), to the SRDF too. None when no
+    robot is given and none is `required`. `urdf_option` is how the command takes a URDF, for
+    hints ("--urdf URDF", "the URDF argument")."""
     from armtool.cli.options import RobotOptions
 
     options = RobotOptions(xacro_arg, package_path, config)
     package_args: dict[str, str] = {}
-    package_srdf: Path | None = None
+    kinematics: Path | None = None
     if moveit_config is not None:
         pkg, urdf = options.moveit_package(moveit_config, urdf, urdf_option)
         package_args = pkg.urdf_xacro_args
         joint_limits = joint_limits or pkg.joint_limits
-        package_srdf = pkg.srdf
+        srdf = srdf or pkg.srdf
+        kinematics = pkg.kinematics
     if urdf is None:
         if required:
             raise ArmtoolError("no robot given", hint=f"pass {urdf_option} (or a xacro), or --moveit-config DIR")
         return None
     args = options.xacro_args(urdf, package_args)
-    return Robot(urdf, joint_limits, tuple(args.items()), tuple(options.package_paths), package_srdf)
+    srdf_args = options.xacro_args(srdf, package_args) if srdf is not None else {}
+    return Robot(
+        urdf,
+        joint_limits,
+        tuple(args.items()),
+        tuple(options.package_paths),
+        srdf,
+        tuple(srdf_args.items()),
+        kinematics,
+    )
 
 
 def sources(

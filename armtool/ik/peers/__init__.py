@@ -39,6 +39,8 @@ PEERS: dict[str, tuple[str, str, str]] = {
     ),
     "ikpy": ("armtool.ik.peers.ikpy_peer:IkPy", "ikpy", "pip install 'armtool[peers]' (or pip install ikpy)"),
     "pykdl": ("armtool.ik.peers.pykdl_peer:PyKdlNrJl", "PyKDL", "apt install python3-pykdl (ROS)"),
+    "eaik": ("armtool.ik.peers.eaik_peer:Eaik", "eaik", "pip install 'armtool[peers]' (or pip install eaik)"),
+    "ik-geo": ("armtool.ik.peers.ik_geo_peer:IkGeo", "ik_geo", "pip install 'armtool[peers]' (or pip install ik-geo)"),
 }
 
 
@@ -55,7 +57,8 @@ def check_peer_name(name: str) -> None:
 
 
 def make_peer(name: str, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> Solver | str:
-    """A ready peer solver, or the reason it cannot run here (with the install command)."""
+    """A ready peer solver, or the reason it cannot run here (with the install command). A peer that
+    cannot take this chain (a closed form's family, its joint count) raises ArmtoolError saying why."""
     check_peer_name(name)
     target, needs, install = PEERS[name]
     if importlib.util.find_spec(needs) is None:
@@ -101,6 +104,25 @@ def check_fk(name: str, chain: Chain, fk: Callable[[Array], Array]) -> None:
             f"peer '{name}' reads {chain.base} → {chain.tip} differently from armtool (FK differs by {worst:.3g})",
             hint="its answers could not be compared; please report this with the URDF",
         )
+
+
+def tool_transform(chain: Chain, fk: Callable[[Array], Array]) -> Array:
+    """The constant C with chain.fk(q) = fk(q)·C, for a peer whose tool frame is not the chain's tip
+    but moves with the last joint (EAIK, IK-Geo: the last joint's point, turned to the base's
+    orientation); measured at q = 0. check_fk then proves it on other configurations."""
+    zero = np.zeros(chain.n)
+    out: Array = np.linalg.inv(np.asarray(fk(zero), dtype=float)) @ chain.fk(zero)
+    return out
+
+
+def check_closed_form_chain(peer: str, chain: Chain, *, max_joints: int, beyond: str) -> None:
+    """Raise (the row's reason) unless the chain is all revolute with at most max_joints joints:
+    what the closed-form peers take. `beyond` says what the peer does with more joints."""
+    prismatic = [j.name for j in chain.joints if j.kind == "prismatic"]
+    if prismatic:
+        raise ArmtoolError(f"{peer} takes revolute joints only; {', '.join(prismatic)} is prismatic")
+    if chain.n > max_joints:
+        raise ArmtoolError(f"{peer} cannot take {chain.n} joints: {beyond}")
 
 
 @contextmanager

@@ -5,7 +5,7 @@ from collections.abc import Iterator
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.moveit_context import ControllersContext
 from armtool.lint.rule import Rule, Target
-from armtool.moveit.controllers import MOVEIT_TYPES
+from armtool.moveit.params import name_ref
 
 
 class GroupWithoutController(Rule):
@@ -50,9 +50,9 @@ class GroupWithoutController(Rule):
             listed = {s.text for s in moveit.listed}
             covers.append(
                 {
-                    j.text
+                    name_ref(j.text, ctx.known_args).bare
                     for name, c in moveit.controllers.items()
-                    if name in listed and (c.type is None or c.type.text in MOVEIT_TYPES)
+                    if name in listed and (c.type is None or c.type.text in moveit.known_types)
                     for j in (c.joints or ())
                 }
             )

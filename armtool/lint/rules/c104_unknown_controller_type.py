@@ -5,7 +5,7 @@ from collections.abc import Iterator
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.moveit_context import ControllersContext
 from armtool.lint.rule import Rule, Target
-from armtool.moveit.controllers import MOVEIT_TYPES, ROS1_TYPES, ROS2_TYPES
+from armtool.moveit.controllers import ROS1_TYPES, ROS2_TYPES
 from armtool.suggest import nearest_within, optimal_string_alignment
 
 # What a ROS 1 controller type is called in ros2_controllers.
@@ -28,8 +28,10 @@ TYPO = 2
 class UnknownControllerType(Rule):
     """
     What it does:
-    Reports a controller type that is one or two letters off a known one: in MoveIt's list (only
-    FollowJointTrajectory and GripperCommand exist there), and in ros2_controllers.yaml /
+    Reports a controller type that is one or two letters off a known one: in MoveIt's list
+    (FollowJointTrajectory and GripperCommand; in MoveIt 2's `controller_names` layout also
+    ParallelGripperCommand, which moveit_simple_controller_manager builds since moveit2#3246, 2025,
+    on Rolling and Jazzy; MoveIt 1's `controller_list` has no such handle), and in ros2_controllers.yaml /
     ros_controllers.yaml (the controllers of ros2_controllers / ros_controllers; a ROS 1 type in
     a ROS 2 parameter file is named with its ROS 2 counterpart). A flat file of controllers is
     ROS 1's format (ROS 2's controller manager reads `controller_manager: ros__parameters:` only)
@@ -56,19 +58,21 @@ class UnknownControllerType(Rule):
 
     def check(self, ctx: ControllersContext) -> Iterator[Finding]:
         if ctx.moveit is not None:
+            known_types = ctx.moveit.known_types
             for controller in ctx.moveit.controllers.values():
                 ctype = controller.type
-                if ctype is None or ctype.text in MOVEIT_TYPES or "$(" in ctype.text:
+                if ctype is None or ctype.text in known_types or "$(" in ctype.text:
                     continue  # a launch substitution (roslaunch subst_value) is filled in at launch
                 import difflib  # on use, as armtool.suggest: most files have no unknown type
 
-                match = difflib.get_close_matches(ctype.text, MOVEIT_TYPES, n=1, cutoff=0.5)
+                match = difflib.get_close_matches(ctype.text, known_types, n=1, cutoff=0.5)
                 yield ctx.finding_at_scalar(
                     self,
                     ctype,
                     f"controller '{controller.name}': type '{ctype.text}' is not one MoveIt knows; it skips the controller"
                     + (f" (did you mean '{match[0]}'?)" if match else ""),
-                    hint="FollowJointTrajectory (an arm) or GripperCommand (a gripper)",
+                    hint="FollowJointTrajectory (an arm) or GripperCommand (a gripper)"
+                    + (", or ParallelGripperCommand (MoveIt 2 on Jazzy and later)" if ctx.moveit.ros2 else ""),
                 )
         if ctx.robot is None:
             return

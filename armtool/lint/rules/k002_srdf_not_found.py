@@ -11,14 +11,15 @@ class SrdfNotFound(Rule):
     What it does:
     Reports a MoveIt kinematics.yaml whose SRDF was not found (`--srdf`, the `srdf` table of
     the configuration, the SRDF named by `.setup_assistant`, the only SRDF or SRDF xacro beside
-    it or in the package's `srdf/`, or the one of several that defines all its groups), so its
-    group names could not be checked; it says why.
+    it or in the package's `srdf/`; of several, one that defines all its groups, which each
+    check then holds against, or any when they all define the same groups: an SRDF and its
+    exported copy), so its group names could not be checked; it says why.
 
     Why is this bad?
     A group name that the SRDF lacks means MoveIt never uses these solver settings.
 
     Example:
-    armtool lint config/kinematics.yaml   (two .srdf files in config/)
+    armtool lint config/kinematics.yaml   (two .srdf files in config/, neither with its groups)
 
     Use instead:
     armtool lint --srdf config/arm.srdf config/kinematics.yaml

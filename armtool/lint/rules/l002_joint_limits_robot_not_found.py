@@ -13,8 +13,10 @@ class JointLimitsRobotNotFound(Rule):
     Says that the joint_limits.yaml of a MoveIt config package (it has a .setup_assistant or an
     SRDF) was checked on its own: no SRDF was found for it (as
     for kinematics.yaml: `--srdf`, the configuration's `srdf` table, `.setup_assistant`, the
-    SRDF beside it), or that SRDF's URDF was not found. Its joint names, the limits against the
-    URDF's and the acceleration limits the planning groups need were not checked.
+    SRDF beside it) and no URDF either (`--urdf`, the configuration's `urdf` table, the one robot
+    of its package's urdf/ or robots/ with all its joints), or that SRDF's URDF was not found. Its
+    joint names, the limits against the URDF's and the acceleration limits the planning groups
+    need were not checked.
 
     Why is this bad?
     Nothing is wrong with the file itself; the checks that need the robot did not run.
@@ -31,7 +33,7 @@ class JointLimitsRobotNotFound(Rule):
     def check(self, ctx: JointLimitsContext) -> Iterator[Finding]:
         if ctx.urdf is not None or not ctx.in_moveit_package:
             return
-        what = "no SRDF found for it" if ctx.srdf is None else f"the URDF of {ctx.srdf.path.name} was not found"
+        what = "no SRDF or URDF found for it" if ctx.srdf is None else f"the URDF of {ctx.srdf.path.name} was not found"
         line, column = ctx.doc.joint_limits_at or (1, 1)
         yield ctx.finding_at(
             self,

@@ -5,7 +5,7 @@ from collections.abc import Iterator
 
 from armtool.lint.finding import Finding, Severity
 from armtool.lint.moveit_context import JointLimitsContext
-from armtool.lint.numbers import parse_floats
+from armtool.lint.numbers import half_unit_written, parse_floats
 from armtool.lint.rule import Rule, Target
 
 
@@ -14,6 +14,11 @@ class LimitAboveUrdf(Rule):
     What it does:
     Reports a joint_limits.yaml limit wider than the URDF's: `max_velocity` above the URDF's
     `<limit velocity>`, `max_position` above its `upper`, `min_position` below its `lower`.
+    A value equal to the URDF's at the precision it is written in is not beyond it: the
+    tolerance is half a unit in the last digit written (`max_velocity: 5.23599` against
+    `velocity="${radians(300)}"` = 5.2359878: 5.23599 ± 0.000005 holds it), not a percentage, so a
+    real excess (20 % above, copied from a sibling robot, or a factor of 3) is still reported. A
+    whole number (`3`) shows no precision and gets none.
 
     Why is this bad?
     joint_limits.yaml overrides the URDF in MoveIt (RobotModelLoader replaces the bounds), so
@@ -51,14 +56,17 @@ class LimitAboveUrdf(Rule):
                 for key, mine, theirs, sign, attr in checks:
                     if mine is None or theirs is None or (key == "max_velocity" and theirs <= 0):
                         continue
-                    if sign * (mine - theirs) > 1e-9 * max(1.0, abs(theirs)):
-                        value = entry.values[key]
+                    value = entry.values[key]
+                    written = half_unit_written(value.text)
+                    if value.tag == "!degrees":
+                        written = math.radians(written)
+                    if sign * (mine - theirs) > max(1e-9 * max(1.0, abs(theirs)), written):
                         yield ctx.finding_at_scalar(
                             self,
                             value,
                             f"joint '{entry.name.written}': {key} {value.text} is beyond the URDF's {attr}="
                             f'"{joint.limits.get(attr)}"{ctx.urdf_note()}',
-                            hint=f"at most the URDF's {theirs:g} (the hardware's limit), or fix the URDF",
+                            hint=f"{'at most' if sign > 0 else 'at least'} the URDF's {theirs:g} (the hardware's limit), or fix the URDF",
                         )
 
 

@@ -9,14 +9,16 @@ from armtool.lint.rule import Rule, Target
 class SrdfForOtherVariant(Rule):
     """
     What it does:
-    Reports, once, an SRDF that was written for another argument set of its URDF's xacro (or for
-    another robot). When the SRDF names joints or links the expansion lacks, armtool tries the
-    argument values written down for that xacro (the configuration's argument sets, the
-    `.setup_assistant` of MoveIt config packages beside this one that name the same URDF, the
-    values its sources compare an argument with). When one gives an expansion with every name, the
-    finding names it (`--xacro-arg dof:=6`) and the SRDF is checked against that expansion, instead
-    of one S101/S102/S108 per name of the other variant. When none does and most names are unknown,
-    the SRDF is for another robot: names and limits are not checked. Reported by the loader.
+    Reports, once, an SRDF written for another argument set of its URDF's xacro (or for another
+    robot). When the SRDF names joints or links the expansion lacks, armtool tries the argument
+    values written down for that xacro: the configuration's sets, the `.setup_assistant` of
+    sibling MoveIt configs naming the same URDF, the values its sources compare an argument with.
+    One that gives every name is named (`--xacro-arg dof:=6`) and the SRDF is checked against it,
+    instead of one S101/S102/S108 per name. An SRDF in one of several variant folders (config/6dof/
+    beside config/7dof/) is paired with the value its folder's name holds, without a finding; when
+    no value explains its names it could not be checked (this finding, with the fix). When most
+    names are unknown, it is for another robot. Then names and limits are not checked: names
+    missing from a variant it was not written for are never reported. Reported by the loader.
 
     Why is this bad?
     MoveIt loaded with this pair drops every group, state and collision pair that names what the

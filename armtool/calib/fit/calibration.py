@@ -1,0 +1,720 @@
+"""The calibration itself: start with hand-eye only, choose what to fit, fit it, reject outliers.
+
+`calibrate` runs these steps, one function each, for every kind of measurement (tag or board
+corners in pixels, measured poses, measured points; see `problems`):
+1. Samples without a usable measurement are rejected, the hold-out set is put aside (`_partition`).
+2. A closed form starts the two measurement frames (`Problem.start_frames`).
+3. Hand-eye-only fit (frames free, nominal robot), re-weighted until each block's noise settles
+   (`_settle`, `noise`): the "before" that hand-eye tools give.
+4. Identifiability of the requested parameters on the fit poses (`identify.analyse`); a fit that
+   cannot separate the frames, or lacks data, is refused (`_check_identified`, `_check_enough_data`).
+5. Which parameter set to fit: the ladder's candidates are scored by k-fold cross-validation and
+   the smallest within one standard error of the best held-out score is chosen (`crossval`);
+   nested, the figure reported is that of the whole procedure on poses it never saw.
+6. Robust fit (soft-L1) of the chosen set's identifiable parameters; samples whose residual
+   stands out are named and removed (`fit_set`); then plain Levenberg–Marquardt on the inliers,
+   the noise re-estimated, and the parameters' σ (`_sigma`).
+7. Which zero offsets are physical (`zero_offsets.analyse_offsets`), the held-out samples scored
+   by the same outlier rule (`_score_holdout`) and what the numbers cannot say (`_fit_warnings`);
+   whether the calibration beats the nominal robot at all is `verdict.judge`'s, from the result.
+The Jacobian: the residuals' central differences along the six twists of the measured pose,
+times each parameter's twist (`Problem.jacobian`, `CalibModel.twists`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections import Counter
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import least_squares
+
+from armtool.calib.choices import SampleRole
+from armtool.calib.fit import noise
+from armtool.calib.fit.crossval import (
+    HAND_EYE,
+    Candidate,
+    CandidateFit,
+    CrossValidation,
+    _rms,
+    cross_validate,
+    ladder,
+    pose_groups,
+)
+from armtool.calib.fit.holdout import holdout_ids
+from armtool.calib.fit.identify import Identifiability, analyse
+from armtool.calib.fit.measurements import Measurements
+from armtool.calib.fit.problems import CORNER, Block, Problem
+from armtool.calib.fit.zero_offsets import ZeroOffset, analyse_offsets
+from armtool.calib.inputs.dataset import Sample
+from armtool.calib.model.calib_model import CalibModel
+from armtool.calib.model.params import Family, ParamKind, parse_families
+from armtool.calib.model.se3 import Array
+from armtool.errors import ArmtoolError
+
+log = logging.getLogger(__name__)
+
+ROBUST_ROUNDS = 3  # outlier rounds: fit, name the samples that stand out, fit again without them
+
+
+@dataclass(frozen=True)
+class FitOptions:
+    families: tuple[Family, ...] = (Family.ORIGINS, Family.OFFSETS)
+    families_explicit: bool = False  # the user named them with --params: refuse to silently drop all
+    holdout: float = 0.0
+    seed: int = 0
+    # Pixel measurements keep the thresholds measured for tag corners (0.07 px typical noise):
+    f_scale_px: float = 0.5  # soft-L1 knee: residuals beyond it count less than quadratically
+    # A sample is an outlier when its residual RMS exceeds max(floor, median + spread × 1.4826·MAD)
+    # of the inliers: a robust z-score, so a 5° reading error that the robust fit half absorbed
+    # (0.6-2 px against 0.1 px for good samples) still stands out, while noisy images raise the bar.
+    outlier_floor_px: float = 0.5
+    outlier_spread: float = 8.0
+    # Pose and point measurements have no pixel scale: their knee and floor are in estimated σ's.
+    knee_sigma: float = 3.0
+    outlier_floor_sigma: float = 3.0
+    qr_tolerance: float = 1e-6
+    min_motion_rad: float = math.radians(20)
+    folds: int = 5  # k-fold cross-validation of the parameter sets; below 2: none
+    select: bool = True  # fit the set that cross-validation chooses (False: the requested families)
+    nested: bool = True  # report the held-out residual of the whole procedure, selection included
+
+    @property
+    def hand_eye_only(self) -> bool:
+        """`--params none`: only the measurement frames, the robot held nominal (asked for, not a verdict)."""
+        return not self.families
+
+    @classmethod
+    def requested(
+        cls, params: str | None, *, holdout: float, seed: int, folds: int, select: bool, nested: bool
+    ) -> FitOptions:
+        """The options `calibrate fit` was given: `--params` text (None: the default families) and the others."""
+        return cls(
+            families=cls.families if params is None else parse_families(params),
+            families_explicit=params is not None,
+            holdout=holdout,
+            seed=seed,
+            folds=folds,
+            select=select,
+            nested=nested,
+        )
+
+
+@dataclass
+class SampleResidual:
+    sample_id: str
+    role: SampleRole
+    before: dict[str, float]  # per block (corner px, position mm, rotation deg) with the hand-eye-only model
+    after: dict[str, float]  # … with the calibrated model
+    note: str = ""
+    cross_validated: dict[str, float] = field(default_factory=dict)  # … when its fold was held out (nested)
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Hand-eye only against calibrated on a set of samples: per block, (before, after)."""
+
+    samples: int
+    rms: dict[str, tuple[float, float]]
+    maximum: dict[str, tuple[float, float]]
+
+
+@dataclass
+class CalibrationResult:
+    model: CalibModel
+    x: Array  # full parameter vector (corrections; frames relative to model.L0/R0)
+    x_handeye: Array  # hand-eye-only solution
+    free: list[int]
+    sigma: Array  # σ per free parameter (same order as `free`)
+    identifiability: Identifiability
+    residuals: list[SampleResidual]
+    outliers: dict[str, str]  # sample id -> reason
+    rejected: dict[str, str]  # sample id -> why it has no usable measurement
+    blocks: tuple[Block, ...] = (CORNER,)
+    noise: dict[str, float] = field(default_factory=dict)  # estimated σ per block, in the block's unit
+    fit: Comparison | None = None
+    holdout: Comparison | None = None
+    holdout_inliers: Comparison | None = None  # without the held-out outliers
+    warnings: list[str] = field(default_factory=list)
+    iterations: int = 0
+    zero_offsets: list[ZeroOffset] = field(default_factory=list)  # which offsets are physical encoder corrections
+    candidate: Candidate = HAND_EYE  # the parameter set fitted
+    candidates: list[Candidate] = field(default_factory=list)  # the ladder it was chosen from
+    crossval: CrossValidation | None = None
+    motion_deg: dict[str, float] = field(default_factory=dict)  # each joint's range over the fit poses
+    coordinates_per_sample: float = 8.0  # measured coordinates per fit sample (8 for a tag's corners, 6 for a pose)
+    fit_samples: int = 0  # samples the fit (and its cross-validation) used, outliers included
+
+    def fitted_frames(self, handeye: bool = False) -> tuple[Array, Array]:
+        return self.model.frames(self.x_handeye if handeye else self.x)
+
+    def block(self, name: str) -> Block:
+        return next(b for b in self.blocks if b.name == name)
+
+
+# -- one fit ---------------------------------------------------------------------------------
+
+
+def _knee(problem: Problem, options: FitOptions) -> float:
+    """The soft-L1 knee in noise-weighted units: 0.5 px for pixels (whatever their noise), 3 σ otherwise."""
+    if problem.blocks == (CORNER,):
+        return options.f_scale_px / float(problem.sigma[0])
+    return options.knee_sigma
+
+
+def _floor(problem: Problem, options: FitOptions) -> float:
+    if problem.blocks == (CORNER,):
+        return options.outlier_floor_px / float(problem.sigma[0])
+    return options.outlier_floor_sigma
+
+
+def solve(
+    problem: Problem, x0: Array, free: list[int], robust: bool, knee: float = 1.0, max_nfev: int | None = None
+) -> tuple[Array, int]:
+    """`free` fitted from x0 (the rest held): soft-L1 with the knee (noise-weighted units) when
+    robust, else Levenberg–Marquardt; (x, function evaluations)."""
+
+    def fun(z: Array) -> Array:
+        x = x0.copy()
+        x[free] = z
+        return problem.residuals(x)
+
+    def jac(z: Array) -> Array:
+        x = x0.copy()
+        x[free] = z
+        return problem.jacobian(x, free)
+
+    # Every parameter is a correction of about a millimetre, a milliradian or 0.1 % of gain.
+    scale = np.full(len(free), 1e-3)
+    m = problem.coordinates
+    if robust or m < len(free):
+        res = least_squares(
+            fun,
+            x0[free],
+            jac=jac,
+            method="trf",
+            loss="soft_l1" if robust else "linear",
+            f_scale=knee,
+            x_scale=scale,
+            max_nfev=max_nfev or 200,
+        )
+    else:
+        res = least_squares(fun, x0[free], jac=jac, method="lm", x_scale=scale, max_nfev=max_nfev or 400)
+    x = x0.copy()
+    x[free] = res.x
+    return x, int(res.nfev)
+
+
+def _settle(
+    problem: Problem, x: Array, free: list[int], robust: bool, options: FitOptions, rows: Sequence[int] | None = None
+) -> tuple[Problem, Array, int]:
+    """Fit, re-estimate each block's noise from the residuals of `rows`, fit again, until the
+    noise settles (one extra fit for a single block, whose weight does not move the solution)."""
+    nfev = 0
+    # One block's weight scales the whole cost: it moves the solution only through a knee in σ's.
+    scale_free = len(problem.blocks) == 1 and (not robust or problem.blocks == (CORNER,))
+    for _round in range(noise.ROUNDS):
+        sub = problem if rows is None else problem.subset(rows)
+        x, n = solve(sub, x, free, robust, _knee(sub, options))
+        nfev += n
+        sigma = noise.estimate(problem, x, len(free), rows)
+        done = scale_free or noise.settled(problem.sigma, sigma)
+        problem = problem.with_sigma(sigma)
+        if done:
+            break
+    return problem, x, nfev
+
+
+@dataclass(frozen=True)
+class Fitted:
+    """A parameter set fitted with outlier rejection: the problem carries the settled noise."""
+
+    problem: Problem
+    x: Array
+    free: list[int]
+    ident: Identifiability
+    inliers: list[int]
+    outliers: list[int]  # rows named as outliers, in the order found
+    limit: (
+        Array  # per block, the outlier limit of the last round (noise-weighted RMS; also applied to held-out samples)
+    )
+    nfev: int
+
+
+def fit_set(
+    problem: Problem,
+    x0: Array,
+    candidates: list[int],
+    options: FitOptions,
+    identify_at: Array | None = None,
+    ident: Identifiability | None = None,
+) -> Fitted:
+    """Fit the identifiable ones of `candidates` from x0: soft-L1 rounds that name and drop the
+    samples whose residual stands out (a wrong joint reading or a mislabeled image must not bend
+    the robot), then plain Levenberg–Marquardt on the inliers with the noise re-estimated.
+
+    Identifiability is judged at `identify_at` (default x0), which should be the nominal robot:
+    away from it, exact redundancies (parallel axes) become near ones that pass the test and make
+    the fit crawl along a flat valley (a start from a fitted smaller set gave a condition number of
+    2.6e5 against 192, and 400 Levenberg–Marquardt steps against 3). `ident`: that analysis,
+    when the caller has already made it (at the same point, of the same candidates)."""
+    if ident is None:
+        at = x0 if identify_at is None else identify_at
+        ident = analyse(problem.model, problem.jacobian(at, candidates), candidates, options.qr_tolerance)
+    free = ident.kept
+    inliers = list(range(problem.samples))
+    outliers: list[int] = []
+    x, nfev = x0.copy(), 0
+    limit = np.full(len(problem.blocks), math.inf)
+    for _round in range(ROBUST_ROUNDS):
+        sub = problem.subset(inliers)
+        x, n = solve(sub, x, free, robust=True, knee=_knee(sub, options))
+        nfev += n
+        problem = problem.with_sigma(noise.estimate(problem, x, len(free), inliers))
+        z = _studentized_block_rms(problem, x, free, inliers)
+        median = np.median(z[inliers], axis=0)
+        mad = np.median(np.abs(z[inliers] - median), axis=0)
+        limit = np.maximum(_floor(problem, options), median + options.outlier_spread * 1.4826 * mad)
+        new = [k for k in inliers if (z[k] > limit).any()]
+        if not new:
+            break
+        outliers += new
+        inliers = [k for k in inliers if k not in new]
+        if problem.subset(inliers).coordinates < 2 * len(free):
+            raise ArmtoolError(
+                f"{len(outliers)} of {problem.samples} samples disagree with the model",
+                hint="check the joint readings and the measurements of each sample",
+            )
+    problem, x, n = _settle(problem, x, free, robust=False, options=options, rows=inliers)
+    return Fitted(problem, x, free, ident, inliers, outliers, limit, nfev + n)
+
+
+def _studentized_block_rms(problem: Problem, x: Array, free: list[int], inliers: list[int]) -> Array:
+    """(N, B) each sample's noise-weighted RMS per block, studentized: (I − H_gg)^(−1/2) r_g for
+    each pose group g of the inliers, H the hat matrix J (JᵀJ)⁻¹ Jᵀ. Why: a pose far from the others
+    (an extreme joint angle, a steep tilt, a pose measured twice) pulls a fit of tens of parameters
+    towards itself and hides its own error; its residual's spread shrinks by (I − H_gg), and
+    undoing that puts every sample on the same scale. Samples left out of the fit are judged by
+    their plain residual, as held-out ones are. Per block, so that a bad position is not hidden by
+    a good rotation."""
+    k = len(problem.column_blocks)
+    r = problem.raw(x) * problem.weights()
+    sub = problem.subset(inliers)
+    J = sub.jacobian(x, free).reshape(len(inliers), k, len(free))
+    seen = sub.seen
+    flat = J.reshape(-1, len(free))[seen.ravel()]
+    A = np.linalg.pinv(flat.T @ flat)
+    scaled = r.copy()
+    for group in pose_groups(problem.Q[inliers]):
+        rows = [inliers[g] for g in group]
+        Jg = J[group].reshape(-1, len(free))
+        mask = seen[group].ravel()
+        H = Jg[mask] @ A @ Jg[mask].T
+        values, vectors = np.linalg.eigh(np.eye(int(mask.sum())) - (H + H.T) / 2)
+        # a group that alone determines a parameter (1 − h ≈ 0) says nothing about its own error
+        inverse_root = vectors @ np.diag(1.0 / np.sqrt(np.maximum(values, 1e-6))) @ vectors.T
+        d = np.zeros(len(rows) * k)
+        d[mask] = inverse_root @ r[rows].ravel()[mask]
+        scaled[rows] = d.reshape(len(rows), k)
+    return problem.per_block(scaled)
+
+
+def _started(problem: Problem, hints: dict[str, Array]) -> Problem:
+    return problem.with_model(problem.model.with_frames(*problem.start_frames(hints)))
+
+
+def fit_ladder(
+    problem: Problem, candidates: list[Candidate], options: FitOptions, hints: dict[str, Array]
+) -> list[CandidateFit]:
+    """Every candidate fitted on `problem`'s samples alone (frames started from them too), each
+    from the previous one's solution: what cross-validation runs on each training fold."""
+    try:
+        problem = _started(problem, hints)
+        frames = problem.frame_parameters()
+        problem, x, _n = _settle(problem, np.zeros(problem.model.size), frames, robust=True, options=options)
+    except ArmtoolError as exc:
+        return [
+            CandidateFit(
+                problem.model,
+                np.zeros(problem.model.size),
+                problem.sigma,
+                np.full(len(problem.blocks), math.inf),
+                0,
+                exc.what,
+            )
+            for _ in candidates
+        ]
+    out = []
+    nominal = x
+    for candidate in candidates:
+        try:
+            fitted = fit_set(problem, x, candidate.indices(problem.model, frames), options, identify_at=nominal)
+        except (ArmtoolError, np.linalg.LinAlgError, ValueError) as exc:
+            nothing = np.full(len(problem.blocks), math.inf)
+            out.append(CandidateFit(problem.model, x, problem.sigma, nothing, 0, str(getattr(exc, "what", exc))))
+            continue
+        x = fitted.x
+        out.append(CandidateFit(problem.model, fitted.x, fitted.problem.sigma, fitted.limit, len(fitted.free)))
+    return out
+
+
+# -- the calibration ---------------------------------------------------------------------------
+
+
+def calibrate(
+    model: CalibModel,
+    measurements: Measurements,
+    samples: list[Sample],
+    options: FitOptions = FitOptions(),
+    hints: dict[str, Array] | None = None,
+    validation_ids: set[str] | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> CalibrationResult:
+    """Fit the model to the samples' measurements; `validation_ids` (a validation dataset's
+    samples) and a random `options.holdout` share of the others are kept out of the fit and only
+    scored. Each step is one function."""
+    with one_blas_thread():
+        return _calibrate(model, measurements, samples, options, hints, validation_ids, progress)
+
+
+@contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """BLAS on one thread: the fit's matrices are small (hundreds by tens), and OpenBLAS threads
+    made it 3 times slower in CPU time on a shared 2-core machine (FR3 data, 48 s against 16 s)."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
+def _calibrate(
+    model: CalibModel,
+    measurements: Measurements,
+    samples: list[Sample],
+    options: FitOptions,
+    hints: dict[str, Array] | None,
+    validation_ids: set[str] | None,
+    progress: Callable[[str], None] | None,
+) -> CalibrationResult:
+    say = progress or (lambda _msg: None)
+    hints = hints or {}
+    groups = _partition(samples, measurements, validation_ids, options)
+    problem = measurements.problem(model, groups.fit)
+    warnings = _motion_warnings(model, problem.Q, options)
+
+    say("initialising the measurement frames (closed form)")
+    problem = _started(problem, hints)
+    model = problem.model
+    frames = problem.frame_parameters()
+
+    say("hand-eye-only fit (nominal robot)")
+    problem, x_start, nfev = _settle(problem, np.zeros(model.size), frames, robust=True, options=options)
+
+    say("identifiability of the parameters")
+    candidates = ladder(options.families)
+    requested = candidates[-1].indices(model, frames)
+    ident = analyse(model, problem.jacobian(x_start, requested), requested, options.qr_tolerance)
+    _check_identified(model, ident, requested, options)
+    _check_enough_data(problem.coordinates, len(ident.kept), len(groups.fit))
+
+    chosen, crossval = candidates[-1], None
+    if options.folds >= 2 and len(candidates) > 1:
+        if len(groups.fit) >= 2 * options.folds:
+            crossval = cross_validate(
+                problem,
+                candidates,
+                lambda p: fit_ladder(p, candidates, options, hints),
+                options.folds,
+                options.seed,
+                lambda p: _knee(p, options),
+                nested=options.nested,
+                progress=say,
+            )
+            if options.select:
+                chosen = crossval.chosen
+        else:
+            warnings.append(
+                f"{len(groups.fit)} fit samples are too few for {options.folds}-fold cross-validation: "
+                "the requested parameters were fitted without checking that they generalise"
+            )
+
+    say(f"fitting {chosen.name} (robust)")
+    candidate_indices = chosen.indices(model, frames)
+    known = ident if candidate_indices == requested else None  # the analysis above, at x_start too
+    fitted = fit_set(problem, x_start, candidate_indices, options, ident=known)
+    problem, x, free = fitted.problem, fitted.x, fitted.free
+    nfev += fitted.nfev
+
+    say("hand-eye-only fit on the inliers")
+    final = problem.subset(fitted.inliers)
+    x_he, n = solve(final, x_start, frames, robust=False)
+    nfev += n
+    sigma = _sigma(final, x, free)
+
+    say("which zero offsets the data determines")
+    zero_offsets = (
+        analyse_offsets(
+            model,
+            final.jacobian(x, candidate_indices),
+            candidate_indices,
+            fitted.ident,
+            x,
+            dict(zip(free, (float(v) for v in sigma))),
+        )
+        if not chosen.is_nominal
+        else []
+    )
+    before, after = problem.per_sample(x_he), problem.per_sample(x)
+    typical = {b.name: float(np.median(after[b.name][fitted.inliers])) for b in problem.blocks}
+    outliers = {
+        groups.fit[k].id: _outlier_note(problem, _row(after, k), typical, groups.fit[k], "residual")
+        for k in fitted.outliers
+    }
+    cv_figures = crossval.nested.per_sample if crossval and crossval.nested else {}
+    residuals = [
+        SampleResidual(
+            s.id,
+            "outlier" if s.id in outliers else "fit",
+            _row(before, k),
+            _row(after, k),
+            outliers.get(s.id, ""),
+            _row(cv_figures, k) if cv_figures else {},
+        )
+        for k, s in enumerate(groups.fit)
+    ]
+    held = _score_holdout(measurements, model, problem, groups.hold, x_he, x, fitted, typical)
+    outliers.update(held.outliers)
+    residuals += held.residuals
+    warnings += held.warnings
+    residuals += [SampleResidual(sid, "rejected", {}, {}, why) for sid, why in groups.rejected.items()]
+    warnings += _fit_warnings(model, fitted.ident, free, len(fitted.inliers), options)
+    Q = problem.Q
+    return CalibrationResult(
+        model=model,
+        x=x,
+        x_handeye=x_he,
+        free=free,
+        sigma=sigma,
+        identifiability=fitted.ident,
+        residuals=residuals,
+        outliers=outliers,
+        rejected=groups.rejected,
+        blocks=problem.blocks,
+        noise=problem.noise(),
+        fit=_comparison(problem.blocks, before, after, fitted.inliers),
+        holdout=held.all,
+        holdout_inliers=held.inliers,
+        warnings=warnings,
+        iterations=nfev,
+        zero_offsets=zero_offsets,
+        candidate=chosen,
+        candidates=candidates,
+        crossval=crossval,
+        motion_deg={name: math.degrees(float(m)) for name, m in zip(model.chain.joint_names, np.ptp(Q, axis=0))},
+        coordinates_per_sample=problem.coordinates / max(problem.samples, 1),
+        fit_samples=problem.samples,
+    )
+
+
+def _row(figures: dict[str, Array], k: int) -> dict[str, float]:
+    return {name: float(values[k]) for name, values in figures.items()}
+
+
+def _describe(problem: Problem, figures: dict[str, float], digits: int = 1) -> str:
+    """'1.2 px RMS' or '7.41 mm, 0.91°'."""
+    parts = []
+    for block in problem.blocks:
+        value = figures[block.name]
+        if block.unit == "px":
+            parts.append(f"{value:.{digits}f} px RMS")
+        else:
+            parts.append(f"{value:.2f}°" if block.unit == "deg" else f"{value:.2f} {block.unit}")
+    return ", ".join(parts)
+
+
+def _outlier_note(
+    problem: Problem, mine: dict[str, float], typical: dict[str, float], sample: Sample, what: str
+) -> str:
+    """'residual 1.2 px RMS against a median of 0.08 px (row 7: wrong joint reading or mislabeled image?)'."""
+    cause = (
+        "wrong joint reading or mislabeled image?"
+        if problem.blocks == (CORNER,)
+        else "wrong joint reading or a bad measurement?"
+    )
+    median = _describe(problem, typical, digits=2).replace(" RMS", "")
+    return f"{what} {_describe(problem, mine)} against {'the fit' + chr(39) + 's' if what.startswith('held') else 'a'} median of {median} (row {sample.row}: {cause})"
+
+
+def _comparison(
+    blocks: tuple[Block, ...],
+    before: dict[str, Array],
+    after: dict[str, Array],
+    rows: Sequence[int] | NDArray[np.bool_],
+) -> Comparison:
+    idx = np.asarray(rows)
+    rms, maximum = {}, {}
+    for b in blocks:
+        pb, pa = before[b.name][idx], after[b.name][idx]
+        rms[b.name] = (_rms(pb), _rms(pa))
+        maximum[b.name] = (float(pb.max()) if pb.size else math.nan, float(pa.max()) if pa.size else math.nan)
+    count = int(idx.sum()) if idx.dtype == bool else len(idx)
+    return Comparison(count, rms, maximum)
+
+
+@dataclass(frozen=True)
+class _Groups:
+    fit: list[Sample]
+    hold: list[Sample]
+    rejected: dict[str, str]  # sample id -> why it has no usable measurement
+
+
+def _partition(
+    samples: list[Sample], measurements: Measurements, validation_ids: set[str] | None, options: FitOptions
+) -> _Groups:
+    """Samples without a usable measurement are rejected first, so the hold-out share is of the
+    usable ones; fewer than 3 left to fit is refused with the most common reason, which is almost
+    always the cause (a wrong tag family, id or size in dataset.yaml; ids that do not match)."""
+    rejected = {s.id: why for s in samples if (why := measurements.reason(s.id)) is not None}
+    usable = [s for s in samples if s.id not in rejected]
+    held = holdout_ids([s.id for s in usable], options.holdout, options.seed, validation_ids)
+    fit = [s for s in usable if s.id not in held]
+    hold = [s for s in usable if s.id in held]
+    if len(fit) < 3:
+        common = Counter(rejected.values()).most_common(1)
+        why = f"; most samples: {common[0][0]} ({common[0][1]} of {len(rejected)})" if common else ""
+        raise ArmtoolError(
+            f"only {len(fit)} sample(s) with a usable measurement to fit{why}",
+            hint="check the target (family/id/size_m, or board) or the observations in dataset.yaml with `armtool calibrate check`",
+        )
+    return _Groups(fit, hold, rejected)
+
+
+def _motion_warnings(model: CalibModel, Q: Array, options: FitOptions) -> list[str]:
+    """A joint that barely moved leaves its parameters to noise: say so before the numbers mislead."""
+    out = []
+    for name, m in zip(model.chain.joint_names, Q.max(axis=0) - Q.min(axis=0)):
+        if m < options.min_motion_rad:
+            out.append(
+                f"joint '{name}' moved only {math.degrees(m):.1f}° over the poses: its parameters are poorly determined; "
+                "move every joint over a wide range (60° or more)"
+            )
+    return out
+
+
+def _check_identified(model: CalibModel, ident: Identifiability, candidates: list[int], options: FitOptions) -> None:
+    """Refuse a fit whose measurement frames the poses cannot separate (every other number would
+    be meaningless), and a family the user asked for by name of which nothing is identifiable."""
+    lost_frames = [i for i in ident.dropped if model.params[i].kind is ParamKind.FRAME]
+    if lost_frames:
+        names = ", ".join(model.params[i].name for i in lost_frames)
+        raise ArmtoolError(
+            f"the poses cannot separate the measurement frames ({names})",
+            hint="take poses at different distances and tilts, turning every joint",
+        )
+    if not options.families_explicit:
+        return
+    for fam in options.families:
+        members = [i for i in candidates if model.params[i].kind is fam.kind]
+        if members and all(i in ident.dropped for i in members):
+            raise ArmtoolError(
+                f"the dataset cannot identify any parameter of --params {fam.value}",
+                where=ident.dropped[members[0]],
+                hint="move the joints over wider ranges, or leave this family out",
+            )
+
+
+def _check_enough_data(coordinates: int, free: int, fit_samples: int) -> None:
+    """At least two measured coordinates per identifiable parameter, or the fit is underdetermined in practice."""
+    if coordinates < 2 * free:
+        per_sample = max(1, coordinates // max(fit_samples, 1))
+        raise ArmtoolError(
+            f"{fit_samples} fit samples give {coordinates} measured coordinates for {free} identifiable parameters",
+            hint=f"collect at least {math.ceil(2 * free / per_sample)} poses (30-60 recommended), or lower --holdout",
+        )
+
+
+def _sigma(problem: Problem, x: Array, free: list[int]) -> Array:
+    """1-σ of each free parameter from the (noise-weighted) residual variance and the Gauss-Newton covariance."""
+    J = problem.jacobian(x, free)
+    r = problem.residuals(x)
+    s2 = float(r @ r) / max(1, problem.coordinates - len(free))
+    try:
+        sigma: Array = np.sqrt(np.maximum(np.diag(s2 * np.linalg.inv(J.T @ J)), 0.0))
+    except np.linalg.LinAlgError:
+        sigma = np.full(len(free), math.nan)
+    return sigma
+
+
+@dataclass(frozen=True)
+class _HeldOut:
+    residuals: list[SampleResidual]
+    outliers: dict[str, str]
+    warnings: list[str]
+    all: Comparison | None
+    inliers: Comparison | None
+
+
+def _score_holdout(
+    measurements: Measurements,
+    model: CalibModel,
+    fitted_problem: Problem,
+    hold: list[Sample],
+    x_he: Array,
+    x: Array,
+    fitted: Fitted,
+    typical: dict[str, float],
+) -> _HeldOut:
+    """Residuals of the held-out samples before and after. A bad held-out sample would make the
+    validation look worse than the calibration is: the same rule as for fit samples names it and
+    leaves it out of the held-out metrics."""
+    if not hold:
+        return _HeldOut([], {}, [], None, None)
+    hp = measurements.problem(model, hold).with_sigma(fitted_problem.sigma)
+    r = hp.raw(x)
+    before, after = hp.per_sample(x_he), hp.figures(r)
+    keep = ~hp.outliers(r, fitted.limit)  # as for fit samples: only a residual above the limit is an outlier
+    outliers: dict[str, str] = {}
+    residuals: list[SampleResidual] = []
+    for k, s in enumerate(hold):
+        if not keep[k]:
+            outliers[s.id] = _outlier_note(hp, _row(after, k), typical, s, "held-out residual")
+        role: SampleRole = "holdout" if keep[k] else "outlier"
+        residuals.append(SampleResidual(s.id, role, _row(before, k), _row(after, k), outliers.get(s.id, "")))
+    warnings = []
+    if (~keep).sum() * 3 > len(keep):
+        warnings.append(
+            f"{int((~keep).sum())} of {len(keep)} held-out samples disagree with the calibrated model: "
+            "the validation poses may come from another setup, or the fit does not generalise"
+        )
+    everything = np.ones(len(hold), dtype=bool)
+    return _HeldOut(
+        residuals,
+        outliers,
+        warnings,
+        _comparison(hp.blocks, before, after, everything),
+        _comparison(hp.blocks, before, after, keep) if keep.any() else None,
+    )
+
+
+def _fit_warnings(
+    model: CalibModel, ident: Identifiability, free: list[int], fitted: int, options: FitOptions
+) -> list[str]:
+    """What the numbers cannot say by themselves: a weak pose set, too few samples, gains outside the URDF."""
+    out = []
+    if ident.condition_number > 1e3:
+        out.append(
+            f"the identification Jacobian is poorly conditioned ({ident.condition_number:.0f}): "
+            "add poses with larger wrist rotations and target tilts"
+        )
+    if fitted < 20:
+        out.append(f"only {fitted} samples were fitted: 30-60 poses give a reliable calibration")
+    if Family.GAINS in options.families and any(model.params[i].kind is ParamKind.GAIN for i in free):
+        out.append(
+            "joint gains were fitted: a URDF cannot hold them, so apply `gain` from calibration.yaml in the driver"
+        )
+    return out
