@@ -61,7 +61,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.errors import ArmtoolError
-from armtool.ik.closed_form import kernel
+from armtool.ik.closed_form import kernel, lanes
 from armtool.ik.closed_form.families import Geometry, detect, dh_checkable, pack
 from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
@@ -80,6 +80,7 @@ class Analytic(Solver):
     summary = "closed form (subproblem decomposition) for UR-type and spherical-wrist 6R arms, the wrist at either end (detected from the URDF; near ones polished by Newton): every solution"
     options: ClassVar[dict[str, Any]] = {}
     position_only_capable: ClassVar[bool] = False
+    returns_all_solutions: ClassVar[bool] = True
 
     def __init__(
         self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
@@ -96,6 +97,14 @@ class Analytic(Solver):
         hi = [math.inf if c else float(v) for v, c in zip(chain.upper, chain.continuous)]
         self._limits = tuple(zip(lo, hi))
         self._rot_tol2 = 4.0 * math.sin(self.tolerance / 2.0) ** 2
+        # The batch runs on the vectorized lanes where they cover the family (exact models, checked in call).
+        family = int(self._model[kernel.FAMILY])
+        self._lanes = family if family in lanes.FAMILIES and not self._checked_here else None
+        self._lanes_ready = False
+        g = self.geometry
+        self.method = f"closed form: {g.title}" + (
+            f"; nearest closed-form model (off the chain by {g.model_error:.1e}) + Newton polish" if g.near else ""
+        )
         self._load_kernel()
 
     @property
@@ -117,6 +126,17 @@ class Analytic(Solver):
         log.debug(
             "analytic's kernel ready in %.2f s (compiled on disk before: %s)", time.perf_counter() - start, on_disk
         )
+
+    def _load_lanes(self) -> None:
+        """Load (on the very first run: compile) the family's batch lanes, on the first batch only:
+        single calls never need them."""
+        assert self._lanes is not None
+        start = time.perf_counter()
+        target = np.ascontiguousarray(self.chain.fk(self.chain.mid()))[None]
+        lanes.solve(self._lanes, self._model, target, self.chain.mid()[None], kernel.empty_out(1))
+        self._lanes_ready = True
+        took = time.perf_counter() - start
+        (log.info if took > 1.0 else log.debug)("analytic's batch lanes ready in %.2f s (%s)", took, self.geometry.name)
 
     # ---- one target -----------------------------------------------------------------------------
     def prepare(self, target: Array, seed: Array) -> tuple[Array, Array, Raw]:
@@ -168,13 +188,22 @@ class Analytic(Solver):
 
     # ---- many targets ---------------------------------------------------------------------------
     def prepare_batch(self, targets: Array, seeds: Array) -> tuple[Array, Array, Raw]:
+        """Contiguous arrays and the output buffer (and, the first time, the lanes' machine code loaded)."""
         targets, seeds = self._batch_arrays(targets, seeds)
+        if self._lanes is not None and not self._lanes_ready:
+            self._load_lanes()
         return np.ascontiguousarray(targets), np.ascontiguousarray(seeds), kernel.empty_out(len(targets))
 
     def call_batch(self, prepared: tuple[Array, Array, Raw]) -> Raw:
-        """Every target's solve in one compiled call (one thread); rows of `out` as `call`'s."""
+        """Every target's solve in one compiled call (one thread); rows of `out` as `call`'s. The lanes
+        (closed_form/lanes.py) where they cover the family, the general kernel otherwise and for a
+        target the lanes leave to it."""
         targets, seeds, out = prepared
-        if kernel.solve_many(self._model, targets, seeds, out) == kernel.BAD_INPUT:
+        if self._lanes is not None:
+            status = lanes.solve(self._lanes, self._model, targets, seeds, out)
+        else:
+            status = kernel.solve_many(self._model, targets, seeds, out)
+        if status == kernel.BAD_INPUT:
             bad = int(np.flatnonzero(out[:, 3] == kernel.BAD_INPUT)[0]) if len(out) else 0
             self._refuse(targets[bad], seeds[bad])
         if self._checked_here:
