@@ -532,4 +532,7 @@ def solve(family: int, m: Any, targets: Any, seeds: Any, out: Any) -> float:
     return float(_ur_loop(_constants(m), m, targets, seeds, out))
 
 
+solve_loop = _ur_loop  # the compiled entry (whose cache says whether the lanes were compiled before)
+
+
 FAMILIES = (K.UR,)

@@ -15,7 +15,7 @@ from armtool.ik.closed_form import kernel as K
 from armtool.ik.solver import Array, rotation_error_batch, verify
 from armtool.model.chain import Chain
 from tests.ik.robots import ARMS, erd
-from tests.ik.test_analytic import check_all_solutions, dh_chain, wrapped_distance
+from tests.ik.test_analytic import UR_LIKE, check_all_solutions, dh_chain, wrapped_distance
 
 # Standard DH rows (d, a, α) after joints 1..6: a spherical wrist is a4 = a5 = d5 = 0 (axes 4, 5, 6
 # meet); axes i and i+1 are parallel where α_i = 0, intersect where a_i = 0 (α_i ≠ 0).
@@ -26,14 +26,7 @@ FAMILY_TABLES = {
     K.WRIST_12_INTERSECTING: [(0.3, 0.0, 1.1), (0.1, 0.4, 0.7), (0.05, 0.1, 1.3), *WRIST],
     K.WRIST_23_INTERSECTING: [(0.3, 0.15, 1.1), (0.1, 0.0, 0.7), (0.05, 0.1, 1.3), *WRIST],
     K.WRIST_GENERAL: [(0.3, 0.1, 1.2), (0.1, 0.4, 0.3), (0.0, 0.3, 1.4), *WRIST],
-    K.UR: [
-        (0.10, 0.04, 1.4),
-        (0.05, 0.40, 0.0),
-        (-0.03, 0.35, 0.0),
-        (0.11, 0.03, 1.2),
-        (0.09, 0.0, -1.75),
-        (0.08, 0.0, 0.0),
-    ],
+    K.UR: UR_LIKE,
 }
 # The wrist at the base end: axes 1, 2, 3 meet (a1 = a2 = d2 = 0); the rest as a family read from the tip.
 REVERSED_TABLES = {
