@@ -264,6 +264,75 @@ class Chain:
         # Whether the tip offset moves the tip frame: an identity offset costs fk_jacobian_soa two products.
         self._tip_moves = not np.array_equal(tip_offset, np.eye(4))
         self.free_orientation = 0  # trailing virtual joints that make the tip's orientation free (position-only IK)
+        # Joints held at a value (Chain.locked): (index in the chain they were locked in, name, value).
+        self.locks: tuple[tuple[int, str, float], ...] = ()
+        self._full_names = self.joint_names  # that chain's joint names, locked ones included
+
+    def locked(self, values: Mapping[str, float]) -> Chain:
+        """This chain with the named joints held at the given values (rad, or m for a prismatic joint).
+
+        Each locked joint, turned to its value, is folded into the transform before the next moving
+        joint (or into the tip offset); the other joints keep their order, names and limits. A 7-DOF
+        arm's closed form is the 6R chain left at a given value of one joint (EAIK's `fixed_axes`):
+        `chain.locked({"panda_joint7": 0.3})`. `expand(q)` gives the whole chain's configuration.
+        """
+        if self.free_orientation:
+            raise ArmtoolError(
+                "a position-only chain cannot lock joints", hint="lock joints before with_free_orientation()"
+            )
+        unknown = [name for name in values if name not in self.joint_names]
+        if unknown:
+            raise ArmtoolError(
+                f"cannot lock joint '{unknown[0]}': not a moving joint of the chain {self.base} → {self.tip}"
+                + did_you_mean(unknown[0], self.joint_names),
+                hint="joints: " + ", ".join(self.joint_names),
+            )
+        for j in self.joints:
+            if j.name not in values:
+                continue
+            v = values[j.name]
+            if not math.isfinite(v):
+                raise ArmtoolError(f"cannot lock joint '{j.name}' at {v}: not a finite number")
+            if j.kind != "continuous" and not j.lower - 1e-12 <= v <= j.upper + 1e-12:
+                raise ArmtoolError(
+                    f"cannot lock joint '{j.name}' at {v:g}: outside its limits [{j.lower:g}, {j.upper:g}]",
+                    hint="pick a value within the joint's <limit lower upper>",
+                )
+        if len(values) >= self.n:
+            raise ArmtoolError(
+                f"cannot lock every joint of the chain {self.base} → {self.tip}: at least one must move",
+                hint="leave one or more joints out of the locked set",
+            )
+        joints: list[ChainJoint] = []
+        pending = np.eye(4)
+        for j in self.joints:
+            origin = pending @ j.origin
+            if j.name in values:
+                pending = origin @ _joint_motion(j, float(values[j.name]))
+                continue
+            joints.append(ChainJoint(j.name, j.kind, origin, j.axis, j.lower, j.upper))
+            pending = np.eye(4)
+        out = Chain(self.name, self.base, self.tip, joints, pending @ self.tip_offset)
+        index = {name: i for i, name in enumerate(self._full_names)}
+        out._full_names = self._full_names
+        out.locks = tuple(
+            sorted([*self.locks, *((index[name], name, float(v)) for name, v in values.items())], key=lambda x: x[0])
+        )
+        return out
+
+    def expand(self, q: Array) -> Array:
+        """A configuration of this chain with its locked joints' values put back: the configuration
+        of the chain it was locked from (q itself when nothing is locked)."""
+        q = np.asarray(q, dtype=float)
+        if not self.locks:
+            copy: Array = q.copy()
+            return copy
+        full = np.empty(q.shape[:-1] + (len(self._full_names),))
+        moving = [i for i, name in enumerate(self._full_names) if name in set(self.joint_names)]
+        full[..., moving] = q
+        for i, _, v in self.locks:
+            full[..., i] = v
+        return full
 
     def with_free_orientation(self) -> Chain:
         """This chain plus three virtual continuous joints (about x, y, z) turning the tip in place.
@@ -441,6 +510,16 @@ class Chain:
     def random(self, rng: np.random.Generator, count: int | None = None) -> Array:
         shape = (self.n,) if count is None else (count, self.n)
         return rng.uniform(self.lower, self.upper, size=shape)
+
+
+def _joint_motion(j: ChainJoint, value: float) -> Array:
+    """The 4x4 motion of a joint at a value: a rotation about its axis, or a translation along it."""
+    M = np.eye(4)
+    if j.kind == "prismatic":
+        M[:3, 3] = value * j.axis
+    else:
+        M[:3, :3] = axis_angle_batch(j.axis, np.array([value]))[0]
+    return M
 
 
 def _basis_with_z(axis: Array) -> Array:

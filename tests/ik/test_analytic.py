@@ -138,7 +138,10 @@ def test_batch_equals_single() -> None:
     seeds = np.tile(chain.mid(), (20, 1))
     for batch, t, s in zip(solver.solve_batch(targets, seeds), targets, seeds):
         single = solver.solve(t, s)
-        assert batch.success and np.array_equal(batch.q, single.q) and len(batch.solutions) == len(single.solutions)
+        # UR5's batch runs on the lanes (closed_form/lanes.py: another atan2, cosines from square roots)
+        assert batch.success and len(batch.solutions) == len(single.solutions)
+        for x, y in zip(batch.solutions, single.solutions):
+            assert np.allclose(x, y, rtol=0.0, atol=1e-9)
 
 
 # ---- failures ------------------------------------------------------------------------------------------------
