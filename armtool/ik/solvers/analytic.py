@@ -61,7 +61,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.errors import ArmtoolError
-from armtool.ik.closed_form import kernel
+from armtool.ik.closed_form import kernel, search
 from armtool.ik.closed_form.families import Geometry, detect, dh_checkable, pack
 from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
@@ -77,7 +77,7 @@ Raw = Array  # kernel.solve_one's out vector (see kernel's docstring)
 
 class Analytic(Solver):
     name = "analytic"
-    summary = "closed form (subproblem decomposition) for UR-type and spherical-wrist 6R arms, the wrist at either end (detected from the URDF; near ones polished by Newton): every solution"
+    summary = "closed form (subproblem decomposition) for UR-type and spherical-wrist 6R arms, the wrist at either end (detected from the URDF; near ones polished by Newton), a 1-D search on 6R arms with axes 4∩5 and 2∥3 but no closed form: every solution"
     options: ClassVar[dict[str, Any]] = {}
     position_only_capable: ClassVar[bool] = False
 
@@ -85,13 +85,29 @@ class Analytic(Solver):
         self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
     ) -> None:
         super().__init__(chain, timeout=timeout, tolerance=tolerance, seed=seed, **options)
-        self.geometry: Geometry = detect(chain)
-        self._model = pack(self.geometry, chain, self.tolerance)
-        # The in-call check runs on the chain's DH model; where that model is not the chain (a
-        # near-closed-form arm, or DH frames that lose digits), the answers are checked here instead.
-        self._checked_here = self.geometry.near or not dh_checkable(chain, self.geometry)
-        if self._checked_here:
-            self._model[kernel.CHECK] = 0.0
+        self.geometry: Geometry | None = None  # None: no closed form, the 1-D search (closed_form/search.py)
+        self._kernel: Any = kernel
+        try:
+            self.geometry = detect(chain)
+        except ArmtoolError as no_family:
+            self._kernel = search
+            try:
+                self._model = search.pack(chain, self.tolerance)
+            except ArmtoolError as no_search:
+                if chain.n != 6 or "prismatic" in no_family.what:
+                    raise no_family from None
+                raise ArmtoolError(f"{no_family.what}; nor {no_search.what}", no_family.where, no_family.hint) from None
+            self.method = search.title(bool(self._model[search.S_REVERSED]))
+            self._checked_here = False  # the search checks every answer on the chain itself
+        if self.geometry is not None:
+            self._model = pack(self.geometry, chain, self.tolerance)
+            if self.geometry.near:
+                self.method = f"{self.geometry.title}: nearest closed-form model, polished by Newton on the chain"
+            # The in-call check runs on the chain's DH model; where that model is not the chain (a
+            # near-closed-form arm, or DH frames that lose digits), the answers are checked here instead.
+            self._checked_here = self.geometry.near or not dh_checkable(chain, self.geometry)
+            if self._checked_here:
+                self._model[kernel.CHECK] = 0.0
         lo = [-math.inf if c else float(v) for v, c in zip(chain.lower, chain.continuous)]
         hi = [math.inf if c else float(v) for v, c in zip(chain.upper, chain.continuous)]
         self._limits = tuple(zip(lo, hi))
@@ -101,19 +117,19 @@ class Analytic(Solver):
     @property
     def polished(self) -> bool:
         """Whether answers come from the nearest closed-form model polished by Newton steps (a near arm)."""
-        return self.geometry.near
+        return self.geometry is not None and self.geometry.near
 
     def _load_kernel(self) -> None:
         """Call both compiled entry points once, so that loading (or, on the very first run, compiling)
         their machine code happens here, not inside a solve."""
-        on_disk = compiled_on_disk()
+        on_disk = compiled_on_disk(self._kernel)
         if on_disk is False:
             log.warning("compiling analytic's kernel with Numba (once: ~20-40 s; later runs load it from its cache)")
         start = time.perf_counter()
         target = np.ascontiguousarray(self.chain.fk(self.chain.mid()))
         mid = self.chain.mid()
-        kernel.solve_one(self._model, target, mid, kernel.empty_out())
-        kernel.solve_many(self._model, target[None], mid[None], kernel.empty_out(1))
+        self._kernel.solve_one(self._model, target, mid, kernel.empty_out())
+        self._kernel.solve_many(self._model, target[None], mid[None], kernel.empty_out(1))
         log.debug(
             "analytic's kernel ready in %.2f s (compiled on disk before: %s)", time.perf_counter() - start, on_disk
         )
@@ -129,7 +145,7 @@ class Analytic(Solver):
         closed_form/kernel.py); a near arm's answers then polished and checked (`_finish`)."""
         target, seed, out = prepared
         try:
-            status = kernel.solve_one(self._model, target, seed, out)
+            status = self._kernel.solve_one(self._model, target, seed, out)
         except TypeError:  # Numba found no compiled version for these arguments: not 2-D and 1-D floats
             status = kernel.BAD_INPUT
         if status == kernel.BAD_INPUT:
@@ -145,12 +161,13 @@ class Analytic(Solver):
             solutions = tuple(row[:6].copy() for row in rows)
             return Answer(solutions[0], True, 0, "", solutions)
         candidates, in_limits = int(raw[1]), int(raw[2])
+        what = "closed-form" if self.geometry is not None else "1-D search"
         if not candidates:
-            why = "out of reach: the closed form has no real solution"
+            why = f"out of reach: the {'closed form' if self.geometry is not None else '1-D search'} has no real solution"
         elif not in_limits:
-            why = f"{candidates} closed-form solution(s), none within the joint limits"
+            why = f"{candidates} {what} solution(s), none within the joint limits"
         else:
-            why = f"{in_limits} closed-form solution(s) within the limits, none passed the FK check (tolerance {self.tolerance:g})"
+            why = f"{in_limits} {what} solution(s) within the limits, none passed the FK check (tolerance {self.tolerance:g})"
         seed = raw[kernel.SEED : kernel.SEED + 6]
         return Answer(self.chain.clamp(seed.copy()), False, 0, why)
 
@@ -174,7 +191,7 @@ class Analytic(Solver):
     def call_batch(self, prepared: tuple[Array, Array, Raw]) -> Raw:
         """Every target's solve in one compiled call (one thread); rows of `out` as `call`'s."""
         targets, seeds, out = prepared
-        if kernel.solve_many(self._model, targets, seeds, out) == kernel.BAD_INPUT:
+        if self._kernel.solve_many(self._model, targets, seeds, out) == kernel.BAD_INPUT:
             bad = int(np.flatnonzero(out[:, 3] == kernel.BAD_INPUT)[0]) if len(out) else 0
             self._refuse(targets[bad], seeds[bad])
         if self._checked_here:
@@ -186,7 +203,7 @@ class Analytic(Solver):
         return [self.answer(row) for row in raw]
 
     def all_solutions(self, targets: Array, seeds: Array) -> tuple[NDArray[np.int64], Array]:
-        """Every solution of every target, as arrays: counts (N,) and Q (N, 8, 6), each target's
+        """Every solution of every target, as arrays: counts (N,) and Q (N, 16, 6), each target's
         solutions nearest its seed first (rows past its count are NaN). The throughput call: one
         compiled call over the batch, one thread, every solution checked as `call`'s."""
         out = self.call_batch(self.prepare_batch(targets, seeds))
@@ -202,7 +219,7 @@ class Analytic(Solver):
         count = int(out[0])
         rows = out[kernel.OUT_HEAD : kernel.OUT_HEAD + kernel.ROW * count].reshape(count, kernel.ROW)
         qs = [tuple(row[:6].tolist()) for row in rows]
-        if self.geometry.near:
+        if self.polished:
             qs = self._polish(qs, target)
         sd = seed.tolist()
         tol, rot_tol2 = self.tolerance, self._rot_tol2
@@ -278,10 +295,10 @@ def _into_limits(q: tuple[float, ...], limits: tuple[tuple[float, float], ...]) 
     return tuple(out)
 
 
-def compiled_on_disk() -> bool | None:
-    """Whether Numba's cache holds the kernel's machine code (None: this Numba does not say)."""
+def compiled_on_disk(module: Any = kernel) -> bool | None:
+    """Whether Numba's cache holds the kernel's (or the search's) machine code (None: this Numba does not say)."""
     try:
-        index: str = getattr(kernel.solve_one, "_cache")._cache_file._index_path  # noqa: B009 (private to Numba)
+        index: str = getattr(module.solve_one, "_cache")._cache_file._index_path  # noqa: B009 (private to Numba)
     except AttributeError:
         return None
     return os.path.exists(index)
