@@ -68,10 +68,12 @@ SAMPLES = 64  # θ6 samples on the circle per target (measured: benchmarks/ik_se
 SNAP_TOL = 1e-4  # rad / m: axes this close to intersecting / parallel are solved on the exact model, then polished
 POLISH_STEPS = 8  # Newton steps on the real chain per root (1-2 where the model is the chain)
 POLISH_GOAL = 1e-14  # m / rad: a polished residual this small stops the steps
-VERTEX_STEPS = 4  # parabolic steps towards a local minimum of |e|
+VERTEX_STEPS = 12  # steps towards a local minimum of |e| that may hide two roots
+CLOSE_GAP = 0.05  # |e| at a sampled local minimum below this is searched for two close roots
 VERTEX_GAP = 1e-3  # |e| at a parabola's vertex below this is tried as a (double) root: polishing decides
-PAIR_SAMPLES = 12  # samples of a branch pair's curve at a reach boundary
-ROOT_STEP = 1e-11  # rad: a bracket's refinement stops at a step this small; Newton on the chain does the rest
+PAIR_SAMPLES = 8  # samples of a branch pair's curve at a reach boundary
+ROOT_STEP = 1e-7  # rad: a bracket's refinement stops at a step this small; Newton on the chain does the rest
+LIMIT_SLACK = 1e-3  # rad: an unpolished joint this far outside its limits may still end inside
 WIDE = 1e300  # `over` for the position subproblems: never refuse, clamp (least-squares continuation)
 
 # ---- this module's part of the model array (after kernel's MODEL_SIZE) -------------------------------------
@@ -130,8 +132,7 @@ def _branches(m, R06, pt, t6, ss, only):  # type: ignore[no-untyped-def]
     n1, a1, b1 = sp4(h2, p16, neg(h1), m[S_CONST], ss[0], WIDE, 0.0)
     margin1 = _margin(h2, p16, neg(h1), m[S_CONST])
     nan = math.nan
-    e = [nan, nan, nan, nan]
-    g = [nan, nan, nan, nan]
+    e0 = e1 = e2 = e3 = g0 = g1 = g2 = g3 = nan
     sol = (a1, a1, a1)
     for i in range(2):
         if only >= 0 and only // 2 != i:
@@ -141,7 +142,7 @@ def _branches(m, R06, pt, t6, ss, only):  # type: ignore[no-untyped-def]
         w = rot_back(h1, t1, x)
         nv = norm(v)
         n3, a3, b3 = sp3(p34, neg(p23), h3, nv, ss[2], WIDE, 0.0)
-        margin3 = _margin(neg(p23), p34, h3, reach3 - 0.5 * nv * nv)
+        margin = min(margin1, _margin(neg(p23), p34, h3, reach3 - 0.5 * nv * nv))
         for j in range(2):
             k = 2 * i + j
             if only >= 0 and only != k:
@@ -151,10 +152,17 @@ def _branches(m, R06, pt, t6, ss, only):  # type: ignore[no-untyped-def]
             # h3 = σ h2 (the model's axes 2∥3): R3ᵀ R2ᵀ = R(h2, −(θ2 + σ θ3))
             c23 = t2[1] * t3[1] - sign3 * t2[2] * t3[2]
             s23 = t2[2] * t3[1] + sign3 * t2[1] * t3[2]
-            e[k] = dot(h4, rot(h2, c23, -s23, w)) - c
-            g[k] = min(margin1, margin3)
+            ek = dot(h4, rot(h2, c23, -s23, w)) - c
+            if k == 0:
+                e0, g0 = ek, margin
+            elif k == 1:
+                e1, g1 = ek, margin
+            elif k == 2:
+                e2, g2 = ek, margin
+            else:
+                e3, g3 = ek, margin
             sol = (t1, t2, t3)
-    return sol, (e[0], e[1], e[2], e[3]), (g[0], g[1], g[2], g[3]), margin1
+    return sol, (e0, e1, e2, e3), (g0, g1, g2, g3), margin1
 
 
 @njit(cache=True)
@@ -215,16 +223,18 @@ def _illinois(m, R06, pt, ss, k, a, b, fa, fb, mode, partner, tb, side):  # type
 
 @njit(cache=True)
 def _close_pair(m, R06, pt, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, side):  # type: ignore[no-untyped-def]
-    """Up to two roots of slot k's error near x1, where |e| has a local minimum of one sign between x0 and
-    x2: parabolic steps towards the minimum (at most VERTEX_STEPS) until the error changes sign (two
-    brackets) or is below VERTEX_GAP (a tangent root, for polishing to decide), else none."""
-    for _ in range(VERTEX_STEPS):
+    """Up to two roots near x1, where |f| (mode: as _illinois) has a local minimum of one sign between
+    x0 and x2: a minimisation of |f| (parabolic steps, golden-section ones where a parabola does not
+    help; at most VERTEX_STEPS) until f changes sign (two brackets) or its minimum is below VERTEX_GAP
+    (a tangent root, for polishing to decide); none where |f| is CLOSE_GAP or more."""
+    for step in range(VERTEX_STEPS):
+        if math.fabs(f1) >= CLOSE_GAP:
+            break  # a minimum far from zero: no root nearby
         den = (x1 - x0) * (f1 - f2) - (x1 - x2) * (f1 - f0)
-        if den == 0.0:
-            break
-        v = x1 - 0.5 * ((x1 - x0) ** 2 * (f1 - f2) - (x1 - x2) ** 2 * (f1 - f0)) / den
-        if not (x0 < v < x2) or v == x1:
-            break
+        v = x1 - 0.5 * ((x1 - x0) ** 2 * (f1 - f2) - (x1 - x2) ** 2 * (f1 - f0)) / den if den != 0.0 else x1
+        lo, hi = x0 + 0.1 * (x1 - x0), x2 - 0.1 * (x2 - x1)
+        if not (lo < v < hi) or math.fabs(v - x1) < 1e-3 * (x2 - x0):
+            v = x1 + 0.382 * (x2 - x1) if x2 - x1 > x1 - x0 else x1 - 0.382 * (x1 - x0)  # golden section
         fv = _f(m, R06, pt, ss, k, mode, partner, tb, side, v)
         if fv != fv:
             break
@@ -233,12 +243,17 @@ def _close_pair(m, R06, pt, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, si
                 _illinois(m, R06, pt, ss, k, x0, v, f0, fv, mode, partner, tb, side),
                 _illinois(m, R06, pt, ss, k, v, x2, fv, f2, mode, partner, tb, side),
             )
-        if math.fabs(fv) >= math.fabs(f1):
-            break
-        if v < x1:
-            x1, x2, f1, f2 = v, x1, fv, f1
+        if math.fabs(fv) < math.fabs(f1):  # v the new middle
+            if v < x1:
+                x1, x2, f1, f2 = v, x1, fv, f1
+            else:
+                x0, x1, f0, f1 = x1, v, f1, fv
+        elif v < x1:
+            x0, f0 = v, fv
         else:
-            x0, x1, f0, f1 = x1, v, f1, fv
+            x2, f2 = v, fv
+        if x2 - x0 < 1e-9:
+            break
     if math.fabs(f1) < VERTEX_GAP:
         return (x1, math.nan)
     return (math.nan, math.nan)
@@ -409,6 +424,11 @@ def _finish(m, target, seed, out, R06, t6, sol, ss):  # type: ignore[no-untyped-
         q = np.array([t6[0], t5[0], t4[0], t3[0], t2[0], t1[0]])
     else:
         q = np.array([t1[0], t2[0], t3[0], t4[0], t5[0], t6[0]])
+    for i in range(6):  # a joint no whole turn brings within its limits: dropped before polishing
+        placed = K._place(q[i], seed[i], m[K.LO + i] - LIMIT_SLACK, m[K.HI + i] + LIMIT_SLACK)
+        if placed != placed:
+            out[1] += 1.0
+            return
     if not _polish(m, target, q) <= m[K.TOL]:  # checked on the real chain (the emission's DH check is off)
         return
     K._emit(
