@@ -71,6 +71,8 @@ POLISH_GOAL = 1e-14  # m / rad: a polished residual this small stops the steps
 VERTEX_STEPS = 12  # steps towards a local minimum of |e| that may hide two roots
 CLOSE_GAP = 0.05  # |e| at a sampled local minimum below this is searched for two close roots
 VERTEX_GAP = 1e-3  # |e| at a parabola's vertex below this is tried as a (double) root: polishing decides
+STEEP = 0.2  # an error change between samples beyond this (of one sign) is sampled SPLIT times finer
+SPLIT = 8
 PAIR_SAMPLES = 8  # samples of a branch pair's curve at a reach boundary
 ROOT_STEP = 1e-7  # rad: a bracket's refinement stops at a step this small; Newton on the chain does the rest
 LIMIT_SLACK = 1e-3  # rad: an unpolished joint this far outside its limits may still end inside
@@ -255,7 +257,13 @@ def _close_pair(m, R06, pt, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, si
         if x2 - x0 < 1e-9:
             break
     if math.fabs(f1) < VERTEX_GAP:
-        return (x1, math.nan)
+        # a tangent root, or two roots the model (within SNAP_TOL of the chain) merged into none: Newton
+        # on the chain starts from either side, where the parabola through the last three points is 2|f1|
+        c2 = 2.0 * math.fabs(((f2 - f1) / (x2 - x1) - (f1 - f0) / (x1 - x0)) / (x2 - x0))
+        h = math.sqrt(2.0 * math.fabs(f1) / c2) if c2 > 0.0 else 0.0
+        if not h > 1e-9:
+            return (x1, math.nan)
+        return (x1 - h, x1 + h)
     return (math.nan, math.nan)
 
 
@@ -279,20 +287,43 @@ def _boundary(m, target, seed, out, R06, pt, ss, k, partner, a, b, ga, gb):  # t
     for i in range(PAIR_SAMPLES + 1):
         us[i] = -far + 2.0 * far * i / PAIR_SAMPLES
         fs[i] = ends if i == PAIR_SAMPLES else _pair(m, R06, pt, ss, k, partner, tb, side, us[i])
-    for i in range(PAIR_SAMPLES):
+    _scan(m, target, seed, out, R06, pt, ss, k, us, fs, 2, partner, tb, side)
+
+
+@njit(cache=True)
+def _steep(m, target, seed, out, R06, pt, ss, k, a, b, fa, fb):  # type: ignore[no-untyped-def]
+    """An interval where slot k's error changes by more than STEEP without changing sign (θ1 spins fast
+    where the wrist point passes near axis 1): sampled at SPLIT sub-intervals and scanned."""
+    xs = np.empty(SPLIT + 1)
+    fs = np.empty(SPLIT + 1)
+    for i in range(SPLIT + 1):
+        xs[i] = a + (b - a) * i / SPLIT
+        fs[i] = fa if i == 0 else (fb if i == SPLIT else _error(m, R06, pt, xs[i], ss, k))
+    _scan(m, target, seed, out, R06, pt, ss, k, xs, fs, 0, 0, 0.0, 0.0)
+
+
+@njit(cache=True)
+def _scan(m, target, seed, out, R06, pt, ss, k, xs, fs, mode, partner, tb, side):  # type: ignore[no-untyped-def]
+    """Every root of f (mode: as _illinois) on a grid xs with values fs: sign changes refined, sampled
+    minima of |f| of one sign searched for a close pair (_close_pair); each root finished."""
+    n = len(xs) - 1
+    for i in range(n):
         roots = (math.nan, math.nan)
         if fs[i] == 0.0:
-            roots = (us[i], math.nan)
+            roots = (xs[i], math.nan)
         elif (fs[i] < 0.0) != (fs[i + 1] < 0.0) and fs[i + 1] != 0.0:
-            roots = (_illinois(m, R06, pt, ss, k, us[i], us[i + 1], fs[i], fs[i + 1], 2, partner, tb, side), math.nan)
-        elif i + 2 <= PAIR_SAMPLES:
+            roots = (_illinois(m, R06, pt, ss, k, xs[i], xs[i + 1], fs[i], fs[i + 1], mode, partner, tb, side), math.nan)
+        elif i + 2 <= n:
             f0, f1, f2 = fs[i], fs[i + 1], fs[i + 2]
             if (f2 < 0.0) == (f1 < 0.0) and math.fabs(f1) <= math.fabs(f0) and math.fabs(f1) < math.fabs(f2):
-                roots = _close_pair(m, R06, pt, ss, k, us[i], us[i + 1], us[i + 2], f0, f1, f2, 2, partner, tb, side)
+                roots = _close_pair(m, R06, pt, ss, k, xs[i], xs[i + 1], xs[i + 2], f0, f1, f2, mode, partner, tb, side)
         for root in roots:
             if root == root:
-                t6 = angle_of(tb + side * root * root)
-                slot = k if root >= 0.0 else partner
+                if mode == 2:
+                    t6 = angle_of(tb + side * root * root)
+                    slot = k if root >= 0.0 else partner
+                else:
+                    t6, slot = angle_of(root), k
                 _finish(m, target, seed, out, R06, t6, _branches(m, R06, pt, t6, ss, slot)[0], ss)
 
 
@@ -509,6 +540,8 @@ def _search(m, target, seed, out):  # type: ignore[no-untyped-def]
             elif (fa < 0.0) != (fb < 0.0) and fb != 0.0:
                 roots = (_illinois(m, R06, pt, ss, k, a, b, fa, fb, 0, 0, 0.0, 0.0), math.nan)
             else:
+                if math.fabs(fa - fb) > STEEP:
+                    _steep(m, target, seed, out, R06, pt, ss, k, a, b, fa, fb)
                 # |e| smallest at sample j of three of one sign, all reaching: two roots closer than a
                 # sample step, or a tangent one, near the minimum (successive parabolic interpolation)
                 fc, gc = E[(i + 2) % n, k], G[(i + 2) % n, k]
