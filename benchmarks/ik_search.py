@@ -73,7 +73,9 @@ def main() -> int:
     from armtool.ik.solutions import missing
     from armtool.ik.solver import verify
 
-    ur5_path = glob.glob(f"{sys.prefix}/**/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf", recursive=True)
+    ur5_path = glob.glob(
+        f"{sys.prefix}/**/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf", recursive=True
+    )
     ur5 = load_chain(ur5_path[0])
     ur5_solver = make_solver("analytic", ur5)
     ur5_targets = [ur5.fk(q) for q in ur5.random(np.random.default_rng(0), opts.samples)]
@@ -92,7 +94,7 @@ def main() -> int:
         ur: list[float] = []
         raws = []
         for start in range(0, opts.samples, BLOCK):
-            for turn in ((0, 1) if (start // BLOCK) % 2 == 0 else (1, 0)):
+            for turn in (0, 1) if (start // BLOCK) % 2 == 0 else (1, 0):
                 for i in range(start, min(start + BLOCK, opts.samples)):
                     if turn == 0:
                         p = solver.prepare(targets[i], mid)

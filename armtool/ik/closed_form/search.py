@@ -123,7 +123,14 @@ def _branches(m, R06, pt, t6, ss, only):  # type: ignore[no-untyped-def]
     """At θ6, for every slot (or slot `only`, if ≥ 0): its (θ1, θ2, θ3), orientation error and reach
     margin: (solution of slot `only` (or of slot 3), (e × 4), (margin × 4), θ1's margin); slots not
     computed: NaN. A slot's margin is the smaller of θ1's and its θ3's."""
-    h1, h2, h3, h4, h5, h6 = _v(m, S_H), _v(m, S_H + 3), _v(m, S_H + 6), _v(m, S_H + 9), _v(m, S_H + 12), _v(m, S_H + 15)
+    h1, h2, h3, h4, h5, h6 = (
+        _v(m, S_H),
+        _v(m, S_H + 3),
+        _v(m, S_H + 6),
+        _v(m, S_H + 9),
+        _v(m, S_H + 12),
+        _v(m, S_H + 15),
+    )
     p01, p12, p23, p34 = _v(m, S_P), _v(m, S_P + 3), _v(m, S_P + 6), _v(m, S_P + 9)
     p56, p6t = _v(m, S_P + 15), _v(m, S_P + 18)
     p16 = sub(sub(sub(pt, p01), _mat_vec(R06, p6t)), _mat_vec(R06, rot(h6, t6[1], -t6[2], p56)))
@@ -174,7 +181,7 @@ def _error(m, R06, pt, theta, ss, k):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def _reach(m, R06, pt, theta, ss, k):  # type: ignore[no-untyped-def]
-    return _branches(m, R06, pt, angle_of(theta), ss, k)[2][k]  # noqa: E501
+    return _branches(m, R06, pt, angle_of(theta), ss, k)[2][k]
 
 
 @njit(cache=True)
@@ -229,9 +236,9 @@ def _close_pair(m, R06, pt, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, si
     x0 and x2: a minimisation of |f| (parabolic steps, golden-section ones where a parabola does not
     help; at most VERTEX_STEPS) until f changes sign (two brackets) or its minimum is below VERTEX_GAP
     (a tangent root, for polishing to decide); none where |f| is CLOSE_GAP or more."""
-    for step in range(VERTEX_STEPS):
-        if math.fabs(f1) >= CLOSE_GAP:
-            break  # a minimum far from zero: no root nearby
+    if math.fabs(f1) >= CLOSE_GAP:
+        return (math.nan, math.nan)  # a minimum far from zero: no root nearby
+    for _ in range(VERTEX_STEPS):
         den = (x1 - x0) * (f1 - f2) - (x1 - x2) * (f1 - f0)
         v = x1 - 0.5 * ((x1 - x0) ** 2 * (f1 - f2) - (x1 - x2) ** 2 * (f1 - f0)) / den if den != 0.0 else x1
         lo, hi = x0 + 0.1 * (x1 - x0), x2 - 0.1 * (x2 - x1)
@@ -312,7 +319,10 @@ def _scan(m, target, seed, out, R06, pt, ss, k, xs, fs, mode, partner, tb, side)
         if fs[i] == 0.0:
             roots = (xs[i], math.nan)
         elif (fs[i] < 0.0) != (fs[i + 1] < 0.0) and fs[i + 1] != 0.0:
-            roots = (_illinois(m, R06, pt, ss, k, xs[i], xs[i + 1], fs[i], fs[i + 1], mode, partner, tb, side), math.nan)
+            roots = (
+                _illinois(m, R06, pt, ss, k, xs[i], xs[i + 1], fs[i], fs[i + 1], mode, partner, tb, side),
+                math.nan,
+            )
         elif i + 2 <= n:
             f0, f1, f2 = fs[i], fs[i + 1], fs[i + 2]
             if (f2 < 0.0) == (f1 < 0.0) and math.fabs(f1) <= math.fabs(f0) and math.fabs(f1) < math.fabs(f2):
@@ -444,7 +454,14 @@ def _polish(m, target, q):  # type: ignore[no-untyped-def]
 @njit(cache=True)
 def _finish(m, target, seed, out, R06, t6, sol, ss):  # type: ignore[no-untyped-def]
     """θ4, θ5 at a root (solver order), the whole solution polished on the real chain and emitted."""
-    h1, h2, h3, h4, h5, h6 = _v(m, S_H), _v(m, S_H + 3), _v(m, S_H + 6), _v(m, S_H + 9), _v(m, S_H + 12), _v(m, S_H + 15)
+    h1, h2, h3, h4, h5, h6 = (
+        _v(m, S_H),
+        _v(m, S_H + 3),
+        _v(m, S_H + 6),
+        _v(m, S_H + 9),
+        _v(m, S_H + 12),
+        _v(m, S_H + 15),
+    )
     t1, t2, t3 = sol
     y = rot_back(h3, t3, rot_back(h2, t2, rot_back(h1, t1, _mat_vec(R06, rot_back(h6, t6, h5)))))
     n5 = _v(m, S_N5)
@@ -545,7 +562,11 @@ def _search(m, target, seed, out):  # type: ignore[no-untyped-def]
                 # |e| smallest at sample j of three of one sign, all reaching: two roots closer than a
                 # sample step, or a tangent one, near the minimum (successive parabolic interpolation)
                 fc, gc = E[(i + 2) % n, k], G[(i + 2) % n, k]
-                if gc < 0.0 or (fc < 0.0) != (fb < 0.0) or not (math.fabs(fb) <= math.fabs(fa) and math.fabs(fb) < math.fabs(fc)):
+                if (
+                    gc < 0.0
+                    or (fc < 0.0) != (fb < 0.0)
+                    or not (math.fabs(fb) <= math.fabs(fa) and math.fabs(fb) < math.fabs(fc))
+                ):
                     continue
                 roots = _close_pair(m, R06, pt, ss, k, a, b, b + step, fa, fb, fc, 0, 0, 0.0, 0.0)
             for r in roots:

@@ -163,7 +163,9 @@ class Analytic(Solver):
         candidates, in_limits = int(raw[1]), int(raw[2])
         what = "closed-form" if self.geometry is not None else "1-D search"
         if not candidates:
-            why = f"out of reach: the {'closed form' if self.geometry is not None else '1-D search'} has no real solution"
+            why = (
+                f"out of reach: the {'closed form' if self.geometry is not None else '1-D search'} has no real solution"
+            )
         elif not in_limits:
             why = f"{candidates} {what} solution(s), none within the joint limits"
         else:
