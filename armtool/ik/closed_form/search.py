@@ -338,13 +338,11 @@ def _scan(m, target, seed, out, R06, pt, ss, k, xs, fs, mode, partner, tb, side)
 
 
 @njit(cache=True)
-def _fk_jacobian(m, q, J):  # type: ignore[no-untyped-def]
+def _fk_jacobian(m, q, J, ws, os_):  # type: ignore[no-untyped-def]
     """The real chain's tip pose (rotation row-major (9), position) at q (chain order), and its
     world-aligned Jacobian at the tip into J (6 × 6: rows linear then angular)."""
     R = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
     p = (0.0, 0.0, 0.0)
-    ws = np.empty((6, 3))
-    os_ = np.empty((6, 3))
     for i in range(6):
         o, w = _v(m, S_LP + 3 * i), _v(m, S_LW + 3 * i)
         wi = _mat_vec(R, w)
@@ -383,10 +381,9 @@ def _fk_jacobian(m, q, J):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _residual(target, Rt, pt):  # type: ignore[no-untyped-def]
+def _residual(target, Rt, pt, M):  # type: ignore[no-untyped-def]
     """[p_target − p; ω] with ω the rotation vector of R_target·Rᵀ (exact log: Newton keeps quadratic)."""
     # M = R_target Rᵀ
-    M = np.empty((3, 3))
     for r in range(3):
         for c in range(3):
             M[r, c] = target[r, 0] * Rt[3 * c] + target[r, 1] * Rt[3 * c + 1] + target[r, 2] * Rt[3 * c + 2]
@@ -399,9 +396,8 @@ def _residual(target, Rt, pt):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _solve6(J, e):  # type: ignore[no-untyped-def]
-    """x with J x = e (Gaussian elimination, partial pivoting; J overwritten); NaN if singular."""
-    A = np.empty((6, 7))
+def _solve6(J, e, A, x):  # type: ignore[no-untyped-def]
+    """x with J x = e into x (Gaussian elimination with partial pivoting on A, 6 × 7); False if singular."""
     for r in range(6):
         for c in range(6):
             A[r, c] = J[r, c]
@@ -412,7 +408,7 @@ def _solve6(J, e):  # type: ignore[no-untyped-def]
             if math.fabs(A[r, c]) > math.fabs(A[piv, c]):
                 piv = r
         if math.fabs(A[piv, c]) < 1e-14:
-            return np.full(6, math.nan)
+            return False
         if piv != c:
             for k in range(7):
                 A[c, k], A[piv, k] = A[piv, k], A[c, k]
@@ -420,31 +416,32 @@ def _solve6(J, e):  # type: ignore[no-untyped-def]
             f = A[r, c] / A[c, c]
             for k in range(c, 7):
                 A[r, k] -= f * A[c, k]
-    x = np.empty(6)
     for r in range(5, -1, -1):
         v = A[r, 6]
         for k in range(r + 1, 6):
             v -= A[r, k] * x[k]
         x[r] = v / A[r, r]
-    return x
+    return True
 
 
 @njit(cache=True)
 def _polish(m, target, q):  # type: ignore[no-untyped-def]
     """Newton steps on the real chain's pose residual from q (chain order, changed in place); the
     largest residual component at the q it leaves (verify()'s error: [Δp; log(R_target Rᵀ)])."""
-    J = np.empty((6, 6))
+    J, A = np.empty((6, 6)), np.empty((6, 7))
+    ws, os_, M = np.empty((6, 3)), np.empty((6, 3)), np.empty((3, 3))
+    e, dq = np.empty(6), np.empty(6)
     big = math.inf
     for step in range(POLISH_STEPS + 1):
-        Rt, pt = _fk_jacobian(m, q, J)
-        e = _residual(target, Rt, pt)
+        Rt, pt = _fk_jacobian(m, q, J, ws, os_)
+        r = _residual(target, Rt, pt, M)
         big = 0.0
-        for v in e:
-            big = max(big, math.fabs(v))
+        for i in range(6):
+            e[i] = r[i]
+            big = max(big, math.fabs(r[i]))
         if big <= POLISH_GOAL or not big < 0.5 or step == POLISH_STEPS:
             return big
-        dq = _solve6(J, np.array(e))
-        if dq[0] != dq[0]:
+        if not _solve6(J, e, A, dq):
             return big
         for i in range(6):
             q[i] += dq[i]
