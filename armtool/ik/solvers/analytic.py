@@ -27,6 +27,11 @@ structure made exact) solves, each of its answers gets up to POLISH_STEPS Newton
 Jacobian of the real chain, Pinocchio) and is checked with the chain's own FK. `polished` says a
 solver takes that path; an exact arm never does, and keeps its exact solutions.
 
+Arms with no closed form. A 6R chain that fits no family (not even within NEAR_TOL) but whose
+axes 4∩5 and 2∥3 (or 2∩3 and 4∥5) is solved by a 1-D search over θ6 (θ1), every solution, each
+polished by Newton on the chain and checked there (`closed_form/search.py`: xArm6, Kinova Gen3
+lite); `geometry` is then None and `method` says so. Other chains are refused, naming both.
+
 Solutions. One representation per geometric solution: each revolute angle is moved by a
 multiple of 2π to the value nearest the seed's (continuous joints too), then by whole turns into
 the limits if that one is outside; a solution with a joint that cannot be placed within its
