@@ -43,24 +43,6 @@ def load(name: str):  # type: ignore[no-untyped-def]
     return chain_from_xml(load_robot_xml(REALWORLD / relative, args, [REALWORLD.resolve()]), base, tip)
 
 
-def enumerate_solutions(chain, target, seeds):  # type: ignore[no-untyped-def]
-    from scipy.optimize import least_squares
-
-    from armtool.ik.solutions import distinct, refine
-    from armtool.ik.solver import rotation_error, verify
-
-    def residual(q):  # type: ignore[no-untyped-def]
-        T = chain.fk(q)
-        return np.concatenate([target[:3, 3] - T[:3, 3], rotation_error(T[:3, :3], target[:3, :3])])
-
-    found = []
-    for seed in seeds:
-        x = least_squares(residual, seed, bounds=(chain.lower, chain.upper), xtol=1e-15, ftol=1e-15, gtol=1e-15).x
-        if verify(chain, x, target, 1e-5)[0]:
-            found.append(x)
-    return distinct(chain, refine(chain, np.array(found).reshape(-1, chain.n), target))
-
-
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--samples", type=int, default=1000)
@@ -70,7 +52,7 @@ def main() -> int:
     opts = parser.parse_args()
 
     from armtool.ik import load_chain, make_solver
-    from armtool.ik.solutions import missing
+    from armtool.ik.solutions import enumerate_by_least_squares, missing
     from armtool.ik.solver import verify
 
     ur5_path = glob.glob(
@@ -116,7 +98,7 @@ def main() -> int:
                 success += 1
             counts.append(len(sols))
             if i < opts.enumerate:
-                others = enumerate_solutions(chain, targets[i], chain.random(rng, opts.seeds))
+                others = enumerate_by_least_squares(chain, targets[i], chain.random(rng, opts.seeds))
                 enum_counts.append(len(others))
                 missed += missing(chain, sols, others)
         med, ur_med = statistics.median(ours) * 1e6, statistics.median(ur) * 1e6

@@ -11,13 +11,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.optimize import least_squares
 
 from armtool.errors import ArmtoolError
 from armtool.ik import make_solver
 from armtool.ik.closed_form import search
-from armtool.ik.solutions import distinct, missing, refine
-from armtool.ik.solver import Array, rotation_error, verify
+from armtool.ik.solutions import enumerate_by_least_squares, missing
 from armtool.model.chain import Chain, chain_from_xml
 from tests.ik.test_analytic import PUMA_RIGHT, check_all_solutions, dh_chain, wrapped_distance
 
@@ -27,21 +25,6 @@ OFFSET_WRIST = [*PUMA_RIGHT[:4], (0.0, 0.02, -math.pi / 2), PUMA_RIGHT[5]]
 TWO_POINT_WRIST = [*PUMA_RIGHT[:4], (0.05, 0.0, -math.pi / 2), PUMA_RIGHT[5]]
 
 REALWORLD = Path(__file__).resolve().parents[2] / ".." / "shared" / "realworld"
-
-
-def enumerate_solutions(chain: Chain, target: Array, seeds: Array) -> Array:
-    """Every solution least squares reaches from the seeds, refined and distinct (independent of the search)."""
-
-    def residual(q: Array) -> Array:
-        T = chain.fk(q)
-        return np.concatenate([target[:3, 3] - T[:3, 3], rotation_error(T[:3, :3], target[:3, :3])])
-
-    found = []
-    for seed in seeds:
-        x = least_squares(residual, seed, bounds=(chain.lower, chain.upper), xtol=1e-15, ftol=1e-15, gtol=1e-15).x
-        if verify(chain, x, target, 1e-5)[0]:
-            found.append(x)
-    return distinct(chain, refine(chain, np.array(found).reshape(-1, chain.n), target))
 
 
 def check_search(chain: Chain, samples: int, enumerated: int, seeds: int = 60) -> None:
@@ -59,7 +42,7 @@ def check_search(chain: Chain, samples: int, enumerated: int, seeds: int = 60) -
         assert min(wrapped_distance(x, q) for x in result.solutions) < 1e-7, q
         if i < enumerated:
             found = np.array(result.solutions)
-            others = enumerate_solutions(chain, target, chain.random(rng, seeds))
+            others = enumerate_by_least_squares(chain, target, chain.random(rng, seeds))
             assert len(others) >= 1 and missing(chain, found, others) == 0
 
 
