@@ -119,3 +119,22 @@ def test_gen3_lite() -> None:
     """ros2_kortex's Gen3 lite: axes 4∩5 and 5∩6 meet in two points; its rpy 1.5708 leaves axes 2∥3 within 3.7e-6 rad."""
     chain = _realworld("ros2_kortex/kortex_description/robots/gen3_lite.urdf", {}, "base_link", "tool_frame")
     check_search(chain, samples=100, enumerated=2)
+
+
+def test_ik_bench_row_names_the_search() -> None:
+    """`armtool ik-bench` on Gen3 lite: the analytic row is solved, counts its solutions, and its method says how."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from armtool.cli import app
+
+    urdf = REALWORLD / "ros2_kortex/kortex_description/robots/gen3_lite.urdf"
+    if not urdf.is_file():
+        pytest.skip("the realworld corpus is absent")
+    args = ["ik-bench", str(urdf), "--solvers", "analytic", "--samples", "20", "--no-batch", "--format", "json"]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    row = next(r for r in json.loads(result.stdout)["solvers"] if r["solver"] == "analytic")
+    assert row["success_rate"] == 1.0 and row["distinct_solutions"] > 1
+    assert row["method"].startswith("1-D search over θ6")
