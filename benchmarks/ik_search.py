@@ -1,4 +1,4 @@
-"""armtool's `analytic` on 6R arms with no closed form (the 1-D search, armtool/ik/closed_form/search.py).
+"""armtool's `search` solver on 6R arms with no closed form (the 1-D search, armtool/ik/closed_form/search.py).
 
 One process. Per search arm (xArm6, Kinova Gen3 lite from ../shared/realworld): targets are FK of
 uniform random configurations within the limits, every solve from the mid-range seed. Timed: the
@@ -67,7 +67,7 @@ def main() -> int:
             print(f"{name}: skipped (../shared/realworld absent)")
             continue
         chain = load(name)
-        solver = make_solver("analytic", chain)
+        solver = make_solver("search", chain)
         rng = np.random.default_rng(1)
         Q = chain.random(rng, opts.samples)
         targets = [chain.fk(q) for q in Q]

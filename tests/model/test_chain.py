@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from armtool.errors import ArmtoolError
-from armtool.model.chain import load_chain, rpy_matrix
+from armtool.model.chain import Chain, load_chain, rpy_matrix
 from tests.ik.robots import ARMS, PLANAR_2R, erd
 
 
@@ -209,3 +209,68 @@ def test_soa_kinematics_match_pinocchio_on_every_joint_kind(tmp_path: Path, tip:
         assert np.allclose(R[:, :, k], T[:3, :3], atol=1e-12)
         assert np.allclose(p[:, k], T[:3, 3], atol=1e-12)
         assert np.allclose(J[:, :, k], J_pin, atol=1e-12)
+
+
+# ---- locking joints (a 7-DOF arm at a given value of one joint) ---------------------------------------------
+
+
+def _panda() -> Chain:
+    relative, base, tip = ARMS["panda"]
+    return load_chain(erd(relative), base, tip)
+
+
+@pytest.mark.parametrize(
+    "locks",
+    [{"panda_joint1": 0.4}, {"panda_joint4": -1.5}, {"panda_joint7": 0.3}, {"panda_joint2": -0.2, "panda_joint6": 1.9}],
+)
+def test_locked_chain_is_the_full_chain_at_the_locked_values(locks: dict[str, float]) -> None:
+    """FK and Jacobian of the locked chain equal the full chain's at expand(q); names, order and limits kept."""
+    full = _panda()
+    chain = full.locked(locks)
+    moving = [name for name in full.joint_names if name not in locks]
+    assert chain.joint_names == moving and chain.n == full.n - len(locks)
+    index = [full.joint_names.index(name) for name in moving]
+    assert np.array_equal(chain.lower, full.lower[index]) and np.array_equal(chain.upper, full.upper[index])
+    Q = chain.random(np.random.default_rng(4), 30)
+    expanded = chain.expand(Q)
+    assert expanded.shape == (30, full.n)
+    for name, value in locks.items():
+        assert np.all(expanded[:, full.joint_names.index(name)] == value)
+    assert np.array_equal(expanded[:, index], Q)
+    assert np.allclose(chain.fk_batch(Q), full.fk_batch(expanded), atol=1e-12)
+    for q, qf in zip(Q[:5], expanded[:5]):
+        assert np.allclose(chain.jacobian(q), full.jacobian(qf)[:, index], atol=1e-12)
+
+
+def test_locking_twice_is_locking_both() -> None:
+    full = _panda()
+    once = full.locked({"panda_joint2": -0.2, "panda_joint6": 1.9})
+    twice = full.locked({"panda_joint6": 1.9}).locked({"panda_joint2": -0.2})
+    q = once.random(np.random.default_rng(1))
+    assert twice.joint_names == once.joint_names
+    assert np.allclose(twice.fk(q), once.fk(q), atol=1e-12) and np.array_equal(twice.expand(q), once.expand(q))
+
+
+def test_unlocked_chain_expands_to_itself() -> None:
+    chain = _panda()
+    q = chain.mid()
+    assert np.array_equal(chain.expand(q), q) and chain.locks == ()
+
+
+@pytest.mark.parametrize(
+    ("locks", "message"),
+    [
+        ({"panda_joint8": 0.0}, "cannot lock joint 'panda_joint8': not a moving joint"),
+        ({"panda_joint4": 0.5}, "cannot lock joint 'panda_joint4' at 0.5: outside its limits"),
+        ({"panda_joint4": math.nan}, "not a finite number"),
+        ({f"panda_joint{i}": 0.0 for i in (1, 2, 3, 5, 6, 7)} | {"panda_joint4": -1.0}, "at least one must move"),
+    ],
+)
+def test_bad_locks_are_clear_errors(locks: dict[str, float], message: str) -> None:
+    with pytest.raises(ArmtoolError, match=message):
+        _panda().locked(locks)
+
+
+def test_position_only_chain_cannot_lock() -> None:
+    with pytest.raises(ArmtoolError, match="position-only chain cannot lock"):
+        _panda().with_free_orientation().locked({"panda_joint7": 0.3})

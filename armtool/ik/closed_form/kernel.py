@@ -215,13 +215,14 @@ def _emit(m, target, seed, out, t1, t2, t3, t4, t5, t6):  # type: ignore[no-unty
 
 
 @njit(cache=True)
-def sp4_unit(h, p, k, w, free, over):  # type: ignore[no-untyped-def]
+def sp4_unit(h, p, k, w, free, over, flat):  # type: ignore[no-untyped-def]
     """sp4 for unit h, p, k with d = hᵀw (w unit): the angle between h and R(k, θ)p equals that between h and w.
 
     Near the double root (a wrist singularity) 1 ∓ cos(θ − φ) come as products of sines of half
     angles (ψ between h and w; α between h and k, β between k and p), so θ keeps ~1e-15 rad there;
-    from the cosine hᵀw alone it would keep ~1e-8 rad (half the digits)."""
-    n, a, b = sp4(h, p, k, dot(h, w), free, over, 0.0)
+    from the cosine hᵀw alone it would keep ~1e-8 rad (half the digits). A root pair within
+    √(2·flat) rad of its midpoint is one root there (a tangent solution, as sp4 merges)."""
+    n, a, b = sp4(h, p, k, dot(h, w), free, over, flat)
     hk, kp = dot(h, k), dot(k, p)
     A = dot(h, p) - hk * kp
     B = dot(h, cross(k, p))
@@ -241,8 +242,12 @@ def sp4_unit(h, p, k, w, free, over):  # type: ignore[no-untyped-def]
     half = 2.0 * math.atan2(math.sqrt(max(one_minus, 0.0)), math.sqrt(max(one_plus, 0.0)))
     phi = math.atan2(B, A)
     plus = (phi + half, math.cos(phi + half), math.sin(phi + half))
-    if half == 0.0:
-        return 1, plus, plus
+    if half * half <= 2.0 * flat:  # the pair within √(2·flat) of φ: one root, at φ
+        at = (phi, math.cos(phi), math.sin(phi))
+        return 1, at, at
+    if (math.pi - half) ** 2 <= 2.0 * flat:  # the pair within √(2·flat) of φ + π (modulo 2π): one root there
+        at = (phi + math.pi, math.cos(phi + math.pi), math.sin(phi + math.pi))
+        return 1, at, at
     return 2, plus, (phi - half, math.cos(phi - half), math.sin(phi - half))
 
 
@@ -256,7 +261,7 @@ def _wrist(m, target, seed, ss, out, w, mv, t1, t2, t3):  # type: ignore[no-unty
     h1, h2, h3, h4, h5, h6 = _v(m, H), _v(m, H + 3), _v(m, H + 6), _v(m, H + 9), _v(m, H + 12), _v(m, H + 15)
     w3 = rot_back(h3, t3, rot_back(h2, t2, rot_back(h1, t1, w)))
     m3 = rot_back(h3, t3, rot_back(h2, t2, rot_back(h1, t1, mv)))
-    n5, a5, b5 = sp4_unit(h4, h6, h5, w3, ss[4], m[OVER])
+    n5, a5, b5 = sp4_unit(h4, h6, h5, w3, ss[4], m[OVER], m[FLAT])
     if n5 == -1:  # axis 5 ∥ axis 6 (not a wrist): nothing to solve
         return
     for j in range(n5):
@@ -319,7 +324,7 @@ def _spherical(m, target, seed, ss, out, R06, p16):  # type: ignore[no-untyped-d
                 s23 = s23a if j == 0 else s23b
                 _wrist(m, target, seed, ss, out, w, mv, t1, s23[0], s23[1])
     else:  # WRIST_GENERAL: −p12 + R1ᵀ p16 = R2 (p23 + R3 p34), SP5
-        n, sols = sp5(neg(p12), p16, p23, p34, neg(h1), h2, h3, ss[0], over, out[WORK:OUT_HEAD])
+        n, sols = sp5(neg(p12), p16, p23, p34, neg(h1), h2, h3, ss[0], over, out[WORK:OUT_HEAD], flat)
         for i in range(n):
             s = sols[i]
             _wrist(m, target, seed, ss, out, w, mv, s[0], s[1], s[2])
@@ -386,7 +391,7 @@ def _ur(m, target, seed, ss, out, R06, p16):  # type: ignore[no-untyped-def]
         w1 = rot_back(h1, t1, w)
         v0 = sub(rot_back(h1, t1, p16), p12)
         singular = norm(cross(h2, w1)) < 1e-11
-        n5, a5, b5 = sp4_unit(h2, h6, h5, w1, ss[4], over)
+        n5, a5, b5 = sp4_unit(h2, h6, h5, w1, ss[4], over, flat)
         if singular and n5 > 1:
             n5 = 1
         for j in range(max(n5, 0) if n5 != -1 else 1):

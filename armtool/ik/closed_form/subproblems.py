@@ -20,7 +20,7 @@ are written without acos near ±1: a root pair θ = φ ± a comes from cos a and
 Degenerate cases are the caller's to settle and are passed in, never guessed: `free` is the angle
 to return where the subproblem leaves its angle free (p1 or p2 along k: any θ solves it), e.g. the
 seed's. `over` is how far beyond ±1 a cosine may lie and still count as rounding (the double root
-is taken); `flat` merges a root pair closer than √(2·flat) rad into one (a tangent solution).
+is taken); `flat` merges a root pair within √(2·flat) rad of its midpoint into one (a tangent solution).
 
 This layer knows nothing of robots: the families in `kernel.py` call it, and so can a 1-D search
 over one joint (a later IK for arms with no closed form), which is why it is a module of its own.
@@ -297,15 +297,16 @@ def real_roots4(c0, c1, c2, c3, c4, work):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def sp5(p0, p1, p2, p3, k1, k2, k3, free, over, roots):  # type: ignore[no-untyped-def]
+def sp5(p0, p1, p2, p3, k1, k2, k3, free, over, roots, flat=0.0):  # type: ignore[no-untyped-def]
     """Every (θ1, θ2, θ3) with p0 + R(k1, θ1)·p1 = R(k2, θ2)·(p2 + R(k3, θ3)·p3): (count, solutions).
 
     With a(θ1) = p0 + R(k1,θ1)p1 and b(θ3) = p2 + R(k3,θ3)p3, θ2 exists iff k2ᵀa = k2ᵀb and
     |a| = |b|: two equations linear in u = (cos θ1, sin θ1) and v = (cos θ3, sin θ3). The one whose
     2×2 block is better conditioned is eliminated (v = A u + b, or the other way round), |v| = 1 is
     a quartic in tan(θ/2) (the parameter turned by π/2 when θ = π is nearly a root, where tan is
-    infinite), then θ2 = sp1. `roots`: scratch for real_roots4. Up to four solutions, as a tuple of
-    four (θ1, θ2, θ3) angle triples (the first `count` valid)."""
+    infinite), then θ2 = sp1. `roots`: scratch for real_roots4. Two neighbouring roots within
+    √(2·flat) rad of their midpoint (a near-tangent solution) are one there, as sp3 and sp4 merge. Up to four
+    solutions, as a tuple of four (θ1, θ2, θ3) angle triples (the first `count` valid)."""
     # k2ᵀa = a0 + a1 c1 + a2 s1,  |a|² = g0 + g1 c1 + g2 s1 (and the same in θ3 for b)
     kp1, kp3 = dot(k1, p1), dot(k3, p3)
     p1_perp = sub(p1, scale(k1, kp1))
@@ -360,6 +361,17 @@ def sp5(p0, p1, p2, p3, k1, k2, k3, free, over, roots):  # type: ignore[no-untyp
         lead,
         roots,
     )
+    window = math.sqrt(2.0 * flat)
+    kept, i = 0, 0
+    while i < count:
+        t = roots[i]
+        if i + 1 < count and math.atan(roots[i + 1]) - math.atan(t) <= window:  # θ = 2 atan t: half the gap
+            t = 0.5 * (t + roots[i + 1])
+            i += 1
+        roots[kept] = t
+        kept += 1
+        i += 1
+    count = kept
     sols = empty
     n = 0
     for i in range(count):

@@ -27,11 +27,6 @@ structure made exact) solves, each of its answers gets up to POLISH_STEPS Newton
 Jacobian of the real chain, Pinocchio) and is checked with the chain's own FK. `polished` says a
 solver takes that path; an exact arm never does, and keeps its exact solutions.
 
-Arms with no closed form. A 6R chain that fits no family (not even within NEAR_TOL) but whose
-axes 4∩5 and 2∥3 (or 2∩3 and 4∥5) is solved by a 1-D search over θ6 (θ1), every solution, each
-polished by Newton on the chain and checked there (`closed_form/search.py`: xArm6, Kinova Gen3
-lite); `geometry` is then None and `method` says so. Other chains are refused, naming both.
-
 Solutions. One representation per geometric solution: each revolute angle is moved by a
 multiple of 2π to the value nearest the seed's (continuous joints too), then by whole turns into
 the limits if that one is outside; a solution with a joint that cannot be placed within its
@@ -51,7 +46,11 @@ measured by benchmarks/ik_closed_form.py beside EAIK, see docs/ik-bench.md.
 
 Throughput: `all_solutions(targets, seeds)` returns arrays (counts, every solution) from one
 compiled call over the batch, on one thread; `solve_batch` builds an IKResult per target and
-judges each first answer with armtool's FK on top.
+judges each first answer with armtool's FK on top. An exact UR-type arm's batch runs on the
+vectorized lanes (`closed_form/lanes.py`; the special cases on the kernel), the other families'
+on the kernel. Compiled on first use and cached by Numba: the kernel when the solver is built
+(59 s measured here at load 6, 2 s to load from the cache), the lanes at the first batch of a
+UR-type arm (170 s at load 6, 0.3 s from the cache); each first compile is logged as a warning.
 """
 
 from __future__ import annotations
@@ -66,7 +65,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armtool.errors import ArmtoolError
-from armtool.ik.closed_form import kernel, search
+from armtool.ik.closed_form import kernel, lanes
 from armtool.ik.closed_form.families import Geometry, detect, dh_checkable, pack
 from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
@@ -82,62 +81,81 @@ Raw = Array  # kernel.solve_one's out vector (see kernel's docstring)
 
 class Analytic(Solver):
     name = "analytic"
-    summary = "closed form (subproblem decomposition) for UR-type and spherical-wrist 6R arms, the wrist at either end (detected from the URDF; near ones polished by Newton), a 1-D search on 6R arms with axes 4∩5 and 2∥3 but no closed form: every solution"
+    summary = "closed form (subproblem decomposition) for UR-type and spherical-wrist 6R arms, the wrist at either end (detected from the URDF; near ones polished by Newton): every solution"
     options: ClassVar[dict[str, Any]] = {}
     position_only_capable: ClassVar[bool] = False
+    returns_all_solutions: ClassVar[bool] = True
+    # The compiled module that solves (closed_form/kernel.py; `search` runs closed_form/search.py,
+    # whose output has the kernel's layout) and what its answers are called in failure reasons.
+    _entry: ClassVar[Any] = kernel
+    _what: ClassVar[str] = "closed form"
 
     def __init__(
         self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
     ) -> None:
         super().__init__(chain, timeout=timeout, tolerance=tolerance, seed=seed, **options)
-        self.geometry: Geometry | None = None  # None: no closed form, the 1-D search (closed_form/search.py)
-        self._kernel: Any = kernel
         try:
-            self.geometry = detect(chain)
-        except ArmtoolError as no_family:
-            self._kernel = search
-            try:
-                self._model = search.pack(chain, self.tolerance)
-            except ArmtoolError as no_search:
-                if chain.n != 6 or "prismatic" in no_family.what:
-                    raise no_family from None
-                raise ArmtoolError(f"{no_family.what}; nor {no_search.what}", no_family.where, no_family.hint) from None
-            self.method = search.title(bool(self._model[search.S_REVERSED]))
-            self._checked_here = False  # the search checks every answer on the chain itself
-        if self.geometry is not None:
-            self._model = pack(self.geometry, chain, self.tolerance)
-            if self.geometry.near:
-                self.method = f"{self.geometry.title}: nearest closed-form model, polished by Newton on the chain"
-            # The in-call check runs on the chain's DH model; where that model is not the chain (a
-            # near-closed-form arm, or DH frames that lose digits), the answers are checked here instead.
-            self._checked_here = self.geometry.near or not dh_checkable(chain, self.geometry)
-            if self._checked_here:
-                self._model[kernel.CHECK] = 0.0
-        lo = [-math.inf if c else float(v) for v, c in zip(chain.lower, chain.continuous)]
-        hi = [math.inf if c else float(v) for v, c in zip(chain.upper, chain.continuous)]
+            self.geometry: Geometry = detect(chain)
+        except ArmtoolError as none:
+            raise ArmtoolError(none.what, none.where, _other_way(chain) or none.hint) from None
+        self._model = pack(self.geometry, chain, self.tolerance)
+        # The in-call check runs on the chain's DH model; where that model is not the chain (a
+        # near-closed-form arm, or DH frames that lose digits), the answers are checked here instead.
+        self._checked_here = self.geometry.near or not dh_checkable(chain, self.geometry)
+        if self._checked_here:
+            self._model[kernel.CHECK] = 0.0
+        self._set_limits()
+        # The batch runs on the vectorized lanes where they cover the family (exact models, checked in call).
+        family = int(self._model[kernel.FAMILY])
+        self._lanes = family if family in lanes.FAMILIES and not self._checked_here else None
+        self._lanes_ready = False
+        g = self.geometry
+        self.method = f"closed form: {g.title}" + (
+            f"; nearest closed-form model (off the chain by {g.model_error:.1e}) + Newton polish" if g.near else ""
+        )
+        self._load_kernel()
+
+    def _set_limits(self) -> None:
+        lo = [-math.inf if c else float(v) for v, c in zip(self.chain.lower, self.chain.continuous)]
+        hi = [math.inf if c else float(v) for v, c in zip(self.chain.upper, self.chain.continuous)]
         self._limits = tuple(zip(lo, hi))
         self._rot_tol2 = 4.0 * math.sin(self.tolerance / 2.0) ** 2
-        self._load_kernel()
 
     @property
     def polished(self) -> bool:
         """Whether answers come from the nearest closed-form model polished by Newton steps (a near arm)."""
-        return self.geometry is not None and self.geometry.near
+        return self.geometry.near
 
     def _load_kernel(self) -> None:
         """Call both compiled entry points once, so that loading (or, on the very first run, compiling)
         their machine code happens here, not inside a solve."""
-        on_disk = compiled_on_disk(self._kernel)
+        entry = self._entry
+        on_disk = compiled_on_disk(entry.solve_one)
         if on_disk is False:
-            log.warning("compiling analytic's kernel with Numba (once: ~20-40 s; later runs load it from its cache)")
+            log.warning(f"compiling {self.name}'s kernel with Numba (once: ~20-60 s; later runs load it from its cache)")
         start = time.perf_counter()
         target = np.ascontiguousarray(self.chain.fk(self.chain.mid()))
         mid = self.chain.mid()
-        self._kernel.solve_one(self._model, target, mid, kernel.empty_out())
-        self._kernel.solve_many(self._model, target[None], mid[None], kernel.empty_out(1))
+        entry.solve_one(self._model, target, mid, kernel.empty_out())
+        entry.solve_many(self._model, target[None], mid[None], kernel.empty_out(1))
         log.debug(
-            "analytic's kernel ready in %.2f s (compiled on disk before: %s)", time.perf_counter() - start, on_disk
+            f"{self.name}'s kernel ready in %.2f s (compiled on disk before: %s)", time.perf_counter() - start, on_disk
         )
+
+    def _load_lanes(self) -> None:
+        """Load (on the very first run: compile) the family's batch lanes, on the first batch only:
+        single calls never need them."""
+        assert self._lanes is not None
+        if compiled_on_disk(lanes.solve_loop) is False:
+            log.warning(
+                "compiling analytic's batch lanes with Numba (once: ~1-3 min; later runs load them from its cache)"
+            )
+        start = time.perf_counter()
+        target = np.ascontiguousarray(self.chain.fk(self.chain.mid()))[None]
+        lanes.solve(self._lanes, self._model, target, self.chain.mid()[None], kernel.empty_out(1))
+        self._lanes_ready = True
+        took = time.perf_counter() - start
+        (log.info if took > 1.0 else log.debug)("analytic's batch lanes ready in %.2f s (%s)", took, self.geometry.name)
 
     # ---- one target -----------------------------------------------------------------------------
     def prepare(self, target: Array, seed: Array) -> tuple[Array, Array, Raw]:
@@ -150,7 +168,7 @@ class Analytic(Solver):
         closed_form/kernel.py); a near arm's answers then polished and checked (`_finish`)."""
         target, seed, out = prepared
         try:
-            status = self._kernel.solve_one(self._model, target, seed, out)
+            status = self._entry.solve_one(self._model, target, seed, out)
         except TypeError:  # Numba found no compiled version for these arguments: not 2-D and 1-D floats
             status = kernel.BAD_INPUT
         if status == kernel.BAD_INPUT:
@@ -166,15 +184,12 @@ class Analytic(Solver):
             solutions = tuple(row[:6].copy() for row in rows)
             return Answer(solutions[0], True, 0, "", solutions)
         candidates, in_limits = int(raw[1]), int(raw[2])
-        what = "closed-form" if self.geometry is not None else "1-D search"
         if not candidates:
-            why = (
-                f"out of reach: the {'closed form' if self.geometry is not None else '1-D search'} has no real solution"
-            )
+            why = f"out of reach: the {self._what} has no real solution"
         elif not in_limits:
-            why = f"{candidates} {what} solution(s), none within the joint limits"
+            why = f"{candidates} solution(s) of the {self._what}, none within the joint limits"
         else:
-            why = f"{in_limits} {what} solution(s) within the limits, none passed the FK check (tolerance {self.tolerance:g})"
+            why = f"{in_limits} solution(s) of the {self._what} within the limits, none passed the FK check (tolerance {self.tolerance:g})"
         seed = raw[kernel.SEED : kernel.SEED + 6]
         return Answer(self.chain.clamp(seed.copy()), False, 0, why)
 
@@ -192,13 +207,22 @@ class Analytic(Solver):
 
     # ---- many targets ---------------------------------------------------------------------------
     def prepare_batch(self, targets: Array, seeds: Array) -> tuple[Array, Array, Raw]:
+        """Contiguous arrays and the output buffer (and, the first time, the lanes' machine code loaded)."""
         targets, seeds = self._batch_arrays(targets, seeds)
+        if self._lanes is not None and not self._lanes_ready:
+            self._load_lanes()
         return np.ascontiguousarray(targets), np.ascontiguousarray(seeds), kernel.empty_out(len(targets))
 
     def call_batch(self, prepared: tuple[Array, Array, Raw]) -> Raw:
-        """Every target's solve in one compiled call (one thread); rows of `out` as `call`'s."""
+        """Every target's solve in one compiled call (one thread); rows of `out` as `call`'s. The lanes
+        (closed_form/lanes.py) where they cover the family, the general kernel otherwise and for a
+        target the lanes leave to it."""
         targets, seeds, out = prepared
-        if self._kernel.solve_many(self._model, targets, seeds, out) == kernel.BAD_INPUT:
+        if self._lanes is not None:
+            status = lanes.solve(self._lanes, self._model, targets, seeds, out)
+        else:
+            status = self._entry.solve_many(self._model, targets, seeds, out)
+        if status == kernel.BAD_INPUT:
             bad = int(np.flatnonzero(out[:, 3] == kernel.BAD_INPUT)[0]) if len(out) else 0
             self._refuse(targets[bad], seeds[bad])
         if self._checked_here:
@@ -210,7 +234,7 @@ class Analytic(Solver):
         return [self.answer(row) for row in raw]
 
     def all_solutions(self, targets: Array, seeds: Array) -> tuple[NDArray[np.int64], Array]:
-        """Every solution of every target, as arrays: counts (N,) and Q (N, 16, 6), each target's
+        """Every solution of every target, as arrays: counts (N,) and Q (N, 8, 6), each target's
         solutions nearest its seed first (rows past its count are NaN). The throughput call: one
         compiled call over the batch, one thread, every solution checked as `call`'s."""
         out = self.call_batch(self.prepare_batch(targets, seeds))
@@ -287,6 +311,17 @@ class Analytic(Solver):
         return out
 
 
+def _other_way(chain: Chain) -> str:
+    """The hint for an arm with no closed form that the 1-D search takes (solvers/search.py)."""
+    from armtool.ik.closed_form import search
+
+    try:
+        search.plan(chain)
+    except ArmtoolError:
+        return ""
+    return "every solution by a 1-D search: `--solvers search` (Python: make_solver('search', chain)); or an iterative solver such as lm"
+
+
 def _into_limits(q: tuple[float, ...], limits: tuple[tuple[float, float], ...]) -> tuple[float, ...] | None:
     """q with each angle moved by whole turns into its limits (clamped within 1e-9), or None."""
     out = []
@@ -302,10 +337,10 @@ def _into_limits(q: tuple[float, ...], limits: tuple[tuple[float, float], ...]) 
     return tuple(out)
 
 
-def compiled_on_disk(module: Any = kernel) -> bool | None:
-    """Whether Numba's cache holds the kernel's (or the search's) machine code (None: this Numba does not say)."""
+def compiled_on_disk(function: Any) -> bool | None:
+    """Whether Numba's cache holds a compiled function's machine code (None: this Numba does not say)."""
     try:
-        index: str = getattr(module.solve_one, "_cache")._cache_file._index_path  # noqa: B009 (private to Numba)
+        index: str = getattr(function, "_cache")._cache_file._index_path  # noqa: B009 (private to Numba)
     except AttributeError:
         return None
     return os.path.exists(index)
