@@ -16,6 +16,7 @@ SOLVERS: dict[str, str] = {
     "kdl-lma": "armtool.ik.solvers.kdl_lma:KdlLevenbergMarquardt",
     "trac": "armtool.ik.solvers.trac:TracIK",
     "analytic": "armtool.ik.solvers.analytic:Analytic",
+    "search": "armtool.ik.solvers.search:Search",
 }
 
 

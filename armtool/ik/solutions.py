@@ -139,3 +139,23 @@ def closed_form_answer(chain: Chain, name: str, Q: Array, least_squares: Any, se
         else f"{name} returned least-squares (approximate) solutions only ({Q.shape[0]}), none within the joint limits"
     )
     return Answer(np.where(np.isfinite(q), q, seed), False, 0, why)
+
+
+def enumerate_by_least_squares(chain: Chain, target: Array, seeds: Array) -> Array:
+    """Every solution SciPy's least squares (bounded by the limits) reaches from the seeds, verified,
+    refined and distinct: an enumeration independent of any closed form or search, to count theirs
+    against (tests, benchmarks/ik_search.py). Slow: ~3 ms a seed."""
+    from scipy.optimize import least_squares
+
+    from armtool.ik.solver import rotation_error, verify
+
+    def residual(q: Array) -> Array:
+        T = chain.fk(q)
+        return np.concatenate([target[:3, 3] - T[:3, 3], rotation_error(T[:3, :3], target[:3, :3])])
+
+    found = []
+    for seed in np.asarray(seeds, dtype=float).reshape(-1, chain.n):
+        x = least_squares(residual, seed, bounds=(chain.lower, chain.upper), xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+        if verify(chain, x, target, 1e-5)[0]:
+            found.append(x)
+    return distinct(chain, refine(chain, np.array(found).reshape(-1, chain.n), target))

@@ -27,3 +27,4 @@ class PathSolver(str, Enum):
     KDL_LMA = "kdl-lma"
     TRAC = "trac"
     ANALYTIC = "analytic"
+    SEARCH = "search"

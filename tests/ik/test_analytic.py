@@ -28,9 +28,9 @@ def wrapped_distance(a: Array, b: Array) -> float:
     return float(np.max(np.abs((a - b + math.pi) % (2 * math.pi) - math.pi)))
 
 
-def check_all_solutions(chain: Chain, result: IKResult, target: Array, seed: Array) -> None:
+def check_all_solutions(chain: Chain, result: IKResult, target: Array, seed: Array, most: int = 8) -> None:
     """Every solution verifies to ~1e-9, lies in the limits, is geometrically distinct; q is the nearest to the seed."""
-    assert result.success and 1 <= len(result.solutions) <= 8
+    assert result.success and 1 <= len(result.solutions) <= most
     assert result.q is result.solutions[0]
     for x in result.solutions:
         ok, pos, rot = verify(chain, x, target, 1e-5)
@@ -168,7 +168,7 @@ def test_solutions_outside_the_limits_are_dropped() -> None:
     result = make_solver("analytic", chain).solve(target, np.zeros(6))
     assert (
         not result.success
-        and result.reason == f"{len(free.solutions)} closed-form solution(s), none within the joint limits"
+        and result.reason == f"{len(free.solutions)} solution(s) of the closed form, none within the joint limits"
     )
     assert chain.within_limits(result.q)
 
@@ -400,10 +400,24 @@ def test_exact_arms_stay_exact() -> None:
     assert not make_solver("analytic", dh_chain(UR_LIKE)).geometry.near
 
 
-def test_far_from_closed_form_is_still_refused() -> None:
+def test_far_from_closed_form_is_refused_and_pointed_at_the_search() -> None:
+    """Axis 6 2 cm off the wrist: no family even within 1 mm, but axes 4∩5 and 2∥3: analytic refuses
+    and its hint names the 1-D search (tests/ik/test_search.py checks that solver)."""
     far = [PUMA_RIGHT[0], PUMA_RIGHT[1], PUMA_RIGHT[2], PUMA_RIGHT[3], (0.0, 0.02, -math.pi / 2), PUMA_RIGHT[5]]
-    with pytest.raises(ArmtoolError, match="not even within 0.001 rad / 0.001 m"):
+    with pytest.raises(ArmtoolError, match="not even within 0.001 rad / 0.001 m") as info:
         make_solver("analytic", dh_chain(far, seed=9))
+    assert "--solvers search" in info.value.hint
+    assert make_solver("search", dh_chain(far, seed=9)).method.startswith("1-D search over θ6")
+
+
+def test_no_closed_form_and_no_search_structure_is_refused_by_both() -> None:
+    """Axes 4, 5 apart and 2∦3: neither a family (not even within 1 mm) nor the search's structure."""
+    far = [PUMA_RIGHT[0], (0.15, 0.43, 0.3), PUMA_RIGHT[2], (0.43, 0.02, math.pi / 2), PUMA_RIGHT[4], PUMA_RIGHT[5]]
+    with pytest.raises(ArmtoolError, match="not even within 0.001 rad / 0.001 m") as info:
+        make_solver("analytic", dh_chain(far, seed=9))
+    assert "search" not in info.value.hint
+    with pytest.raises(ArmtoolError, match="the 1-D search needs axes 4, 5 intersecting"):
+        make_solver("search", dh_chain(far, seed=9))
 
 
 REALWORLD = Path(__file__).resolve().parents[2] / ".." / "shared" / "realworld"

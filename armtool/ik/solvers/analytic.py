@@ -85,22 +85,26 @@ class Analytic(Solver):
     options: ClassVar[dict[str, Any]] = {}
     position_only_capable: ClassVar[bool] = False
     returns_all_solutions: ClassVar[bool] = True
+    # The compiled module that solves (closed_form/kernel.py; `search` runs closed_form/search.py,
+    # whose output has the kernel's layout) and what its answers are called in failure reasons.
+    _entry: ClassVar[Any] = kernel
+    _what: ClassVar[str] = "closed form"
 
     def __init__(
         self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any
     ) -> None:
         super().__init__(chain, timeout=timeout, tolerance=tolerance, seed=seed, **options)
-        self.geometry: Geometry = detect(chain)
+        try:
+            self.geometry: Geometry = detect(chain)
+        except ArmtoolError as none:
+            raise ArmtoolError(none.what, none.where, _other_way(chain) or none.hint) from None
         self._model = pack(self.geometry, chain, self.tolerance)
         # The in-call check runs on the chain's DH model; where that model is not the chain (a
         # near-closed-form arm, or DH frames that lose digits), the answers are checked here instead.
         self._checked_here = self.geometry.near or not dh_checkable(chain, self.geometry)
         if self._checked_here:
             self._model[kernel.CHECK] = 0.0
-        lo = [-math.inf if c else float(v) for v, c in zip(chain.lower, chain.continuous)]
-        hi = [math.inf if c else float(v) for v, c in zip(chain.upper, chain.continuous)]
-        self._limits = tuple(zip(lo, hi))
-        self._rot_tol2 = 4.0 * math.sin(self.tolerance / 2.0) ** 2
+        self._set_limits()
         # The batch runs on the vectorized lanes where they cover the family (exact models, checked in call).
         family = int(self._model[kernel.FAMILY])
         self._lanes = family if family in lanes.FAMILIES and not self._checked_here else None
@@ -111,6 +115,12 @@ class Analytic(Solver):
         )
         self._load_kernel()
 
+    def _set_limits(self) -> None:
+        lo = [-math.inf if c else float(v) for v, c in zip(self.chain.lower, self.chain.continuous)]
+        hi = [math.inf if c else float(v) for v, c in zip(self.chain.upper, self.chain.continuous)]
+        self._limits = tuple(zip(lo, hi))
+        self._rot_tol2 = 4.0 * math.sin(self.tolerance / 2.0) ** 2
+
     @property
     def polished(self) -> bool:
         """Whether answers come from the nearest closed-form model polished by Newton steps (a near arm)."""
@@ -119,16 +129,17 @@ class Analytic(Solver):
     def _load_kernel(self) -> None:
         """Call both compiled entry points once, so that loading (or, on the very first run, compiling)
         their machine code happens here, not inside a solve."""
-        on_disk = compiled_on_disk(kernel.solve_one)
+        entry = self._entry
+        on_disk = compiled_on_disk(entry.solve_one)
         if on_disk is False:
-            log.warning("compiling analytic's kernel with Numba (once: ~20-60 s; later runs load it from its cache)")
+            log.warning(f"compiling {self.name}'s kernel with Numba (once: ~20-60 s; later runs load it from its cache)")
         start = time.perf_counter()
         target = np.ascontiguousarray(self.chain.fk(self.chain.mid()))
         mid = self.chain.mid()
-        kernel.solve_one(self._model, target, mid, kernel.empty_out())
-        kernel.solve_many(self._model, target[None], mid[None], kernel.empty_out(1))
+        entry.solve_one(self._model, target, mid, kernel.empty_out())
+        entry.solve_many(self._model, target[None], mid[None], kernel.empty_out(1))
         log.debug(
-            "analytic's kernel ready in %.2f s (compiled on disk before: %s)", time.perf_counter() - start, on_disk
+            f"{self.name}'s kernel ready in %.2f s (compiled on disk before: %s)", time.perf_counter() - start, on_disk
         )
 
     def _load_lanes(self) -> None:
@@ -157,7 +168,7 @@ class Analytic(Solver):
         closed_form/kernel.py); a near arm's answers then polished and checked (`_finish`)."""
         target, seed, out = prepared
         try:
-            status = kernel.solve_one(self._model, target, seed, out)
+            status = self._entry.solve_one(self._model, target, seed, out)
         except TypeError:  # Numba found no compiled version for these arguments: not 2-D and 1-D floats
             status = kernel.BAD_INPUT
         if status == kernel.BAD_INPUT:
@@ -174,11 +185,11 @@ class Analytic(Solver):
             return Answer(solutions[0], True, 0, "", solutions)
         candidates, in_limits = int(raw[1]), int(raw[2])
         if not candidates:
-            why = "out of reach: the closed form has no real solution"
+            why = f"out of reach: the {self._what} has no real solution"
         elif not in_limits:
-            why = f"{candidates} closed-form solution(s), none within the joint limits"
+            why = f"{candidates} solution(s) of the {self._what}, none within the joint limits"
         else:
-            why = f"{in_limits} closed-form solution(s) within the limits, none passed the FK check (tolerance {self.tolerance:g})"
+            why = f"{in_limits} solution(s) of the {self._what} within the limits, none passed the FK check (tolerance {self.tolerance:g})"
         seed = raw[kernel.SEED : kernel.SEED + 6]
         return Answer(self.chain.clamp(seed.copy()), False, 0, why)
 
@@ -210,7 +221,7 @@ class Analytic(Solver):
         if self._lanes is not None:
             status = lanes.solve(self._lanes, self._model, targets, seeds, out)
         else:
-            status = kernel.solve_many(self._model, targets, seeds, out)
+            status = self._entry.solve_many(self._model, targets, seeds, out)
         if status == kernel.BAD_INPUT:
             bad = int(np.flatnonzero(out[:, 3] == kernel.BAD_INPUT)[0]) if len(out) else 0
             self._refuse(targets[bad], seeds[bad])
@@ -239,7 +250,7 @@ class Analytic(Solver):
         count = int(out[0])
         rows = out[kernel.OUT_HEAD : kernel.OUT_HEAD + kernel.ROW * count].reshape(count, kernel.ROW)
         qs = [tuple(row[:6].tolist()) for row in rows]
-        if self.geometry.near:
+        if self.polished:
             qs = self._polish(qs, target)
         sd = seed.tolist()
         tol, rot_tol2 = self.tolerance, self._rot_tol2
@@ -298,6 +309,17 @@ class Analytic(Solver):
                     qa = qa + np.linalg.lstsq(J, e, rcond=None)[0]
             out.append(tuple(qa.tolist()))
         return out
+
+
+def _other_way(chain: Chain) -> str:
+    """The hint for an arm with no closed form that the 1-D search takes (solvers/search.py)."""
+    from armtool.ik.closed_form import search
+
+    try:
+        search.plan(chain)
+    except ArmtoolError:
+        return ""
+    return "every solution by a 1-D search: `--solvers search` (Python: make_solver('search', chain)); or an iterative solver such as lm"
 
 
 def _into_limits(q: tuple[float, ...], limits: tuple[tuple[float, float], ...]) -> tuple[float, ...] | None:
