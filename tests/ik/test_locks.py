@@ -41,7 +41,10 @@ def _bench(*extra: str) -> dict[str, dict[str, object]]:
     args = ["ik-bench", str(urdf), "--base", "panda_link0", "--tip", "panda_hand", "--samples", "30", "--no-batch"]
     result = CliRunner().invoke(app, [*args, "--format", "json", *extra])
     assert result.exit_code == 0, result.output
-    return {r["solver"]: r for r in json.loads(result.stdout)["solvers"]}
+    doc = json.loads(result.stdout)
+    locked = {"panda_joint7": 0.785} if "--lock" in extra else {}
+    assert doc["locked"] == locked and len(doc["joints"]) == 7 - len(locked)
+    return {r["solver"]: r for r in doc["solvers"]}
 
 
 def test_ik_bench_lock_solves_panda_in_closed_form() -> None:
