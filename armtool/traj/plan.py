@@ -258,7 +258,14 @@ def path_solver(name: str, chain: Chain) -> tuple[cart.PoseSolver, str]:
             return _lm(chain), f"lm (iterative; no closed form for this chain: {exc.what})"
     if name == "lm":
         return _lm(chain), "lm"
-    return make_solver(name, chain), _CLOSED_FORM if name == "analytic" else name
+    if name == "analytic":
+        try:
+            return make_solver(name, chain), _CLOSED_FORM
+        except ArmtoolError as exc:  # the same reason, told in traj cartesian's options
+            raise ArmtoolError(
+                exc.what, exc.where, "--lock JOINT=VALUE holds a 7-DoF arm's joint; or --solver auto (lm here)"
+            ) from None
+    return make_solver(name, chain), name
 
 
 _CLOSED_FORM = "analytic (closed form: each point takes the solution nearest the previous one)"
