@@ -104,8 +104,9 @@ def branch_switches(
             if signs[k] == 0:
                 continue
             if signs[last] != 0 and signs[k] != signs[last] and (k - 1) not in jumps:
-                j = _flipped(chain, q[k - 1], q[k], signs[last])
-                flip = Flip(chain.joint_names[j], float(q[k - 1, j]), float(q[k, j]))
+                # from the last point off the singularity: the points between sit on it
+                j = _flipped(chain, q[last], q[k], signs[last])
+                flip = Flip(chain.joint_names[j], float(q[last, j]), float(q[k, j]))
                 out.append(BranchSwitch(k - 1, float(params[k]), False, (flip,)))
             last = k
     return sorted(out, key=lambda b: b.step)
