@@ -78,6 +78,9 @@ def ik_bench(
         "--plot",
         help="Write a figure (PNG, SVG or PDF, by the extension): solve-time CDF and success per solver.",
     ),
+    lock: list[str] | None = typer.Option(
+        None, "--lock", help="Hold a joint at a value: JOINT=VALUE (rad or m), repeatable or a comma list."
+    ),
     xacro_arg: XacroArgs = None,
     package_path: PackagePaths = None,
     robot_config: RobotConfig = None,
@@ -91,7 +94,9 @@ def ik_bench(
     from armtool.fileio import check_output_paths
     from armtool.ik.bench import BenchConfig, NotApplicable, SolverReport, make_targets, run_bench, run_header
     from armtool.ik.group import GroupSettings, counterpart_solver, group_chain, group_settings
-    from armtool.ik.lineup import build_lineup
+    from armtool.ik.lineup import build_lineup, names_option
+    from armtool.ik.locks import describe, parse_locks
+    from armtool.ik.locks import lock as lock_chain
     from armtool.ik.peers import check_peer_name, native_stdout_to_stderr, peer_names
     from armtool.ik.registry import solver_class, solver_names
     from armtool.model.chain import chain_from_xml, default_base_tip
@@ -107,12 +112,13 @@ def ik_bench(
         )
     if urdf is None:
         raise ArmtoolError("no robot given", hint="pass the URDF (or xacro), or --moveit-config DIR")
-    names = _names("--solvers", solvers, solver_names())
-    wanted = _names("--peers", peers, peer_names(), everything="all", what="peer") if peers is not None else []
+    names = names_option("--solvers", solvers, solver_names())
+    wanted = names_option("--peers", peers, peer_names(), everything="all", what="peer") if peers is not None else []
     for name in names:
         solver_class(name)  # an unknown name fails now, before any file is read
     for name in wanted:
         check_peer_name(name)
+    locks = parse_locks(lock)
     check_output_paths({"--plot": plot}, inputs=[urdf, srdf, kinematics_yaml])  # before the work, not after it
     if plot is not None:
         plot_format(plot)
@@ -143,7 +149,9 @@ def ik_bench(
     if settings.solver_plugin:
         stand_in = f"armtool's {moveit_solver} stands for it" if moveit_solver else "no built-in solver works like it"
         how += f"; MoveIt's solver {settings.solver_plugin} ({stand_in})"
-    chain = chain_from_xml(root, base, tip, source=urdf.name)
+    chain = lock_chain(chain_from_xml(root, base, tip, source=urdf.name), locks)
+    if chain.locks:
+        how += ("; " if how else "") + f"locked {describe(chain)}"
     if timeout is None:
         timeout = settings.timeout_s or 0.005
     config = BenchConfig(
@@ -224,22 +232,3 @@ def _from_moveit_config(
     if group is None and base is None and tip is None:
         group = planning_group(kinematics_yaml, directory)
     return urdf, srdf, kinematics_yaml, pkg.urdf_xacro_args, group
-
-
-def _names(flag: str, text: str | None, known: list[str], everything: str = "", what: str = "solver") -> list[str]:
-    """A comma-separated list of names (None: every known one). An empty list (`--solvers ,`) is an
-    error: it would run an empty benchmark and exit 0. Unknown names are reported where they are built."""
-    if text is None:
-        return list(known)
-    if everything and text.strip() == everything:
-        return list(known)
-    names = [n.strip() for n in text.split(",") if n.strip()]
-    if not names:
-        raise ArmtoolError(
-            f"{flag} {text!r} names no {what}",
-            hint=f"choose from: {', '.join(known)}" + (f", or {everything}" if everything else ""),
-        )
-    repeated = sorted({n for n in names if names.count(n) > 1})
-    if repeated:
-        raise ArmtoolError(f"{flag} names {', '.join(repeated)} twice", hint=f"list each {what} once")
-    return names

@@ -78,3 +78,24 @@ def build_lineup(
         else:
             lineup.solvers.append(peer)
     return lineup
+
+
+def names_option(
+    flag: str, text: str | None, known: list[str], everything: str = "", what: str = "solver"
+) -> list[str]:
+    """ik-bench's --solvers/--peers: a comma-separated list of names (None: every known one). An empty list (`--solvers ,`) is an
+    error: it would run an empty benchmark and exit 0. Unknown names are reported where they are built."""
+    if text is None:
+        return list(known)
+    if everything and text.strip() == everything:
+        return list(known)
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise ArmtoolError(
+            f"{flag} {text!r} names no {what}",
+            hint=f"choose from: {', '.join(known)}" + (f", or {everything}" if everything else ""),
+        )
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise ArmtoolError(f"{flag} names {', '.join(repeated)} twice", hint=f"list each {what} once")
+    return names

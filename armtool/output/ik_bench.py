@@ -143,6 +143,7 @@ def render_json(chain: Chain, config: BenchConfig, reports: list[Row]) -> str:
         "base": chain.base,
         "tip": chain.tip,
         "joints": chain.joint_names,
+        "locked": {name: value for _, name, value in chain.locks},  # ik-bench --lock: held out of `joints`
         "timing": TIMING,
         "config": {
             "samples": config.samples,

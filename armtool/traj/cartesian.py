@@ -9,6 +9,10 @@ joint path by IK, each point seeded from the previous one (MoveIt's computeCarte
   relative rule, with at least 10 steps) or where any joint moves more than `max_step_rad` /
   `max_step_m` (absolute rule). Both rules are evaluated and reported; the path is cut before the
   first jump, as MoveIt cuts it.
+* Closed forms (`analytic`: every solution of a pose): each point takes the solution nearest the
+  previous one, and the steps over which the path changes branch are listed, each with the joint
+  that flipped (`armtool.traj.branches`); a switch that breaks a jump rule is the jump the path is
+  cut at, and its message says so.
 * The result says the fraction of the path achieved and, if short of 1, why and where it stopped:
   unreachable (IK failed), joint limit, singularity (with the smallest singular value of the
   Jacobian), or jump.
@@ -26,6 +30,7 @@ import numpy as np
 from armtool.errors import ArmtoolError
 from armtool.ik.solver import IKResult, rotation_error
 from armtool.model.chain import Chain, axis_angle_batch
+from armtool.traj.branches import BranchSwitch, branch_switches, nearest
 from armtool.traj.check import jump_steps
 from armtool.traj.trajectory import Array
 
@@ -76,6 +81,8 @@ class CartesianResult:
         default_factory=lambda: np.zeros(0)
     )  # per step: tool at the joint midpoint vs the path
     midpoint_deviation_rad: Array = field(default_factory=lambda: np.zeros(0))
+    closed_form: bool = False  # the solver returned every solution: each point is the nearest one
+    branch_switches: list[BranchSwitch] = field(default_factory=list)  # closed form only
 
 
 def _slerp_R(R0: Array, R1: Array, lam: float) -> Array:
@@ -187,6 +194,7 @@ class _Stepper:
         self.inserted = 0
         self.steps_m: list[float] = []  # per kept step: the tool at its joint midpoint vs the path
         self.steps_rad: list[float] = []
+        self.closed_form = False  # the solver returned every solution of a pose (analytic)
 
     def deviation(self, q: Array, target: Array) -> tuple[float, float]:
         T = self.chain.fk(q)
@@ -196,6 +204,9 @@ class _Stepper:
 
     def solve(self, target: Array, seed: Array) -> tuple[Array | None, str]:
         r = self.solver.solve(target, seed)
+        if r.success and r.solutions:
+            self.closed_form = True
+            return nearest(self.chain, r.solutions, seed), ""
         if r.success:
             return r.q, ""
         return None, r.reason
@@ -343,6 +354,7 @@ def compute_cartesian(
         done += max(seg.length_m, 1e-12)
     q = np.asarray(qs)
     relative, absolute = jump_steps(q, o.jump_factor, None)
+    lim = None
     if o.max_step_rad is not None or o.max_step_m is not None:
         lim = np.where(
             chain.revolute,
@@ -351,6 +363,7 @@ def compute_cartesian(
         )
         absolute = np.flatnonzero((np.abs(np.diff(q, axis=0)) > lim).any(axis=1)).tolist()
     jumps = sorted(set(relative) | set(absolute))
+    switches = branch_switches(chain, q, np.asarray(params), set(jumps), lim) if stepper.closed_form else []
     cut = len(q)
     if jumps:
         k = jumps[0]
@@ -361,8 +374,9 @@ def compute_cartesian(
         reason, detail = (
             "jump",
             (
-                f"joint '{chain.joint_names[j]}' jumps {d[j]:.4f} from point {k} to {k + 1} "
-                f"({' and '.join(rules)} rule{'s' if len(rules) > 1 else ''})"
+                f"joint '{chain.joint_names[j]}' jumps {d[j]:.4f} from point {k} to {k + 1} at path parameter "
+                f"{params[k + 1]:.4f} ({' and '.join(rules)} rule{'s' if len(rules) > 1 else ''})"
+                + next((f": {b.text().partition(': ')[2]}" for b in switches if b.step == k), "")
             ),
         )
     fraction = 1.0 if not reason else float(params[cut - 1])
@@ -383,4 +397,6 @@ def compute_cartesian(
         absolute,
         kept_m,
         kept_rad,
+        stepper.closed_form,
+        switches,
     )

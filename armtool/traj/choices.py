@@ -17,10 +17,12 @@ class TrajFormat(str, Enum):
 
 
 class PathSolver(str, Enum):
-    """The IK solvers `traj cartesian` can step a path with: every solver of `armtool.ik.registry`
-    (tests/traj/test_choices.py keeps the two in step). `analytic` applies to arms with a closed form
-    and returns the solution nearest the previous point."""
+    """The IK solvers `traj cartesian` can step a path with: `auto` (the closed form `analytic` when the
+    chain has one, else the 1-D `search` where it applies, else `lm`) and every solver of
+    `armtool.ik.registry` (tests/traj/test_choices.py keeps the two in step). With `analytic` or
+    `search` each point is the solution nearest the previous point."""
 
+    AUTO = "auto"
     LM = "lm"
     DLS = "dls"
     KDL_NR_JL = "kdl-nr-jl"

@@ -54,11 +54,12 @@ class PathSpec:
 
 @dataclass(frozen=True)
 class CartesianPlan:
-    chain: Chain
+    chain: Chain  # the chain IK solves: with --lock, the locked one (its q lacks the locked joints)
     result: cart.CartesianResult
-    trajectory: Trajectory  # the achieved joint path (untimed)
+    trajectory: Trajectory  # the achieved joint path (untimed), every joint, the locked ones at their values
     start_how: str = "--start"  # where the start configuration came from
     chain_how: str = "--base/--tip"  # where the chain came from: a group of the SRDF, the default chain
+    solver_how: str = ""  # which solver stepped the path, and why
 
 
 def floats(text: str, n: int, option: str) -> list[float]:
@@ -80,12 +81,24 @@ def _start(
     xacro_args: Mapping[str, str] | None,
     package_paths: Sequence[Path],
 ) -> tuple[Array, str]:
-    """--start, else the default start of `armtool.traj.start` (never a singular one)."""
+    """--start, else the default start of `armtool.traj.start` (never a singular one). With locked
+    joints --start gives the free joints, or every joint with the locked ones at their values."""
     if start is None:
         from armtool.traj.start import default_start
 
         chosen = default_start(chain, urdf, srdf, chain.name, xacro_args, package_paths)
         return chosen.q, chosen.how
+    if chain.locks and len([v for v in start.split(",") if v.strip()]) == chain.n + len(chain.locks):
+        from armtool.ik.locks import full_joint_names
+
+        given = dict(zip(full_joint_names(chain), floats(start, chain.n + len(chain.locks), "--start")))
+        for _, name, value in chain.locks:
+            if abs(given[name] - value) > 1e-9:
+                raise ArmtoolError(
+                    f"--start gives {name} = {given[name]:g}, but --lock holds it at {value:g}",
+                    hint=f"give {name} = {value:g} in --start, or only the {chain.n} joints that move",
+                )
+        start = ",".join(repr(given[name]) for name in chain.joint_names)
     q0 = np.asarray(floats(start, chain.n, "--start"), dtype=np.float64)
     if not chain.within_limits(q0):
         raise ArmtoolError(
@@ -176,12 +189,14 @@ def plan_cartesian(
     group: str | None = None,
     group_why: str = "",
     srdf_xacro_args: Mapping[str, str] | None = None,
+    locks: Mapping[str, float] | None = None,
 ) -> CartesianPlan:
     """The joint path along `spec` from `start`, as far as it could be followed. The chain is
     `group`'s of the SRDF, built as MoveIt builds it (`armtool.ik.group`), else base → tip (by
-    default the longest chain from the root). The SRDF (a .srdf.xacro expanded with
-    `srdf_xacro_args`, else `xacro_args`) also gives the default start."""
-    from armtool.ik.registry import make_solver
+    default the longest chain from the root), with `locks` held (`armtool.ik.locks`). The SRDF (a
+    .srdf.xacro expanded with `srdf_xacro_args`, else `xacro_args`) also gives the default start.
+    `solver` "auto": the closed form where the chain has one, else lm (`path_solver`)."""
+    from armtool.ik.locks import full_joint_names, lock
     from armtool.model.chain import chain_from_xml
     from armtool.model.load import load_robot_xml
     from armtool.traj.start import read_srdf
@@ -214,20 +229,58 @@ def plan_cartesian(
         found = group_chain(semantic.root, group, root, source=str(srdf))
         base, tip = found.base, found.tip
         how = f"group '{group}' of {semantic.path.name}" + (f" ({group_why})" if group_why else "")
-    chain = chain_from_xml(root, base, tip, source=urdf.name)
+    whole = chain_from_xml(root, base, tip, source=urdf.name)
+    chain = lock(whole, locks or {})
     q0, start_how = _start(chain, start, urdf, semantic, xacro_args, package_paths)
     segs = segments(spec, chain.fk(q0))
-    # lm's table of poses is built only if a point needs it: a path's next point is near its seed.
-    ik = make_solver(solver, chain, **({"lazy_table": True} if solver == "lm" else {}))
+    ik, solver_how = path_solver(solver, chain)
     result = cart.compute_cartesian(chain, ik, q0, segs, options)
-    prismatic = tuple(not r for r in chain.revolute)
+    prismatic = tuple(not r for r in whole.revolute)
     return CartesianPlan(
         chain,
         result,
-        Trajectory(tuple(chain.joint_names), result.q, source=str(urdf), prismatic=prismatic),
+        Trajectory(tuple(full_joint_names(chain)), chain.expand(result.q), source=str(urdf), prismatic=prismatic),
         start_how,
         how,
+        solver_how,
     )
+
+
+def path_solver(name: str, chain: Chain) -> tuple[cart.PoseSolver, str]:
+    """The solver that steps the path, and what to tell about it. `auto`: `analytic` where the chain
+    has a closed form, else `search` where its 1-D search applies (each point then the nearest of
+    every solution), else `lm`, saying why."""
+    from armtool.ik.registry import make_solver
+
+    if name == "auto":
+        try:
+            return make_solver("analytic", chain), _CLOSED_FORM
+        except ArmtoolError as exc:  # no closed form: the 1-D search where it applies, else iterative
+            try:
+                return make_solver("search", chain), _SEARCH
+            except ArmtoolError:
+                return _lm(chain), f"lm (iterative; no closed form for this chain: {exc.what})"
+    if name == "lm":
+        return _lm(chain), "lm"
+    if name == "analytic":
+        try:
+            return make_solver(name, chain), _CLOSED_FORM
+        except ArmtoolError as exc:  # the same reason, told in traj cartesian's options
+            raise ArmtoolError(
+                exc.what, exc.where, "--lock JOINT=VALUE holds a 7-DoF arm's joint; or --solver auto (lm here)"
+            ) from None
+    return make_solver(name, chain), name
+
+
+_CLOSED_FORM = "analytic (closed form: each point takes the solution nearest the previous one)"
+_SEARCH = "search (every solution by a 1-D search, no closed form: each point takes the solution nearest the previous one)"
+
+
+def _lm(chain: Chain) -> cart.PoseSolver:
+    """lm without its table of poses until a point needs it: a path's next point is near its seed."""
+    from armtool.ik.registry import make_solver
+
+    return make_solver("lm", chain, lazy_table=True)
 
 
 def require_fraction(result: cart.CartesianResult, min_fraction: float) -> None:
@@ -236,7 +289,7 @@ def require_fraction(result: cart.CartesianResult, min_fraction: float) -> None:
         raise ArmtoolError(
             f"only {result.fraction:.4f} of the path achieved: stopped after point {len(result.q) - 1} "
             f"({result.reason}: {result.detail}); nothing written",
-            hint="check that the path is reachable from --start (another --start, --solver analytic), "
+            hint="check that the path is reachable from --start (another --start, or --lock a joint of a 7-DoF arm), "
             "or pass --min-fraction 0 to write the part achieved",
         )
 
@@ -252,15 +305,64 @@ def report_lines(result: cart.CartesianResult, plan: CartesianPlan | None = None
         lines += [
             f"chain: {plan.chain_how}: base '{chain.base}' -> tip '{chain.tip}', {chain.n} joints "
             f"({', '.join(chain.joint_names)})",
-            f"start: {plan.start_how}: " + ", ".join(f"{v:.4g}" for v in result.q[0]),
+            f"start: {plan.start_how}: " + ", ".join(f"{v:.4g}" for v in plan.trajectory.positions[0]),
         ]
+        if chain.locks:
+            from armtool.ik.locks import describe
+
+            lines.append(f"locked: {describe(chain)} (held at that value in the output)")
+        if plan.solver_how:
+            lines.append(f"solver: {plan.solver_how}")
     lines += [
         f"fraction {result.fraction:.4f}: {len(result.q)} points ({result.inserted} inserted by the precision check), "
         f"worst deviation {result.max_deviation_m * 1000:.3f} mm / {result.max_deviation_rad:.4f} rad",
         f"jumps (step k: point k → k+1): relative rule {rel}; absolute rule {ab}",
     ]
+    if result.closed_form:
+        switches = result.branch_switches
+        lines.append(f"branch switches: {len(switches) or 'none'}" + (":" if switches else ""))
+        lines += [f"  {b.text()}" for b in switches]
     if result.reason:
         lines.append(
             f"stopped at point {len(result.q) - 1} (fraction {result.fraction:.4f}): {result.reason}: {result.detail}"
         )
     return lines
+
+
+def report_json(plan: CartesianPlan) -> str:
+    """`traj cartesian --report`: what report_lines says, for scripts (`schema_version` 1; steps k are
+    point k → k+1 of the achieved path's points, params the path parameter 0..1)."""
+    import json
+
+    r, chain = plan.result, plan.chain
+    doc = {
+        "schema_version": 1,
+        "chain": {
+            "base": chain.base,
+            "tip": chain.tip,
+            "joints": list(plan.trajectory.joint_names),
+            "how": plan.chain_how,
+        },
+        "locked": {name: value for _, name, value in chain.locks},
+        "solver": plan.solver_how,
+        "closed_form": r.closed_form,
+        "start": {"how": plan.start_how, "positions": plan.trajectory.positions[0].tolist()},
+        "fraction": r.fraction,
+        "points": len(r.q),
+        "inserted": r.inserted,
+        "max_deviation_m": r.max_deviation_m,
+        "max_deviation_rad": r.max_deviation_rad,
+        "jumps": {"relative_rule": r.relative_jumps, "absolute_rule": r.absolute_jumps},
+        "branch_switches": [
+            {
+                "step": b.step,
+                "param": b.param,
+                "jump": b.jump,
+                "flips": [{"joint": f.joint, "from": f.from_value, "to": f.to_value} for f in b.flips],
+                "note": b.note,
+            }
+            for b in r.branch_switches
+        ],
+        "stopped": {"reason": r.reason, "detail": r.detail} if r.reason else None,
+    }
+    return json.dumps(doc, indent=2) + "\n"

@@ -100,7 +100,7 @@ def test_the_row_names_the_decomposition(name: str) -> None:
 def test_a_7_joint_arm_needs_a_locked_joint(name: str) -> None:
     chain, root = arm("xarm7")
     why = refused(name, chain, root)
-    assert "cannot take 7 joints" in why and "ik-bench does not do yet" in why
+    assert "cannot take 7 joints" in why and "lock one joint of a 7-DOF arm (--lock JOINT=VALUE" in why
 
 
 def test_eaik_has_no_decomposition_for_a_general_6r_arm() -> None:

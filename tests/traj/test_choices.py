@@ -7,4 +7,4 @@ from armtool.traj.choices import PathSolver
 
 
 def test_path_solvers_are_the_registered_solvers() -> None:
-    assert [s.value for s in PathSolver] == list(SOLVERS)
+    assert [s.value for s in PathSolver] == ["auto", *SOLVERS]

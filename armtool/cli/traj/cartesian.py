@@ -124,9 +124,21 @@ def cartesian(
     solver: Annotated[
         PathSolver,
         typer.Option(
-            help="IK solver from `armtool ik-bench` (lm; analytic picks the solution nearest the previous point)."
+            help="IK solver from `armtool ik-bench`; auto: analytic (closed form, the solution nearest the previous "
+            "point) where the chain has one, else lm."
         ),
-    ] = PathSolver.LM,
+    ] = PathSolver.AUTO,
+    lock: Annotated[
+        list[str] | None,
+        typer.Option(
+            help="Hold a joint at a value: JOINT=VALUE (rad or m), repeatable or a comma list; a 7-DoF arm "
+            "locked at one joint has a closed form (Panda: panda_joint7=0.785)."
+        ),
+    ] = None,
+    report: Annotated[
+        Path | None,
+        typer.Option(help="Also write the report (fraction, jumps, branch switches, where it stopped) here as JSON."),
+    ] = None,
     min_fraction: Annotated[
         float,
         typer.Option(
@@ -149,7 +161,10 @@ def cartesian(
     package_path: PackagePaths = None,
     config: RobotConfig = None,
 ) -> None:
-    start({"-o": output, "--plot": plot}, [urdf, waypoints, srdf])
+    start({"-o": output, "--plot": plot, "--report": report}, [urdf, waypoints, srdf])
+    from armtool.ik.locks import parse_locks
+
+    locks = parse_locks(lock)
     if plot is not None:
         from armtool.plotting import plot_format
 
@@ -201,9 +216,15 @@ def cartesian(
         group=group,
         group_why=group_why,
         srdf_xacro_args=dict(given.srdf_xacro_args),
+        locks=locks,
     )
     for text in plan.report_lines(done.result, done):
         stderr().print(escape(text))
+    if report is not None:
+        from armtool.fileio import write_atomic
+
+        write_atomic(report, plan.report_json(done))
+        stderr().print(f"wrote {escape(str(report))}")
     plan.require_fraction(done.result, min_fraction)
     emit(done.trajectory, output, to, TrajFormat.CSV, None)
     if plot is not None:

@@ -58,13 +58,19 @@ def check_peer_name(name: str) -> None:
 
 def make_peer(name: str, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> Solver | str:
     """A ready peer solver, or the reason it cannot run here (with the install command). A peer that
-    cannot take this chain (a closed form's family, its joint count) raises ArmtoolError saying why."""
+    cannot take this chain (a closed form's family, its joint count) raises ArmtoolError saying why.
+    A locked chain's peers read a URDF with the locked joints fixed at their values, except a peer
+    whose class says it `takes_locks` itself (EAIK's fixed_axes)."""
     check_peer_name(name)
     target, needs, install = PEERS[name]
     if importlib.util.find_spec(needs) is None:
         return f"{needs} is not installed: {install}"
     module, _, cls = target.partition(":")
     peer_cls: Any = getattr(importlib.import_module(module), cls)
+    if chain.locks and not getattr(peer_cls, "takes_locks", False):
+        from armtool.ik.locks import locked_urdf
+
+        root = locked_urdf(root, chain)  # the locked joints fixed at their values: the chain the peer reads
     return peer_cls(chain, root, timeout=timeout, tolerance=tolerance)  # type: ignore[no-any-return]
 
 

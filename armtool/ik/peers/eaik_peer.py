@@ -14,9 +14,12 @@ num_worker_threads=1)` (one thread, like every other row), each returning soluti
 - Joint limits: EAIK ignores them. Its solutions are moved by whole turns into the limits where
   possible and ordered nearest the seed first (`armtool.ik.solutions.closed_form_answer`), as
   `analytic` places its own; the row is solved when any of them passes armtool's check.
+- Locked joints (`ik-bench --lock`, `Chain.locked`): EAIK gets the whole chain's URDF and its own
+  `fixed_axes=[(index, value)]`, not a URDF with the joints made fixed; its FK then takes and its
+  solutions give every joint, the locked ones at their values, which `answer` drops.
 - Arms it cannot take get a row with the reason (EAIK's own words where it has them): prismatic
-  joints, more than 6 joints (EAIK solves 1-6R chains; a 7-DOF arm needs a joint locked, its
-  `fixed_axes`, which ik-bench does not do yet), no known decomposition (xArm6, Kinova Gen3 lite).
+  joints, more than 6 joints (EAIK solves 1-6R chains: a 7-DOF arm needs a joint locked, `--lock`),
+  no known decomposition (xArm6, Kinova Gen3 lite).
 - The timed call is `IK(T)` itself (EAIK's Python method around its C++ `calculate_IK`, what a user
   calls); reading `Q` and `is_LS` out of its result is `answer`, untimed.
 """
@@ -44,6 +47,7 @@ class Eaik(Solver):
     name = "eaik"
     summary = "EAIK (C++, pip eaik): subproblem decomposition from the URDF, every solution in closed form"
     returns_all_solutions = True
+    takes_locks = True  # locked joints as EAIK's fixed_axes on the whole chain's URDF (make_peer)
 
     def __init__(self, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> None:
         Solver.__init__(self, chain, timeout=timeout, tolerance=tolerance)
@@ -51,16 +55,17 @@ class Eaik(Solver):
             "EAIK",
             chain,
             max_joints=MAX_JOINTS,
-            beyond="it solves 1-6R chains: a 7-DOF arm needs one joint locked (EAIK's fixed_axes), "
-            "which ik-bench does not do yet",
+            beyond="it solves 1-6R chains: lock one joint of a 7-DOF arm (--lock JOINT=VALUE, EAIK's fixed_axes)",
         )
+        fixed = [(index, value) for index, _, value in chain.locks]
+        self._moving = [i for i in range(chain.n + len(fixed)) if i not in {index for index, _ in fixed}]
         from eaik.IK_URDF import UrdfRobot
 
         with tempfile.TemporaryDirectory(prefix="armtool-eaik-") as tmp:
             path = Path(tmp) / "chain.urdf"
             path.write_bytes(etree.tostring(path_urdf(root, chain), xml_declaration=True, encoding="utf-8"))
             try:
-                robot: Any = UrdfRobot(str(path))
+                robot: Any = UrdfRobot(str(path), fixed_axes=fixed)
             except RuntimeError as exc:  # EAIK refuses the chain, in its own words
                 raise ArmtoolError(f"EAIK cannot take this chain: {exc}") from None
         self.method = str(robot.getKinematicFamily())
@@ -69,9 +74,13 @@ class Eaik(Solver):
                 f"EAIK knows no subproblem decomposition for this arm (EAIK: {self.method}): "
                 "no spherical wrist, three parallel axes or other family it solves in closed form"
             )
-        self._tool = tool_transform(chain, robot.fwdKin)
+
+        def fk(q: Array) -> Array:  # EAIK's FK takes every joint of its chain, the locked ones too
+            return robot.fwdKin(chain.expand(np.asarray(q, dtype=float)))  # type: ignore[no-any-return]
+
+        self._tool = tool_transform(chain, fk)
         self._to_eaik = np.linalg.inv(self._tool)
-        check_fk(self.name, chain, lambda q: robot.fwdKin(np.asarray(q, dtype=float)) @ self._tool)
+        check_fk(self.name, chain, lambda q: fk(q) @ self._tool)
         self._ik = robot.IK
         self._ik_batched = robot.IK_batched
 
@@ -85,7 +94,8 @@ class Eaik(Solver):
 
     def answer(self, raw: tuple[Any, Array]) -> Answer:
         solution, seed = raw
-        return closed_form_answer(self.chain, self.name, solution.Q, solution.is_LS, seed)
+        Q = np.asarray(solution.Q, dtype=float).reshape(-1, len(self._moving) + len(self.chain.locks))
+        return closed_form_answer(self.chain, self.name, Q[:, self._moving], solution.is_LS, seed)
 
     def prepare_batch(self, targets: Array, seeds: Array) -> tuple[list[Array], Array]:
         targets, seeds = self._batch_arrays(targets, seeds)

@@ -31,7 +31,9 @@ offsets between them zero), the form IK-Geo's solvers assume.
 - Its 1-D and 2-D searches (NLopt's MLSL, stopping when the squared residual is below 1e-8: its
   `search_1d`/`search_2d`) return least-squares solutions, about 1e-4 off: above the default 1e-5
   tolerance, so those rows fail armtool's check and say why. Only 6R chains: its Python package
-  takes exactly six joints (a 7-DOF arm needs one fixed, which ik-bench does not do yet).
+  takes exactly six joints (a 7-DOF arm needs one locked: `ik-bench --lock`, which gives it the
+  locked chain's axes; Panda locked at panda_joint7 is its two_intersecting 1-D search, which found
+  no solution for any of 200 targets, measured by one `ik-bench --lock panda_joint7=0.3` run).
   On xArm6 (two_parallel) they find none, and 2 of 10 targets end in a Rust panic (an unwrap of
   None in its search, printed by Rust on stderr), which the answer reports as its reason.
 - Arms that fit a family only within the tolerances (URDFs with rpy rounded to 1.5708: Lite6)
@@ -150,9 +152,7 @@ class IkGeo(Solver):
 
     def __init__(self, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> None:
         Solver.__init__(self, chain, timeout=timeout, tolerance=tolerance)
-        beyond = (
-            "its Python package solves 6R chains (a 7-DOF arm needs one joint fixed, which ik-bench does not do yet)"
-        )
+        beyond = "its Python package solves 6R chains: lock one joint of a 7-DOF arm (--lock JOINT=VALUE)"
         check_closed_form_chain("IK-Geo", chain, max_joints=6, beyond=beyond)
         if chain.n != 6:
             raise ArmtoolError(f"IK-Geo cannot take {chain.n} joints: its Python package solves 6R chains only")
