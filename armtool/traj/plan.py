@@ -273,7 +273,9 @@ def path_solver(name: str, chain: Chain) -> tuple[cart.PoseSolver, str]:
 
 
 _CLOSED_FORM = "analytic (closed form: each point takes the solution nearest the previous one)"
-_SEARCH = "search (every solution by a 1-D search, no closed form: each point takes the solution nearest the previous one)"
+_SEARCH = (
+    "search (every solution by a 1-D search, no closed form: each point takes the solution nearest the previous one)"
+)
 
 
 def _lm(chain: Chain) -> cart.PoseSolver:

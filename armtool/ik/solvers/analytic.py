@@ -132,7 +132,9 @@ class Analytic(Solver):
         entry = self._entry
         on_disk = compiled_on_disk(entry.solve_one)
         if on_disk is False:
-            log.warning(f"compiling {self.name}'s kernel with Numba (once: ~20-60 s; later runs load it from its cache)")
+            log.warning(
+                f"compiling {self.name}'s kernel with Numba (once: ~20-60 s; later runs load it from its cache)"
+            )
         start = time.perf_counter()
         target = np.ascontiguousarray(self.chain.fk(self.chain.mid()))
         mid = self.chain.mid()
