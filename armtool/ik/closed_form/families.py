@@ -280,7 +280,7 @@ def detect(chain: Chain) -> Geometry:
         if extra and all(looks_like_gripper_joint(name) for name in extra):
             hint = f"joints {', '.join(extra)} look like a gripper's: end the chain before them (--tip); else {hint}"
         elif chain.n == 7:
-            hint = f"lock one joint (Chain.locked) to solve the other six in closed form; else {hint}"
+            hint = f"lock one joint to solve the other six in closed form (--lock JOINT=VALUE in ik-bench and traj cartesian, Chain.locked in Python); else {hint}"
         raise ArmtoolError(f"the chain has {chain.n} joints; {need}", where=where, hint=hint)
     prismatic = [j.name for j in chain.joints if j.kind == "prismatic"]
     if prismatic:

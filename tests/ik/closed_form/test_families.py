@@ -141,7 +141,7 @@ def test_seven_joints_hint_at_locking() -> None:
     relative, base, tip = ARMS["panda"]
     with pytest.raises(ArmtoolError) as info:
         make_solver("analytic", load_chain(erd(relative), base, tip))
-    assert "Chain.locked" in (info.value.hint or "")
+    assert "Chain.locked" in (info.value.hint or "") and "--lock JOINT=VALUE" in (info.value.hint or "")
 
 
 def test_locked_solutions_expand_to_the_full_arm() -> None:
