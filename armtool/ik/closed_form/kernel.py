@@ -419,6 +419,44 @@ def _ur(m, target, seed, ss, out, R06, p16):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
+def target_frame(target, seed, reverse, R6T_row):  # type: ignore[no-untyped-def]
+    """The target's rotation (9-tuple, row-major) and position and the seed in the solver's order
+    (reversed chain: T⁻¹ and the seed backwards), and R06 = R · R6ᵀ with R6T_row the tip's rotation
+    at q = 0 (row-major): shared by this kernel and the 1-D search (search.py)."""
+    Rt = (
+        target[0, 0],
+        target[0, 1],
+        target[0, 2],
+        target[1, 0],
+        target[1, 1],
+        target[1, 2],
+        target[2, 0],
+        target[2, 1],
+        target[2, 2],
+    )
+    pt = (target[0, 3], target[1, 3], target[2, 3])
+    if reverse:  # solve T⁻¹ on the reversed chain
+        Rt = (Rt[0], Rt[3], Rt[6], Rt[1], Rt[4], Rt[7], Rt[2], Rt[5], Rt[8])
+        pt = neg(_mat_vec(Rt, pt))
+        ss = (seed[5], seed[4], seed[3], seed[2], seed[1], seed[0])
+    else:
+        ss = (seed[0], seed[1], seed[2], seed[3], seed[4], seed[5])
+    T = R6T_row
+    R06 = (
+        Rt[0] * T[0] + Rt[1] * T[1] + Rt[2] * T[2],
+        Rt[0] * T[3] + Rt[1] * T[4] + Rt[2] * T[5],
+        Rt[0] * T[6] + Rt[1] * T[7] + Rt[2] * T[8],
+        Rt[3] * T[0] + Rt[4] * T[1] + Rt[5] * T[2],
+        Rt[3] * T[3] + Rt[4] * T[4] + Rt[5] * T[5],
+        Rt[3] * T[6] + Rt[4] * T[7] + Rt[5] * T[8],
+        Rt[6] * T[0] + Rt[7] * T[1] + Rt[8] * T[2],
+        Rt[6] * T[3] + Rt[7] * T[4] + Rt[8] * T[5],
+        Rt[6] * T[6] + Rt[7] * T[7] + Rt[8] * T[8],
+    )
+    return Rt, pt, ss, R06
+
+
+@njit(cache=True)
 def _solve(m, target, seed, out):  # type: ignore[no-untyped-def]
     for i in range(4):
         out[i] = 0.0
@@ -432,37 +470,7 @@ def _solve(m, target, seed, out):  # type: ignore[no-untyped-def]
             if not math.isfinite(target[r, c]):
                 out[3] = BAD_INPUT
                 return
-    Rt = (
-        target[0, 0],
-        target[0, 1],
-        target[0, 2],
-        target[1, 0],
-        target[1, 1],
-        target[1, 2],
-        target[2, 0],
-        target[2, 1],
-        target[2, 2],
-    )
-    pt = (target[0, 3], target[1, 3], target[2, 3])
-    if m[REVERSED] != 0.0:  # solve T⁻¹ on the reversed chain
-        Rt = (Rt[0], Rt[3], Rt[6], Rt[1], Rt[4], Rt[7], Rt[2], Rt[5], Rt[8])
-        pt = neg(_mat_vec(Rt, pt))
-        ss = (seed[5], seed[4], seed[3], seed[2], seed[1], seed[0])
-    else:
-        ss = (seed[0], seed[1], seed[2], seed[3], seed[4], seed[5])
-    # R06 = R · R6Tᵀ
-    T = m[R6T : R6T + 9]
-    R06 = (
-        Rt[0] * T[0] + Rt[1] * T[1] + Rt[2] * T[2],
-        Rt[0] * T[3] + Rt[1] * T[4] + Rt[2] * T[5],
-        Rt[0] * T[6] + Rt[1] * T[7] + Rt[2] * T[8],
-        Rt[3] * T[0] + Rt[4] * T[1] + Rt[5] * T[2],
-        Rt[3] * T[3] + Rt[4] * T[4] + Rt[5] * T[5],
-        Rt[3] * T[6] + Rt[4] * T[7] + Rt[5] * T[8],
-        Rt[6] * T[0] + Rt[7] * T[1] + Rt[8] * T[2],
-        Rt[6] * T[3] + Rt[7] * T[4] + Rt[8] * T[5],
-        Rt[6] * T[6] + Rt[7] * T[7] + Rt[8] * T[8],
-    )
+    _Rt, pt, ss, R06 = target_frame(target, seed, m[REVERSED] != 0.0, m[R6T : R6T + 9])
     p16 = sub(sub(pt, _v(m, P)), _mat_vec(R06, _v(m, P + 18)))
     if int(m[FAMILY]) == UR:
         _ur(m, target, seed, ss, out, R06, p16)

@@ -46,6 +46,7 @@ from armtool.errors import ArmtoolError
 from armtool.ik.closed_form import kernel as K
 from armtool.ik.closed_form.families import reversed_lines
 from armtool.ik.closed_form.geometry import Line, any_normal, axis_lines, closest, distance, parallel
+from armtool.ik.closed_form.kernel import _mat_vec, _v
 from armtool.ik.closed_form.subproblems import (
     add,
     angle_of,
@@ -89,20 +90,6 @@ S_LP = S_N5 + 3  # the real chain's axis points, chain order (6 × 3)
 S_LW = S_LP + 18  # the real chain's axis directions (6 × 3)
 S_TIP = S_LW + 18  # the real chain's tip at q = 0: rotation (9, row-major), translation (3)
 SEARCH_MODEL_SIZE = S_TIP + 12
-
-
-@njit(cache=True)
-def _v(m, i):  # type: ignore[no-untyped-def]
-    return (m[i], m[i + 1], m[i + 2])
-
-
-@njit(cache=True)
-def _mat_vec(R, v):  # type: ignore[no-untyped-def]
-    return (
-        R[0] * v[0] + R[1] * v[1] + R[2] * v[2],
-        R[3] * v[0] + R[4] * v[1] + R[5] * v[2],
-        R[6] * v[0] + R[7] * v[1] + R[8] * v[2],
-    )
 
 
 @njit(cache=True)
@@ -495,36 +482,7 @@ def _finish(m, target, seed, out, R06, t6, sol, ss):  # type: ignore[no-untyped-
 
 @njit(cache=True)
 def _search(m, target, seed, out):  # type: ignore[no-untyped-def]
-    Rt = (
-        target[0, 0],
-        target[0, 1],
-        target[0, 2],
-        target[1, 0],
-        target[1, 1],
-        target[1, 2],
-        target[2, 0],
-        target[2, 1],
-        target[2, 2],
-    )
-    pt = (target[0, 3], target[1, 3], target[2, 3])
-    if m[S_REVERSED] != 0.0:  # solve T⁻¹ on the reversed chain
-        Rt = (Rt[0], Rt[3], Rt[6], Rt[1], Rt[4], Rt[7], Rt[2], Rt[5], Rt[8])
-        pt = neg(_mat_vec(Rt, pt))
-        ss = (seed[5], seed[4], seed[3], seed[2], seed[1], seed[0])
-    else:
-        ss = (seed[0], seed[1], seed[2], seed[3], seed[4], seed[5])
-    T = m[S_R6T : S_R6T + 9]
-    R06 = (
-        Rt[0] * T[0] + Rt[1] * T[1] + Rt[2] * T[2],
-        Rt[0] * T[3] + Rt[1] * T[4] + Rt[2] * T[5],
-        Rt[0] * T[6] + Rt[1] * T[7] + Rt[2] * T[8],
-        Rt[3] * T[0] + Rt[4] * T[1] + Rt[5] * T[2],
-        Rt[3] * T[3] + Rt[4] * T[4] + Rt[5] * T[5],
-        Rt[3] * T[6] + Rt[4] * T[7] + Rt[5] * T[8],
-        Rt[6] * T[0] + Rt[7] * T[1] + Rt[8] * T[2],
-        Rt[6] * T[3] + Rt[7] * T[4] + Rt[8] * T[5],
-        Rt[6] * T[6] + Rt[7] * T[7] + Rt[8] * T[8],
-    )
+    _Rt, pt, ss, R06 = K.target_frame(target, seed, m[S_REVERSED] != 0.0, m[S_R6T : S_R6T + 9])
     n = int(m[S_SAMPLES])
     step = 2.0 * math.pi / n
     E = np.empty((n, 4))
