@@ -130,15 +130,16 @@ def test_seed_picks_the_representation_and_the_branch() -> None:
     assert np.allclose(result.q, shifted, atol=1e-9)
 
 
-def test_batch_equals_single() -> None:
-    chain = load_chain(erd(UR["ur5"]))
+@pytest.mark.parametrize("arm", ["ur5", "kinova"])
+def test_batch_equals_single(arm: str) -> None:
+    chain = load_chain(erd(UR["ur5"])) if arm == "ur5" else load_chain(erd(ARMS[arm][0]), *ARMS[arm][1:])
     solver = make_solver("analytic", chain)
     rng = np.random.default_rng(3)
     targets = chain.fk_batch(chain.random(rng, 20))
     seeds = np.tile(chain.mid(), (20, 1))
     for batch, t, s in zip(solver.solve_batch(targets, seeds), targets, seeds):
         single = solver.solve(t, s)
-        # UR5's batch runs on the lanes (closed_form/lanes.py: another atan2, cosines from square roots)
+        # the batch runs on the lanes (closed_form/lanes.py: another atan2, cosines from square roots)
         assert batch.success and len(batch.solutions) == len(single.solutions)
         for x, y in zip(batch.solutions, single.solutions):
             assert np.allclose(x, y, rtol=0.0, atol=1e-9)

@@ -1,27 +1,31 @@
-"""The UR-type family's generic case as straight-line code over lanes (one target each), which LLVM vectorizes.
+"""The families' generic cases as straight-line code over lanes (one target each), which LLVM vectorizes.
 
 `solve(family, m, targets, seeds, out)` writes what kernel.solve_many writes (same `out` layout, same
-model array) for an exact UR-type model (FAMILIES), the chain read from either end: a fixed tree of
-eight candidate slots (θ1, θ5 and the elbow: two roots each). A target whose solve meets a special
-case anywhere — a subproblem with a free angle, roots closer than the general kernel's merge
-window, a wrist singularity — is solved by kernel's general code instead: every such case is the
-general kernel's, and the lanes never guess one.
+model array) for an exact model of a family in FAMILIES, the chain read from either end: the UR-type,
+and the spherical wrist with axes 1∥2, 2∥3, 1 and 2 intersecting, or 2 and 3 intersecting. Each is a
+fixed tree of eight candidate slots: UR-type θ1, θ5 and the elbow, two roots each; spherical: four
+position solutions (two roots of each of the family's two subproblems for θ1..θ3), each with the
+wrist's two θ5 roots. A target whose solve meets a special case anywhere — a subproblem with a free
+angle, roots closer than the general kernel's merge window, a wrist or shoulder singularity — is
+solved by kernel's general code instead: every such case is the general kernel's, and the lanes never
+guess one. The spherical wrist with the first three axes in general position (SP5's quartic, whose
+roots are found by iteration) has no lanes.
 
-Why. The general kernel solves one target at a time, ~2 µs on UR5 here, ~35 libm atan2 calls and
-branches on every root. Written without branches (a subproblem without a real root gives NaN,
-which the later steps carry into the slot's status) and with a polynomial atan2, the same
-decomposition runs several targets per instruction (AVX2/AVX-512): 4.6× the general kernel's
-batch on UR5 (1.75M vs 0.38M targets/s, one thread, measured here under load). A batch's answers
-equal single calls' (kernel.solve_one) to ~1e-10 rad (another atan2, cosines from square roots),
-and have the same count. The spherical-wrist families were written the same way and measured
-slower than, or barely faster than, the general kernel (Panda joint 7 locked 0.65×, Panda joint
-6 at 0: 0.14×, Kinova 1.8×), at 60-140 s of compile time each: they stay on the general kernel.
+Why. The general kernel solves one target at a time (~2-3 µs on UR5 or Kinova here), ~35 libm atan2
+calls and a branch on every root. Written without branches (a subproblem without a real root gives
+NaN, which the later steps carry into the slot's status) and with a polynomial atan2, the same
+decomposition runs eight targets per instruction (AVX-512): 0.4-0.7 µs per target here, 4-5× the
+kernel's batch (benchmarks/ik_closed_form.py). A batch's answers equal single calls'
+(kernel.solve_one) to ~1e-9 rad (another atan2, cosines from square roots), and have the same count.
 
-What keeps it vectorized (each measured to stop LLVM's loop vectorizer, which then runs one
-target at a time, ~5× slower): a call left in the loop (so every helper in it is inline="always"
-or small enough for LLVM to inline), an array passed to a function called in the loop (Numba's
-reference counting), a libm call (atan2: `atan2` here; sqrt, floor and division vectorize). The
-inputs are copied into small scratch arrays first (fixed strides, no aliasing with `out`).
+What keeps it vectorized (each measured to stop LLVM's loop vectorizer, which then runs one target at
+a time, ~4× slower): a call left in the loop (so every helper in it is inline="always" or small enough
+for LLVM to inline), an array passed to a function called in the loop (Numba's reference counting), a
+libm call (atan2: `atan2` here; sqrt, floor and division vectorize), a loop inside the loop (a tuple's
+items stored by index), loads and stores LLVM cannot prove independent (rows of a 2-D scratch, several
+scratch arrays, or the lanes inlined into the loop over the chunks beside the call's arrays). So the
+inputs are copied into one flat scratch at constant offsets first, and the lanes are a function of
+their own that sees only that scratch.
 """
 
 from __future__ import annotations
@@ -35,11 +39,17 @@ from numba import njit, types
 from numba.extending import intrinsic
 
 from armtool.ik.closed_form import kernel as K
-from armtool.ik.closed_form.subproblems import add, cross, dot, neg, rot, sub
+from armtool.ik.closed_form.subproblems import add, cross, dot, neg, rot, scale, sub
 
-CHUNK = 64  # targets per pass through the scratch arrays (they stay in the L1/L2 cache)
+CHUNK = 64  # targets per pass through the scratch (it stays in the L1/L2 cache)
 SLOT = 8  # per candidate slot in the scratch: q (6), squared distance to the seed, status
-RARE = 8 * SLOT  # the scratch row that flags a target for the general kernel
+# The scratch: one flat array of rows of CHUNK values (one per lane), at these rows. One array with
+# constant offsets, so that LLVM proves its loads and stores independent (rows of a 2-D array, whose
+# stride it does not know, or separate arrays needed run-time overlap checks: no vectorization).
+TARGET = 0  # 12 rows: R row-major, then p
+SEEDS = 12  # 6 rows
+SLOTS = 18  # 8 × SLOT rows
+RARE = SLOTS + 8 * SLOT  # the row that flags a target for the general kernel
 ROWS = RARE + 1
 # slot status
 NONE, OUTSIDE, FAILED, GOOD = 0.0, 1.0, 2.0, 3.0
@@ -186,6 +196,143 @@ def _ur(c, R06, p16):  # type: ignore[no-untyped-def]
     a0, a1, a2, a3, ra = _ur_shoulder(c, w, mv, p16, t1a)
     b0, b1, b2, b3, rb = _ur_shoulder(c, w, mv, p16, t1b)
     return (a0, a1, a2, a3, b0, b1, b2, b3), r0 | ra | rb
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _sp2(p1, p2, k1, k2):  # type: ignore[no-untyped-def]
+    """subproblems.sp2's two solutions ((θ1, θ2), (θ1, θ2)), NaN where there is none, and whether the target is rare."""
+    n1, n2 = cross(k1, p1), cross(k2, p2)
+    size = dot(p1, p1) + dot(p2, p2)
+    c12 = dot(k1, k2)
+    den = 1.0 - c12 * c12
+    a1, a2 = dot(k1, p1), dot(k2, p2)
+    alpha, beta = (a1 - c12 * a2) / den, (a2 - c12 * a1) / den
+    axb = cross(k1, k2)
+    base = add(scale(k1, alpha), scale(k2, beta))
+    g2 = (0.5 * size - dot(base, base)) / den
+    free = (dot(n1, n1) <= DEGENERATE * size) | (dot(n2, n2) <= DEGENERATE * size)
+    rare = free | (math.fabs(g2 * den) <= NEAR_ONE * size)  # p1 or p2 along its axis, or a tangent pair
+    g = _sqrt(g2)  # NaN below 0: no solution
+    xa, xb = add(base, scale(axb, g)), sub(base, scale(axb, g))
+    t1a, r0 = _sp1(p1, xa, k1)
+    t2a, r1 = _sp1(p2, xa, k2)
+    t1b, r2 = _sp1(p1, xb, k1)
+    t2b, r3 = _sp1(p2, xb, k2)
+    return (t1a, t2a), (t1b, t2b), rare | r0 | r1 | r2 | r3
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _back3(c, t, v):  # type: ignore[no-untyped-def]
+    """(R1 R2 R3)ᵀ v for a position solution t = (θ1, θ2, θ3)."""
+    h1, h2, h3 = c[0][0], c[0][1], c[0][2]
+    v = rot(h1, t[0][1], -t[0][2], v)
+    v = rot(h2, t[1][1], -t[1][2], v)
+    return rot(h3, t[2][1], -t[2][2], v)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _wrist_46(c, w3, m3, t5):  # type: ignore[no-untyped-def]
+    """θ4 and θ6 for one θ5 root (kernel._wrist's loop body)."""
+    h4, h5, h6 = c[0][3], c[0][4], c[0][5]
+    t4, r0 = _sp1(rot(h5, t5[1], t5[2], h6), w3, h4)
+    t6, r1 = _sp1(c[3], rot(h5, t5[1], -t5[2], rot(h4, t4[1], -t4[2], m3)), h6)
+    return t4, t6, r0 | r1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _wrist(c, w, mv, t):  # type: ignore[no-untyped-def]
+    """kernel._wrist's two slots for one position solution t = (θ1, θ2, θ3)."""
+    h4, h5, h6 = c[0][3], c[0][4], c[0][5]
+    w3, m3 = _back3(c, t, w), _back3(c, t, mv)
+    t5a, t5b, r0 = _sp4(h4, h6, h5, dot(h4, w3))
+    t4a, t6a, r1 = _wrist_46(c, w3, m3, t5a)
+    t4b, t6b, r2 = _wrist_46(c, w3, m3, t5b)
+    return (t[0], t[1], t[2], t4a, t5a, t6a), (t[0], t[1], t[2], t4b, t5b, t6b), r0 | r1 | r2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _wrist_slots(c, R06, positions):  # type: ignore[no-untyped-def]
+    """The eight slots of four position solutions, two wrists each."""
+    w, mv = _mat_vec(R06, c[0][5]), _mat_vec(R06, c[3])
+    a0, a1, ra = _wrist(c, w, mv, positions[0])
+    b0, b1, rb = _wrist(c, w, mv, positions[1])
+    d0, d1, rd = _wrist(c, w, mv, positions[2])
+    e0, e1, re = _wrist(c, w, mv, positions[3])
+    return (a0, a1, b0, b1, d0, d1, e0, e1), ra | rb | rd | re
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _parallel_23_elbow(c, p16, t1):  # type: ignore[no-untyped-def]
+    h1, h2, h3 = c[0][0], c[0][1], c[0][2]
+    p12, p23, p34 = c[1][1], c[1][2], c[1][3]
+    v = sub(rot(h1, t1[1], -t1[2], p16), p12)
+    t3a, t3b, r0 = _sp3(p34, neg(p23), h3, dot(v, v))
+    t2a, r1 = _sp1(add(p23, rot(h3, t3a[1], t3a[2], p34)), v, h2)
+    t2b, r2 = _sp1(add(p23, rot(h3, t3b[1], t3b[2], p34)), v, h2)
+    return (t1, t2a, t3a), (t1, t2b, t3b), r0 | r1 | r2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _parallel_23(c, p16):  # type: ignore[no-untyped-def]
+    """kernel._spherical's WRIST_23_PARALLEL: θ1 by sp4, θ3 by sp3, θ2 by sp1."""
+    t1a, t1b, r0 = _sp4(c[0][1], p16, neg(c[0][0]), c[6][0])
+    a, b, r1 = _parallel_23_elbow(c, p16, t1a)
+    d, e, r2 = _parallel_23_elbow(c, p16, t1b)
+    return (a, b, d, e), r0 | r1 | r2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _parallel_12_shoulder(c, p16, t3):  # type: ignore[no-untyped-def]
+    h1, h2, h3 = c[0][0], c[0][1], c[0][2]
+    p12, p23, p34 = c[1][1], c[1][2], c[1][3]
+    x = add(p23, rot(h3, t3[1], t3[2], p34))
+    t1a, t1b, r0 = _sp3(p12, p16, h1, dot(x, x))
+    t2a, r1 = _sp1(x, sub(rot(h1, t1a[1], -t1a[2], p16), p12), h2)
+    t2b, r2 = _sp1(x, sub(rot(h1, t1b[1], -t1b[2], p16), p12), h2)
+    return (t1a, t2a, t3), (t1b, t2b, t3), r0 | r1 | r2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _parallel_12(c, p16):  # type: ignore[no-untyped-def]
+    """kernel._spherical's WRIST_12_PARALLEL: θ3 by sp4, θ1 by sp3, θ2 by sp1."""
+    h1 = c[0][0]
+    t3a, t3b, r0 = _sp4(h1, c[1][3], c[0][2], dot(h1, p16) - c[6][0])
+    a, b, r1 = _parallel_12_shoulder(c, p16, t3a)
+    d, e, r2 = _parallel_12_shoulder(c, p16, t3b)
+    return (a, b, d, e), r0 | r1 | r2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _intersecting_12_shoulder(c, p16, t3):  # type: ignore[no-untyped-def]
+    x = add(c[1][2], rot(c[0][2], t3[1], t3[2], c[1][3]))
+    a, b, rare = _sp2(p16, x, neg(c[0][0]), c[0][1])
+    return (a[0], a[1], t3), (b[0], b[1], t3), rare
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _intersecting_12(c, p16):  # type: ignore[no-untyped-def]
+    """kernel._spherical's WRIST_12_INTERSECTING: θ3 by sp3, θ1 and θ2 by sp2."""
+    t3a, t3b, r0 = _sp3(c[1][3], neg(c[1][2]), c[0][2], dot(p16, p16))
+    a, b, r1 = _intersecting_12_shoulder(c, p16, t3a)
+    d, e, r2 = _intersecting_12_shoulder(c, p16, t3b)
+    return (a, b, d, e), r0 | r1 | r2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _intersecting_23_elbow(c, p16, t1):  # type: ignore[no-untyped-def]
+    v = sub(rot(c[0][0], t1[1], -t1[2], p16), c[1][1])
+    a, b, rare = _sp2(v, c[1][3], neg(c[0][1]), c[0][2])
+    return (t1, a[0], a[1]), (t1, b[0], b[1]), rare
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _intersecting_23(c, p16):  # type: ignore[no-untyped-def]
+    """kernel._spherical's WRIST_23_INTERSECTING: θ1 by sp3, θ2 and θ3 by sp2."""
+    p34 = c[1][3]
+    t1a, t1b, r0 = _sp3(c[1][1], p16, c[0][0], dot(p34, p34))
+    a, b, r1 = _intersecting_23_elbow(c, p16, t1a)
+    d, e, r2 = _intersecting_23_elbow(c, p16, t1b)
+    return (a, b, d, e), r0 | r1 | r2
 
 
 # ---- one lane: the target's frame, the slots, each slot placed and checked ---------------------------------
@@ -407,44 +554,60 @@ def _constants(m):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _chunk_in(targets, seeds, start, n, tin, sin, finite):  # type: ignore[no-untyped-def]
-    """Targets start..start+n into the scratch (R row-major, then p; the seeds), and whether each is finite."""
+def _chunk_in(targets, seeds, start, w, finite):  # type: ignore[no-untyped-def]
+    """The chunk of targets from start into the scratch (their rotation, position and seed), whether each is
+    finite; how many."""
+    n = min(CHUNK, targets.shape[0] - start)
     for j in range(n):
         ok = True
         for r in range(3):
             for col in range(3):
-                tin[3 * r + col, j] = targets[start + j, r, col]
-            tin[9 + r, j] = targets[start + j, r, 3]
+                w[(TARGET + 3 * r + col) * CHUNK + j] = targets[start + j, r, col]
+            w[(TARGET + 9 + r) * CHUNK + j] = targets[start + j, r, 3]
         for r in range(4):
             for col in range(4):
                 ok &= math.isfinite(targets[start + j, r, col])
         for k in range(6):
-            sin[k, j] = seeds[start + j, k]
+            w[(SEEDS + k) * CHUNK + j] = seeds[start + j, k]
             ok &= math.isfinite(seeds[start + j, k])
         finite[j] = ok
+    return n
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _lane_in(tin, sin, j):  # type: ignore[no-untyped-def]
+def _at(w, row, j):  # type: ignore[no-untyped-def]
+    return w[row * CHUNK + j]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _lane_in(w, j):  # type: ignore[no-untyped-def]
     tgt = (
-        tin[0, j],
-        tin[1, j],
-        tin[2, j],
-        tin[3, j],
-        tin[4, j],
-        tin[5, j],
-        tin[6, j],
-        tin[7, j],
-        tin[8, j],
-        tin[9, j],
-        tin[10, j],
-        tin[11, j],
+        _at(w, TARGET, j),
+        _at(w, TARGET + 1, j),
+        _at(w, TARGET + 2, j),
+        _at(w, TARGET + 3, j),
+        _at(w, TARGET + 4, j),
+        _at(w, TARGET + 5, j),
+        _at(w, TARGET + 6, j),
+        _at(w, TARGET + 7, j),
+        _at(w, TARGET + 8, j),
+        _at(w, TARGET + 9, j),
+        _at(w, TARGET + 10, j),
+        _at(w, TARGET + 11, j),
     )
-    return tgt, (sin[0, j], sin[1, j], sin[2, j], sin[3, j], sin[4, j], sin[5, j])
+    seed = (
+        _at(w, SEEDS, j),
+        _at(w, SEEDS + 1, j),
+        _at(w, SEEDS + 2, j),
+        _at(w, SEEDS + 3, j),
+        _at(w, SEEDS + 4, j),
+        _at(w, SEEDS + 5, j),
+    )
+    return tgt, seed
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _chunk_out(m, targets, seeds, out, start, n, buf, finite):  # type: ignore[no-untyped-def]
+def _chunk_out(m, targets, seeds, out, start, n, w, finite):  # type: ignore[no-untyped-def]
     """Each target's good slots into out, nearest the seed first; a rare one solved by the general kernel."""
     status = K.SOLVED
     for j in range(n):
@@ -454,10 +617,10 @@ def _chunk_out(m, targets, seeds, out, start, n, buf, finite):  # type: ignore[n
             row[0] = row[1] = row[2] = 0.0
             row[3] = K.BAD_INPUT
             status = K.BAD_INPUT
-        elif buf[RARE, j] != 0.0:
+        elif _at(w, RARE, j) != 0.0:
             K.solve_one(m, targets[i], seeds[i], row)
         else:
-            _collect(buf, j, seeds[i], row)
+            _collect(w, j, seeds[i], row)
     return status
 
 
@@ -474,48 +637,168 @@ def _shapes_ok(targets, seeds, out):  # type: ignore[no-untyped-def]
     )
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _store(c, seed, tgt, slots, rare, w, j):  # type: ignore[no-untyped-def]
+    """Lane j's eight slots judged into the scratch, and whether the general kernel must solve it."""
+    a, b, d, e, f, g, h, i = _judge(c, seed, tgt, slots)
+    _put(w, SLOTS, j, a)
+    _put(w, SLOTS + SLOT, j, b)
+    _put(w, SLOTS + 2 * SLOT, j, d)
+    _put(w, SLOTS + 3 * SLOT, j, e)
+    _put(w, SLOTS + 4 * SLOT, j, f)
+    _put(w, SLOTS + 5 * SLOT, j, g)
+    _put(w, SLOTS + 6 * SLOT, j, h)
+    _put(w, SLOTS + 7 * SLOT, j, i)
+    w[RARE * CHUNK + j] = 1.0 * int(rare)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _put(w, row, j, slot):  # type: ignore[no-untyped-def]
+    """One judged slot into the scratch, element by element (a loop over a tuple's items would be a loop
+    inside the lanes' loop, which LLVM then does not vectorize)."""
+    w[(row) * CHUNK + j] = slot[0]
+    w[(row + 1) * CHUNK + j] = slot[1]
+    w[(row + 2) * CHUNK + j] = slot[2]
+    w[(row + 3) * CHUNK + j] = slot[3]
+    w[(row + 4) * CHUNK + j] = slot[4]
+    w[(row + 5) * CHUNK + j] = slot[5]
+    w[(row + 6) * CHUNK + j] = slot[6]
+    w[(row + 7) * CHUNK + j] = slot[7]
+
+
+# Per family: the lanes (the loop over one chunk's targets, which LLVM vectorizes) and the loop over the
+# chunks, each compiled on its family's first batch. The lanes are a function of their own that sees the
+# scratch only: inside the loop over the chunks, with the arrays of the call beside it, LLVM did not
+# vectorize them (measured: no vector instruction in the loop).
+
+
 @njit(cache=True, error_model="numpy")
-def _ur_loop(c, m, targets, seeds, out):  # type: ignore[no-untyped-def]
-    """The UR-type lanes. The scratch arrays are passed to inlined code only: once passed to a real call
-    they escape, and LLVM can no longer prove that they do not overlap the arguments (no vectorization)."""
-    tin, sin, buf = np.empty((12, CHUNK)), np.empty((6, CHUNK)), np.empty((ROWS, CHUNK))
-    finite = np.empty(CHUNK, dtype=np.bool_)
+def _ur_lanes(c, w, n):  # type: ignore[no-untyped-def]
+    for j in range(n):
+        tgt, seed = _lane_in(w, j)
+        R06, p16 = _frame(c, tgt)
+        slots, rare = _ur(c, R06, p16)
+        _store(c, seed, tgt, slots, rare, w, j)
+
+
+@njit(cache=True, error_model="numpy")
+def _parallel_23_lanes(c, w, n):  # type: ignore[no-untyped-def]
+    for j in range(n):
+        tgt, seed = _lane_in(w, j)
+        R06, p16 = _frame(c, tgt)
+        positions, r0 = _parallel_23(c, p16)
+        slots, r1 = _wrist_slots(c, R06, positions)
+        _store(c, seed, tgt, slots, r0 | r1, w, j)
+
+
+@njit(cache=True, error_model="numpy")
+def _parallel_12_lanes(c, w, n):  # type: ignore[no-untyped-def]
+    for j in range(n):
+        tgt, seed = _lane_in(w, j)
+        R06, p16 = _frame(c, tgt)
+        positions, r0 = _parallel_12(c, p16)
+        slots, r1 = _wrist_slots(c, R06, positions)
+        _store(c, seed, tgt, slots, r0 | r1, w, j)
+
+
+@njit(cache=True, error_model="numpy")
+def _intersecting_12_lanes(c, w, n):  # type: ignore[no-untyped-def]
+    for j in range(n):
+        tgt, seed = _lane_in(w, j)
+        R06, p16 = _frame(c, tgt)
+        positions, r0 = _intersecting_12(c, p16)
+        slots, r1 = _wrist_slots(c, R06, positions)
+        _store(c, seed, tgt, slots, r0 | r1, w, j)
+
+
+@njit(cache=True, error_model="numpy")
+def _intersecting_23_lanes(c, w, n):  # type: ignore[no-untyped-def]
+    for j in range(n):
+        tgt, seed = _lane_in(w, j)
+        R06, p16 = _frame(c, tgt)
+        positions, r0 = _intersecting_23(c, p16)
+        slots, r1 = _wrist_slots(c, R06, positions)
+        _store(c, seed, tgt, slots, r0 | r1, w, j)
+
+
+@njit(cache=True, error_model="numpy")
+def _ur_loop(m, targets, seeds, out):  # type: ignore[no-untyped-def]
+    c = _constants(m)  # here, not in Python: boxing these tuples costs more than a small batch
+    w, finite = np.empty(ROWS * CHUNK), np.empty(CHUNK, dtype=np.bool_)
     status = K.SOLVED
     for start in range(0, targets.shape[0], CHUNK):
-        n = min(CHUNK, targets.shape[0] - start)
-        _chunk_in(targets, seeds, start, n, tin, sin, finite)
-        for j in range(n):  # the vectorized loop
-            tgt, seed = _lane_in(tin, sin, j)
-            R06, p16 = _frame(c, tgt)
-            slots, rare = _ur(c, R06, p16)
-            judged = _judge(c, seed, tgt, slots)
-            for s in range(8):
-                for k in range(SLOT):
-                    buf[SLOT * s + k, j] = judged[s][k]
-            buf[RARE, j] = 1.0 * int(rare)
-        if _chunk_out(m, targets, seeds, out, start, n, buf, finite) == K.BAD_INPUT:
-            status = K.BAD_INPUT
+        n = _chunk_in(targets, seeds, start, w, finite)
+        _ur_lanes(c, w, n)
+        status = min(status, _chunk_out(m, targets, seeds, out, start, n, w, finite))
+    return status
+
+
+@njit(cache=True, error_model="numpy")
+def _parallel_23_loop(m, targets, seeds, out):  # type: ignore[no-untyped-def]
+    c = _constants(m)  # here, not in Python: boxing these tuples costs more than a small batch
+    w, finite = np.empty(ROWS * CHUNK), np.empty(CHUNK, dtype=np.bool_)
+    status = K.SOLVED
+    for start in range(0, targets.shape[0], CHUNK):
+        n = _chunk_in(targets, seeds, start, w, finite)
+        _parallel_23_lanes(c, w, n)
+        status = min(status, _chunk_out(m, targets, seeds, out, start, n, w, finite))
+    return status
+
+
+@njit(cache=True, error_model="numpy")
+def _parallel_12_loop(m, targets, seeds, out):  # type: ignore[no-untyped-def]
+    c = _constants(m)  # here, not in Python: boxing these tuples costs more than a small batch
+    w, finite = np.empty(ROWS * CHUNK), np.empty(CHUNK, dtype=np.bool_)
+    status = K.SOLVED
+    for start in range(0, targets.shape[0], CHUNK):
+        n = _chunk_in(targets, seeds, start, w, finite)
+        _parallel_12_lanes(c, w, n)
+        status = min(status, _chunk_out(m, targets, seeds, out, start, n, w, finite))
+    return status
+
+
+@njit(cache=True, error_model="numpy")
+def _intersecting_12_loop(m, targets, seeds, out):  # type: ignore[no-untyped-def]
+    c = _constants(m)  # here, not in Python: boxing these tuples costs more than a small batch
+    w, finite = np.empty(ROWS * CHUNK), np.empty(CHUNK, dtype=np.bool_)
+    status = K.SOLVED
+    for start in range(0, targets.shape[0], CHUNK):
+        n = _chunk_in(targets, seeds, start, w, finite)
+        _intersecting_12_lanes(c, w, n)
+        status = min(status, _chunk_out(m, targets, seeds, out, start, n, w, finite))
+    return status
+
+
+@njit(cache=True, error_model="numpy")
+def _intersecting_23_loop(m, targets, seeds, out):  # type: ignore[no-untyped-def]
+    c = _constants(m)  # here, not in Python: boxing these tuples costs more than a small batch
+    w, finite = np.empty(ROWS * CHUNK), np.empty(CHUNK, dtype=np.bool_)
+    status = K.SOLVED
+    for start in range(0, targets.shape[0], CHUNK):
+        n = _chunk_in(targets, seeds, start, w, finite)
+        _intersecting_23_lanes(c, w, n)
+        status = min(status, _chunk_out(m, targets, seeds, out, start, n, w, finite))
     return status
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _collect(buf, j, seed, row):  # type: ignore[no-untyped-def]
+def _collect(w, j, seed, row):  # type: ignore[no-untyped-def]
     """The good slots of lane j into the output row, nearest the seed first, with the header kernel._solve writes."""
     count = candidates = within = 0
     for s in range(8):
-        st = buf[SLOT * s + 7, j]
+        st = _at(w, SLOTS + SLOT * s + 7, j)
         candidates += st >= OUTSIDE
         within += st >= FAILED
         if st != GOOD:
             continue
-        dist = buf[SLOT * s + 6, j]
+        dist = _at(w, SLOTS + SLOT * s + 6, j)
         k = count
         while k > 0 and row[K.OUT_HEAD + K.ROW * (k - 1) + 6] > dist:
             for x in range(K.ROW):
                 row[K.OUT_HEAD + K.ROW * k + x] = row[K.OUT_HEAD + K.ROW * (k - 1) + x]
             k -= 1
         for x in range(K.ROW):
-            row[K.OUT_HEAD + K.ROW * k + x] = buf[SLOT * s + x, j]
+            row[K.OUT_HEAD + K.ROW * k + x] = _at(w, SLOTS + SLOT * s + x, j)
         count += 1
     row[0], row[1], row[2], row[3] = count, candidates, within, K.SOLVED
     for k in range(6):
@@ -525,14 +808,19 @@ def _collect(buf, j, seed, row):  # type: ignore[no-untyped-def]
 def solve(family: int, m: Any, targets: Any, seeds: Any, out: Any) -> float:
     """Every solution of (N,4,4) targets from (N,6) seeds into out (N, kernel.OUT_SIZE), as kernel.solve_many
     (the same status), for a model of `family` (one of FAMILIES) with its CHECK on."""
-    if family not in FAMILIES:
+    if family not in LOOPS:
         raise ValueError(f"no lanes for family {family}")
     if not _shapes_ok(targets, seeds, out):
         return K.BAD_INPUT
-    return float(_ur_loop(_constants(m), m, targets, seeds, out))
+    return float(LOOPS[family](m, targets, seeds, out))
 
 
-solve_loop = _ur_loop  # the compiled entry (whose cache says whether the lanes were compiled before)
-
-
-FAMILIES = (K.UR,)
+# family → its compiled loop (whose cache says whether the family's lanes were compiled before)
+LOOPS = {
+    K.UR: _ur_loop,
+    K.WRIST_23_PARALLEL: _parallel_23_loop,
+    K.WRIST_12_PARALLEL: _parallel_12_loop,
+    K.WRIST_12_INTERSECTING: _intersecting_12_loop,
+    K.WRIST_23_INTERSECTING: _intersecting_23_loop,
+}
+FAMILIES = tuple(LOOPS)

@@ -46,11 +46,12 @@ measured by benchmarks/ik_closed_form.py beside EAIK, see docs/ik-bench.md.
 
 Throughput: `all_solutions(targets, seeds)` returns arrays (counts, every solution) from one
 compiled call over the batch, on one thread; `solve_batch` builds an IKResult per target and
-judges each first answer with armtool's FK on top. An exact UR-type arm's batch runs on the
-vectorized lanes (`closed_form/lanes.py`; the special cases on the kernel), the other families'
-on the kernel. Compiled on first use and cached by Numba: the kernel when the solver is built
-(59 s measured here at load 6, 2 s to load from the cache), the lanes at the first batch of a
-UR-type arm (170 s at load 6, 0.3 s from the cache); each first compile is logged as a warning.
+judges each first answer with armtool's FK on top. An exact arm's batch runs on the vectorized
+lanes (`closed_form/lanes.py`; the special cases on the kernel) in every family but the spherical
+wrist with the first three axes in general position (SP5's quartic), which stays on the kernel.
+Compiled on first use and cached by Numba: the kernel when the solver is built (59 s measured here
+at load 6, 2 s to load from the cache), a family's lanes at its first batch (52-81 s per family at
+load 4-6, 0.1 s from the cache); each first compile is logged as a warning.
 """
 
 from __future__ import annotations
@@ -109,6 +110,7 @@ class Analytic(Solver):
         family = int(self._model[kernel.FAMILY])
         self._lanes = family if family in lanes.FAMILIES and not self._checked_here else None
         self._lanes_ready = False
+        self._batch_out: Raw = kernel.empty_out(0)  # all_solutions' output buffer, kept for the next batch
         g = self.geometry
         self.method = f"closed form: {g.title}" + (
             f"; nearest closed-form model (off the chain by {g.model_error:.1e}) + Newton polish" if g.near else ""
@@ -148,9 +150,9 @@ class Analytic(Solver):
         """Load (on the very first run: compile) the family's batch lanes, on the first batch only:
         single calls never need them."""
         assert self._lanes is not None
-        if compiled_on_disk(lanes.solve_loop) is False:
+        if compiled_on_disk(lanes.LOOPS[self._lanes]) is False:
             log.warning(
-                "compiling analytic's batch lanes with Numba (once: ~1-3 min; later runs load them from its cache)"
+                "compiling analytic's batch lanes for this family with Numba (once: ~1-2 min; later runs load them from its cache)"
             )
         start = time.perf_counter()
         target = np.ascontiguousarray(self.chain.fk(self.chain.mid()))[None]
@@ -210,10 +212,14 @@ class Analytic(Solver):
     # ---- many targets ---------------------------------------------------------------------------
     def prepare_batch(self, targets: Array, seeds: Array) -> tuple[Array, Array, Raw]:
         """Contiguous arrays and the output buffer (and, the first time, the lanes' machine code loaded)."""
+        targets, seeds = self._contiguous_batch(targets, seeds)
+        return targets, seeds, kernel.empty_out(len(targets))
+
+    def _contiguous_batch(self, targets: Array, seeds: Array) -> tuple[Array, Array]:
         targets, seeds = self._batch_arrays(targets, seeds)
         if self._lanes is not None and not self._lanes_ready:
             self._load_lanes()
-        return np.ascontiguousarray(targets), np.ascontiguousarray(seeds), kernel.empty_out(len(targets))
+        return np.ascontiguousarray(targets), np.ascontiguousarray(seeds)
 
     def call_batch(self, prepared: tuple[Array, Array, Raw]) -> Raw:
         """Every target's solve in one compiled call (one thread); rows of `out` as `call`'s. The lanes
@@ -236,14 +242,19 @@ class Analytic(Solver):
         return [self.answer(row) for row in raw]
 
     def all_solutions(self, targets: Array, seeds: Array) -> tuple[NDArray[np.int64], Array]:
-        """Every solution of every target, as arrays: counts (N,) and Q (N, 8, 6), each target's
+        """Every solution of every target, as arrays: counts (N,) and Q (N, MAX_SOLUTIONS, 6), each target's
         solutions nearest its seed first (rows past its count are NaN). The throughput call: one
-        compiled call over the batch, one thread, every solution checked as `call`'s."""
-        out = self.call_batch(self.prepare_batch(targets, seeds))
+        compiled call over the batch, one thread, every solution checked as `call`'s. Its output
+        buffer is kept for the next call (a fresh 1 MB per 1000 targets costs its page faults, ~0.1 µs
+        per target, measured here), as the answers are copied out of it."""
+        targets, seeds = self._contiguous_batch(targets, seeds)
+        if len(self._batch_out) < len(targets):
+            self._batch_out = kernel.empty_out(len(targets))
+        out = self.call_batch((targets, seeds, self._batch_out[: len(targets)]))
         counts = out[:, 0].astype(np.int64)
-        rows = out[:, kernel.OUT_HEAD :].reshape(len(out), kernel.MAX_SOLUTIONS, kernel.ROW)[:, :, :6].copy()
-        rows[np.arange(kernel.MAX_SOLUTIONS)[None, :] >= counts[:, None]] = math.nan
-        return counts, rows
+        rows = out[:, kernel.OUT_HEAD :].reshape(len(out), kernel.MAX_SOLUTIONS, kernel.ROW)[:, :, :6]
+        kept = (np.arange(kernel.MAX_SOLUTIONS)[None, :] < counts[:, None])[:, :, None]
+        return counts, np.where(kept, rows, math.nan)  # one pass (a copy, then a masked write: 1.2× slower)
 
     # ---- answers checked (and near ones polished) here ---------------------------------------------
     def _finish(self, out: Raw, target: Array, seed: Array) -> None:
