@@ -48,6 +48,7 @@ from armtool.ik.closed_form.families import reversed_lines
 from armtool.ik.closed_form.geometry import Line, any_normal, axis_lines, closest, distance, parallel
 from armtool.ik.closed_form.kernel import _mat_vec, _v
 from armtool.ik.closed_form.subproblems import (
+    TINY,
     add,
     angle_of,
     cross,
@@ -55,11 +56,9 @@ from armtool.ik.closed_form.subproblems import (
     neg,
     norm,
     rot,
-    rot_angle,
     rot_back,
+    scale,
     sp1,
-    sp3,
-    sp4,
     sub,
 )
 from armtool.ik.solver import Array
@@ -70,6 +69,7 @@ SNAP_TOL = 1e-4  # rad / m: axes this close to intersecting / parallel are solve
 POLISH_STEPS = 8  # Newton steps on the real chain per root (1-2 where the model is the chain)
 POLISH_GOAL = 1e-14  # m / rad: a polished residual this small stops the steps
 VERTEX_STEPS = 12  # steps towards a local minimum of |e| that may hide two roots
+DIP_GAP = 0.05  # a reach margin whose sampled local minimum is below this is descended: it may dip below 0
 CLOSE_GAP = 0.05  # |e| at a sampled local minimum below this is searched for two close roots
 VERTEX_GAP = 1e-3  # |e| at a parabola's vertex below this is tried as a (double) root: polishing decides
 STEEP = 0.2  # an error change between samples beyond this (of one sign) is sampled SPLIT times finer
@@ -93,61 +93,102 @@ SEARCH_MODEL_SIZE = S_TIP + 12
 
 
 @njit(cache=True)
-def _margin(h, p, k, d):  # type: ignore[no-untyped-def]
-    """1 − |cos a| of sp4(h, p, k, d)'s root pair φ ± a: > 0 two roots, < 0 none (the clamped side)."""
+def _sp4_cs(h, p, k, d, free):  # type: ignore[no-untyped-def]
+    """sp4(h, p, k, d) with `over` unbounded and no angles formed: (margin, cos θ₊, sin θ₊, cos θ₋, sin θ₋).
+
+    The root pair φ ± a as cosines and sines only (no atan2: the samples need none), cos a clamped
+    to ±1 where it lies beyond (the least-squares continuation, both roots φ or φ + π); the margin
+    1 − |cos a| before clamping: > 0 two roots, < 0 none (the clamped side). Where hᵀ·R(k, θ)·p does
+    not depend on θ, both roots are `free` (sp4's "every θ") or 0 (its "none")."""
     hk, kp = dot(h, k), dot(k, p)
     A = dot(h, p) - hk * kp
     B = dot(h, cross(k, p))
     r = math.sqrt(A * A + B * B)
-    return 1.0 if r <= 1e-300 else 1.0 - math.fabs((d - hk * kp) / r)
+    margin = 1.0 if r <= 1e-300 else 1.0 - math.fabs((d - hk * kp) / r)
+    if r <= TINY * (1.0 + math.fabs(d)) * (1.0 + norm(p)):
+        if math.fabs(d - hk * kp) <= 1e-9 * (1.0 + norm(p)):
+            c, s = math.cos(free), math.sin(free)
+            return margin, c, s, c, s
+        return margin, 1.0, 0.0, 1.0, 0.0
+    c0 = min(max((d - hk * kp) / r, -1.0), 1.0)
+    cf, sf = A / r, B / r
+    sa = math.sqrt((1.0 - c0) * (1.0 + c0))
+    return margin, cf * c0 - sf * sa, sf * c0 + cf * sa, cf * c0 + sf * sa, sf * c0 - cf * sa
+
+
+@njit(cache=True)
+def _sp1_cs(p1, p2, k, free):  # type: ignore[no-untyped-def]
+    """sp1(p1, p2, k, free) as (cos θ, sin θ), no angle formed."""
+    x = dot(p1, p2) - dot(k, p1) * dot(k, p2)
+    y = dot(k, cross(p1, p2))
+    r = math.sqrt(x * x + y * y)
+    if r <= TINY * (dot(p1, p1) + dot(p2, p2)):
+        return math.cos(free), math.sin(free)
+    return x / r, y / r
+
+
+@njit(cache=True)
+def _terms(m, R06, pt):  # type: ignore[no-untyped-def]
+    """What θ6 enters linearly, once per target: p16(θ6) = P0 + cos θ6·P1 + sin θ6·P2 (the 4∩5 point
+    from axis 1) and x(θ6) = X0 + cos θ6·X1 + sin θ6·X2 (R06·R6ᵀ·h5), since R(h6, −θ6)·v =
+    (h6ᵀv)h6 + cos θ6 (v − (h6ᵀv)h6) − sin θ6 (h6 × v)."""
+    h5, h6 = _v(m, S_H + 12), _v(m, S_H + 15)
+    p01, p56, p6t = _v(m, S_P), _v(m, S_P + 15), _v(m, S_P + 18)
+    a56, a5 = scale(h6, dot(h6, p56)), scale(h6, dot(h6, h5))
+    P0 = sub(sub(sub(pt, p01), _mat_vec(R06, p6t)), _mat_vec(R06, a56))
+    P1 = neg(_mat_vec(R06, sub(p56, a56)))
+    P2 = _mat_vec(R06, cross(h6, p56))
+    X0 = _mat_vec(R06, a5)
+    X1 = _mat_vec(R06, sub(h5, a5))
+    X2 = neg(_mat_vec(R06, cross(h6, h5)))
+    return P0, P1, P2, X0, X1, X2
+
+
+@njit(cache=True)
+def _at(T, i, c, s):  # type: ignore[no-untyped-def]
+    """T[i] + c·T[i+1] + s·T[i+2] (a vector of _terms at cos θ6 = c, sin θ6 = s)."""
+    a, b, d = T[i], T[i + 1], T[i + 2]
+    return (a[0] + c * b[0] + s * d[0], a[1] + c * b[1] + s * d[1], a[2] + c * b[2] + s * d[2])
 
 
 # ---- one value of θ6: the four position branches and their orientation errors ---------------------------
 
 
 @njit(cache=True)
-def _branches(m, R06, pt, t6, ss, only):  # type: ignore[no-untyped-def]
-    """At θ6, for every slot (or slot `only`, if ≥ 0): its (θ1, θ2, θ3), orientation error and reach
-    margin: (solution of slot `only` (or of slot 3), (e × 4), (margin × 4), θ1's margin); slots not
-    computed: NaN. A slot's margin is the smaller of θ1's and its θ3's."""
-    h1, h2, h3, h4, h5, h6 = (
-        _v(m, S_H),
-        _v(m, S_H + 3),
-        _v(m, S_H + 6),
-        _v(m, S_H + 9),
-        _v(m, S_H + 12),
-        _v(m, S_H + 15),
-    )
-    p01, p12, p23, p34 = _v(m, S_P), _v(m, S_P + 3), _v(m, S_P + 6), _v(m, S_P + 9)
-    p56, p6t = _v(m, S_P + 15), _v(m, S_P + 18)
-    p16 = sub(sub(sub(pt, p01), _mat_vec(R06, p6t)), _mat_vec(R06, rot(h6, t6[1], -t6[2], p56)))
-    x = _mat_vec(R06, rot(h6, t6[1], -t6[2], h5))  # R06 R6ᵀ h5
-    c, sign3 = dot(h4, h5), m[S_SIGN3]
+def _branches(m, T, c6, s6, ss, only):  # type: ignore[no-untyped-def]
+    """At θ6 (its cosine and sine), for every slot (or slot `only`, if ≥ 0): its (θ1, θ2, θ3) as cosines
+    and sines, orientation error and reach margin: ((c1, s1, c2, s2, c3, s3) of slot `only` (or of
+    slot 3), (e × 4), (margin × 4), θ1's margin); slots not computed: NaN. A slot's margin is the
+    smaller of θ1's and its θ3's. No angle is formed (no atan2): the samples are most of the work."""
+    h1, h2, h3, h4 = _v(m, S_H), _v(m, S_H + 3), _v(m, S_H + 6), _v(m, S_H + 9)
+    p12, p23, p34 = _v(m, S_P + 3), _v(m, S_P + 6), _v(m, S_P + 9)
+    p16 = _at(T, 0, c6, s6)
+    x = _at(T, 3, c6, s6)
+    c, sign3 = dot(h4, _v(m, S_H + 12)), m[S_SIGN3]
     reach3 = 0.5 * (dot(p34, p34) + dot(p23, p23))
     # h2ᵀ R1ᵀ p16 = h2ᵀ (p12 + p23 + p34): θ1; ‖p23 + R3 p34‖ = ‖R1ᵀ p16 − p12‖: θ3; then θ2
-    n1, a1, b1 = sp4(h2, p16, neg(h1), m[S_CONST], ss[0], WIDE, 0.0)
-    margin1 = _margin(h2, p16, neg(h1), m[S_CONST])
+    margin1, ca, sa, cb, sb = _sp4_cs(h2, p16, neg(h1), m[S_CONST], ss[0])
     nan = math.nan
     e0 = e1 = e2 = e3 = g0 = g1 = g2 = g3 = nan
-    sol = (a1, a1, a1)
+    sol = (ca, sa, ca, sa, ca, sa)
     for i in range(2):
         if only >= 0 and only // 2 != i:
             continue
-        t1 = a1 if (i == 0 or n1 < 2) else b1
-        v = sub(rot_back(h1, t1, p16), p12)
-        w = rot_back(h1, t1, x)
-        nv = norm(v)
-        n3, a3, b3 = sp3(p34, neg(p23), h3, nv, ss[2], WIDE, 0.0)
-        margin = min(margin1, _margin(neg(p23), p34, h3, reach3 - 0.5 * nv * nv))
+        c1, s1 = (ca, sa) if i == 0 else (cb, sb)
+        v = sub(rot(h1, c1, -s1, p16), p12)
+        w = rot(h1, c1, -s1, x)
+        nv2 = dot(v, v)
+        margin3, c3a, s3a, c3b, s3b = _sp4_cs(neg(p23), p34, h3, reach3 - 0.5 * nv2, ss[2])
+        margin = min(margin1, margin3)
         for j in range(2):
             k = 2 * i + j
             if only >= 0 and only != k:
                 continue
-            t3 = a3 if (j == 0 or n3 < 2) else b3
-            t2 = sp1(add(p23, rot_angle(h3, t3, p34)), v, h2, ss[1])
+            c3, s3 = (c3a, s3a) if j == 0 else (c3b, s3b)
+            c2, s2 = _sp1_cs(add(p23, rot(h3, c3, s3, p34)), v, h2, ss[1])
             # h3 = σ h2 (the model's axes 2∥3): R3ᵀ R2ᵀ = R(h2, −(θ2 + σ θ3))
-            c23 = t2[1] * t3[1] - sign3 * t2[2] * t3[2]
-            s23 = t2[2] * t3[1] + sign3 * t2[1] * t3[2]
+            c23 = c2 * c3 - sign3 * s2 * s3
+            s23 = s2 * c3 + sign3 * c2 * s3
             ek = dot(h4, rot(h2, c23, -s23, w)) - c
             if k == 0:
                 e0, g0 = ek, margin
@@ -157,38 +198,38 @@ def _branches(m, R06, pt, t6, ss, only):  # type: ignore[no-untyped-def]
                 e2, g2 = ek, margin
             else:
                 e3, g3 = ek, margin
-            sol = (t1, t2, t3)
+            sol = (c1, s1, c2, s2, c3, s3)
     return sol, (e0, e1, e2, e3), (g0, g1, g2, g3), margin1
 
 
 @njit(cache=True)
-def _error(m, R06, pt, theta, ss, k):  # type: ignore[no-untyped-def]
-    return _branches(m, R06, pt, angle_of(theta), ss, k)[1][k]
+def _error(m, R06, T, theta, ss, k):  # type: ignore[no-untyped-def]
+    return _branches(m, T, math.cos(theta), math.sin(theta), ss, k)[1][k]
 
 
 @njit(cache=True)
-def _reach(m, R06, pt, theta, ss, k):  # type: ignore[no-untyped-def]
-    return _branches(m, R06, pt, angle_of(theta), ss, k)[2][k]
+def _reach(m, R06, T, theta, ss, k):  # type: ignore[no-untyped-def]
+    return _branches(m, T, math.cos(theta), math.sin(theta), ss, k)[2][k]
 
 
 @njit(cache=True)
-def _pair(m, R06, pt, ss, k, partner, tb, side, u):  # type: ignore[no-untyped-def]
+def _pair(m, R06, T, ss, k, partner, tb, side, u):  # type: ignore[no-untyped-def]
     """The error along two slots that meet at a reach boundary tb, as one smooth curve: θ = tb + side·u²,
     slot k for u ≥ 0, its partner for u < 0 (each branch goes as a square root of the distance to tb)."""
-    return _error(m, R06, pt, tb + side * u * u, ss, k if u >= 0.0 else partner)
+    return _error(m, R06, T, tb + side * u * u, ss, k if u >= 0.0 else partner)
 
 
 @njit(cache=True)
-def _f(m, R06, pt, ss, k, mode, partner, tb, side, x):  # type: ignore[no-untyped-def]
+def _f(m, R06, T, ss, k, mode, partner, tb, side, x):  # type: ignore[no-untyped-def]
     if mode == 0:
-        return _error(m, R06, pt, x, ss, k)
+        return _error(m, R06, T, x, ss, k)
     if mode == 1:
-        return _reach(m, R06, pt, x, ss, k)
-    return _pair(m, R06, pt, ss, k, partner, tb, side, x)
+        return _reach(m, R06, T, x, ss, k)
+    return _pair(m, R06, T, ss, k, partner, tb, side, x)
 
 
 @njit(cache=True)
-def _illinois(m, R06, pt, ss, k, a, b, fa, fb, mode, partner, tb, side):  # type: ignore[no-untyped-def]
+def _illinois(m, R06, T, ss, k, a, b, fa, fb, mode, partner, tb, side):  # type: ignore[no-untyped-def]
     """The root in [a, b], where it changes sign, of slot k's error (mode 0), its reach margin (1), or
     a slot pair's error at a reach boundary (2, see _pair): Illinois (regula falsi that halves the
     value kept at an end retained twice; superlinear)."""
@@ -199,7 +240,7 @@ def _illinois(m, R06, pt, ss, k, a, b, fa, fb, mode, partner, tb, side):  # type
         c = (a * fb - b * fa) / (fb - fa)
         if not (a <= c <= b):
             c = 0.5 * (a + b)
-        fc = _f(m, R06, pt, ss, k, mode, partner, tb, side, c)
+        fc = _f(m, R06, T, ss, k, mode, partner, tb, side, c)
         if fc != fc:
             return math.nan
         if fc == 0.0 or math.fabs(c - prev) <= ROOT_STEP:
@@ -218,27 +259,22 @@ def _illinois(m, R06, pt, ss, k, a, b, fa, fb, mode, partner, tb, side):  # type
 
 
 @njit(cache=True)
-def _close_pair(m, R06, pt, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, side):  # type: ignore[no-untyped-def]
-    """Up to two roots near x1, where |f| (mode: as _illinois) has a local minimum of one sign between
-    x0 and x2: a minimisation of |f| (parabolic steps, golden-section ones where a parabola does not
-    help; at most VERTEX_STEPS) until f changes sign (two brackets) or its minimum is below VERTEX_GAP
-    (a tangent root, for polishing to decide); none where |f| is CLOSE_GAP or more."""
-    if math.fabs(f1) >= CLOSE_GAP:
-        return (math.nan, math.nan)  # a minimum far from zero: no root nearby
+def _descend(m, R06, T, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, side):  # type: ignore[no-untyped-def]
+    """Towards the minimum of |f| (mode: as _illinois) between x0 and x2, where |f1| is smallest of the
+    three and all are of one sign: parabolic steps, golden-section ones where a parabola does not help,
+    at most VERTEX_STEPS, until f changes sign. (v, f(v)) the first point of the other sign (NaN if
+    none), and the last three points."""
     for _ in range(VERTEX_STEPS):
         den = (x1 - x0) * (f1 - f2) - (x1 - x2) * (f1 - f0)
         v = x1 - 0.5 * ((x1 - x0) ** 2 * (f1 - f2) - (x1 - x2) ** 2 * (f1 - f0)) / den if den != 0.0 else x1
         lo, hi = x0 + 0.1 * (x1 - x0), x2 - 0.1 * (x2 - x1)
         if not (lo < v < hi) or math.fabs(v - x1) < 1e-3 * (x2 - x0):
             v = x1 + 0.382 * (x2 - x1) if x2 - x1 > x1 - x0 else x1 - 0.382 * (x1 - x0)  # golden section
-        fv = _f(m, R06, pt, ss, k, mode, partner, tb, side, v)
+        fv = _f(m, R06, T, ss, k, mode, partner, tb, side, v)
         if fv != fv:
             break
         if (fv < 0.0) != (f1 < 0.0) and fv != 0.0:
-            return (
-                _illinois(m, R06, pt, ss, k, x0, v, f0, fv, mode, partner, tb, side),
-                _illinois(m, R06, pt, ss, k, v, x2, fv, f2, mode, partner, tb, side),
-            )
+            return v, fv, x0, x1, x2, f0, f1, f2
         if math.fabs(fv) < math.fabs(f1):  # v the new middle
             if v < x1:
                 x1, x2, f1, f2 = v, x1, fv, f1
@@ -250,6 +286,22 @@ def _close_pair(m, R06, pt, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, si
             x2, f2 = v, fv
         if x2 - x0 < 1e-9:
             break
+    return math.nan, math.nan, x0, x1, x2, f0, f1, f2
+
+
+@njit(cache=True)
+def _close_pair(m, R06, T, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, side):  # type: ignore[no-untyped-def]
+    """Up to two roots near x1, where |f| (mode: as _illinois) has a local minimum of one sign between
+    x0 and x2: |f| minimised (_descend) until f changes sign (two brackets) or its minimum is below
+    VERTEX_GAP (a tangent root, for polishing to decide); none where |f| is CLOSE_GAP or more."""
+    if math.fabs(f1) >= CLOSE_GAP:
+        return (math.nan, math.nan)  # a minimum far from zero: no root nearby
+    v, fv, x0, x1, x2, f0, f1, f2 = _descend(m, R06, T, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, side)
+    if v == v:
+        return (
+            _illinois(m, R06, T, ss, k, x0, v, f0, fv, mode, partner, tb, side),
+            _illinois(m, R06, T, ss, k, v, x2, fv, f2, mode, partner, tb, side),
+        )
     if math.fabs(f1) < VERTEX_GAP:
         # a tangent root, or two roots the model (within SNAP_TOL of the chain) merged into none: Newton
         # on the chain starts from either side, where the parabola through the last three points is 2|f1|
@@ -262,42 +314,42 @@ def _close_pair(m, R06, pt, ss, k, x0, x1, x2, f0, f1, f2, mode, partner, tb, si
 
 
 @njit(cache=True)
-def _boundary(m, target, seed, out, R06, pt, ss, k, partner, a, b, ga, gb):  # type: ignore[no-untyped-def]
+def _boundary(m, target, seed, out, R06, T, ss, k, partner, a, b, ga, gb):  # type: ignore[no-untyped-def]
     """Every root of slots k and partner in [a, b], where their branch pair reaches on one side of a
     boundary only: the boundary tb first (Illinois on the margin), then the pair's curve (_pair) in
     u ∈ [−√L, √L] (L the reaching length), sampled at PAIR_SAMPLES points, sign changes refined.
     Where the sample beyond the reaching end is clamped too, the pair's curve there is the clamped
     continuation: its roots do not reach, and the polish drops them."""
-    tb = _illinois(m, R06, pt, ss, k, a, b, ga, gb, 1, 0, 0.0, 0.0)
+    tb = _illinois(m, R06, T, ss, k, a, b, ga, gb, 1, 0, 0.0, 0.0)
     if tb != tb:
         return
     side = -1.0 if ga >= 0.0 else 1.0  # the reaching side: θ = tb + side·u²
     # the reaching length: to the reaching end and one step beyond (the square-root part of a branch
     # reaches further than a sample; roots found twice are merged by the emission)
     far = math.sqrt(max(tb - a if ga >= 0.0 else b - tb, 0.0) + (b - a))
-    ends = _pair(m, R06, pt, ss, k, partner, tb, side, far)
+    ends = _pair(m, R06, T, ss, k, partner, tb, side, far)
     us = np.empty(PAIR_SAMPLES + 1)
     fs = np.empty(PAIR_SAMPLES + 1)
     for i in range(PAIR_SAMPLES + 1):
         us[i] = -far + 2.0 * far * i / PAIR_SAMPLES
-        fs[i] = ends if i == PAIR_SAMPLES else _pair(m, R06, pt, ss, k, partner, tb, side, us[i])
-    _scan(m, target, seed, out, R06, pt, ss, k, us, fs, 2, partner, tb, side)
+        fs[i] = ends if i == PAIR_SAMPLES else _pair(m, R06, T, ss, k, partner, tb, side, us[i])
+    _scan(m, target, seed, out, R06, T, ss, k, us, fs, 2, partner, tb, side)
 
 
 @njit(cache=True)
-def _steep(m, target, seed, out, R06, pt, ss, k, a, b, fa, fb):  # type: ignore[no-untyped-def]
+def _steep(m, target, seed, out, R06, T, ss, k, a, b, fa, fb):  # type: ignore[no-untyped-def]
     """An interval where slot k's error changes by more than STEEP without changing sign (θ1 spins fast
     where the wrist point passes near axis 1): sampled at SPLIT sub-intervals and scanned."""
     xs = np.empty(SPLIT + 1)
     fs = np.empty(SPLIT + 1)
     for i in range(SPLIT + 1):
         xs[i] = a + (b - a) * i / SPLIT
-        fs[i] = fa if i == 0 else (fb if i == SPLIT else _error(m, R06, pt, xs[i], ss, k))
-    _scan(m, target, seed, out, R06, pt, ss, k, xs, fs, 0, 0, 0.0, 0.0)
+        fs[i] = fa if i == 0 else (fb if i == SPLIT else _error(m, R06, T, xs[i], ss, k))
+    _scan(m, target, seed, out, R06, T, ss, k, xs, fs, 0, 0, 0.0, 0.0)
 
 
 @njit(cache=True)
-def _scan(m, target, seed, out, R06, pt, ss, k, xs, fs, mode, partner, tb, side):  # type: ignore[no-untyped-def]
+def _scan(m, target, seed, out, R06, T, ss, k, xs, fs, mode, partner, tb, side):  # type: ignore[no-untyped-def]
     """Every root of f (mode: as _illinois) on a grid xs with values fs: sign changes refined, sampled
     minima of |f| of one sign searched for a close pair (_close_pair); each root finished."""
     n = len(xs) - 1
@@ -307,13 +359,13 @@ def _scan(m, target, seed, out, R06, pt, ss, k, xs, fs, mode, partner, tb, side)
             roots = (xs[i], math.nan)
         elif (fs[i] < 0.0) != (fs[i + 1] < 0.0) and fs[i + 1] != 0.0:
             roots = (
-                _illinois(m, R06, pt, ss, k, xs[i], xs[i + 1], fs[i], fs[i + 1], mode, partner, tb, side),
+                _illinois(m, R06, T, ss, k, xs[i], xs[i + 1], fs[i], fs[i + 1], mode, partner, tb, side),
                 math.nan,
             )
         elif i + 2 <= n:
             f0, f1, f2 = fs[i], fs[i + 1], fs[i + 2]
             if (f2 < 0.0) == (f1 < 0.0) and math.fabs(f1) <= math.fabs(f0) and math.fabs(f1) < math.fabs(f2):
-                roots = _close_pair(m, R06, pt, ss, k, xs[i], xs[i + 1], xs[i + 2], f0, f1, f2, mode, partner, tb, side)
+                roots = _close_pair(m, R06, T, ss, k, xs[i], xs[i + 1], xs[i + 2], f0, f1, f2, mode, partner, tb, side)
         for root in roots:
             if root == root:
                 if mode == 2:
@@ -321,7 +373,7 @@ def _scan(m, target, seed, out, R06, pt, ss, k, xs, fs, mode, partner, tb, side)
                     slot = k if root >= 0.0 else partner
                 else:
                     t6, slot = angle_of(root), k
-                _finish(m, target, seed, out, R06, t6, _branches(m, R06, pt, t6, ss, slot)[0], ss)
+                _finish(m, target, seed, out, R06, t6, _branches(m, T, t6[1], t6[2], ss, slot)[0], ss)
 
 
 @njit(cache=True)
@@ -446,7 +498,8 @@ def _finish(m, target, seed, out, R06, t6, sol, ss):  # type: ignore[no-untyped-
         _v(m, S_H + 12),
         _v(m, S_H + 15),
     )
-    t1, t2, t3 = sol
+    c1, s1, c2, s2, c3, s3 = sol
+    t1, t2, t3 = (math.atan2(s1, c1), c1, s1), (math.atan2(s2, c2), c2, s2), (math.atan2(s3, c3), c3, s3)
     y = rot_back(h3, t3, rot_back(h2, t2, rot_back(h1, t1, _mat_vec(R06, rot_back(h6, t6, h5)))))
     n5 = _v(m, S_N5)
     z = rot_back(h3, t3, rot_back(h2, t2, rot_back(h1, t1, _mat_vec(R06, rot_back(h6, t6, n5)))))
@@ -481,53 +534,102 @@ def _finish(m, target, seed, out, R06, t6, sol, ss):  # type: ignore[no-untyped-
 
 
 @njit(cache=True)
-def _search(m, target, seed, out):  # type: ignore[no-untyped-def]
-    _Rt, pt, ss, R06 = K.target_frame(target, seed, m[S_REVERSED] != 0.0, m[S_R6T : S_R6T + 9])
-    n = int(m[S_SAMPLES])
-    step = 2.0 * math.pi / n
-    E = np.empty((n, 4))
-    G = np.empty((n, 4))
-    G1 = np.empty(n)
-    for i in range(n):
-        _, e, g, g1 = _branches(m, R06, pt, angle_of(-math.pi + step * i), ss, -1)
-        G1[i] = g1
-        for k in range(4):
-            E[i, k], G[i, k] = e[k], g[k]
+def _sample(m, T, ss, xs, c, s, E, G, G1, i):  # type: ignore[no-untyped-def]
+    _, e, g, g1 = _branches(m, T, c, s, ss, -1)
+    G1[i] = g1
+    for k in range(4):
+        E[i, k], G[i, k] = e[k], g[k]
+
+
+@njit(cache=True)
+def _dips(m, R06, T, ss, xs, G, n):  # type: ignore[no-untyped-def]
+    """Points where a slot's reach margin, positive at every sample, dips below zero between two: a
+    sampled local minimum of the margin below DIP_GAP is descended (_descend) until it is negative.
+    There a branch pair exists on part of a step only (θ1's or θ3's double root, near a wrist
+    singularity), and a root between the two reach boundaries is bracketed by neither sample."""
+    found = np.empty(4 * n)
+    count = 0
     for k in range(4):
         for i in range(n):
-            j = (i + 1) % n
-            a = -math.pi + step * i
-            b = a + step
-            fa, fb, ga, gb = E[i, k], E[j, k], G[i, k], G[j, k]
+            g0, g1, g2 = G[(i - 1) % n, k], G[i, k], G[(i + 1) % n, k]
+            if not (0.0 <= g1 < DIP_GAP and g1 <= g0 and g1 < g2):
+                continue
+            x1 = xs[i]
+            v = _descend(m, R06, T, ss, k, x1 - (xs[1] - xs[0]), x1, x1 + (xs[1] - xs[0]), g0, g1, g2, 1, 0, 0.0, 0.0)[
+                0
+            ]
+            if v == v:
+                found[count] = v - 2.0 * math.pi * math.floor((v + math.pi) / (2.0 * math.pi))
+                count += 1
+    return found[:count]
+
+
+@njit(cache=True)
+def _search(m, target, seed, out):  # type: ignore[no-untyped-def]
+    _Rt, pt, ss, R06 = K.target_frame(target, seed, m[S_REVERSED] != 0.0, m[S_R6T : S_R6T + 9])
+    T = _terms(m, R06, pt)
+    n = int(m[S_SAMPLES])
+    step = 2.0 * math.pi / n
+    # the grid: n samples from −π (cosines and sines by rotation, no libm call), then the first two again
+    xs = np.empty(n + 2)
+    E, G, G1 = np.empty((n + 2, 4)), np.empty((n + 2, 4)), np.empty(n + 2)
+    cd, sd = math.cos(step), math.sin(step)
+    c, s = -1.0, 0.0
+    for i in range(n):
+        xs[i] = -math.pi + step * i
+        _sample(m, T, ss, xs, c, s, E, G, G1, i)
+        c, s = c * cd - s * sd, s * cd + c * sd
+    extra = _dips(m, R06, T, ss, xs, G, n)
+    if len(extra):  # merged into the grid, sorted, each sampled
+        base, (Eb, Gb, G1b) = xs[:n].copy(), (E[:n].copy(), G[:n].copy(), G1[:n].copy())
+        extra.sort()
+        n += len(extra)
+        xs = np.empty(n + 2)
+        E, G, G1 = np.empty((n + 2, 4)), np.empty((n + 2, 4)), np.empty(n + 2)
+        a = b = 0
+        for i in range(n):
+            if b < len(extra) and (a == len(base) or extra[b] < base[a]):
+                xs[i] = extra[b]
+                _sample(m, T, ss, xs, math.cos(extra[b]), math.sin(extra[b]), E, G, G1, i)
+                b += 1
+            else:
+                xs[i], E[i], G[i], G1[i] = base[a], Eb[a], Gb[a], G1b[a]
+                a += 1
+    for i in range(2):
+        xs[n + i], E[n + i], G[n + i], G1[n + i] = xs[i] + 2.0 * math.pi, E[i], G[i], G1[i]
+    for k in range(4):
+        for i in range(n):
+            a, b = xs[i], xs[i + 1]
+            fa, fb, ga, gb = E[i, k], E[i + 1, k], G[i, k], G[i + 1, k]
             if ga < 0.0 and gb < 0.0:  # clamped at both ends: no branch here
                 continue
             if (ga < 0.0) != (gb < 0.0):  # a reach boundary inside: k and the slot it meets there
-                partner = k ^ 2 if min(G1[i], G1[j]) < 0.0 else k ^ 1
+                partner = k ^ 2 if min(G1[i], G1[i + 1]) < 0.0 else k ^ 1
                 if k < partner:
-                    _boundary(m, target, seed, out, R06, pt, ss, k, partner, a, b, ga, gb)
+                    _boundary(m, target, seed, out, R06, T, ss, k, partner, a, b, ga, gb)
                 continue
             roots = (math.nan, math.nan)
             if fa == 0.0:
                 roots = (a, math.nan)
             elif (fa < 0.0) != (fb < 0.0) and fb != 0.0:
-                roots = (_illinois(m, R06, pt, ss, k, a, b, fa, fb, 0, 0, 0.0, 0.0), math.nan)
+                roots = (_illinois(m, R06, T, ss, k, a, b, fa, fb, 0, 0, 0.0, 0.0), math.nan)
             else:
                 if math.fabs(fa - fb) > STEEP:
-                    _steep(m, target, seed, out, R06, pt, ss, k, a, b, fa, fb)
-                # |e| smallest at sample j of three of one sign, all reaching: two roots closer than a
+                    _steep(m, target, seed, out, R06, T, ss, k, a, b, fa, fb)
+                # |e| smallest at sample i + 1 of three of one sign, all reaching: two roots closer than a
                 # sample step, or a tangent one, near the minimum (successive parabolic interpolation)
-                fc, gc = E[(i + 2) % n, k], G[(i + 2) % n, k]
+                fc, gc = E[i + 2, k], G[i + 2, k]
                 if (
                     gc < 0.0
                     or (fc < 0.0) != (fb < 0.0)
                     or not (math.fabs(fb) <= math.fabs(fa) and math.fabs(fb) < math.fabs(fc))
                 ):
                     continue
-                roots = _close_pair(m, R06, pt, ss, k, a, b, b + step, fa, fb, fc, 0, 0, 0.0, 0.0)
+                roots = _close_pair(m, R06, T, ss, k, a, b, xs[i + 2], fa, fb, fc, 0, 0, 0.0, 0.0)
             for r in roots:
                 if r == r:
                     t6 = angle_of(r)
-                    _finish(m, target, seed, out, R06, t6, _branches(m, R06, pt, t6, ss, k)[0], ss)
+                    _finish(m, target, seed, out, R06, t6, _branches(m, T, t6[1], t6[2], ss, k)[0], ss)
 
 
 @njit(cache=True)
