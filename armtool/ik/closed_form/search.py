@@ -69,7 +69,7 @@ SNAP_TOL = 1e-4  # rad / m: axes this close to intersecting / parallel are solve
 POLISH_STEPS = 8  # Newton steps on the real chain per root (1-2 where the model is the chain)
 POLISH_GOAL = 1e-14  # m / rad: a polished residual this small stops the steps
 VERTEX_STEPS = 12  # steps towards a local minimum of |e| that may hide two roots
-DIP_GAP = 0.05  # a reach margin whose sampled local minimum is below this is descended: it may dip below 0
+DIP_GAP = 0.05  # a reach margin whose sampled local minimum of |margin| is below this is descended: it may change sign
 CLOSE_GAP = 0.05  # |e| at a sampled local minimum below this is searched for two close roots
 VERTEX_GAP = 1e-3  # |e| at a parabola's vertex below this is tried as a (double) root: polishing decides
 STEEP = 0.2  # an error change between samples beyond this (of one sign) is sampled SPLIT times finer
@@ -571,16 +571,21 @@ def _sample(m, T, ss, xs, c, s, E, G, G1, i):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def _dips(m, R06, T, ss, xs, G, n):  # type: ignore[no-untyped-def]
-    """Points where a slot's reach margin, positive at every sample, dips below zero between two: a
-    sampled local minimum of the margin below DIP_GAP is descended (_descend) until it is negative.
-    There a branch pair exists on part of a step only (θ1's or θ3's double root, near a wrist
-    singularity), and a root between the two reach boundaries is bracketed by neither sample."""
+    """Points where a slot's reach margin changes sign between two samples of one sign: a dip below
+    zero between two reaching samples, or an island above it between two clamped ones (the wrist
+    point passing near axis 1, where θ1's margin turns sharply). A sampled local minimum of |margin|
+    below DIP_GAP is descended (_descend) until the margin changes sign. There a branch pair exists
+    on part of a step only (θ1's or θ3's double root, near a singularity), and a root where it
+    exists is bracketed by neither sample."""
     found = np.empty(4 * n)
     count = 0
     for k in range(4):
         for i in range(n):
             g0, g1, g2 = G[(i - 1) % n, k], G[i, k], G[(i + 1) % n, k]
-            if not (0.0 <= g1 < DIP_GAP and g1 <= g0 and g1 < g2):
+            same = (g0 < 0.0) == (g1 < 0.0) == (g2 < 0.0)
+            if not (
+                same and math.fabs(g1) < DIP_GAP and math.fabs(g1) <= math.fabs(g0) and math.fabs(g1) < math.fabs(g2)
+            ):
                 continue
             x1 = xs[i]
             v = _descend(m, R06, T, ss, k, x1 - (xs[1] - xs[0]), x1, x1 + (xs[1] - xs[0]), g0, g1, g2, 1, 0, 0.0, 0.0)[
