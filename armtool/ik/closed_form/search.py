@@ -21,7 +21,12 @@ How (solver order; the chain reversed when the pair is at the base end):
    or a tangent root) is tested at its parabola's vertex. Between a reaching and a clamped sample the
    reach boundary is found first (Illinois on the margin), then the reaching part is searched: near
    it a branch's e behaves as a square root, and roots there sit where no sample sees them.
-   Intervals clamped at both ends hold no solution and are skipped.
+   Intervals clamped at both ends hold no solution and are skipped. Before that, a margin whose
+   |margin| has a small sampled local minimum is descended until it changes sign (_dips): near a
+   wrist or shoulder singularity a branch can exist between two clamped samples only, or vanish
+   between two reaching ones (UR10, bench target 34), and the point found joins the grid. The
+   samples form no angle (cosines and sines only, θ6's by rotation, the subproblems' coefficients
+   that do not depend on θ6 computed once): they are most of the work.
 4. Each root gives θ1..θ3 (its slot), θ4 = SP1(h5 → R45 h5 about h4), θ5 = SP1 about h5; then up to
    POLISH_STEPS Newton steps on the full 6-D pose residual of the real chain (its axis lines, not the
    model), so that every solution is exact to machine precision, and a chain whose structure holds
@@ -757,15 +762,15 @@ def _pack_terms(m: Array, h: list[Array], P: list[Array]) -> None:
     r = math.hypot(A, B)
     degenerate = r <= 1e-9 * (1.0 + float(np.linalg.norm(pp)))  # p34 or p23 along axis 3: solved in general
     m[S_T3 : S_T3 + 4] = [
-        (hh @ k3) * (k3 @ pp),
+        float((hh @ k3) * (k3 @ pp)),
         0.0 if degenerate else A,
         0.0 if degenerate else B,
-        0.5 * (pp @ pp + P[2] @ P[2]),
+        float(0.5 * (pp @ pp + P[2] @ P[2])),
     ]
     along = (k3 @ pp) * k3
     U, V, W = P[2] + along, pp - along, np.cross(k3, pp)
     m[S_T2 : S_T2 + 18] = np.concatenate([U, V, W, np.cross(h[1], U), np.cross(h[1], V), np.cross(h[1], W)])
-    m[S_E : S_E + 5] = [*np.cross(h[3], h[1]), h[3] @ h[1], h[3] @ h[4]]
+    m[S_E : S_E + 5] = np.concatenate([np.cross(h[3], h[1]), [h[3] @ h[1], h[3] @ h[4]]])
 
 
 def pack(chain: Chain, tolerance: float, samples: int = SAMPLES) -> Array:
