@@ -11,7 +11,10 @@ enumeration on the first --enumerate targets: SciPy's least squares (bounded by 
 solutions the search lacks.
 
 Targets (issue 29, item 3): 100 % success, no missing solution, median ≤ 10× UR5's closed-form
-median. PASS/FAIL lines on stdout; exit 1 with --strict when a target is missed.
+median. Cross-check on an arm that has a closed form with the search's structure: UR10
+(example-robot-data, world → tool0) on --samples bench targets (armtool.ik.bench.make_targets), the
+search's solution sets against `analytic`'s, deduplicated at 1e-6 rad: missing and extra solutions.
+PASS/FAIL lines on stdout; exit 1 with --strict when a target is missed.
 
     python benchmarks/ik_search.py [--samples 1000] [--enumerate 20] [--seeds 200] [--strict]
 """
@@ -117,7 +120,33 @@ def main() -> int:
         ):
             print(f"  {'PASS' if ok else 'FAIL'} {name}: {label}")
             failed |= not ok
+    failed |= not cross_check(opts.samples)
     return 1 if (failed and opts.strict) else 0
+
+
+def cross_check(samples: int) -> bool:
+    """UR10: the search's solution sets against the closed form's on the bench's targets; whether they agree."""
+    from armtool.ik import load_chain, make_solver
+    from armtool.ik.bench import BenchConfig, make_targets
+
+    paths = glob.glob(f"{sys.prefix}/**/example-robot-data/robots/ur_description/urdf/ur10_robot.urdf", recursive=True)
+    chain = load_chain(paths[0], "world", "tool0")
+    closed, search = make_solver("analytic", chain), make_solver("search", chain)
+    targets = make_targets(chain, BenchConfig(samples=samples))
+    total = lacking = extra = 0
+    for pose, seed in zip(targets.poses, targets.seeds):
+        a = np.array(closed.solve(pose, seed).solutions).reshape(-1, 6)
+        s = np.array(search.solve(pose, seed).solutions).reshape(-1, 6)
+        near = np.max(np.abs((a[:, None, :] - s[None, :, :] + np.pi) % (2 * np.pi) - np.pi), axis=2) < 1e-6
+        total += len(a)
+        lacking += int(np.sum(~near.any(axis=1))) if len(s) else len(a)
+        extra += int(np.sum(~near.any(axis=0))) if len(a) else len(s)
+    print(
+        f"ur10 cross-check: {samples} targets, {total} closed-form solutions; the search lacks {lacking}, adds {extra}"
+    )
+    ok = lacking == 0 and extra == 0
+    print(f"  {'PASS' if ok else 'FAIL'} ur10: the search's sets are the closed form's")
+    return ok
 
 
 if __name__ == "__main__":

@@ -16,6 +16,7 @@ from armtool.errors import ArmtoolError
 from armtool.ik import make_solver
 from armtool.ik.closed_form import search
 from armtool.ik.solutions import enumerate_by_least_squares, missing
+from armtool.ik.solver import Solver
 from armtool.model.chain import Chain, chain_from_xml
 from tests.ik.test_analytic import PUMA_RIGHT, check_all_solutions, dh_chain, wrapped_distance
 
@@ -141,3 +142,58 @@ def test_ik_bench_row_names_the_search() -> None:
     row = rows["search"]
     assert row["success_rate"] == 1.0 and row["distinct_solutions"] > 1
     assert row["method"].startswith("1-D search over θ6")
+
+
+# ---- against the closed form, near a wrist singularity -----------------------------------------------------
+
+UR10_DH = [  # UR10's DH rows (d, a, α): axes 2∥3∥4, 4∩5, so both `analytic` and the search solve it
+    (0.1273, 0.0, math.pi / 2),
+    (0.0, -0.612, 0.0),
+    (0.0, -0.5723, 0.0),
+    (0.163941, 0.0, math.pi / 2),
+    (0.1157, 0.0, -math.pi / 2),
+    (0.0922, 0.0, 0.0),
+]
+
+
+def _set_difference(
+    solvers: tuple[Solver, Solver], target: np.ndarray, seed: np.ndarray, gap: float = 1e-6
+) -> tuple[int, int, int]:
+    """(closed-form solutions, those the search lacks, search solutions the closed form lacks), at `gap` rad."""
+    closed = np.array(solvers[0].solve(target, seed).solutions).reshape(-1, 6)
+    found = np.array(solvers[1].solve(target, seed).solutions).reshape(-1, 6)
+    lacking = sum(min((wrapped_distance(a, b) for b in found), default=1.0) > gap for a in closed)
+    extra = sum(min((wrapped_distance(b, a) for a in closed), default=1.0) > gap for b in found)
+    return len(closed), lacking, extra
+
+
+def test_ur10_target_near_the_wrist_singularity() -> None:
+    """example-robot-data's UR10, bench target 34 of 1000: solutions with θ5 = 0.0003 and θ5 = −0.068. The
+    −0.068 pair sits where θ1's reach margin dips below zero between two samples (both reaching): the
+    search lost it before the dip was descended."""
+    from armtool.ik.bench import BenchConfig, make_targets
+    from armtool.model.chain import load_chain
+    from tests.ik.robots import erd
+
+    chain = load_chain(erd("ur_description/urdf/ur10_robot.urdf"), "world", "tool0")
+    targets = make_targets(chain, BenchConfig(samples=1000))
+    solvers = (make_solver("analytic", chain), make_solver("search", chain))
+    closed, lacking, extra = _set_difference(solvers, targets.poses[34], targets.seeds[34])
+    assert (closed, lacking, extra) == (6, 0, 0)
+
+
+def test_rendered_ur10_near_the_wrist_singularity() -> None:
+    """A rendered UR10 (its DH rows behind rotated URDF frames), 3000 configurations with |θ5| ≤ 0.3 rad:
+    every closed-form solution is among the search's and the other way round. Compared at 1e-3 rad: at
+    a singular configuration a pose within the tolerance leaves the joints ~√tolerance apart. Where the
+    wrist point passes near axis 1, θ1's reach margin rises above zero between two clamped samples for
+    ~1e-3 rad only: those solutions were lost before such islands were searched."""
+    chain = dh_chain(UR10_DH, seed=5)
+    rng = np.random.default_rng(8)
+    Q = chain.random(rng, 3000)
+    Q[:, 4] = rng.uniform(-0.3, 0.3, len(Q))
+    seed = chain.mid()
+    solvers = (make_solver("analytic", chain), make_solver("search", chain))
+    differences = [(i, *_set_difference(solvers, chain.fk(q), seed, gap=1e-3)) for i, q in enumerate(Q)]
+    assert [d for d in differences if d[2] or d[3]] == []
+    assert sum(d[1] for d in differences) > 3000 * 4
