@@ -58,7 +58,20 @@ class Candidate:
     def is_nominal(self) -> bool:
         return not self.kinds
 
+    @property
+    def in_urdf(self) -> bool:
+        """Whether a URDF can hold everything it fits (not the joint terms; gains are reported for
+        the driver, and warned about, as they always were)."""
+        return not (self.kinds & NOT_IN_URDF)
 
+    def urdf_rung(self, candidates: Sequence[Candidate]) -> Candidate:
+        """The candidate of `candidates` that fits what of this one a URDF can hold (itself when
+        it all fits in one; hand-eye only when no rung does): what calibrated.urdf is fitted as."""
+        kinds = self.kinds - NOT_IN_URDF
+        return next((c for c in candidates if c.kinds == kinds), HAND_EYE)
+
+
+NOT_IN_URDF = frozenset({"compliance", "harmonic"})  # joint terms: applied to the readings, not in a URDF
 HAND_EYE = Candidate("hand-eye only", frozenset())
 
 
@@ -142,10 +155,11 @@ class CrossValidation:
     samples: int
     scores: list[Score]
     chosen: Candidate
-    nested: Nested | None
+    nested: Nested | None  # of what calibrated.urdf holds: each outer fold's choice, its URDF rung
     knee: float
     repeats: int = 1  # k-fold partitions pooled in `scores`
     criterion: Criterion = Criterion.COMBINED
+    nested_terms: Nested | None = None  # with the joint terms (or gains) chosen, when a fold chose any
 
     def score_of(self, name: str) -> Score:
         """The score of the candidate of that name (the ladder's names are distinct)."""
@@ -395,7 +409,7 @@ def cross_validate(
     k = knee(problem)
     scores = _scores(problem, candidates, outer, k, criterion)
     chosen = _choose(scores)
-    result_nested = None
+    result_nested = nested_terms = None
     if nested:
         first = partitions[0]
         picks: list[int] = []
@@ -409,11 +423,19 @@ def cross_validate(
                 inner_partitions[0] = [fold for j, fold in enumerate(first) if j != number]
             inner = [scored(t, train) for partition in inner_partitions for t in partition]
             picks.append(candidates.index(_choose(_scores(problem, candidates, inner, k, criterion))))
-        result_nested = _nested(problem, outer[:folds], picks, candidates)
-    return CrossValidation(folds, problem.samples, scores, chosen, result_nested, k, times, criterion)
+        names = [candidates[c].name for c in picks]
+        written = [candidates.index(candidates[c].urdf_rung(candidates)) for c in picks]
+        result_nested = _nested(problem, outer[:folds], written, candidates, names)
+        if written != picks:
+            nested_terms = _nested(problem, outer[:folds], picks, candidates, names)
+    return CrossValidation(folds, problem.samples, scores, chosen, result_nested, k, times, criterion, nested_terms)
 
 
-def _nested(problem: Problem, folds: list[_Fold], picks: list[int], candidates: list[Candidate]) -> Nested:
+def _nested(
+    problem: Problem, folds: list[_Fold], picks: list[int], candidates: list[Candidate], chosen: list[str]
+) -> Nested:
+    """The held-out residual of each outer fold's `picks` (indices into `candidates`); `chosen`:
+    what each fold chose (the same, or a set whose URDF rung `picks` is)."""
     rms, maximum, inlier, he_rms, he_max = {}, {}, {}, {}, {}
     per_sample: dict[str, Array] = {}
     keep = ~np.concatenate([f.outlier[c] for f, c in zip(folds, picks)])
@@ -426,7 +448,6 @@ def _nested(problem: Problem, folds: list[_Fold], picks: list[int], candidates: 
         by_row = np.full(problem.samples, np.nan)
         by_row[order] = values
         per_sample[block.name] = by_row
-    chosen = [candidates[c].name for c in picks]
     return Nested(rms, maximum, inlier, int(keep.sum()), int(keep.size), he_rms, he_max, chosen, per_sample)
 
 
