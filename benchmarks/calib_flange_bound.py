@@ -31,14 +31,16 @@ from scipy.spatial.transform import Rotation
 from armtool.model.chain import load_chain
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from calib_real import UR5_CSV, ur5_urdf  # noqa: E402  (this directory's helpers)
+from calib_real import UR5_CSV, ur5_urdf
 
 NAMES = ("tx", "ty", "tz", "rx", "ry", "rz", "offset")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(__file__).resolve().parents[1] / ".." / "shared" / "calib-real")
+    parser.add_argument(
+        "--data", type=Path, default=Path(__file__).resolve().parents[1] / ".." / "shared" / "calib-real"
+    )
     parser.add_argument("--hold", default="wrist_1_joint.rx")
     args = parser.parse_args()
     with (args.data / "ur5_tracker" / UR5_CSV).open(newline="") as f:
@@ -124,6 +126,7 @@ def main() -> None:
     report(f"the same, {args.hold} held at 0", solve(z0, held, 0.0))
     for weight in (1e-3, 1e-2, 1e-1):
         report(f"the same, tool0 pulled to nominal, weight {weight:g}", solve(free, everything, weight))
+
 
 if __name__ == "__main__":
     main()

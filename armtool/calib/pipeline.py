@@ -218,8 +218,8 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     plot and UR kinematics file when asked for; nothing is written yet."""
     import yaml
 
-    from armtool.calib.fit.verdict import hand_eye_verdict, judge
     from armtool.calib.apply import TERMS_URDF
+    from armtool.calib.fit.verdict import hand_eye_verdict, judge
     from armtool.calib.outputs.report import calibration_document
     from armtool.calib.outputs.urdf import (
         check_reproduces,
