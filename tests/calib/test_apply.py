@@ -16,6 +16,7 @@ from armtool.calib.model import se3
 from armtool.cli import app
 from armtool.errors import ArmtoolError
 from armtool.model.chain import load_chain
+from tests.calib.point_dataset import write_point_dataset
 from tests.ik.robots import erd
 
 runner = CliRunner()
@@ -33,24 +34,8 @@ def _tracker_dataset(directory: Path, n: int = 120, seed: int = 3) -> tuple[Path
     points = T[:, :3, :3] @ np.array([0.0, 0.0, 0.03]) + T[:, :3, 3] + rng.normal(scale=2e-5, size=(n, 3))
     tracker_base = se3.inv(se3.xyz_rpy([1.2, 0.3, 0.2], [0.0, 0.0, 2.5]))
     measured = points @ tracker_base[:3, :3].T + tracker_base[:3, 3]
-    directory.mkdir(parents=True)
-    lines = ["id," + ",".join(chain.joint_names) + ",x,y,z"]
-    for k, (q, p) in enumerate(zip(Q, measured * 1e3)):
-        lines.append(f"{k}," + ",".join(repr(float(v)) for v in [*q, *p]))
-    (directory / "data.csv").write_text("\n".join(lines) + "\n")
-    doc = {
-        "format": "armtool-calib-dataset/1",
-        "setup": "eye_to_hand",
-        "robot": {"urdf": str(UR5), "base_link": "base_link", "flange_link": "tool0", "joints": chain.joint_names},
-        "samples": "data.csv",
-        "observations": {
-            "kind": "point",
-            "file": "data.csv",
-            "position_units": "mm",
-            "position_columns": ["x", "y", "z"],
-        },
-    }
-    (directory / "dataset.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    rows = ((str(k), q, p) for k, (q, p) in enumerate(zip(Q, measured * 1e3)))
+    write_point_dataset(directory, UR5, chain.joint_names, rows)
     return directory, Q
 
 

@@ -29,6 +29,7 @@ from typer.testing import CliRunner
 from armtool.calib.model import se3
 from armtool.cli import app
 from armtool.model.chain import load_chain
+from tests.calib.point_dataset import write_point_dataset
 from tests.ik.robots import erd
 
 DATA = Path(__file__).resolve().parents[2] / ".." / "shared" / "calib-real" / "ur5_tracker"
@@ -52,33 +53,15 @@ def rows() -> list[dict[str, str]]:
 
 def dataset(directory: Path, picked: list[dict[str, str]]) -> Path:
     """The grid poses `picked` as a documented dataset: one CSV of joints (rad) and points (mm)."""
-    directory.mkdir(parents=True)
-    lines = ["id," + ",".join(JOINTS) + ",x,y,z"]
-    for r in picked:
-        q = [math.radians(float(r[f"joint_{k}"])) for k in range(1, 7)]
-        p = [float(r[f"{a}_t"]) + float(r[f"{a}_dif"]) for a in "xyz"]
-        lines.append(r["step_order"] + "," + ",".join(repr(v) for v in q + p))
-    (directory / "data.csv").write_text("\n".join(lines) + "\n")
-    doc = {
-        "format": "armtool-calib-dataset/1",
-        "setup": "eye_to_hand",
-        "robot": {
-            "urdf": str(erd("ur_description/urdf/ur5_robot.urdf")),
-            "base_link": "base_link",
-            "flange_link": "tool0",
-            "joints": JOINTS,
-            "joint_units": "rad",
-        },
-        "samples": "data.csv",
-        "observations": {
-            "kind": "point",
-            "file": "data.csv",
-            "position_units": "mm",
-            "position_columns": ["x", "y", "z"],
-        },
-    }
-    (directory / "dataset.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
-    return directory
+    rows = (
+        (
+            r["step_order"],
+            [math.radians(float(r[f"joint_{k}"])) for k in range(1, 7)],
+            [float(r[f"{a}_t"]) + float(r[f"{a}_dif"]) for a in "xyz"],
+        )
+        for r in picked
+    )
+    return write_point_dataset(directory, erd("ur_description/urdf/ur5_robot.urdf"), JOINTS, rows)
 
 
 def fit(tmp_path: Path, name: str, picked: list[dict[str, str]], *extra: str) -> tuple[dict, dict, Path]:  # type: ignore[type-arg]
