@@ -306,7 +306,8 @@ def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
         with_terms = tool0_deviation(tmp / "ur5-out" / "calibrated_with_terms.urdf", Q)
         print(
             f"| default options, calibrated_with_terms.urdf with its joint terms ({terms['fitted']}) | "
-            f"- / {terms['nested_heldout_rms_mm']:.4f} / - | {with_terms[0]:.2f} / {with_terms[1]:.2f} | "
+            f"{terms['nested_heldout_mean_mm']:.4f} / {terms['nested_heldout_rms_mm']:.4f} / "
+            f"{terms['nested_heldout_max_mm']:.3f} | {with_terms[0]:.2f} / {with_terms[1]:.2f} | "
             f"{with_terms[2]:.3f} / {with_terms[3]:.3f} | "
             + ", ".join(f"{v * 1e3:.2f}" for v in terms["frames"]["point_in_flange"]["xyz"])
             + " |"

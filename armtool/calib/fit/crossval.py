@@ -58,15 +58,10 @@ class Candidate:
     def is_nominal(self) -> bool:
         return not self.kinds
 
-    @property
-    def in_urdf(self) -> bool:
-        """Whether a URDF can hold everything it fits (not the joint terms; gains are reported for
-        the driver, and warned about, as they always were)."""
-        return not (self.kinds & NOT_IN_URDF)
-
     def urdf_rung(self, candidates: Sequence[Candidate]) -> Candidate:
         """The candidate of `candidates` that fits what of this one a URDF can hold (itself when
-        it all fits in one; hand-eye only when no rung does): what calibrated.urdf is fitted as."""
+        it all fits in one; hand-eye only when no rung does): what calibrated.urdf is fitted as.
+        Gains are not joint terms here: they stay in the fit, reported for the driver as before."""
         kinds = self.kinds - NOT_IN_URDF
         return next((c for c in candidates if c.kinds == kinds), HAND_EYE)
 
@@ -159,7 +154,7 @@ class CrossValidation:
     knee: float
     repeats: int = 1  # k-fold partitions pooled in `scores`
     criterion: Criterion = Criterion.COMBINED
-    nested_terms: Nested | None = None  # with the joint terms (or gains) chosen, when a fold chose any
+    nested_terms: Nested | None = None  # with the joint terms chosen, when a fold chose any
 
     def score_of(self, name: str) -> Score:
         """The score of the candidate of that name (the ladder's names are distinct)."""

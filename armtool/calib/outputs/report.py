@@ -167,8 +167,11 @@ def joint_terms_section(result: CalibrationResult) -> dict[str, Any] | None:
         for b in result.blocks:
             out[f"heldout_rms_{_key(b)}"] = _num(cv.score_of(terms.candidate.name).rms[b.name])
         if cv.nested_terms is not None:
+            n = cv.nested_terms
             for b in result.blocks:
-                out[f"nested_heldout_rms_{_key(b)}"] = _num(cv.nested_terms.rms[b.name])
+                out[f"nested_heldout_rms_{_key(b)}"] = _num(n.rms[b.name])
+                out[f"nested_heldout_max_{_key(b)}"] = _num(n.maximum[b.name])
+                out[f"nested_heldout_mean_{_key(b)}"] = _num(float(np.nanmean(n.per_sample[b.name])))
     return out
 
 
