@@ -337,6 +337,12 @@ def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
             f"  held at nominal: σ {h['sigma_in_precision_units']:.3g} × the precision, {h['sigmas_from_nominal']:.1f} σ "
             "from nominal: " + ", ".join(f"{k} ±{v:.3g}" for k, v in top)
         )
+    if terms:
+        sigmas = [h["sigma_in_precision_units"] for h in terms["held_at_nominal"]]
+        print(
+            f"  the chosen set with its terms: {len(sigmas)} combinations held at nominal"
+            + (f", σ {min(sigmas):.3g} to {max(sigmas):.3g} × the precision" if sigmas else "")
+        )
     print(f"time: check {check_wall:.1f} s wall, fit {fit_wall:.1f} s wall ({fit_cpu:.1f} s CPU)")
     if not subsets:
         return
