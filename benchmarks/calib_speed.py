@@ -59,29 +59,11 @@ def exact_choice(model: Any, m: Any, samples: list[Any]) -> Any:
     model (each from the previous one's solution) instead of on the hand-eye-only fit's
     linearisation, and each training fold fitted by `fit_set` on the real model, started from its
     full fit, instead of on that fit's linearised problem."""
+    from functools import partial
     from unittest import mock
 
     import armtool.calib.fit.calibration as calibration
     from armtool.calib.fit.crossval import CandidateFit
-    from armtool.calib.fit.identify import restricted
-    from armtool.errors import ArmtoolError
-
-    def exact_full(start: Any, candidates: Any, options: Any, frames: Any, requested: Any) -> list[Any]:
-        problem, x = start.base.with_sigma(start.sigma), start.x_hat
-        ident, J, columns = requested
-        out: list[Any] = []
-        for candidate in candidates:
-            indices = candidate.indices(problem.model, frames)
-            try:
-                fitted = calibration.fit_set(
-                    problem, x, indices, options, start.x_hat, restricted(ident, J, columns, indices)
-                )
-            except ArmtoolError as exc:
-                out.append(exc)
-                continue
-            x = fitted.x
-            out.append(fitted)
-        return out
 
     def exact_ladder(problem: Any, full: Any, options: Any, start: Any) -> Callable[[list[int]], list[Any]]:
         def fit(rows: list[int]) -> list[Any]:
@@ -99,7 +81,7 @@ def exact_choice(model: Any, m: Any, samples: list[Any]) -> Any:
         return fit
 
     with (
-        mock.patch.object(calibration, "_full_ladder", exact_full),
+        mock.patch.object(calibration, "_full_ladder", partial(calibration._full_ladder, exact=True)),
         mock.patch.object(calibration, "fold_ladder", exact_ladder),
     ):
         return calibration.calibrate(model, m, samples, calibration.FitOptions())

@@ -507,6 +507,7 @@ def _full_ladder(
     options: FitOptions,
     frames: list[int],
     requested: tuple[Identifiability, Array, list[int]],
+    exact: bool = False,
 ) -> list[Fitted | ArmtoolError]:
     """Every candidate fitted on all the fit samples linearised at the hand-eye-only fit (`start`,
     from the Jacobian the identifiability analysis took there), each from the previous one's
@@ -519,15 +520,16 @@ def _full_ladder(
     its square), and the chosen set is then fitted on the real model. Fitted on the real model,
     the six rungs of the default ladder took a third of the default fit's time (UR5 tracker,
     1000 poses); on the linearisation the choice, the scores and the chosen fit are the same
-    (`benchmarks/calib_speed.py` compares them with exact fits)."""
+    (`benchmarks/calib_speed.py` compares them with `exact` fits, on the real model)."""
     out: list[Fitted | ArmtoolError] = []
     x = x_start = start.x_hat
     ident, J, columns = requested
+    problem = start.base.with_sigma(start.sigma) if exact else start
     for candidate in candidates:
         indices = candidate.indices(start.model, frames)
         try:
             fitted = fit_set(
-                start, x, indices, options, identify_at=x_start, ident=restricted(ident, J, columns, indices)
+                problem, x, indices, options, identify_at=x_start, ident=restricted(ident, J, columns, indices)
             )
         except ArmtoolError as exc:
             out.append(exc)
