@@ -10,7 +10,9 @@ corners in pixels, measured poses, measured points; see `problems`):
    cannot separate the frames, or lacks data, is refused (`_check_identified`, `_check_enough_data`).
 5. Which parameter set to fit: the ladder's candidates are scored by k-fold cross-validation and
    the smallest within one standard error of the best held-out score is chosen (`crossval`);
-   nested, the figure reported is that of the whole procedure on poses it never saw.
+   nested, the figure reported is that of the whole procedure on poses it never saw. The folds
+   and the ladder's full fits are fitted on linearised problems (`linearized`, `_full_ladder`),
+   the chosen set then on the real model.
 6. Robust fit (soft-L1) of the chosen set's identifiable parameters; samples whose residual
    stands out are named and removed (`fit_set`); then plain Levenberg–Marquardt on the inliers,
    the noise re-estimated, and the parameters' σ (`_sigma`).

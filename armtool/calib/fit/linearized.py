@@ -12,7 +12,9 @@ Jacobian of the full fit, r(x) = r̂ + Ĵ·(x − x̂), sliced to the fold's row
 fold's fit. The held-out samples are then scored with the real model at the fold's solution.
 
 Two Jacobians are kept: at the full fit's solution (the fit's steps) and at the nominal robot
-(where `fit_set` judges what the data determine).
+(where `fit_set` judges what the data determine). The full fits themselves are fitted on the
+problem linearised at the nominal robot (`at_nominal`, from the Jacobian the identifiability
+analysis took there), and only the chosen set on the real model (`calibration._full_ladder`).
 """
 
 from __future__ import annotations
