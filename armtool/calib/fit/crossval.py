@@ -169,6 +169,23 @@ def pose_groups(Q: Array, tolerance: float = SAME_POSE_RAD) -> list[list[int]]:
     the same pose measured again (a settled arm, several images). Why it matters: a repeat tells
     the fit nothing new about the kinematics, so a held-out sample whose twin was fitted is not
     held out, and two repeats of a bad pose hide each other from the outlier rule."""
+    key = (Q.shape, tolerance, Q.tobytes())
+    found = _GROUPS.get(key)
+    if found is None:
+        found = _pose_groups(Q, tolerance)
+        if len(_GROUPS) >= _GROUPS_KEPT:
+            _GROUPS.pop(next(iter(_GROUPS)))
+        _GROUPS[key] = found
+    return [list(g) for g in found]
+
+
+# The groups of the last joint-reading arrays: a fit's outlier rule groups its samples in every
+# round, and the cross-validation fits hundreds of times on the same few training sets.
+_GROUPS: dict[tuple[tuple[int, ...], float, bytes], list[list[int]]] = {}
+_GROUPS_KEPT = 64
+
+
+def _pose_groups(Q: Array, tolerance: float) -> list[list[int]]:
     # Rows in order: a row that no earlier group's first row claimed starts a group and claims the
     # later rows within `tolerance` of it (each row joins the earliest such group). A k-d tree in
     # the max-norm finds them: 1000 poses took 3.4 s by pairwise comparison in Python.
