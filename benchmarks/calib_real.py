@@ -294,12 +294,24 @@ def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
     print(
         f"| nominal robot (hand-eye only) | - / {hand_eye:.3f} / {nested['heldout_max_mm']['hand_eye_only']:.3f} | 0 | 0 | - |"
     )
+    terms = summary.get("joint_terms")
+    chosen = f"chosen: {terms['fitted']}; calibrated.urdf: {summary['fitted']}" if terms else summary["fitted"]
     print(
-        f"| calibrated ({summary['fitted']}) | {np.mean(errors):.4f} / {rms(errors):.4f} / {max(errors):.3f} | "
-        f"{distance:.2f} / {distance_mean:.2f} | {angle:.3f} / {angle_mean:.3f} | "
+        f"| default options, calibrated.urdf as it is ({chosen}) | {np.mean(errors):.4f} / {rms(errors):.4f} / "
+        f"{max(errors):.3f} | {distance:.2f} / {distance_mean:.2f} | {angle:.3f} / {angle_mean:.3f} | "
         + ", ".join(f"{v * 1e3:.2f}" for v in point)
         + " |"
     )
+    if terms:
+        with_terms = tool0_deviation(tmp / "ur5-out" / "calibrated_with_terms.urdf", Q)
+        print(
+            f"| default options, calibrated_with_terms.urdf with its joint terms ({terms['fitted']}) | "
+            f"{terms['nested_heldout_mean_mm']:.4f} / {terms['nested_heldout_rms_mm']:.4f} / "
+            f"{terms['nested_heldout_max_mm']:.3f} | {with_terms[0]:.2f} / {with_terms[1]:.2f} | "
+            f"{with_terms[2]:.3f} / {with_terms[3]:.3f} | "
+            + ", ".join(f"{v * 1e3:.2f}" for v in terms["frames"]["point_in_flange"]["xyz"])
+            + " |"
+        )
     geometry, geometry_doc, _w, _c = fit(
         dataset, tmp / "ur5-geometry-out", "--folds", str(folds), "--params", "origins,offsets"
     )
@@ -324,6 +336,12 @@ def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
         print(
             f"  held at nominal: σ {h['sigma_in_precision_units']:.3g} × the precision, {h['sigmas_from_nominal']:.1f} σ "
             "from nominal: " + ", ".join(f"{k} ±{v:.3g}" for k, v in top)
+        )
+    if terms:
+        sigmas = [h["sigma_in_precision_units"] for h in terms["held_at_nominal"]]
+        print(
+            f"  the chosen set with its terms: {len(sigmas)} combinations held at nominal"
+            + (f", σ {min(sigmas):.3g} to {max(sigmas):.3g} × the precision" if sigmas else "")
         )
     print(f"time: check {check_wall:.1f} s wall, fit {fit_wall:.1f} s wall ({fit_cpu:.1f} s CPU)")
     if not subsets:

@@ -151,6 +151,7 @@ def _check_outputs(request: FitRequest, inputs: list[Path]) -> None:
         outputs = {
             "--out (calibrated.urdf)": out / "calibrated.urdf",
             "--out (calibration.yaml)": out / "calibration.yaml",
+            "--out (calibrated_with_terms.urdf)": out / "calibrated_with_terms.urdf",
             **outputs,
         }
     check_output_paths(outputs, inputs)
@@ -217,6 +218,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     plot and UR kinematics file when asked for; nothing is written yet."""
     import yaml
 
+    from armtool.calib.apply import TERMS_URDF
     from armtool.calib.fit.verdict import hand_eye_verdict, judge
     from armtool.calib.outputs.report import calibration_document
     from armtool.calib.outputs.urdf import (
@@ -243,6 +245,9 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     new_urdf = relocate_meshes(corrected, ds.urdf.parent, request.out)
     check_reproduces(new_urdf, result.model, result.x, ds.urdf.name)
     document = calibration_document(result, str(request.dataset), ds.urdf.name, verdict, job.conventions)
+    if document.get("joint_terms"):  # what `calibrate apply` reloads the terms from (the fit's URDF, its args)
+        document["joint_terms"]["dataset"] = str(request.dataset.resolve())
+        document["joint_terms"]["xacro_args"] = dict(request.xacro_args)
     warning = None
     if has_truth(request.dataset):
         try:
@@ -255,6 +260,12 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
         verdict = hand_eye_verdict()
     elif verdict.improves:
         files[request.out / "calibrated.urdf"] = new_urdf
+        if result.joint_terms is not None:  # the chosen set's own geometry, for use with its terms
+            terms_x = result.joint_terms.x
+            with_terms = corrected_text(text, joint_corrections(result.model, terms_x), ds.urdf.name)
+            with_terms = relocate_meshes(with_terms, ds.urdf.parent, request.out)
+            check_reproduces(with_terms, result.model, terms_x, ds.urdf.name)
+            files[request.out / TERMS_URDF] = with_terms
     else:
         skipped.append(str(request.out / "calibrated.urdf"))
     files[request.out / "calibration.yaml"] = yaml.safe_dump(document, sort_keys=False, allow_unicode=True)

@@ -257,7 +257,8 @@ def simulate(
         say(f"bad samples mixed in: {summary['bad_samples']}")
 
 
-from armtool.cli import calibrate_extra, calibrate_handeye  # noqa: E402  (camera, import-bag; handeye)
+from armtool.cli import calibrate_apply, calibrate_extra, calibrate_handeye  # noqa: E402  (apply; camera, import-bag; handeye)
 
 calibrate_extra.register(app)
 calibrate_handeye.register(app)
+calibrate_apply.register(app)

@@ -51,6 +51,9 @@ def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) ->
         nested = _nested_text(result)
         if nested:
             con.print(escape(nested))
+    terms = _terms_text(result)
+    if terms:
+        con.print(escape(terms))
     con.print(_frames_text(result))
     con.print(escape(_identified_text(result)))
     if result.subspace is not None:
@@ -181,8 +184,12 @@ def _crossval_table(result: CalibrationResult) -> Table:
         marks = []
         if score.candidate == cv.chosen:
             marks.append("[green]chosen[/green]")
-        if score.candidate == result.candidate and score.candidate != cv.chosen:
+        terms = result.joint_terms
+        fitted = terms.candidate if terms is not None else result.candidate
+        if score.candidate == fitted and score.candidate != cv.chosen:
             marks.append("fitted (--no-select)")
+        if terms is not None and score.candidate == result.candidate:
+            marks.append("calibrated.urdf")
         if score.failed:
             marks.append(f"[yellow]failed on {score.failed} fold(s)[/yellow]")
         cells.append(", ".join(marks))
@@ -207,9 +214,36 @@ def _nested_text(result: CalibrationResult) -> str:
         )
     from armtool.calib.fit.crossval import describe_choices
 
-    return (
+    text = (
         f"whole procedure on held-out poses (nested {cv.folds}-fold, choosing {describe_choices(n.chosen)}): "
         + "; ".join(parts)
+    )
+    if cv.nested_terms is None:
+        return text
+    with_terms = ", ".join(f"{b.name} {cv.nested_terms.rms[b.name]:.3f}{_unit(b)} RMS" for b in result.blocks)
+    return text + f" for calibrated.urdf (the URDF rung of each choice); with the joint terms {with_terms}"
+
+
+def _terms_text(result: CalibrationResult) -> str:
+    """Why calibrated.urdf is not the chosen set, and where the chosen set is."""
+    from armtool.calib.apply import TERMS_URDF
+
+    terms = result.joint_terms
+    if terms is None:
+        return ""
+    cv = result.crossval
+    figures = ""
+    if cv is not None:
+        score = cv.score_of(terms.candidate.name)
+        figures = (
+            " (k-fold held-out "
+            + ", ".join(f"{b.name} {score.rms[b.name]:.3f}{_unit(b)} RMS" for b in result.blocks)
+            + ")"
+        )
+    return (
+        f"chosen: {terms.candidate.name}{figures}. A URDF cannot hold its joint terms, so calibrated.urdf "
+        f"is {result.candidate.name} fitted alone, right as it is; the chosen set's own geometry is {TERMS_URDF}, "
+        "right only with calibration.yaml's joint_terms applied to the readings"
     )
 
 

@@ -10,7 +10,9 @@ corners in pixels, measured poses, measured points; see `problems`):
    cannot separate the frames, or lacks data, is refused (`_check_identified`, `_check_enough_data`).
 5. Which parameter set to fit: the ladder's candidates are scored by k-fold cross-validation and
    the smallest within one standard error of the best held-out score is chosen (`crossval`);
-   nested, the figure reported is that of the whole procedure on poses it never saw.
+   nested, the figure reported is that of the whole procedure on poses it never saw. The folds
+   and the ladder's full fits are fitted on linearised problems (`linearized`, `_full_ladder`),
+   the chosen set then on the real model.
 6. Robust fit (soft-L1) of the chosen set's identifiable parameters; samples whose residual
    stands out are named and removed (`fit_set`); then plain Levenberg–Marquardt on the inliers,
    the noise re-estimated, and the parameters' σ (`_sigma`).
@@ -154,6 +156,24 @@ class Comparison:
     maximum: dict[str, tuple[float, float]]
 
 
+@dataclass(frozen=True)
+class TermsFit:
+    """The chosen set when it fits what a URDF cannot hold (joint terms), on the same
+    inliers: its own geometry and frames, which go with its terms (calibrated_with_terms.urdf and
+    calibration.yaml's `joint_terms`). calibrated.urdf is then its URDF rung fitted alone: a URDF
+    read without the terms must predict on its own (on the UR5 tracker data the geometry of
+    origins + offsets + compliance + harmonics, read alone, missed held-out points by 4.7 mm;
+    fitted alone, by 0.10 mm)."""
+
+    candidate: Candidate
+    x: Array
+    free: list[int]
+    sigma: Array  # σ per free parameter (same order as `free`)
+    subspace: Subspace
+    identifiability: Identifiability
+    fit: Comparison  # hand-eye only against this model, on the inliers
+
+
 @dataclass
 class CalibrationResult:
     model: CalibModel
@@ -180,6 +200,7 @@ class CalibrationResult:
     coordinates_per_sample: float = 8.0  # measured coordinates per fit sample (8 for a tag's corners, 6 for a pose)
     fit_samples: int = 0  # samples the fit (and its cross-validation) used, outliers included
     subspace: Subspace | None = None  # the combinations of `free` the fit moved; the others held at nominal
+    joint_terms: TermsFit | None = None  # the chosen set, when `candidate` is only its URDF rung (joint terms)
 
     def fitted_frames(self, handeye: bool = False) -> tuple[Array, Array]:
         return self.model.frames(self.x_handeye if handeye else self.x)
@@ -434,20 +455,20 @@ def _studentized_block_rms(
     # a tracker or pose file at once): one batched eigendecomposition instead of one per group.
     groups = pose_groups(problem.Q[inliers])
     positions = np.arange(len(inliers) * k).reshape(len(inliers), k)  # each coordinate in sub's flat order
-    buckets: dict[int, list[NDArray[np.intp]]] = {}
+    buckets: dict[int, list[NDArray[np.intp]]] = {}  # per size, blocks of groups (G, size)
     single = np.array([g[0] for g in groups if len(g) == 1], dtype=np.intp)
     counts = seen[single].sum(axis=1)
     for size in np.unique(counts):
         rows = single[counts == size]
-        buckets.setdefault(int(size), []).extend(positions[rows][seen[rows]].reshape(len(rows), int(size)))
+        buckets.setdefault(int(size), []).append(positions[rows][seen[rows]].reshape(len(rows), int(size)))
     for group in (g for g in groups if len(g) > 1):
         mask = seen[group].ravel()
-        buckets.setdefault(int(mask.sum()), []).append(positions[group].ravel()[mask])
+        buckets.setdefault(int(mask.sum()), []).append(positions[group].ravel()[mask][None])
     flat_J = J.reshape(-1, p)
     flat_r = r[inliers].ravel()
     out = np.zeros_like(flat_r)
     for size, members in buckets.items():
-        index = np.stack(members)  # (G, size)
+        index = np.concatenate(members)  # (G, size)
         Jg = flat_J[index]  # (G, size, p)
         H = Jg @ A @ np.swapaxes(Jg, 1, 2)
         values, vectors = np.linalg.eigh(np.eye(size) - (H + np.swapaxes(H, 1, 2)) / 2)
@@ -471,12 +492,17 @@ def _failed(problem: Problem, x: Array, why: str) -> CandidateFit:
 
 
 def fold_ladder(
-    problem: Problem, full: Sequence[Fitted | ArmtoolError], options: FitOptions, nominal: Array
+    problem: Problem, full: Sequence[Fitted | ArmtoolError], options: FitOptions, start: LinearizedProblem
 ) -> FitLadder:
     """What cross-validation fits on each training fold (rows of `problem`): every candidate by
-    `fit_set` on its full fit's residual problem linearised at that fit (`linearized`), sliced to
-    the fold's rows and started from the full fit's solution, noise and identifiability."""
-    linear = [LinearizedProblem.at(f.problem, f.x, f.free, nominal) if isinstance(f, Fitted) else f for f in full]
+    `fit_set` on the residual problem linearised at its full fit (`linearized`; `start`: at the
+    nominal robot), sliced to the fold's rows and started from the full fit's solution, noise and
+    identifiability."""
+    nominal = start.x_hat
+    linear = [
+        LinearizedProblem.at(problem.with_sigma(f.problem.sigma), f.x, f.free, start) if isinstance(f, Fitted) else f
+        for f in full
+    ]
 
     def fit(rows: list[int]) -> list[CandidateFit]:
         out = []
@@ -497,22 +523,31 @@ def fold_ladder(
 
 
 def _full_ladder(
-    problem: Problem,
-    x_start: Array,
+    start: LinearizedProblem,
     candidates: list[Candidate],
     options: FitOptions,
     frames: list[int],
     requested: tuple[Identifiability, Array, list[int]],
+    exact: bool = False,
 ) -> list[Fitted | ArmtoolError]:
-    """Every candidate fitted on all the fit samples, each from the previous one's solution (the
-    identifiability judged at the hand-eye-only fit, each rung's read off the analysis of the
-    largest, `requested`: its result, Jacobian and parameters): the starting points of the folds'
-    fits, and the final fit of whichever is chosen."""
+    """Every candidate fitted on all the fit samples linearised at the hand-eye-only fit (`start`,
+    from the Jacobian the identifiability analysis took there), each from the previous one's
+    solution (each rung's identifiability read off the analysis of the largest, `requested`: its
+    result, Jacobian and parameters): where the folds' problems are linearised and their fits
+    start, and the start of the final fit of whichever is chosen.
+
+    Why linearised: these fits only place the folds' linearisations (a fold's problem is the real
+    one's value and Jacobian at this point, so a small error of the point moves the fold's fit by
+    its square), and the chosen set is then fitted on the real model. Fitted on the real model,
+    the six rungs of the default ladder took a third of the default fit's time (UR5 tracker,
+    1000 poses); on the linearisation the choice, the scores and the chosen fit are the same
+    (`benchmarks/calib_speed.py` compares them with `exact` fits, on the real model)."""
     out: list[Fitted | ArmtoolError] = []
-    x = x_start
+    x = x_start = start.x_hat
     ident, J, columns = requested
+    problem = start.base.with_sigma(start.sigma) if exact else start
     for candidate in candidates:
-        indices = candidate.indices(problem.model, frames)
+        indices = candidate.indices(start.model, frames)
         try:
             fitted = fit_set(
                 problem, x, indices, options, identify_at=x_start, ident=restricted(ident, J, columns, indices)
@@ -599,12 +634,13 @@ def _calibrate(
 
     chosen, crossval = candidates[-1], None
     if cross and len(candidates) > 1:
-        say("fitting every parameter set on all fit samples")
-        full = _full_ladder(problem, x_start, candidates, options, frames, (ident, J_requested, requested))
+        say("fitting every parameter set on all fit samples (linearised)")
+        start = LinearizedProblem.at_nominal(problem, x_start, requested, J_requested)
+        full = _full_ladder(start, candidates, options, frames, (ident, J_requested, requested))
         crossval = cross_validate(
             problem,
             candidates,
-            fold_ladder(problem, full, options, x_start),
+            fold_ladder(problem, full, options, start),
             options.folds,
             options.seed,
             lambda p: _knee(p, options),
@@ -615,15 +651,29 @@ def _calibrate(
         )
         if options.select:
             chosen = crossval.chosen
-        picked = full[candidates.index(chosen)]
-        if isinstance(picked, ArmtoolError):
-            raise picked
-        fitted = picked
+        rung = chosen.urdf_rung(candidates)
+        say(f"fitting {chosen.name} (robust)")
+        fitted = _exact(problem, full, candidates, chosen, options, x_start)
+        with_terms = None if rung == chosen else fitted
+        if with_terms is not None:
+            say(f"fitting {rung.name} alone for calibrated.urdf")
+            fitted = (
+                _exact(problem, full, candidates, rung, options, x_start)
+                if rung in candidates
+                else fit_set(problem, x_start, frames, options)
+            )
     else:
         say(f"fitting {chosen.name} (robust)")
         candidate_indices = chosen.indices(model, frames)
         known = ident if candidate_indices == requested else None  # the analysis above, at x_start too
         fitted = fit_set(problem, x_start, candidate_indices, options, ident=known)
+        rung = chosen.urdf_rung(candidates)
+        with_terms = None if rung == chosen else fitted
+        if with_terms is not None:
+            say(f"fitting {rung.name} alone for calibrated.urdf")
+            fitted = fit_set(problem, x_start, rung.indices(model, frames), options)
+    chosen_terms = chosen
+    chosen = rung
     candidate_indices = chosen.indices(model, frames)
     problem, x, free = fitted.problem, fitted.x, fitted.free
     nfev += fitted.nfev
@@ -670,8 +720,13 @@ def _calibrate(
     residuals += held.residuals
     warnings += held.warnings
     residuals += [SampleResidual(sid, "rejected", {}, {}, why) for sid, why in groups.rejected.items()]
-    warnings += _fit_warnings(model, fitted.ident, free, len(fitted.inliers), options)
-    warnings += _unphysical_stiffness(model, x, dict(zip(free, (float(v) for v in sigma))))
+    terms_fit = None
+    if with_terms is not None:
+        terms_fit = _terms_fit(chosen_terms, with_terms, x_he)
+        warnings += _fit_warnings(model, with_terms.ident, with_terms.free, len(with_terms.inliers), options)
+        warnings += _unphysical_stiffness(model, terms_fit.x, dict(zip(terms_fit.free, map(float, terms_fit.sigma))))
+    else:
+        warnings += _fit_warnings(model, fitted.ident, free, len(fitted.inliers), options)
     Q = problem.Q
     return CalibrationResult(
         model=model,
@@ -681,6 +736,7 @@ def _calibrate(
         sigma=sigma,
         identifiability=fitted.ident,
         subspace=fitted.subspace,
+        joint_terms=terms_fit,
         residuals=residuals,
         outliers=outliers,
         rejected=groups.rejected,
@@ -699,6 +755,31 @@ def _calibrate(
         coordinates_per_sample=problem.coordinates / max(problem.samples, 1),
         fit_samples=problem.samples,
     )
+
+
+def _exact(
+    problem: Problem,
+    full: list[Fitted | ArmtoolError],
+    candidates: list[Candidate],
+    candidate: Candidate,
+    options: FitOptions,
+    x_start: Array,
+) -> Fitted:
+    """A candidate fitted on the real model, from its fit on the linearisation (`_full_ladder`),
+    or that fit's error raised."""
+    picked = full[candidates.index(candidate)]
+    if isinstance(picked, ArmtoolError):
+        raise picked
+    return fit_set(problem, picked.x, picked.free, options, identify_at=x_start, ident=picked.ident)
+
+
+def _terms_fit(candidate: Candidate, fitted: Fitted, x_he: Array) -> TermsFit:
+    """The chosen set with its joint terms, as its own fit left it (its inliers, its noise)."""
+    final = fitted.problem.subset(fitted.inliers)
+    sigma = _sigma(final, fitted.x, fitted.free, fitted.subspace.basis)
+    before, after = fitted.problem.per_sample(x_he), fitted.problem.per_sample(fitted.x)
+    comparison = _comparison(fitted.problem.blocks, before, after, fitted.inliers)
+    return TermsFit(candidate, fitted.x, fitted.free, sigma, fitted.subspace, fitted.ident, comparison)
 
 
 def _row(figures: dict[str, Array], k: int) -> dict[str, float]:

@@ -58,7 +58,15 @@ class Candidate:
     def is_nominal(self) -> bool:
         return not self.kinds
 
+    def urdf_rung(self, candidates: Sequence[Candidate]) -> Candidate:
+        """The candidate of `candidates` that fits what of this one a URDF can hold (itself when
+        it all fits in one; hand-eye only when no rung does): what calibrated.urdf is fitted as.
+        Gains are not joint terms here: they stay in the fit, reported for the driver as before."""
+        kinds = self.kinds - NOT_IN_URDF
+        return next((c for c in candidates if c.kinds == kinds), HAND_EYE)
 
+
+NOT_IN_URDF = frozenset({"compliance", "harmonic"})  # joint terms: applied to the readings, not in a URDF
 HAND_EYE = Candidate("hand-eye only", frozenset())
 
 
@@ -142,10 +150,11 @@ class CrossValidation:
     samples: int
     scores: list[Score]
     chosen: Candidate
-    nested: Nested | None
+    nested: Nested | None  # of what calibrated.urdf holds: each outer fold's choice, its URDF rung
     knee: float
     repeats: int = 1  # k-fold partitions pooled in `scores`
     criterion: Criterion = Criterion.COMBINED
+    nested_terms: Nested | None = None  # with the joint terms chosen, when a fold chose any
 
     def score_of(self, name: str) -> Score:
         """The score of the candidate of that name (the ladder's names are distinct)."""
@@ -160,6 +169,23 @@ def pose_groups(Q: Array, tolerance: float = SAME_POSE_RAD) -> list[list[int]]:
     the same pose measured again (a settled arm, several images). Why it matters: a repeat tells
     the fit nothing new about the kinematics, so a held-out sample whose twin was fitted is not
     held out, and two repeats of a bad pose hide each other from the outlier rule."""
+    key = (Q.shape, tolerance, Q.tobytes())
+    found = _GROUPS.get(key)
+    if found is None:
+        found = _pose_groups(Q, tolerance)
+        if len(_GROUPS) >= _GROUPS_KEPT:
+            _GROUPS.pop(next(iter(_GROUPS)))
+        _GROUPS[key] = found
+    return [list(g) for g in found]
+
+
+# The groups of the last joint-reading arrays: a fit's outlier rule groups its samples in every
+# round, and the cross-validation fits hundreds of times on the same few training sets.
+_GROUPS: dict[tuple[tuple[int, ...], float, bytes], list[list[int]]] = {}
+_GROUPS_KEPT = 64
+
+
+def _pose_groups(Q: Array, tolerance: float) -> list[list[int]]:
     # Rows in order: a row that no earlier group's first row claimed starts a group and claims the
     # later rows within `tolerance` of it (each row joins the earliest such group). A k-d tree in
     # the max-norm finds them: 1000 poses took 3.4 s by pairwise comparison in Python.
@@ -395,7 +421,7 @@ def cross_validate(
     k = knee(problem)
     scores = _scores(problem, candidates, outer, k, criterion)
     chosen = _choose(scores)
-    result_nested = None
+    result_nested = nested_terms = None
     if nested:
         first = partitions[0]
         picks: list[int] = []
@@ -409,11 +435,19 @@ def cross_validate(
                 inner_partitions[0] = [fold for j, fold in enumerate(first) if j != number]
             inner = [scored(t, train) for partition in inner_partitions for t in partition]
             picks.append(candidates.index(_choose(_scores(problem, candidates, inner, k, criterion))))
-        result_nested = _nested(problem, outer[:folds], picks, candidates)
-    return CrossValidation(folds, problem.samples, scores, chosen, result_nested, k, times, criterion)
+        names = [candidates[c].name for c in picks]
+        written = [candidates.index(candidates[c].urdf_rung(candidates)) for c in picks]
+        result_nested = _nested(problem, outer[:folds], written, candidates, names)
+        if written != picks:
+            nested_terms = _nested(problem, outer[:folds], picks, candidates, names)
+    return CrossValidation(folds, problem.samples, scores, chosen, result_nested, k, times, criterion, nested_terms)
 
 
-def _nested(problem: Problem, folds: list[_Fold], picks: list[int], candidates: list[Candidate]) -> Nested:
+def _nested(
+    problem: Problem, folds: list[_Fold], picks: list[int], candidates: list[Candidate], chosen: list[str]
+) -> Nested:
+    """The held-out residual of each outer fold's `picks` (indices into `candidates`); `chosen`:
+    what each fold chose (the same, or a set whose URDF rung `picks` is)."""
     rms, maximum, inlier, he_rms, he_max = {}, {}, {}, {}, {}
     per_sample: dict[str, Array] = {}
     keep = ~np.concatenate([f.outlier[c] for f, c in zip(folds, picks)])
@@ -426,7 +460,6 @@ def _nested(problem: Problem, folds: list[_Fold], picks: list[int], candidates: 
         by_row = np.full(problem.samples, np.nan)
         by_row[order] = values
         per_sample[block.name] = by_row
-    chosen = [candidates[c].name for c in picks]
     return Nested(rms, maximum, inlier, int(keep.sum()), int(keep.size), he_rms, he_max, chosen, per_sample)
 
 

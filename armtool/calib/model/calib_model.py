@@ -40,6 +40,7 @@ class CalibModel:
     sensor: str = "camera"  # what measures (camera, tracker, ...): names the left frame's parameters
     target: str = "tag"  # what is measured (tag, board, point, ...): names the right frame's
     terms: tuple[JointTerm, ...] = ()  # joint terms beyond geometry, in the vector after the joints
+    _last_chain: tuple[bytes, list[Array]] | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not self.params:
@@ -113,13 +114,23 @@ class CalibModel:
 
     def flange(self, x: Array, Q: Array) -> Array:
         """bMf for every row of Q (N,n): (N,4,4)."""
+        out: Array = self._chain(x, Q)[-1] @ self.chain.tip_offset
+        return out
+
+    def _chain(self, x: Array, Q: Array) -> list[Array]:
+        """The chain for every row of Q: [i] up to joint i's origin (N, 4, 4), [n] to the last
+        joint's motion. The last one is kept: a fit's step takes the residuals and then the
+        Jacobian at the same point, and built twice the chain was a fifth of a plain fit's time."""
+        key = b"".join([x.tobytes(), str(Q.shape).encode(), Q.tobytes()])
+        if self._last_chain is not None and self._last_chain[0] == key:
+            return self._last_chain[1]
         origins, offsets, gains = self.joint_terms(x)
         extra = self.angle_corrections(x, Q)
-        T = np.broadcast_to(np.eye(4), (Q.shape[0], 4, 4)).copy()
+        prefix = [np.broadcast_to(np.eye(4), (Q.shape[0], 4, 4))]
         for i in range(self.chain.n):
-            T = T @ origins[i] @ self._motion(i, gains[i], offsets[i], Q[:, i], extra[:, i])
-        out: Array = T @ self.chain.tip_offset
-        return out
+            prefix.append(prefix[i] @ origins[i] @ self._motion(i, gains[i], offsets[i], Q[:, i], extra[:, i]))
+        self._last_chain = (key, prefix)
+        return prefix
 
     def tag_in_camera(self, x: Array, Q: Array) -> Array:
         """cMt for every row of Q: (N,4,4)."""
@@ -142,11 +153,8 @@ class CalibModel:
         layout, parts = self.layout, self.split(x)
         n, N = self.chain.n, Q.shape[0]
         wanted = np.asarray(indices, dtype=np.intp)
-        origins, offsets, gains = self.joint_terms(x)
-        extra = self.angle_corrections(x, Q)
-        prefix = [np.broadcast_to(np.eye(4), (N, 4, 4))]  # prefix[i]: the chain up to joint i's origin
-        for i in range(n):
-            prefix.append(prefix[i] @ origins[i] @ self._motion(i, gains[i], offsets[i], Q[:, i], extra[:, i]))
+        origins = self.joint_terms(x)[0]
+        prefix = self._chain(x, Q)  # prefix[i]: the chain up to joint i's origin
         F = prefix[n] @ self.chain.tip_offset
         L, R = self.frames(x)
         if self.setup is Setup.EYE_TO_HAND:

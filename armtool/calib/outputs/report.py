@@ -8,10 +8,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armtool.calib.apply import TERMS_URDF
 from armtool.calib.fit.calibration import CalibrationResult, SampleResidual
-from armtool.calib.fit.determined import Combination
+from armtool.calib.fit.crossval import Candidate
+from armtool.calib.fit.determined import Combination, Subspace
 from armtool.calib.fit.problems import POSITION, Block
 from armtool.calib.model import se3
+from armtool.calib.model.params import ParamKind
 from armtool.calib.model.se3 import Array
 
 if TYPE_CHECKING:
@@ -38,39 +41,10 @@ def calibration_document(
 ) -> dict[str, Any]:
     model = result.model
     sigma = dict(zip(result.free, result.sigma))
-    free = set(result.free)
     frames = frames_section(result, sigma)
-    offsets = {z.joint: z for z in result.zero_offsets}
-
-    def value(i: int) -> float:
-        return round(float(result.x[i]), 12)
-
-    def sigma_of(i: int) -> float | None:
-        return _num(sigma[i]) if i in free else None
-
-    joints: dict[str, Any] = {}
-    for j_index, j in enumerate(model.chain.joints):
-        origin, offset, gain = model.layout.origin(j_index), model.layout.offset(j_index), model.layout.gain(j_index)
-        entry: dict[str, Any] = {}
-        for label, indices in (("origin_translation_m", origin[:3]), ("origin_rotation_rad", origin[3:])):
-            entry[label] = [value(i) for i in indices]
-            entry[label.replace("origin_", "sigma_")] = [sigma_of(i) for i in indices]
-        entry["zero_offset"] = value(offset)
-        entry["sigma_zero_offset"] = sigma_of(offset)
-        z = offsets.get(j.name)
-        if z is not None:
-            entry["zero_offset_physical"] = z.physical
-            entry["zero_offset_uncertainty"] = _num(z.uncertainty_rad)
-        entry["gain"] = round(1.0 + float(result.x[gain]), 12)
-        entry["sigma_gain"] = sigma_of(gain)
-        for k, term in enumerate(model.terms):  # compliance, harmonics: not in the URDF either
-            if term.kind.value not in result.candidate.kinds:  # tried by the k-fold, not chosen: nothing fitted
-                continue
-            indices = model.layout.term(k, j_index)
-            sigmas = np.array([sigma[i] if i in free else math.nan for i in indices])
-            entry.update(term.report(j_index, result.x[indices], sigmas))
-        joints[j.name] = entry
-    fitted_terms = [t for t in model.terms if t.kind.value in result.candidate.kinds]
+    joints = joints_section(result, result.x, sigma, result.candidate)
+    terms = result.joint_terms
+    fitted_terms = [t for t in model.terms if t.kind.value in (terms.candidate if terms else result.candidate).kinds]
     document: dict[str, Any] = {
         "format": SCHEMA,
         "dataset": dataset,
@@ -78,16 +52,10 @@ def calibration_document(
         "setup": model.setup.value,
         "frames": frames,
         "conventions": "origin_new = origin · SE3(exp(r), t) · motion(zero_offset); the reading q maps to gain·q + zero_offset",
-        "in_urdf": "origin corrections and zero offsets are already folded into calibrated.urdf: do not apply them again; "
-        "gains are not (a URDF cannot hold them): apply gain·q in the driver if it differs from 1"
-        + (
-            "; nor are the joint terms (" + ", ".join(t.family.value for t in fitted_terms) + "): they add "
-            "Σ p·f(q) to each joint's angle, see docs/calibrate.md"
-            if fitted_terms
-            else ""
-        ),
+        "in_urdf": _in_urdf(result, fitted_terms),
         "fitted": result.candidate.name,
         "joints": joints,
+        "joint_terms": joint_terms_section(result),
         "zero_offsets": zero_offsets_section(result),
         "identifiability": identifiability_section(result),
         "noise": {f"{b.name}_{b.unit}": _num(result.noise.get(b.name, math.nan)) for b in result.blocks},
@@ -108,6 +76,122 @@ def calibration_document(
             "note": conventions.message(),
         }
     return document
+
+
+def _in_urdf(result: CalibrationResult, fitted_terms: list[Any]) -> str:
+    text = "origin corrections and zero offsets are already folded into calibrated.urdf: do not apply them again"
+    terms = result.joint_terms
+    if terms is None:
+        return text
+    what = ", ".join(t.family.value for t in fitted_terms)
+    return (
+        text + f"; calibrated.urdf is {result.candidate.name} fitted alone, to be read as it is (no gains, no joint "
+        f"terms). The chosen set, {terms.candidate.name}, is in joint_terms: a URDF cannot hold its {what}, so its "
+        f"geometry is in {TERMS_URDF}, right only with its frames and fed gain·q + Σ p·f(q) for each joint's reading q "
+        "(its zero offsets are in it; docs/calibrate.md)"
+    )
+
+
+def joints_section(
+    result: CalibrationResult, x: Array, sigma: dict[int, float], candidate: Candidate
+) -> dict[str, Any]:
+    """Per joint: the origin correction, zero offset and gain of `x` with their σ, and the joint
+    terms `candidate` fitted."""
+    model = result.model
+    offsets = {z.joint: z for z in result.zero_offsets}
+
+    def value(i: int) -> float:
+        return round(float(x[i]), 12)
+
+    def sigma_of(i: int) -> float | None:
+        return _num(sigma[i]) if i in sigma else None
+
+    joints: dict[str, Any] = {}
+    for j_index, j in enumerate(model.chain.joints):
+        origin, offset, gain = model.layout.origin(j_index), model.layout.offset(j_index), model.layout.gain(j_index)
+        entry: dict[str, Any] = {}
+        for label, indices in (("origin_translation_m", origin[:3]), ("origin_rotation_rad", origin[3:])):
+            entry[label] = [value(i) for i in indices]
+            entry[label.replace("origin_", "sigma_")] = [sigma_of(i) for i in indices]
+        entry["zero_offset"] = value(offset)
+        entry["sigma_zero_offset"] = sigma_of(offset)
+        z = offsets.get(j.name)
+        if z is not None and candidate == result.candidate:  # the analysis is of calibrated.urdf's fit
+            entry["zero_offset_physical"] = z.physical
+            entry["zero_offset_uncertainty"] = _num(z.uncertainty_rad)
+        entry["gain"] = round(1.0 + float(x[gain]), 12)
+        entry["sigma_gain"] = sigma_of(gain)
+        for k, term in enumerate(model.terms):  # compliance, harmonics: not in the URDF either
+            if term.kind.value not in candidate.kinds:  # tried by the k-fold, not chosen: nothing fitted
+                continue
+            indices = model.layout.term(k, j_index)
+            sigmas = np.array([sigma.get(i, math.nan) for i in indices])
+            entry.update(term.report(j_index, x[indices], sigmas))
+        joints[j.name] = entry
+    return joints
+
+
+def joint_terms_section(result: CalibrationResult) -> dict[str, Any] | None:
+    """The chosen set with its joint terms, when calibrated.urdf holds only its URDF rung: its own
+    geometry (calibrated_with_terms.urdf), frames, terms, what of the terms the data do not
+    determine, and figures."""
+    terms = result.joint_terms
+    if terms is None:
+        return None
+    model = result.model
+    sigma = dict(zip(terms.free, (float(v) for v in terms.sigma)))
+    out: dict[str, Any] = {
+        "fitted": terms.candidate.name,
+        "urdf": TERMS_URDF,
+        "meaning": f"the k-fold chose {terms.candidate.name}, which a URDF cannot hold: calibrated.urdf is "
+        f"{result.candidate.name} fitted alone, to be read as it is with the frames above; {TERMS_URDF} is this "
+        "set's own geometry, right only with these frames and fed gain·q + Σ p·f(q) for each joint's reading q "
+        "(docs/calibrate.md)",
+        "frames": frames_section(result, sigma, terms.x),
+        "joints": joints_section(result, terms.x, sigma, terms.candidate),
+        "base_link": model.chain.base,
+        "flange_link": model.chain.tip,
+        "terms": _term_values(result, terms.x, terms.candidate),
+        "dropped": [
+            {"parameter": model.params[i].name, "reason": why}
+            for i, why in terms.identifiability.dropped.items()
+            if model.params[i].kind in (ParamKind.COMPLIANCE, ParamKind.HARMONIC)
+        ],
+        "held_at_nominal": [_combination(result, c, terms.subspace) for c in terms.subspace.held],
+    }
+    for b in result.blocks:
+        before, after = terms.fit.rms[b.name]
+        out[f"fit_rms_{_key(b)}"] = {"hand_eye_only": _num(before), "calibrated": _num(after)}
+    cv = result.crossval
+    if cv is not None:
+        for b in result.blocks:
+            out[f"heldout_rms_{_key(b)}"] = _num(cv.score_of(terms.candidate.name).rms[b.name])
+        if cv.nested_terms is not None:
+            n = cv.nested_terms
+            for b in result.blocks:
+                out[f"nested_heldout_rms_{_key(b)}"] = _num(n.rms[b.name])
+                out[f"nested_heldout_max_{_key(b)}"] = _num(n.maximum[b.name])
+                out[f"nested_heldout_mean_{_key(b)}"] = _num(float(np.nanmean(n.per_sample[b.name])))
+    return out
+
+
+def _term_values(result: CalibrationResult, x: Array, candidate: Candidate) -> dict[str, Any]:
+    """Each fitted term's parameters per joint, in its components' order and in rad: what
+    `calibrate apply` reads back (`joints` shows them in the units a person reads)."""
+    model = result.model
+    out: dict[str, Any] = {}
+    for k, term in enumerate(model.terms):
+        if term.kind.value not in candidate.kinds:
+            continue
+        out[term.family.value] = {
+            "components": list(term.components),
+            "unit": "rad",
+            "joints": {
+                j.name: [round(float(v), 15) for v in x[model.layout.term(k, i)]]
+                for i, j in enumerate(model.chain.joints)
+            },
+        }
+    return out
 
 
 def identifiability_section(result: CalibrationResult) -> dict[str, Any]:
@@ -132,11 +216,12 @@ def identifiability_section(result: CalibrationResult) -> dict[str, Any]:
     return out
 
 
-def _combination(result: CalibrationResult, c: Combination) -> dict[str, Any]:
+def _combination(result: CalibrationResult, c: Combination, subspace: Subspace | None = None) -> dict[str, Any]:
     """A combination: its σ in precision units, its value in σ, and each parameter's σ along it."""
-    assert result.subspace is not None
+    subspace = subspace or result.subspace
+    assert subspace is not None
     sigmas: dict[str, float | None] = {}
-    for p, value in c.parameter_sigma(result.model, result.subspace.precision):
+    for p, value in c.parameter_sigma(result.model, subspace.precision):
         key = f"{p.name}_{'mm' if p.unit == 'm' else ('deg' if p.unit == 'rad' else '1')}"
         sigmas[key] = _num(value * 1e3 if p.unit == "m" else (math.degrees(value) if p.unit == "rad" else value))
     return {
@@ -146,11 +231,12 @@ def _combination(result: CalibrationResult, c: Combination) -> dict[str, Any]:
     }
 
 
-def frames_section(result: CalibrationResult, sigma: dict[int, float]) -> dict[str, Any]:
-    """The two fitted placements (`camera_in_flange`, `board_in_base`, …) with each correction
-    component's σ in the frame's own axes (mm, °); a measured point is only a position."""
+def frames_section(result: CalibrationResult, sigma: dict[int, float], x: Array | None = None) -> dict[str, Any]:
+    """The two fitted placements (`camera_in_flange`, `board_in_base`, …) of `x` (default: the
+    result's) with each correction component's σ in the frame's own axes (mm, °); a measured
+    point is only a position."""
     model = result.model
-    L, R = result.fitted_frames()
+    L, R = model.frames(result.x if x is None else x)
     sensor, target = model.frame_names()
     point = result.blocks == (POSITION,)
 
@@ -279,7 +365,7 @@ def json_summary(document: dict[str, Any]) -> dict[str, Any]:
     """The JSON summary of a calibration document (`schema_version` 1)."""
     summary = {k: document[k] for k in SUMMARY_KEYS}
     summary["schema_version"] = 1
-    for optional in ("against_truth", "measurement_conventions"):
+    for optional in ("against_truth", "measurement_conventions", "joint_terms"):
         if optional in document:
             summary[optional] = document[optional]
     return summary

@@ -32,6 +32,18 @@ def test_repeats_of_a_pose_stay_in_one_fold() -> None:
     assert any({3, 7, 12} <= set(f) for f in folds)
 
 
+def test_pose_groups_are_remembered_by_their_readings_and_handed_out_as_copies() -> None:
+    Q = np.random.default_rng(5).uniform(-2, 2, size=(15, 6))
+    Q[9] = Q[2]
+    first = pose_groups(Q)
+    first[0].append(99)  # a caller's change stays its own
+    first.pop()
+    again = pose_groups(Q.copy())
+    assert [2, 9] in again and len(again) == 14 and all(99 not in g for g in again)
+    Q[9] = Q[2] + 0.5  # other readings: grouped again, not looked up
+    assert len(pose_groups(Q)) == 15
+
+
 def test_without_repeats_the_folds_are_the_plain_random_partition() -> None:
     Q = np.random.default_rng(0).uniform(-2, 2, size=(23, 6))
     order = np.random.default_rng(4).permutation(23)

@@ -59,13 +59,14 @@ def test_a_joint_that_yields_to_gravity_is_chosen_by_the_default_k_fold() -> Non
         "origins + offsets + compliance",
         "origins + offsets + compliance + harmonics",
     ]
-    assert "compliance" in result.candidate.kinds
+    assert result.joint_terms is not None and "compliance" in result.joint_terms.candidate.kinds
+    assert result.candidate.name == "origins + offsets"  # what calibrated.urdf holds: the geometry fitted alone
     assert not any("negative" in w for w in result.warnings)
 
 
 def test_a_rigid_arm_keeps_to_geometry() -> None:
     result = _fit([0, 0, 0, 0, 0, 0], DEFAULT)
-    assert result.candidate.name == "origins + offsets"
+    assert result.candidate.name == "origins + offsets" and result.joint_terms is None
 
 
 def test_a_plain_or_explicit_fit_fits_only_what_was_asked() -> None:

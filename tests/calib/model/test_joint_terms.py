@@ -121,8 +121,11 @@ def test_a_fit_recovers_the_stiffness_it_was_given_and_chooses_compliance() -> N
     nominal = CalibModel(chain, Setup.EYE_TO_HAND, np.eye(4), np.eye(4), sensor="tracker", target="point", terms=terms)
     options = FitOptions(families=(Family.ORIGINS, Family.OFFSETS, Family.COMPLIANCE), folds=3, nested=False)
     result = calibrate(nominal, measurements, samples, options)
-    assert result.candidate.name == "origins + offsets + compliance"
-    joints = calibration_document(result, "ds", "ur5_robot.urdf")["joints"]
+    # chosen with compliance, which a URDF cannot hold: calibrated.urdf is the geometry fitted alone
+    assert result.joint_terms is not None and result.joint_terms.candidate.name == "origins + offsets + compliance"
+    assert result.candidate.name == "origins + offsets"
+    assert np.array_equal(nominal.urdf_part(result.x), result.x)
+    joints = calibration_document(result, "ds", "ur5_robot.urdf")["joint_terms"]["joints"]
     for name, k in (("shoulder_lift_joint", 28.0), ("elbow_joint", 23.0)):
         fitted = joints[name]["stiffness_knm_per_rad"]
         assert fitted["value"] == pytest.approx(k, rel=0.1) and 0 < fitted["sigma"] < 0.1 * k
@@ -147,6 +150,6 @@ def test_harmonics_recover_a_once_per_turn_error(clean_chain: Chain) -> None:
     )
     options = FitOptions(families=(Family.ORIGINS, Family.OFFSETS, Family.HARMONICS), folds=3, nested=False)
     result = calibrate(nominal, measurements, samples, options)
-    assert result.candidate.name == "origins + offsets + harmonics"
-    joint = calibration_document(result, "ds", "clean_arm.urdf")["joints"][clean_chain.joint_names[1]]
+    assert result.joint_terms is not None and result.joint_terms.candidate.name == "origins + offsets + harmonics"
+    joint = calibration_document(result, "ds", "clean_arm.urdf")["joint_terms"]["joints"][clean_chain.joint_names[1]]
     assert joint["harmonics_deg"]["sin1"] == pytest.approx(0.2, abs=0.02)
