@@ -271,6 +271,9 @@ GIVEN_ONLY = {
     "is set, which only `traj check` does",
     ("armtool.traj.check", "--vel-limit"): "T304's hint, a warning: the commands that write a trajectory print "
     "only check's errors (pipeline.checked_text), so only `traj check` (which has --vel-limit) shows it",
+    ("armtool.calib.model.terms.compliance", "--params"): "`calibrate apply` builds the terms through "
+    "calib.apply.apply, which re-raises their errors with its own hint (--dataset); only `calibrate fit`, "
+    "which has --params, shows them as they are",
     ("armtool.servo.lut.table", "--clip"): "only angles outside the table are refused with it: `servo-lut check` draws "
     "its angles inside the table, fit/export reach the method only through a field of the same name (command_ticks)",
 }

@@ -97,7 +97,14 @@ def apply(
     require_ok(ds)
     assert chain is not None  # require_ok refused a dataset without one
     families = [Family(name) for name in block.get("terms", {})]
-    terms = build_terms(families, chain, lambda: urdf_text(ds.urdf, ds.xacro_args, ds.package_paths))
+    try:
+        terms = build_terms(families, chain, lambda: urdf_text(ds.urdf, ds.xacro_args, ds.package_paths))
+    except ArmtoolError as exc:  # its hints are `calibrate fit`'s (--params): say what applies here
+        raise ArmtoolError(
+            f"cannot rebuild the calibration's joint terms from the dataset's URDF: {exc.what}",
+            str(ds.urdf),
+            "the URDF must be the one the fit used: pass the fitted dataset with --dataset DIR",
+        ) from None
     header, rows, Q, columns = _readings(readings, chain.joint_names, degrees)
     gains = np.array([float(block["joints"][name]["gain"]) for name in chain.joint_names])
     values = gains * Q

@@ -44,9 +44,9 @@ def apply(
     from armtool.console import say
     from armtool.fileio import check_output_paths, write_atomic
 
-    robot = opt.RobotOptions(xacro_arg, package_path, None)
+    given = opt.parse_xacro_args(xacro_arg)
     check_output_paths({"--out": out}, [calibration, readings])
-    result = apply_terms(calibration, readings, degrees, dataset, robot.given_args or None, robot.package_paths)
+    result = apply_terms(calibration, readings, degrees, dataset, given or None, list(package_path or ()))
     write_atomic(out, applied_csv(result, degrees))
     say(
         f"wrote {out}: {len(result.rows)} readings, the joint values for calibrated_with_terms.urdf and its flange poses"
