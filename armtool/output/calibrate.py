@@ -58,7 +58,10 @@ def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) ->
     con.print(escape(_identified_text(result)))
     if result.subspace is not None:
         for c in result.subspace.held:
-            con.print(f"  [dim]held at nominal[/dim] {escape(c.describe(result.model, result.subspace.precision))}")
+            con.print(f"  [dim]held[/dim] {escape(c.describe(result.model, result.subspace.precision))}")
+    gauge = _flange_gauge_text(result)
+    if gauge:
+        con.print(escape(gauge))
     shown = list(ident.dropped.items())[:6]
     for i, why in shown:
         con.print(f"  [dim]dropped[/dim] {escape(result.model.params[i].name)}: {escape(why)}")
@@ -104,7 +107,7 @@ def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) ->
 
 def _identified_text(result: CalibrationResult) -> str:
     """'fitted origins + offsets: 25 of 51 parameters determined (27 identifiable by rank, 2 combinations
-    held at nominal: σ beyond 1 mm and 0.1°); condition number …'."""
+    held: σ beyond 1 mm and 0.1°); condition number …'."""
     ident, subspace = result.identifiability, result.subspace
     candidates = len(result.free) + len(ident.dropped)
     text = f"fitted {result.candidate.name}: "
@@ -114,11 +117,24 @@ def _identified_text(result: CalibrationResult) -> str:
         held = len(subspace.held)
         text += (
             f"{subspace.dimension} of {candidates} parameters determined ({len(result.free)} identifiable by rank; "
-            f"{held} combination{'s' if held > 1 else ''} of them held at nominal: not determined to "
+            f"{held} combination{'s' if held > 1 else ''} of them held: not determined to "
             f"{subspace.precision.describe()}, each below with its σ)"
         )
     return (
         text + f"; condition number {ident.condition_number:.1f}, observability index {ident.observability_index:.3g}"
+    )
+
+
+def _flange_gauge_text(result: CalibrationResult) -> str:
+    """Where the data leave the geometry free, how near nominal calibrated.urdf's flange was put."""
+    gauge = result.flange_gauge
+    if gauge is None or not gauge.moved:
+        return ""
+    return (
+        f"{result.model.chain.tip} put nearest the nominal arm's along {gauge.directions} combinations the data do "
+        f"not determine (measurements unchanged, χ² {gauge.chi2_change:+.2g}): {gauge.after.describe()} from nominal "
+        f"over the fit's poses, against {gauge.before.mean_mm:.2f} mm and {gauge.before.mean_deg:.3f}° on average as "
+        "fitted"
     )
 
 

@@ -5,9 +5,10 @@ measured point = target + achieved − target); skipped when the data is absent.
 the project: the converted CSV lives in tmp_path.
 
 What one tracked point cannot observe must stay nominal: with the geometry (`--params
-origins,offsets`) the calibrated URDF's tool0 stays near the nominal arm's (measured: at most
-2.73 mm and 0.75° over the 1000 poses, against 21 mm and 36° before combinations the data do not
-determine were held); the reflector's fitted place in the flange stays where it is (31–34 mm from
+origins,offsets`) the calibrated URDF's tool0 stays near the nominal arm's (measured over the 1000
+poses: 0.342° on average and 0.818° at most, 1.87 and 2.96 mm, once its turn about the point,
+which no measurement sees, is set nearest nominal; 0.705° on average before, and 21 mm and 36°
+before combinations the data do not determine were held); the reflector's fitted place in the flange stays where it is (31–34 mm from
 tool0, by the dataset's README). The default fit also tries the joint terms, and chooses them
 here (held-out 0.0866 mm mean, with the terms applied); calibrated.urdf is then the geometry fitted
 alone, which must predict unseen points read as it is: the chosen set's own geometry read without
@@ -73,13 +74,13 @@ def fit(tmp_path: Path, name: str, picked: list[dict[str, str]], *extra: str) ->
     return json.loads(result.stdout), yaml.safe_load((out / "calibration.yaml").read_text()), out
 
 
-def flange_deviation(calibrated: Path, Q: np.ndarray) -> tuple[float, float]:  # type: ignore[type-arg]
-    """The largest distance (mm) and angle (°) between tool0 of the calibrated URDF and of the nominal one."""
+def flange_deviation(calibrated: Path, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # type: ignore[type-arg]
+    """Per pose, the distance (mm) and angle (°) between tool0 of the calibrated URDF and of the nominal one."""
     nominal = load_chain(erd("ur_description/urdf/ur5_robot.urdf"), "base_link", "tool0").fk_batch(Q)
     fitted = load_chain(calibrated, "base_link", "tool0").fk_batch(Q)
     distance = np.linalg.norm(fitted[:, :3, 3] - nominal[:, :3, 3], axis=1) * 1e3
     angle = np.linalg.norm(se3.log3_batch(np.swapaxes(nominal[:, :3, :3], -1, -2) @ fitted[:, :3, :3]), axis=-1)
-    return float(distance.max()), math.degrees(float(angle.max()))
+    return distance, np.degrees(angle)
 
 
 def joints(picked: list[dict[str, str]]) -> np.ndarray:  # type: ignore[type-arg]
@@ -89,10 +90,15 @@ def joints(picked: list[dict[str, str]]) -> np.ndarray:  # type: ignore[type-arg
 def test_the_grid_set_keeps_what_one_point_cannot_see_nominal(tmp_path: Path) -> None:
     grid = rows()
     summary, _document, out = fit(tmp_path, "grid", grid, "--params", "origins,offsets")
-    held = summary["identifiability"]["held_at_nominal"]
+    held = summary["identifiability"]["held"]
     assert len(held) == 2 and all(h["sigma_in_precision_units"] > 3 for h in held)
     distance, angle = flange_deviation(out / "calibrated.urdf", joints(grid))
-    assert distance < 3.0 and angle < 0.8  # measured 2.73 mm, 0.745° (the issue's target, 2 mm and 0.5°, is not met)
+    # measured 0.342° and 1.87 mm on average (0.705° and 1.75 mm without the flange gauge); at most 0.818° and
+    # 2.96 mm: the tilt the points determine through the reflector's lever (benchmarks/calib_flange_bound.py)
+    assert angle.mean() < 0.4 and angle.max() < 0.85 and distance.mean() < 2.0 and distance.max() < 3.1
+    gauge = summary["identifiability"]["flange_gauge"]
+    assert gauge["after"]["mean_deg"] == pytest.approx(angle.mean(), abs=1e-6)
+    assert gauge["before"]["mean_deg"] > 0.6 and abs(gauge["chi2_change"]) <= 1.0
     point = summary["frames"]["point_in_flange"]["xyz"]
     assert 31.0 < point[2] * 1e3 < 35.0  # the reflector's 31-34 mm from tool0
 
@@ -145,7 +151,7 @@ def test_the_default_fit_chooses_joint_terms_and_its_urdf_alone_predicts_unseen_
     with_terms = point_error(out / "calibrated_with_terms.urdf", document["joint_terms"]["frames"], unseen, T)
     assert float(np.mean(with_terms)) < float(np.mean(error))  # measured 0.0853 against 0.1020 mm
     distance, angle = flange_deviation(out / "calibrated.urdf", joints(grid))
-    assert distance < 3.0 and angle < 0.8
+    assert angle.mean() < 0.4 and angle.max() < 0.85 and distance.max() < 3.1
 
 
 @pytest.mark.parametrize("subset", [0, 7, 13])
@@ -156,5 +162,5 @@ def test_fifty_pose_subsets_keep_the_flange_too(tmp_path: Path, subset: int) -> 
     summary, _document, out = fit(tmp_path, f"subset{subset}", picked, "--params", "origins,offsets")
     assert summary["verdict"]["improves_on_nominal"]
     distance, angle = flange_deviation(out / "calibrated.urdf", joints(grid))  # over all 1000 poses
-    assert distance < 4.0 and angle < 1.0
+    assert distance.max() < 4.0 and angle.max() < 1.0
     assert 31.0 < summary["frames"]["point_in_flange"]["xyz"][2] * 1e3 < 35.0

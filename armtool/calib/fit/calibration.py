@@ -30,7 +30,7 @@ import math
 from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -51,6 +51,7 @@ from armtool.calib.fit.crossval import (
     repeats_for,
 )
 from armtool.calib.fit.determined import DEFAULT_PRECISION, Precision, Subspace, determined
+from armtool.calib.fit.flange_gauge import FlangeGauge, nearest_nominal_flange
 from armtool.calib.fit.holdout import holdout_ids
 from armtool.calib.fit.identify import Identifiability, analyse, restricted
 from armtool.calib.fit.linearized import LinearizedProblem
@@ -172,6 +173,7 @@ class TermsFit:
     subspace: Subspace
     identifiability: Identifiability
     fit: Comparison  # hand-eye only against this model, on the inliers
+    flange_gauge: FlangeGauge | None = None  # where the data left it free, its flange moved nearest nominal
 
 
 @dataclass
@@ -201,6 +203,7 @@ class CalibrationResult:
     fit_samples: int = 0  # samples the fit (and its cross-validation) used, outliers included
     subspace: Subspace | None = None  # the combinations of `free` the fit moved; the others held at nominal
     joint_terms: TermsFit | None = None  # the chosen set, when `candidate` is only its URDF rung (joint terms)
+    flange_gauge: FlangeGauge | None = None  # where the data left the geometry free, the flange moved nearest nominal
 
     def fitted_frames(self, handeye: bool = False) -> tuple[Array, Array]:
         return self.model.frames(self.x_handeye if handeye else self.x)
@@ -675,6 +678,11 @@ def _calibrate(
     chosen_terms = chosen
     chosen = rung
     candidate_indices = chosen.indices(model, frames)
+    say("the flange nearest the nominal arm's, where the data leave the geometry free")
+    fitted, gauge = _nearest_nominal_flange(fitted, candidate_indices, options)
+    terms_gauge = None
+    if with_terms is not None:
+        with_terms, terms_gauge = _nearest_nominal_flange(with_terms, chosen_terms.indices(model, frames), options)
     problem, x, free = fitted.problem, fitted.x, fitted.free
     nfev += fitted.nfev
 
@@ -722,7 +730,7 @@ def _calibrate(
     residuals += [SampleResidual(sid, "rejected", {}, {}, why) for sid, why in groups.rejected.items()]
     terms_fit = None
     if with_terms is not None:
-        terms_fit = _terms_fit(chosen_terms, with_terms, x_he)
+        terms_fit = replace(_terms_fit(chosen_terms, with_terms, x_he), flange_gauge=terms_gauge)
         warnings += _fit_warnings(model, with_terms.ident, with_terms.free, len(with_terms.inliers), options)
         warnings += _unphysical_stiffness(model, terms_fit.x, dict(zip(terms_fit.free, map(float, terms_fit.sigma))))
     else:
@@ -737,6 +745,7 @@ def _calibrate(
         identifiability=fitted.ident,
         subspace=fitted.subspace,
         joint_terms=terms_fit,
+        flange_gauge=gauge,
         residuals=residuals,
         outliers=outliers,
         rejected=groups.rejected,
@@ -771,6 +780,12 @@ def _exact(
     if isinstance(picked, ArmtoolError):
         raise picked
     return fit_set(problem, picked.x, picked.free, options, identify_at=x_start, ident=picked.ident)
+
+
+def _nearest_nominal_flange(fitted: Fitted, candidates: list[int], options: FitOptions) -> tuple[Fitted, FlangeGauge]:
+    """`fitted` with its flange nearest the nominal arm's where its inliers leave the geometry free (`flange_gauge`)."""
+    x, gauge = nearest_nominal_flange(fitted.problem.subset(fitted.inliers), fitted.x, candidates, options.precision)
+    return replace(fitted, x=x), gauge
 
 
 def _terms_fit(candidate: Candidate, fitted: Fitted, x_he: Array) -> TermsFit:

@@ -150,6 +150,14 @@ class CalibModel:
         its cost barely grows with the number of parameters. Each parameter's twist is its
         factor's derivative carried to the left of the chain by the adjoint of what precedes it.
         """
+        return self._twists(x, Q, indices, of_flange=False)
+
+    def flange_twists(self, x: Array, Q: Array, indices: Sequence[int]) -> tuple[Array, Array]:
+        """bMf (N, 4, 4), and how each parameter moves it, as a twist on its left (N, 6, len(indices)),
+        as `twists` gives them for cMt: the frames' columns are zero (they do not move the flange)."""
+        return self._twists(x, Q, indices, of_flange=True)
+
+    def _twists(self, x: Array, Q: Array, indices: Sequence[int], of_flange: bool) -> tuple[Array, Array]:
         layout, parts = self.layout, self.split(x)
         n, N = self.chain.n, Q.shape[0]
         wanted = np.asarray(indices, dtype=np.intp)
@@ -157,7 +165,9 @@ class CalibModel:
         prefix = self._chain(x, Q)  # prefix[i]: the chain up to joint i's origin
         F = prefix[n] @ self.chain.tip_offset
         L, R = self.frames(x)
-        if self.setup is Setup.EYE_TO_HAND:
+        if of_flange:
+            C, to_c = F, np.broadcast_to(np.eye(6), (N, 6, 6))
+        elif self.setup is Setup.EYE_TO_HAND:
             C = L @ F @ R
             to_c = np.broadcast_to(_adjoint_matrix(L), (N, 6, 6))  # a left twist ψ on F is Ad_L ψ on C
         else:
@@ -168,11 +178,11 @@ class CalibModel:
         term_regressors = [t.regressors(Q) for t in self.terms]
         frame = layout.FRAME_SIZE
         cols = np.flatnonzero(wanted < frame)
-        if cols.size:
+        if cols.size and not of_flange:
             xi = _right_derivatives(parts.left, wanted[cols])  # δ(l)⁻¹ ∂δ(l)/∂l_k, so ε = Ad_L ξ
             out[:, :, cols] = (_adjoint_matrix(L) @ xi)[None]
         cols = np.flatnonzero((wanted >= frame) & (wanted < 2 * frame))
-        if cols.size:
+        if cols.size and not of_flange:
             xi = _right_derivatives(parts.right, wanted[cols] - frame)  # a right twist on C
             out[:, :, cols] = _adjoint_matrix(C) @ xi
         for i, j in enumerate(self.chain.joints):

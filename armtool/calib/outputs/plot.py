@@ -10,7 +10,7 @@ parameter is determined.
     nested cross-validation every fitted sample as it was predicted when its fold was held out.
   A tracked point has no orientation: its rotation panel says so instead of being left out.
 - The robot parameters of the fitted set, each value ± σ in mm, ° or %; the ones the data could
-  not determine (held at nominal) are marked.
+  not determine are marked, at the value that puts the flange nearest the nominal arm's.
 - The title names the dataset and the headline RMS figures.
 """
 
@@ -74,7 +74,7 @@ class ParameterRow:
     name: str
     unit: str  # "mm", "°" or "%"
     value: float  # in `unit`
-    sigma: float | None  # None: held at nominal
+    sigma: float | None  # None: not determined (dropped by rank), set by the flange gauge
     why_held: str | None
 
 
@@ -88,7 +88,7 @@ def _display(p: Parameter) -> tuple[float, str]:
 
 def parameter_rows(result: CalibrationResult) -> list[ParameterRow]:
     """The robot parameters of the fitted set, in the model's order: fitted ones with their σ, and
-    the ones identifiability held at nominal with its reason."""
+    the ones identifiability dropped with its reason (their value: the flange gauge's)."""
     sigma = dict(zip(result.free, (float(s) for s in result.sigma)))
     out = []
     for i, p in enumerate(result.model.params):
@@ -102,7 +102,7 @@ def parameter_rows(result: CalibrationResult) -> list[ParameterRow]:
                 unit,
                 float(result.x[i]) * scale,
                 None if s is None else s * scale,
-                None if s is not None else result.identifiability.dropped.get(i, "held at nominal"),
+                None if s is not None else result.identifiability.dropped.get(i, "not determined"),
             )
         )
     return out
@@ -279,14 +279,14 @@ def _parameters(sub: SubFigure, result: CalibrationResult, params: list[Paramete
             )
         if held:
             ax.plot(
-                np.zeros(len(held)),
+                [rows[j].value for j in held],
                 y[held],
                 "o",
                 markersize=4,
                 markerfacecolor="white",
                 markeredgecolor=plotting.NOMINAL,
                 linestyle="none",
-                label="held at nominal (not determined)",
+                label="not determined: set where the flange is nearest nominal",
             )
         ax.set_yticks(y, [_label(p) for p in rows])
         for j in held:

@@ -12,6 +12,7 @@ from armtool.calib.apply import TERMS_URDF
 from armtool.calib.fit.calibration import CalibrationResult, SampleResidual
 from armtool.calib.fit.crossval import Candidate
 from armtool.calib.fit.determined import Combination, Subspace
+from armtool.calib.fit.flange_gauge import FlangeDeviation, FlangeGauge
 from armtool.calib.fit.problems import POSITION, Block
 from armtool.calib.model import se3
 from armtool.calib.model.params import ParamKind
@@ -157,7 +158,8 @@ def joint_terms_section(result: CalibrationResult) -> dict[str, Any] | None:
             for i, why in terms.identifiability.dropped.items()
             if model.params[i].kind in (ParamKind.COMPLIANCE, ParamKind.HARMONIC)
         ],
-        "held_at_nominal": [_combination(result, c, terms.subspace) for c in terms.subspace.held],
+        "held": [_combination(result, c, terms.subspace) for c in terms.subspace.held],
+        "flange_gauge": flange_gauge_section(terms.flange_gauge),
     }
     for b in result.blocks:
         before, after = terms.fit.rms[b.name]
@@ -196,7 +198,8 @@ def _term_values(result: CalibrationResult, x: Array, candidate: Candidate) -> d
 
 def identifiability_section(result: CalibrationResult) -> dict[str, Any]:
     """What the data determine: the parameters QR keeps (rank), the combinations of them fitted and
-    those held at nominal with their σ (`fit/determined.py`), the parameters dropped and why."""
+    those held with their σ (`fit/determined.py`), the parameters dropped and why, and where the
+    flange was put along what the data leave free (`fit/flange_gauge.py`)."""
     model, ident, subspace = result.model, result.identifiability, result.subspace
     held = subspace.held if subspace else []
     out: dict[str, Any] = {
@@ -205,15 +208,43 @@ def identifiability_section(result: CalibrationResult) -> dict[str, Any]:
         "candidates": len(result.free) + len(ident.dropped),
         "precision": subspace.precision.describe() if subspace else None,
         "meaning": "identified counts what the fit moved: the frame parameters and the combinations of the "
-        "identifiable ones determined to the precision (sigma at most the precision); held_at_nominal lists the "
-        "others, which calibrated.urdf leaves as they were. The sigmas in `joints` are those of the fit that held them",
+        "identifiable ones determined to the precision (sigma at most the precision); held lists the others, which "
+        "the fit did not move. Along them and the dropped parameters, which change no measurement, calibrated.urdf "
+        "is then set where its flange is nearest the nominal arm's over the fit's poses, the measurements as they "
+        "were (flange_gauge). The sigmas in `joints` are those of the fit that held them",
         "condition_number": _num(ident.condition_number),
         "observability_index": _num(ident.observability_index),
         "identified_parameters": [model.params[i].name for i in result.free],
-        "held_at_nominal": [_combination(result, c) for c in held],
+        "held": [_combination(result, c) for c in held],
+        "flange_gauge": flange_gauge_section(result.flange_gauge),
         "dropped": [{"parameter": model.params[i].name, "reason": why} for i, why in ident.dropped.items()],
     }
     return out
+
+
+def flange_gauge_section(gauge: FlangeGauge | None) -> dict[str, Any] | None:
+    """The flange from the nominal arm's over the fit's poses, before and after it was put nearest
+    nominal where the data leave the geometry free, and what that cost the fit (χ²)."""
+    if gauge is None:
+        return None
+
+    def deviation(d: FlangeDeviation) -> dict[str, float | None]:
+        return {
+            "mean_mm": _num(d.mean_mm),
+            "max_mm": _num(d.max_mm),
+            "mean_deg": _num(d.mean_deg),
+            "max_deg": _num(d.max_deg),
+        }
+
+    return {
+        "free_combinations": gauge.directions,
+        "before": deviation(gauge.before),
+        "after": deviation(gauge.after),
+        "chi2_change": _num(gauge.chi2_change),
+        "meaning": "the flange link's pose against the nominal arm's at the fit's poses: before, as the fit left "
+        "it; after, moved along what the data do not determine (free_combinations) to where it is nearest the "
+        "nominal arm's; what the data determine stays (docs/calibrate.md)",
+    }
 
 
 def _combination(result: CalibrationResult, c: Combination, subspace: Subspace | None = None) -> dict[str, Any]:

@@ -1,0 +1,200 @@
+"""Where the measurements cannot see the flange, the flange nearest the nominal arm's.
+
+Why: one tracked point (a laser tracker's reflector, a mocap marker) has no orientation, so the
+flange's turn about it changes no measurement. Several joint parameters can turn it so (a last
+origin rotation with the zero offset about the same axis, two wrist origins together), and which
+of them QR keeps (`identify`, a fixed priority order) and which it holds at nominal is a choice
+the data do not make: on the real UR5 tracker grid (1000 poses) that choice left tool0 0.705°
+from the nominal arm's on average, where an equally good URDF has it 0.342° away. A tool the data
+never saw is predicted from the flange, so what the data cannot see should stay nominal at the
+flange (issue 28: "point data leaves the flange orientation nominal").
+
+How: over every origin component and zero offset of the fitted set (the first joint's origin,
+the base's placement, excepted), the noise-weighted measurement Jacobian with the measurement
+frames held as fitted, each column scaled by its precision (`Precision`); its combinations with
+σ above one precision unit change no measurement by more than the noise. Along them Gauss–Newton
+steps minimise the flange's mean squared distance from the nominal arm's over the fit's poses
+(position in units of the length precision, orientation of the angle precision), with a small
+ridge so that a direction that barely moves the flange is not taken far. A step is kept only
+while the fit's χ² rises by at most 1 (one standard deviation), halved otherwise.
+
+Why the frames stay: a change of the flange that a measurement frame can absorb (a camera or a
+board moved with it, the tracker with the whole arm) is a choice between the robot and the
+mount, and the mount is what hand-eye calibration is for. Letting the camera follow put the real
+FR3's camera 3.4 mm from its mount drawing's height, against 0.1 mm as fitted; letting the
+tracker follow moved the UR5's whole arm 1.2 mm along its base axis. So 6-D measurements (poses,
+tags, boards), which see the flange's turn about the target, are left as they were fitted.
+
+What it cannot do: the flange orientation the data do determine stays. On the UR5 grid the
+points pin tool0's tilt through the reflector's 34 mm lever: the nearest URDF still has it 0.82°
+from nominal at the worst pose (benchmarks/calib_flange_bound.py finds the same with scipy).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from armtool.calib.fit.determined import Precision
+from armtool.calib.fit.problems import Problem
+from armtool.calib.model import se3
+from armtool.calib.model.params import ParamKind
+from armtool.calib.model.se3 import Array
+
+_STEPS = 4  # Gauss–Newton steps at most (on the UR5 grid the second moves 1e-3 of the first)
+_HALVINGS = 6
+_RIDGE = 1e-3  # per precision unit squared, against the mean squared flange distance
+_CHI2_RISE = 1.0  # how much worse the fit may get: one standard deviation
+_SETTLED = 1e-4  # a step that lowers the flange objective by less than this share ends the descent
+
+
+@dataclass(frozen=True)
+class FlangeDeviation:
+    """The flange from the nominal arm's over a set of poses."""
+
+    max_mm: float
+    mean_mm: float
+    max_deg: float
+    mean_deg: float
+
+    def describe(self) -> str:
+        return f"{self.mean_mm:.2f} mm and {self.mean_deg:.3f}° on average, at most {self.max_mm:.2f} mm and {self.max_deg:.3f}°"
+
+
+@dataclass(frozen=True)
+class FlangeGauge:
+    """What choosing the flange nearest nominal did: the flange before and after, over the fit's
+    poses, how many combinations it chose along, and how much the fit's χ² changed."""
+
+    before: FlangeDeviation
+    after: FlangeDeviation
+    directions: int
+    chi2_change: float
+
+    @property
+    def moved(self) -> bool:
+        return self.after.mean_deg < self.before.mean_deg or self.after.mean_mm < self.before.mean_mm
+
+
+def flange_deviation(problem: Problem, x: Array) -> FlangeDeviation:
+    """The flange of `x` against the nominal robot's at every pose of `problem`."""
+    error = _error(problem, x, Precision(length_m=1e-3, angle_rad=math.radians(1.0))).reshape(-1, 6)
+    distance, angle = np.linalg.norm(error[:, :3], axis=1), np.linalg.norm(error[:, 3:], axis=1)
+    return FlangeDeviation(float(distance.max()), float(distance.mean()), float(angle.max()), float(angle.mean()))
+
+
+def nearest_nominal_flange(
+    problem: Problem, x: Array, candidates: Sequence[int], precision: Precision
+) -> tuple[Array, FlangeGauge]:
+    """`x` moved, along what the data of `problem` (its inliers, noise-weighted) do not determine
+    among `candidates`' origins and zero offsets, to where the flange is nearest the nominal
+    arm's; the measurements as before (χ² within 1)."""
+    model = problem.model
+    base = set(model.layout.origin(0))
+    kinematic = [
+        i for i in candidates if model.params[i].kind in (ParamKind.ORIGIN, ParamKind.OFFSET) and i not in base
+    ]
+    before = flange_deviation(problem, x)
+    if not kinematic or problem.samples == 0:
+        return x, FlangeGauge(before, before, 0, 0.0)
+    scale = np.array([precision.of(model.params[i]) for i in kinematic])
+    chi2_start = _chi2(problem, x)
+    out, directions = x.copy(), 0
+    for _step in range(_STEPS):
+        step, count = _step_along_free(problem, out, kinematic, scale, precision)
+        directions = max(directions, count)
+        if step is None:
+            break
+        now = _objective(problem, out, precision)
+        for _halving in range(_HALVINGS):
+            trial = out + step
+            better = _objective(problem, trial, precision)
+            if better < now and _chi2(problem, trial) - chi2_start <= _CHI2_RISE:
+                out = trial
+                break
+            step = step / 2
+        else:
+            break
+        if better > now * (1.0 - _SETTLED):
+            break
+    after = flange_deviation(problem, out)
+    if _objective(problem, out, precision) >= _objective(problem, x, precision):
+        return x, FlangeGauge(before, before, directions, 0.0)
+    return out, FlangeGauge(before, after, directions, _chi2(problem, out) - chi2_start)
+
+
+def _step_along_free(
+    problem: Problem, x: Array, kinematic: list[int], scale: Array, precision: Precision
+) -> tuple[Array | None, int]:
+    """One Gauss–Newton step of the flange objective along the combinations of `kinematic` that
+    change no measurement by more than the noise, the measurement frames as they are (σ above one
+    precision unit), as a full parameter step; None when there are none."""
+    K = problem.jacobian(x, kinematic)
+    # Vt square; with fewer measurements than parameters the rest have s = 0 (then K is small)
+    _, s, Vt = np.linalg.svd(K * scale, full_matrices=K.shape[0] < K.shape[1])
+    s = np.concatenate([s, np.zeros(len(kinematic) - s.size)])
+    free = Vt[s < 1.0].T
+    if free.shape[1] == 0:
+        return None, 0
+    e, E = _error_jacobian(problem, x, kinematic, precision)
+    poses = problem.samples
+    A = (E @ (scale[:, None] * free)) / math.sqrt(poses)
+    b = e / math.sqrt(poses)
+    z = np.linalg.solve(A.T @ A + _RIDGE * np.eye(A.shape[1]), -A.T @ b)
+    step = np.zeros_like(x)
+    step[kinematic] = scale * (free @ z)
+    return step, int(free.shape[1])
+
+
+def _error(problem: Problem, x: Array, precision: Precision) -> Array:
+    """(poses·6,) the flange's position and rotation from the nominal robot's, in precision units."""
+    return _error_of(problem, problem.model.flange(x, problem.Q), precision)
+
+
+def _error_of(problem: Problem, F: Array, precision: Precision) -> Array:
+    nominal = problem.model.flange(np.zeros(problem.model.size), problem.Q)
+    position = (F[:, :3, 3] - nominal[:, :3, 3]) / precision.length_m
+    rotation = se3.log3_batch(np.swapaxes(nominal[:, :3, :3], -1, -2) @ F[:, :3, :3]) / precision.angle_rad
+    out: Array = np.concatenate([position, rotation], axis=1).ravel()
+    return out
+
+
+def _error_jacobian(problem: Problem, x: Array, indices: list[int], precision: Precision) -> tuple[Array, Array]:
+    """The error (`_error`) and its Jacobian (poses·6, len(indices)), from the flange's left twists:
+    a twist (v, ω) moves the flange's origin p by v + ω × p and turns its rotation R into exp(ω)·R,
+    which turns the rotation error φ = log(R_nomᵀ R) by J_r⁻¹(φ)·Rᵀω."""
+    F, twists = problem.model.flange_twists(x, problem.Q, indices)  # (N, 4, 4), (N, 6, P)
+    e = _error_of(problem, F, precision)
+    phi = e.reshape(-1, 6)[:, 3:] * precision.angle_rad
+    v, w = twists[:, :3], twists[:, 3:]
+    p, R = F[:, :3, 3], F[:, :3, :3]
+    position = v + np.cross(w, p[:, :, None], axis=1)
+    rotation = _inverse_right_jacobian(phi) @ np.swapaxes(R, -1, -2) @ w
+    out = np.concatenate([position / precision.length_m, rotation / precision.angle_rad], axis=1)
+    return e, out.reshape(-1, len(indices))
+
+
+def _inverse_right_jacobian(phi: Array) -> Array:
+    """J_r⁻¹(φ) of SO(3) for each row of phi (N, 3): I + ½φ̂ + (1/θ² − (1 + cos θ)/(2θ sin θ)) φ̂²."""
+    theta = np.linalg.norm(phi, axis=1)
+    K = np.zeros((len(phi), 3, 3))
+    K[:, 0, 1], K[:, 0, 2], K[:, 1, 2] = -phi[:, 2], phi[:, 1], -phi[:, 0]
+    K[:, 1, 0], K[:, 2, 0], K[:, 2, 1] = phi[:, 2], -phi[:, 1], phi[:, 0]
+    small = theta < 1e-4
+    t = np.where(small, 1.0, theta)
+    c = np.where(small, 1.0 / 12.0, 1.0 / t**2 - (1.0 + np.cos(t)) / (2.0 * t * np.sin(t)))
+    out: Array = np.eye(3) + 0.5 * K + c[:, None, None] * (K @ K)
+    return out
+
+
+def _objective(problem: Problem, x: Array, precision: Precision) -> float:
+    e = _error(problem, x, precision)
+    return float(e @ e) / max(problem.samples, 1)
+
+
+def _chi2(problem: Problem, x: Array) -> float:
+    r = problem.residuals(x)
+    return float(r @ r)
