@@ -19,7 +19,8 @@ is the kinematic parameters' covariance with the frames fitted along). Each colu
 its parameter's stated precision (`Precision`), and in the SVD J⊥·D = U·S·Vᵀ the combination v_k
 has σ_k = 1 / s_k precision units. Those with σ_k ≤ 1 are determined; the others are held at
 nominal: the fit moves the kinematic parameters only in span(D·V_determined), frames free (a
-truncated SVD in the scaled basis, solved in its coordinates). Each held combination is reported
+truncated SVD in the scaled basis, solved in its coordinates). Once fitted, `flange_gauge` sets
+what changes no measurement, where it turns the flange, nearest the nominal arm's flange. Each held combination is reported
 with its σ and its least-squares value from the fit so far, in σ (one Gauss–Newton step along
 it, so that a flat valley the fit has not crept along yet still counts).
 
