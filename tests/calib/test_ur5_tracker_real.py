@@ -128,6 +128,10 @@ def test_the_default_fit_chooses_joint_terms_and_its_urdf_alone_predicts_unseen_
     summary, document, out = fit(tmp_path, "train", train)
     assert summary["joint_terms"]["fitted"] == "origins + offsets + compliance + harmonics"
     assert summary["fitted"] == "origins + offsets"  # what calibrated.urdf holds: a URDF cannot hold the terms
+    # With harmonics beside it, the elbow's gravity sag is within 2 σ of zero: a lower bound on its
+    # stiffness, no value (geometry + compliance alone gave it a negative one, −33 ± 4 kN·m/rad)
+    elbow = document["joint_terms"]["joints"]["elbow_joint"]
+    assert "stiffness_knm_per_rad" not in elbow and elbow["stiffness_min_knm_per_rad"] > 0
     assert (out / "calibrated_with_terms.urdf").is_file()
     error = point_error(out / "calibrated.urdf", document["frames"], unseen)
     # measured 0.1020 mm mean; before, calibrated.urdf was the geometry of the chosen set, read alone: 4.84 mm

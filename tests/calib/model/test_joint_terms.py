@@ -94,7 +94,7 @@ def _tracker(
 
 
 def test_a_fit_recovers_the_stiffness_it_was_given_and_chooses_compliance() -> None:
-    # A UR5 whose shoulder and elbow yield as the real one's do (28 and 23 kN·m/rad) and whose
+    # A UR5 whose shoulder and elbow yield (28 and 23 kN·m/rad, a synthetic truth) and whose
     # origins are slightly off, seen by a tracker with 0.02 mm noise.
     path = erd("ur_description/urdf/ur5_robot.urdf")
     chain = load_chain(path, "base_link", "tool0")
@@ -153,3 +153,23 @@ def test_harmonics_recover_a_once_per_turn_error(clean_chain: Chain) -> None:
     assert result.joint_terms is not None and result.joint_terms.candidate.name == "origins + offsets + harmonics"
     joint = calibration_document(result, "ds", "clean_arm.urdf")["joint_terms"]["joints"][clean_chain.joint_names[1]]
     assert joint["harmonics_deg"]["sin1"] == pytest.approx(0.2, abs=0.02)
+
+
+def test_a_stiffness_is_given_only_where_the_sag_is_determined() -> None:
+    # k = τmax/sag: a sag within 2 σ of zero gives a lower bound only (the UR5 tracker grid's elbow
+    # with harmonics: 0.13 ± 0.12 mrad, which linear propagation wrote as 123 ± 119 kN·m/rad).
+    path = erd("ur_description/urdf/ur5_robot.urdf")
+    compliance = Compliance(load_chain(path, "base_link", "tool0"), urdf_text(path))
+    shoulder, elbow = compliance.max_torque_nm[1], compliance.max_torque_nm[2]
+    determined = compliance.report(1, np.array([1.6e-3]), np.array([0.1e-3]))
+    assert determined["stiffness_knm_per_rad"]["value"] == pytest.approx(shoulder / 1.6e-3 / 1e3)
+    assert determined["stiffness_knm_per_rad"]["sigma"] == pytest.approx(shoulder / 1.6e-3 / 1e3 / 16)
+    assert "stiffness_min_knm_per_rad" not in determined
+    undetermined = compliance.report(2, np.array([0.13e-3]), np.array([0.12e-3]))
+    assert "stiffness_knm_per_rad" not in undetermined
+    assert undetermined["stiffness_min_knm_per_rad"] == pytest.approx(elbow / 0.37e-3 / 1e3)
+    assert undetermined["gravity_sag_rad"] == 0.13e-3 and undetermined["sigma_gravity_sag_rad"] == 0.12e-3
+    # negative beyond 2 σ: a value, which the fit's report flags as no physical stiffness
+    assert compliance.report(2, np.array([-0.47e-3]), np.array([0.05e-3]))["stiffness_knm_per_rad"]["value"] < 0
+    not_fitted = compliance.report(2, np.array([0.0]), np.array([math.nan]))
+    assert "stiffness_knm_per_rad" not in not_fitted and "stiffness_min_knm_per_rad" not in not_fitted
