@@ -1028,16 +1028,18 @@ def _unphysical_stiffness(model: CalibModel, x: Array, sigma: dict[int, float]) 
     a negative stiffness. No joint does that, so the term stands in for something else, and the
     report says so rather than write it as a stiffness. Seen on the real UR5 tracker data (1000
     poses, origins + offsets + compliance): the elbow −33 ± 4 kN·m/rad beside a shoulder of
-    +37 ± 2, where the arm's are about 23 and 28: gravity torques of the URDF's inertials that are
-    not the arm's (a tool's mass, the links' mass split), or another pose-dependent error."""
+    +37 ± 2. Neither UR's published inertials nor a tool's mass flip it; the grid keeps the tool's
+    tilt, so the elbow's sag stands in for an error of wrist 1 periodic in its angle, and with
+    harmonics fitted no elbow sag is determined (docs/calibrate.md, "Beyond geometry")."""
     out = []
     for i, p in enumerate(model.params):
         s = sigma.get(i, math.nan)
         if p.kind is ParamKind.COMPLIANCE and math.isfinite(s) and x[i] < -UNPHYSICAL_SIGMAS * s:
             out.append(
                 f"{p.name}: the fitted compliance is negative ({x[i] / s:.1f} σ below zero), a joint yielding "
-                "against gravity: not a physical stiffness. It stands in for another error (check the URDF's link "
-                "masses and the tool's mass, or fit without compliance: --params origins,offsets)"
+                "against gravity: not a physical stiffness. It stands in for another pose-dependent error, often one "
+                "periodic in a joint's angle (fit --params origins,offsets,compliance,harmonics; if the poses tie "
+                "joints together, as a grid that keeps the tool's tilt does, vary them apart to measure a stiffness)"
             )
     return out
 
