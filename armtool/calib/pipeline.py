@@ -231,10 +231,14 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     from armtool.model.load import urdf_text
 
     request, ds = job.request, job.dataset
+    # what was fitted: calibrated.urdf's set, or the joint terms on the nominal geometry when only
+    # terms were asked for (--params compliance), which calibrated_with_terms.urdf carries
+    terms_alone = result.joint_terms is not None and result.candidate.is_nominal
+    judged = result.joint_terms.candidate if terms_alone and result.joint_terms else result.candidate
     verdict = judge(
         result.crossval,
-        result.candidate.name,
-        result.candidate.is_nominal,
+        judged.name,
+        judged.is_nominal,
         result.fit_samples,
         result.coordinates_per_sample,
         result.motion_deg,

@@ -85,10 +85,13 @@ def print_fit_report(job: FitJob, result: CalibrationResult, files: FitFiles) ->
     con.print(f"[{color}]verdict:[/{color}] {escape(verdict.summary)}")
     if verdict.advice:
         con.print(f"  {escape(verdict.advice)}")
+    reason = (
+        "it would not predict held-out poses better than the nominal URDF"
+        if verdict.checked
+        else "the fit leaves the robot's URDF as it is"
+    )
     for path in files.skipped:
-        con.print(
-            f"[yellow]not written:[/yellow] {escape(path)} (it would be worse than the nominal URDF on held-out poses)"
-        )
+        con.print(f"[yellow]not written:[/yellow] {escape(path)} ({reason})")
         if Path(path).exists():
             con.print(
                 f"  [yellow]{escape(path)} already exists from an earlier run: it is not this run's result[/yellow]"

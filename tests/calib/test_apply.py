@@ -103,3 +103,16 @@ def test_apply_names_the_file_and_line_of_a_bad_reading(tmp_path: Path) -> None:
     with pytest.raises(ArmtoolError) as info:
         apply(out / "calibration.yaml", missing)
     assert info.value.where == f"{missing}:1" and "elbow_joint" in info.value.what
+
+
+def test_joint_terms_asked_for_alone_are_judged_and_written(tmp_path: Path) -> None:
+    # --params harmonics: the geometry held nominal, so calibrated.urdf is the nominal robot, and the
+    # verdict is on what was fitted, the harmonics (before: "only the measurement frames were fitted",
+    # exit 1, and no calibrated_with_terms.urdf to apply them with)
+    out = _fit(tmp_path, "--params", "harmonics", "--folds", "0")
+    document = yaml.safe_load((out / "calibration.yaml").read_text())
+    assert document["joint_terms"]["fitted"] == "harmonics" and document["fitted"] == "hand-eye only"
+    assert (out / "calibrated_with_terms.urdf").is_file()
+    assert document["verdict"]["improves_on_nominal"]
+    terms = document["joint_terms"]["fit_rms_mm"]
+    assert terms["calibrated"] < 0.5 * terms["hand_eye_only"]
