@@ -89,9 +89,10 @@ def flange_deviation(problem: Problem, x: Array) -> FlangeDeviation:
 def nearest_nominal_flange(
     problem: Problem, x: Array, candidates: Sequence[int], precision: Precision
 ) -> tuple[Array, FlangeGauge]:
-    """`x` moved, along what the data of `problem` (its inliers, noise-weighted) do not determine
-    among `candidates`' origins and zero offsets, to where the flange is nearest the nominal
-    arm's; the measurements as before (χ² within 1)."""
+    """`x` moved, along the combinations of `candidates`' origins and zero offsets that change no
+    measurement of `problem` (its inliers, noise-weighted) by more than the noise with the frames
+    as they are, to where the flange is nearest the nominal arm's; the measurements as before
+    (χ² within 1)."""
     model = problem.model
     base = set(model.layout.origin(0))
     kinematic = [
