@@ -233,8 +233,8 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     request, ds = job.request, job.dataset
     # what was fitted: calibrated.urdf's set, or the joint terms on the nominal geometry when only
     # terms were asked for (--params compliance), which calibrated_with_terms.urdf carries
-    terms_alone = result.joint_terms is not None and result.candidate.is_nominal
-    judged = result.joint_terms.candidate if terms_alone and result.joint_terms else result.candidate
+    terms = result.joint_terms
+    judged = terms.candidate if terms is not None and result.candidate.is_nominal else result.candidate
     verdict = judge(
         result.crossval,
         judged.name,
