@@ -44,7 +44,7 @@ from armtool.calib.model import se3
 from armtool.calib.model.params import ParamKind
 from armtool.calib.model.se3 import Array
 
-_STEPS = 4  # Gauss–Newton steps at most (on the UR5 grid the second moves 1e-3 of the first)
+_STEPS = 4  # Gauss–Newton steps at most (on the UR5 grid two settle it)
 _HALVINGS = 6
 _RIDGE = 1e-3  # per precision unit squared, against the mean squared flange distance
 _CHI2_RISE = 1.0  # how much worse the fit may get: one standard deviation
@@ -81,9 +81,56 @@ class FlangeGauge:
 
 def flange_deviation(problem: Problem, x: Array) -> FlangeDeviation:
     """The flange of `x` against the nominal robot's at every pose of `problem`."""
-    error = _error(problem, x, Precision(length_m=1e-3, angle_rad=math.radians(1.0))).reshape(-1, 6)
-    distance, angle = np.linalg.norm(error[:, :3], axis=1), np.linalg.norm(error[:, 3:], axis=1)
-    return FlangeDeviation(float(distance.max()), float(distance.mean()), float(angle.max()), float(angle.mean()))
+    return _FlangeError.of(problem, Precision(length_m=1e-3, angle_rad=math.radians(1.0))).deviation(x)
+
+
+@dataclass(frozen=True)
+class _FlangeError:
+    """The flange against the nominal robot's at every pose of `problem`, in precision units; the
+    nominal flange computed once (each evaluation is a chain build over every pose)."""
+
+    problem: Problem
+    precision: Precision
+    nominal: Array  # (N, 4, 4) the nominal robot's flange at the problem's poses
+
+    @classmethod
+    def of(cls, problem: Problem, precision: Precision) -> _FlangeError:
+        return cls(problem, precision, problem.model.flange(np.zeros(problem.model.size), problem.Q))
+
+    def of_flange(self, F: Array) -> Array:
+        """(poses·6,) the position and rotation of the flanges F from the nominal ones."""
+        position = (F[:, :3, 3] - self.nominal[:, :3, 3]) / self.precision.length_m
+        turn = np.swapaxes(self.nominal[:, :3, :3], -1, -2) @ F[:, :3, :3]
+        out: Array = np.concatenate([position, se3.log3_batch(turn) / self.precision.angle_rad], axis=1).ravel()
+        return out
+
+    def at(self, x: Array) -> Array:
+        return self.of_flange(self.problem.model.flange(x, self.problem.Q))
+
+    def objective(self, x: Array) -> float:
+        """The mean squared flange error per pose."""
+        e = self.at(x)
+        return float(e @ e) / max(self.problem.samples, 1)
+
+    def deviation(self, x: Array) -> FlangeDeviation:
+        """In the units of `precision` (mm and ° for `flange_deviation`)."""
+        error = self.at(x).reshape(-1, 6)
+        distance, angle = np.linalg.norm(error[:, :3], axis=1), np.linalg.norm(error[:, 3:], axis=1)
+        return FlangeDeviation(float(distance.max()), float(distance.mean()), float(angle.max()), float(angle.mean()))
+
+    def jacobian(self, x: Array, indices: list[int]) -> tuple[Array, Array]:
+        """The error (`at`) and its Jacobian (poses·6, len(indices)), from the flange's left twists:
+        a twist (v, ω) moves the flange's origin p by v + ω × p and turns its rotation R into
+        exp(ω)·R, which turns the rotation error φ = log(R_nomᵀ R) by J_r⁻¹(φ)·Rᵀω."""
+        F, twists = self.problem.model.flange_twists(x, self.problem.Q, indices)  # (N, 4, 4), (N, 6, P)
+        e = self.of_flange(F)
+        phi = e.reshape(-1, 6)[:, 3:] * self.precision.angle_rad
+        v, w = twists[:, :3], twists[:, 3:]
+        p, R = F[:, :3, 3], F[:, :3, :3]
+        position = v + np.cross(w, p[:, :, None], axis=1)
+        rotation = _inverse_right_jacobian(phi) @ np.swapaxes(R, -1, -2) @ w
+        out = np.concatenate([position / self.precision.length_m, rotation / self.precision.angle_rad], axis=1)
+        return e, out.reshape(-1, len(indices))
 
 
 def nearest_nominal_flange(
@@ -101,34 +148,35 @@ def nearest_nominal_flange(
     before = flange_deviation(problem, x)
     if not kinematic or problem.samples == 0:
         return x, FlangeGauge(before, before, 0, 0.0)
+    error = _FlangeError.of(problem, precision)
     scale = np.array([precision.of(model.params[i]) for i in kinematic])
     chi2_start = _chi2(problem, x)
     out, directions = x.copy(), 0
+    start = now = error.objective(out)
     for _step in range(_STEPS):
-        step, count = _step_along_free(problem, out, kinematic, scale, precision)
+        step, count = _step_along_free(problem, error, out, kinematic, scale)
         directions = max(directions, count)
         if step is None:
             break
-        now = _objective(problem, out, precision)
         for _halving in range(_HALVINGS):
             trial = out + step
-            better = _objective(problem, trial, precision)
+            better = error.objective(trial)
             if better < now and _chi2(problem, trial) - chi2_start <= _CHI2_RISE:
-                out = trial
                 break
             step = step / 2
         else:
             break
-        if better > now * (1.0 - _SETTLED):
+        settled = better > now * (1.0 - _SETTLED)
+        out, now = trial, better
+        if settled:
             break
-    after = flange_deviation(problem, out)
-    if _objective(problem, out, precision) >= _objective(problem, x, precision):
+    if now >= start:
         return x, FlangeGauge(before, before, directions, 0.0)
-    return out, FlangeGauge(before, after, directions, _chi2(problem, out) - chi2_start)
+    return out, FlangeGauge(before, flange_deviation(problem, out), directions, _chi2(problem, out) - chi2_start)
 
 
 def _step_along_free(
-    problem: Problem, x: Array, kinematic: list[int], scale: Array, precision: Precision
+    problem: Problem, error: _FlangeError, x: Array, kinematic: list[int], scale: Array
 ) -> tuple[Array | None, int]:
     """One Gauss–Newton step of the flange objective along the combinations of `kinematic` that
     change no measurement by more than the noise, the measurement frames as they are (σ above one
@@ -140,7 +188,7 @@ def _step_along_free(
     free = Vt[s < 1.0].T
     if free.shape[1] == 0:
         return None, 0
-    e, E = _error_jacobian(problem, x, kinematic, precision)
+    e, E = error.jacobian(x, kinematic)
     poses = problem.samples
     A = (E @ (scale[:, None] * free)) / math.sqrt(poses)
     b = e / math.sqrt(poses)
@@ -148,34 +196,6 @@ def _step_along_free(
     step = np.zeros_like(x)
     step[kinematic] = scale * (free @ z)
     return step, int(free.shape[1])
-
-
-def _error(problem: Problem, x: Array, precision: Precision) -> Array:
-    """(poses·6,) the flange's position and rotation from the nominal robot's, in precision units."""
-    return _error_of(problem, problem.model.flange(x, problem.Q), precision)
-
-
-def _error_of(problem: Problem, F: Array, precision: Precision) -> Array:
-    nominal = problem.model.flange(np.zeros(problem.model.size), problem.Q)
-    position = (F[:, :3, 3] - nominal[:, :3, 3]) / precision.length_m
-    rotation = se3.log3_batch(np.swapaxes(nominal[:, :3, :3], -1, -2) @ F[:, :3, :3]) / precision.angle_rad
-    out: Array = np.concatenate([position, rotation], axis=1).ravel()
-    return out
-
-
-def _error_jacobian(problem: Problem, x: Array, indices: list[int], precision: Precision) -> tuple[Array, Array]:
-    """The error (`_error`) and its Jacobian (poses·6, len(indices)), from the flange's left twists:
-    a twist (v, ω) moves the flange's origin p by v + ω × p and turns its rotation R into exp(ω)·R,
-    which turns the rotation error φ = log(R_nomᵀ R) by J_r⁻¹(φ)·Rᵀω."""
-    F, twists = problem.model.flange_twists(x, problem.Q, indices)  # (N, 4, 4), (N, 6, P)
-    e = _error_of(problem, F, precision)
-    phi = e.reshape(-1, 6)[:, 3:] * precision.angle_rad
-    v, w = twists[:, :3], twists[:, 3:]
-    p, R = F[:, :3, 3], F[:, :3, :3]
-    position = v + np.cross(w, p[:, :, None], axis=1)
-    rotation = _inverse_right_jacobian(phi) @ np.swapaxes(R, -1, -2) @ w
-    out = np.concatenate([position / precision.length_m, rotation / precision.angle_rad], axis=1)
-    return e, out.reshape(-1, len(indices))
 
 
 def _inverse_right_jacobian(phi: Array) -> Array:
@@ -189,11 +209,6 @@ def _inverse_right_jacobian(phi: Array) -> Array:
     c = np.where(small, 1.0 / 12.0, 1.0 / t**2 - (1.0 + np.cos(t)) / (2.0 * t * np.sin(t)))
     out: Array = np.eye(3) + 0.5 * K + c[:, None, None] * (K @ K)
     return out
-
-
-def _objective(problem: Problem, x: Array, precision: Precision) -> float:
-    e = _error(problem, x, precision)
-    return float(e @ e) / max(problem.samples, 1)
 
 
 def _chi2(problem: Problem, x: Array) -> float:
