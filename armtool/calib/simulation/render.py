@@ -185,8 +185,8 @@ def _expose(
         noise = np.empty_like(image)
         cv2.randn(noise, 0.0, float(noise_sigma))  # type: ignore[call-overload]  # scalars work; OpenCV's stubs want arrays
         image += noise
-    clipped = cv2.max(image, 0.0)  # type: ignore[call-overload]  # scalar operand, as above
-    return cast("NDArray[np.uint8]", cv2.convertScaleAbs(clipped, alpha=255.0))  # rounds and saturates to 0..255
+    np.maximum(image, 0.0, out=image)  # OpenCV's stubs type cv2.max's scalar operand differently by version
+    return cast("NDArray[np.uint8]", cv2.convertScaleAbs(image, alpha=255.0))  # rounds and saturates to 0..255
 
 
 def _check_render_args(cMt: Array, supersample: int) -> Array:
