@@ -269,6 +269,30 @@ def tool0_deviation(calibrated: Path, Q: np.ndarray) -> tuple[float, float, floa
     return float(distance.max()), float(distance.mean()), float(angle.max()), float(angle.mean())
 
 
+def applied_tool0_deviation(out: Path, readings: Path, Q: np.ndarray) -> tuple[float, float, float, float]:  # type: ignore[type-arg]
+    """tool0 of calibrated_with_terms.urdf at the joint values `calibrate apply` gives for the
+    readings (what the terms are for) against the nominal arm's at the readings Q, as `tool0_deviation`."""
+    from scipy.spatial.transform import Rotation
+
+    from armtool.calib.model import se3
+    from armtool.model.chain import load_chain
+
+    applied = out / "applied.csv"
+    result, _wall, _cpu = armtool(
+        "calibrate", "apply", str(out / "calibration.yaml"), str(readings), "-o", str(applied)
+    )
+    if result.returncode != 0:
+        sys.exit(result.stderr)
+    with applied.open(newline="") as f:
+        table = list(csv.DictReader(f))
+    position = np.array([[float(r[f"flange_{a}"]) for a in "xyz"] for r in table])
+    rotation = Rotation.from_quat([[float(r[f"flange_q{a}"]) for a in "xyzw"] for r in table]).as_matrix()
+    nominal = load_chain(ur5_urdf(), "base_link", "tool0").fk_batch(Q)
+    distance = np.linalg.norm(position - nominal[:, :3, 3], axis=1) * 1e3
+    angle = np.degrees(np.linalg.norm(se3.log3_batch(np.swapaxes(nominal[:, :3, :3], -1, -2) @ rotation), axis=-1))
+    return float(distance.max()), float(distance.mean()), float(angle.max()), float(angle.mean())
+
+
 def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
     grid = ur5_rows(data)
     Q = np.radians([[float(r[f"joint_{k}"]) for k in range(1, 7)] for r in grid])
@@ -303,7 +327,7 @@ def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
         + " |"
     )
     if terms:
-        with_terms = tool0_deviation(tmp / "ur5-out" / "calibrated_with_terms.urdf", Q)
+        with_terms = applied_tool0_deviation(tmp / "ur5-out", dataset / "data.csv", Q)
         print(
             f"| default options, calibrated_with_terms.urdf with its joint terms ({terms['fitted']}) | "
             f"{terms['nested_heldout_mean_mm']:.4f} / {terms['nested_heldout_rms_mm']:.4f} / "

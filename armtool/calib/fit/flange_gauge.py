@@ -5,28 +5,33 @@ flange's turn about it changes no measurement. Several joint parameters can turn
 origin rotation with the zero offset about the same axis, two wrist origins together), and which
 of them QR keeps (`identify`, a fixed priority order) and which it holds at nominal is a choice
 the data do not make: on the real UR5 tracker grid (1000 poses) that choice left tool0 0.705°
-from the nominal arm's on average, where an equally good URDF has it 0.342° away. A tool the data
+from the nominal arm's on average, where an equally good URDF has it 0.339° away. A tool the data
 never saw is predicted from the flange, so what the data cannot see should stay nominal at the
 flange (issue 28: "point data leaves the flange orientation nominal").
 
 How: over every origin component and zero offset of the fitted set (the first joint's origin,
-the base's placement, excepted), the noise-weighted measurement Jacobian with the measurement
-frames held as fitted, each column scaled by its precision (`Precision`); its combinations with
-σ above one precision unit change no measurement by more than the noise. Along them Gauss–Newton
-steps minimise the flange's mean squared distance from the nominal arm's over the fit's poses
-(position in units of the length precision, orientation of the angle precision), with a small
-ridge so that a direction that barely moves the flange is not taken far. A step is kept only
-while the fit's χ² rises by at most 1 (one standard deviation), halved otherwise.
+the base's placement, excepted) and the registration's components, the noise-weighted measurement
+Jacobian, each column scaled by its precision (`Precision`); its combinations with σ above one
+precision unit change no measurement by more than the noise. Along them Gauss–Newton steps
+minimise the flange's mean squared distance from the nominal arm's over the fit's poses (position
+in units of the length precision, orientation of the angle precision), with a small ridge so that
+a direction that barely moves the flange is not taken far. A step is kept only while the fit's χ²
+rises by at most 1 (one standard deviation), halved otherwise.
 
-Why the frames stay: a change of the flange that a measurement frame can absorb (a camera or a
-board moved with it, the tracker with the whole arm) is a choice between the robot and the
-mount, and the mount is what hand-eye calibration is for. Letting the camera follow put the real
-FR3's camera 3.4 mm from its mount drawing's height, against 0.1 mm as fitted; letting the
-tracker follow moved the UR5's whole arm 1.2 mm along its base axis. So 6-D measurements (poses,
-tags, boards), which see the flange's turn about the target, are left as they were fitted.
+Why the registration follows: the frame fixed to the base (the tracker, or the camera of
+eye-to-hand; the target of eye-in-hand) places the whole arm in the measurements' frame, and no
+measurement sees where the arm sits on its base_link. Held as fitted, it left the UR5's tool0
+1.87 mm from the nominal arm's on average, mostly one rigid shift of 1.3 mm and 0.18° of the whole
+arm; following, 0.90 mm.
 
-What it cannot do: the flange orientation the data do determine stays. On the UR5 grid the
-points pin tool0's tilt through the reflector's 34 mm lever: the nearest URDF still has it 0.82°
+Why the carried frame stays: a change of the flange that the frame on it can absorb (a camera or
+a board turned with it, the reflector moved with it) is a choice between the robot and the mount,
+and the mount is what hand-eye calibration is for. Letting the camera follow put the real FR3's
+camera 3.4 mm from its mount drawing's height, against 0.1 mm as fitted. So 6-D measurements
+(poses, tags, boards), which see the flange's turn about the target, leave it as it was fitted.
+
+What it cannot do: the flange pose the data do determine stays. On the UR5 grid the points pin
+tool0's tilt through the reflector's 34 mm lever: the nearest URDF still has it 0.82° and 2.2 mm
 from nominal at the worst pose (benchmarks/calib_flange_bound.py finds the same with scipy).
 """
 
@@ -137,14 +142,17 @@ def nearest_nominal_flange(
     problem: Problem, x: Array, candidates: Sequence[int], precision: Precision
 ) -> tuple[Array, FlangeGauge]:
     """`x` moved, along the combinations of `candidates`' origins and zero offsets that change no
-    measurement of `problem` (its inliers, noise-weighted) by more than the noise with the frames
-    as they are, to where the flange is nearest the nominal arm's; the measurements as before
+    measurement of `problem` (its inliers, noise-weighted) by more than the noise, the
+    registration following and the carried frame as it is, to where the flange is nearest the
+    nominal arm's; the measurements as before
     (χ² within 1)."""
     model = problem.model
     base = set(model.layout.origin(0))
     kinematic = [
         i for i in candidates if model.params[i].kind in (ParamKind.ORIGIN, ParamKind.OFFSET) and i not in base
     ]
+    registration = set(model.base_side_frame())
+    following = [i for i in candidates if i in registration]
     before = flange_deviation(problem, x)
     if not kinematic or problem.samples == 0:
         return x, FlangeGauge(before, before, 0, 0.0)
@@ -154,7 +162,7 @@ def nearest_nominal_flange(
     out, directions = x.copy(), 0
     start = now = error.objective(out)
     for _step in range(_STEPS):
-        step, count = _step_along_free(problem, error, out, kinematic, scale)
+        step, count = _step_along_free(problem, error, out, kinematic, following, scale, precision)
         directions = max(directions, count)
         if step is None:
             break
@@ -176,25 +184,36 @@ def nearest_nominal_flange(
 
 
 def _step_along_free(
-    problem: Problem, error: _FlangeError, x: Array, kinematic: list[int], scale: Array
+    problem: Problem,
+    error: _FlangeError,
+    x: Array,
+    kinematic: list[int],
+    following: list[int],
+    scale: Array,
+    precision: Precision,
 ) -> tuple[Array | None, int]:
     """One Gauss–Newton step of the flange objective along the combinations of `kinematic` that
-    change no measurement by more than the noise, the measurement frames as they are (σ above one
-    precision unit), as a full parameter step; None when there are none."""
-    K = problem.jacobian(x, kinematic)
+    change no measurement by more than the noise, the `following` frame components free to follow
+    and the other frame as it is (σ above one precision unit), as a full parameter step; None when
+    there are none."""
+    moved = kinematic + following
+    full_scale = np.concatenate([scale, [precision.of(problem.model.params[i]) for i in following]])
+    K = problem.jacobian(x, moved)
     # Vt square; with fewer measurements than parameters the rest have s = 0 (then K is small)
-    _, s, Vt = np.linalg.svd(K * scale, full_matrices=K.shape[0] < K.shape[1])
-    s = np.concatenate([s, np.zeros(len(kinematic) - s.size)])
+    _, s, Vt = np.linalg.svd(K * full_scale, full_matrices=K.shape[0] < K.shape[1])
+    s = np.concatenate([s, np.zeros(len(moved) - s.size)])
     free = Vt[s < 1.0].T
-    if free.shape[1] == 0:
+    # the flange does not depend on the frames: only the joints' part of a combination moves it
+    joints = free[: len(kinematic)]
+    if free.shape[1] == 0 or not np.any(np.abs(joints) > 1e-12):
         return None, 0
     e, E = error.jacobian(x, kinematic)
     poses = problem.samples
-    A = (E @ (scale[:, None] * free)) / math.sqrt(poses)
+    A = (E @ (scale[:, None] * joints)) / math.sqrt(poses)
     b = e / math.sqrt(poses)
     z = np.linalg.solve(A.T @ A + _RIDGE * np.eye(A.shape[1]), -A.T @ b)
     step = np.zeros_like(x)
-    step[kinematic] = scale * (free @ z)
+    step[moved] = full_scale * (free @ z)
     return step, int(free.shape[1])
 
 

@@ -61,6 +61,13 @@ class CalibModel:
             return f"{self.sensor}_in_base", f"{self.target}_in_flange"
         return f"{self.sensor}_in_flange", f"{self.target}_in_base"
 
+    def base_side_frame(self) -> list[int]:
+        """Indices of the frame fixed to the robot's base (the camera or tracker of eye-to-hand, the
+        target of eye-in-hand): a registration of the whole arm into the measurements' frame."""
+        frames = self.layout.frames
+        half = len(frames) // 2
+        return frames[:half] if self.setup is Setup.EYE_TO_HAND else frames[half:]
+
     def _layout(self) -> list[Parameter]:
         joints = [(j.name, j.kind == "prismatic") for j in self.chain.joints]
         terms = [(t.kind, t.components) for t in self.terms]
