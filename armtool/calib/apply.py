@@ -1,5 +1,6 @@
 """Joint readings turned into what the chosen calibration predicts: each joint's value for
-calibrated_with_terms.urdf, gain·q + Σ p·f(q), and the flange pose it gives.
+calibrated_with_terms.urdf, gain·q + Σ p·f(q) − the mean of that over the fit's readings (which
+the URDF's zero offsets hold), and the flange pose it gives.
 
 Why: a URDF cannot hold the joint terms a calibration may choose (compliance under gravity,
 harmonics of the joint angles), so the tools that read a URDF use calibrated.urdf, the geometry
@@ -35,7 +36,7 @@ class Applied:
     rows: list[list[str]]
     joints: list[str]
     columns: list[int]  # each joint's column in `rows`
-    values: Array  # (N, n) gain·q + Σ p·f(q), radians
+    values: Array  # (N, n) gain·q + Σ p·f(q) − mean correction, radians
     flange: Array  # (N, 4, 4) T_base_flange of calibrated_with_terms.urdf at `values`
 
 
@@ -119,6 +120,8 @@ def apply(
             )
         P = np.array([entry["joints"][name] for name in chain.joint_names], dtype=float)
         values = values + np.einsum("njc,jc->nj", term.regressors(Q), P)
+    # the URDF's zero offsets hold each joint's mean correction (a calibration of before it: none)
+    values = values - np.array([float(block["joints"][name].get("mean_correction", 0.0)) for name in chain.joint_names])
     with_terms = load_chain(urdf, str(block["base_link"]), str(block["flange_link"]))
     return Applied(header, rows, chain.joint_names, columns, values, with_terms.fk_batch(values))
 

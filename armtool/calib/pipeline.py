@@ -265,7 +265,7 @@ def fit_files(job: FitJob, result: CalibrationResult) -> FitFiles:
     elif verdict.improves:
         files[request.out / "calibrated.urdf"] = new_urdf
         if result.joint_terms is not None:  # the chosen set's own geometry, for use with its terms
-            terms_x = result.joint_terms.x
+            terms_x = result.joint_terms.urdf_x(result.model)
             with_terms = corrected_text(text, joint_corrections(result.model, terms_x), ds.urdf.name)
             with_terms = relocate_meshes(with_terms, ds.urdf.parent, request.out)
             check_reproduces(with_terms, result.model, terms_x, ds.urdf.name)

@@ -37,7 +37,7 @@ def apply(
     xacro_arg: XacroArgs = None,
     package_path: PackagePaths = None,
 ) -> None:
-    """Apply a calibration's joint terms to joint readings: each joint's value gain·q + Σ p·f(q) for calibrated_with_terms.urdf, and the flange pose it gives."""
+    """Apply a calibration's joint terms to joint readings: each joint's value gain·q + Σ p·f(q) − its mean correction for calibrated_with_terms.urdf, and the flange pose it gives."""
     require("calib")  # exit 2 with the install command when the extra is missing
     from armtool.calib.apply import applied_csv
     from armtool.calib.apply import apply as apply_terms

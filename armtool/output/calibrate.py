@@ -262,7 +262,8 @@ def _terms_text(result: CalibrationResult) -> str:
     return (
         f"chosen: {terms.candidate.name}{figures}. A URDF cannot hold its joint terms, so calibrated.urdf "
         f"is {result.candidate.name} fitted alone, right as it is; the chosen set's own geometry is {TERMS_URDF}, "
-        "right only with calibration.yaml's joint_terms applied to the readings"
+        "right with calibration.yaml's joint_terms applied to the readings (`armtool calibrate apply`), the arm on "
+        "average as it is"
     )
 
 

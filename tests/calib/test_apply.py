@@ -79,6 +79,19 @@ def test_apply_predicts_what_the_fit_with_terms_predicted(tmp_path: Path) -> Non
     assert abs(rms - terms["fit_rms_mm"]["calibrated"]) < 1e-4  # calibration.yaml's frames are rounded to 1e-9
     assert rms < 0.04  # 0.02 mm noise per coordinate: the elbow's harmonic is applied
     assert document["metrics"]["fit_rms_mm"]["calibrated"] > 2 * rms  # calibrated.urdf alone cannot hold it
+    # the joint values differ from the readings by nothing on average: the URDF's zero offsets hold
+    # each joint's mean correction, so calibrated_with_terms.urdf read as it is is the arm on average
+    names = list(terms["joints"])
+    values = np.array([[float(r[name]) for name in names] for r in rows])
+    Q = np.array(
+        [
+            [float(v) for v in line.split(",")[1:7]]
+            for line in (tmp_path / "data" / "data.csv").read_text().splitlines()[1:]
+        ]
+    )
+    assert np.abs((values - Q).mean(axis=0)).max() < 1e-9
+    elbow = terms["joints"]["elbow_joint"]
+    assert elbow["zero_offset_in_urdf"] == pytest.approx(elbow["zero_offset"] + elbow["mean_correction"], abs=1e-11)
 
 
 def test_apply_refuses_a_calibration_without_terms(tmp_path: Path) -> None:

@@ -110,6 +110,12 @@ class CalibModel:
             out += np.einsum("njc,jc->nj", term.regressors(Q), p)
         return out
 
+    def mean_correction(self, x: Array, Q: Array) -> Array:
+        """(n,) what the gains and joint terms add to each joint's reading, on average over the
+        readings Q: moved into the zero offsets, a URDF read at the readings is the arm on average."""
+        out: Array = (self.split(x).gain_error * Q + self.angle_corrections(x, Q)).mean(axis=0)
+        return out
+
     def urdf_part(self, x: Array) -> Array:
         """x with what a URDF cannot hold (gains, joint terms) at nominal: the calibrated URDF's kinematics."""
         out: Array = x.copy()

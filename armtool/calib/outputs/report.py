@@ -88,8 +88,9 @@ def _in_urdf(result: CalibrationResult, fitted_terms: list[Any]) -> str:
     return (
         text + f"; calibrated.urdf is {result.candidate.name} fitted alone, to be read as it is (no gains, no joint "
         f"terms). The chosen set, {terms.candidate.name}, is in joint_terms: a URDF cannot hold its {what}, so its "
-        f"geometry is in {TERMS_URDF}, right only with its frames and fed gain·q + Σ p·f(q) for each joint's reading q "
-        "(its zero offsets are in it; docs/calibrate.md)"
+        f"geometry is in {TERMS_URDF}, right with its frames and fed gain·q + Σ p·f(q) − mean_correction for each "
+        "joint's reading q (`calibrate apply`); read at the readings as they are, it is the arm on average over the "
+        "fit's poses (its zero offsets, with the mean correction, are in it; docs/calibrate.md)"
     )
 
 
@@ -132,6 +133,18 @@ def joints_section(
     return joints
 
 
+def _with_mean_corrections(joints: dict[str, Any], result: CalibrationResult) -> dict[str, Any]:
+    """Each joint's `mean_correction` (what its gain and terms add on average over the fit's
+    readings, rad or m) and the zero offset calibrated_with_terms.urdf holds with it."""
+    terms = result.joint_terms
+    assert terms is not None
+    mean = terms.mean_correction if terms.mean_correction is not None else np.zeros(len(joints))
+    for (_name, entry), m in zip(joints.items(), mean):
+        entry["mean_correction"] = round(float(m), 12)
+        entry["zero_offset_in_urdf"] = round(float(entry["zero_offset"] + m), 12)
+    return joints
+
+
 def joint_terms_section(result: CalibrationResult) -> dict[str, Any] | None:
     """The chosen set with its joint terms, when calibrated.urdf holds only its URDF rung: its own
     geometry (calibrated_with_terms.urdf), frames, terms, what of the terms the data do not
@@ -146,10 +159,11 @@ def joint_terms_section(result: CalibrationResult) -> dict[str, Any] | None:
         "urdf": TERMS_URDF,
         "meaning": f"the k-fold chose {terms.candidate.name}, which a URDF cannot hold: calibrated.urdf is "
         f"{result.candidate.name} fitted alone, to be read as it is with the frames above; {TERMS_URDF} is this "
-        "set's own geometry, right only with these frames and fed gain·q + Σ p·f(q) for each joint's reading q "
-        "(docs/calibrate.md)",
+        "set's own geometry, right with these frames and fed gain·q + Σ p·f(q) − mean_correction for each joint's "
+        "reading q (`calibrate apply`); read at the readings as they are, it is the arm on average over the fit's "
+        "poses: each joint's mean_correction is in its zero offset (docs/calibrate.md)",
         "frames": frames_section(result, sigma, terms.x),
-        "joints": joints_section(result, terms.x, sigma, terms.candidate),
+        "joints": _with_mean_corrections(joints_section(result, terms.x, sigma, terms.candidate), result),
         "base_link": model.chain.base,
         "flange_link": model.chain.tip,
         "terms": _term_values(result, terms.x, terms.candidate),
