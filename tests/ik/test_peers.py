@@ -227,3 +227,8 @@ def test_without_fd_2_the_block_runs_as_it_is() -> None:
         os.close(saved)
     assert ran and captured.text == ""
 
+
+def test_ik_geo_says_it_prints_natively() -> None:
+    from armtool.ik.peers.ik_geo_peer import IkGeo
+
+    assert IkGeo.prints_natively and not Solver.prints_natively
