@@ -37,9 +37,9 @@ offsets between them zero), the form IK-Geo's solvers assume.
   On xArm6 (two_parallel) they find none, and 2 of 10 targets end in a Rust panic (an unwrap of
   None in its search), which `call` catches and the answer reports as its reason. Rust's panic
   hook prints each panic on file descriptor 2 first (two lines, a third the first time; a
-  backtrace with RUST_BACKTRACE set); `prints_natively` has ik-bench capture that around each block of solves,
-  outside the timing, and say once after the run how many lines and panics it held back, and the
-  first line (armtool.ik.bench.native_output, native_stderr_note).
+  backtrace with RUST_BACKTRACE set); `prints_natively` has ik-bench capture that around each
+  block of solves, outside the timing, and say once after the run how many lines and panics it
+  held back, and the first line (armtool.ik.bench.native_output, native_stderr_note).
 - Arms that fit a family only within the tolerances (URDFs with rpy rounded to 1.5708: Lite6)
   get the family's model, whose FK differs from the chain's slightly: the row's method says by
   how much, and armtool's check of every answer decides.
