@@ -92,7 +92,15 @@ def ik_bench(
     from armtool.cli.options import RobotOptions
     from armtool.console import say, stderr, write_stdout
     from armtool.fileio import check_output_paths
-    from armtool.ik.bench import BenchConfig, NotApplicable, SolverReport, make_targets, run_bench, run_header
+    from armtool.ik.bench import (
+        BenchConfig,
+        NotApplicable,
+        SolverReport,
+        make_targets,
+        native_stderr_note,
+        run_bench,
+        run_header,
+    )
     from armtool.ik.group import GroupSettings, counterpart_solver, group_chain, group_settings
     from armtool.ik.lineup import build_lineup, names_option
     from armtool.ik.locks import describe, parse_locks
@@ -204,6 +212,12 @@ def ik_bench(
         write_stdout(render_csv(reports))
     else:
         render_table(chain, config, reports)
+    # What a peer's native code wrote on fd 2 during its solves (a Rust panic's message) was held
+    # back so as not to break into the progress bar; said here once per solver, after its row.
+    for solver in {id(e.solver): e.solver for e in entries}.values():
+        note = native_stderr_note(solver)
+        if note:
+            say(note, label="note:")
     if plot is not None:
         from armtool.ik.plot import write_plot
 

@@ -13,13 +13,17 @@ happen outside the timed region, for every row alike (TIMING).
 
 from __future__ import annotations
 
+import re
+import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from armtool.ik.modes import SeedMode
+from armtool.ik.peers import Captured, native_stderr_captured
 from armtool.ik.solutions import distinct, missing, refine
 from armtool.ik.solver import Answer, Array, Solver
 from armtool.model.chain import Chain
@@ -144,6 +148,62 @@ def _joint_distance(chain: Chain, a: Array, b: Array) -> Array:
     return norms
 
 
+@contextmanager
+def native_output(solver: Solver, phase: str) -> Iterator[None]:
+    """Around a block of a solver's calls: for a solver that prints natively (Solver.prints_natively),
+    what its native code writes on fd 2 is captured (armtool.ik.peers.native_stderr_captured) and kept
+    in solver.native_stderr under `phase`; for the others, nothing happens. Entered once per block,
+    outside the clock readings: moving fd 2 is never timed. If the block raises, what it caught is
+    written back on stderr as it was: no summary will follow."""
+    if not solver.prints_natively:
+        yield
+        return
+    captured, finished = Captured(), False
+    try:
+        with native_stderr_captured() as captured:
+            yield
+        finished = True
+    finally:
+        if captured.text and finished:
+            solver.native_stderr += ((phase, captured.text),)
+        elif captured.text:
+            sys.stderr.write(captured.text)
+
+
+_PANIC = re.compile(r"^thread '.*' panicked at", re.MULTILINE)  # Rust's panic hook, first line of each panic
+
+
+def native_stderr_note(solver: Solver) -> str:
+    """One line on what a solver printed natively during its solves (solver.native_stderr): how many
+    lines, the Rust panics among them by phase, and the first line; "" when it printed nothing."""
+    text = "".join(t for _, t in solver.native_stderr)
+    lines = text.splitlines()
+    if not lines:
+        return ""
+    panics = {phase: 0 for phase in ("timed", "warm-up", "repeat")}
+    for phase, t in solver.native_stderr:
+        panics[phase] = panics.get(phase, 0) + len(_PANIC.findall(t))
+    timed, untimed = panics["timed"], sum(panics.values()) - panics["timed"]
+    parts = []
+    if timed:
+        parts.append(
+            f"{timed} on timed targets, among its row's failures"
+            if timed > 1
+            else "1 on a timed target, among its row's failures"
+        )
+    if untimed:
+        parts.append(f"{untimed} in untimed warm-up or repeat solves")
+    total = timed + untimed
+    panicked = (f"; {total} Rust panic{'s' if total != 1 else ''}: " + ", ".join(parts)) if parts else ""
+    first = next((line.strip() for line in lines if line.strip()), "")
+    if len(first) > 160:
+        first = first[:157] + "..."
+    return (
+        f"{solver.name} printed {len(lines)} line{'s' if len(lines) != 1 else ''} on stderr during its solves"
+        f" (not shown{panicked}); the first: {first}"
+    )
+
+
 WARM_UP_SOLVES = 8
 
 
@@ -154,9 +214,10 @@ def warm_up(chain: Chain, solver: Solver) -> None:
     Targets from a stream of their own (not the benchmark's), from the mid-range seed: not the
     mid-range pose itself, which a solver answers without a single step."""
     rng = np.random.default_rng(0x5EED)
-    for target in chain.fk_batch(chain.random(rng, WARM_UP_SOLVES)):
-        solver.solve(target, chain.mid())
-    solver.solve(chain.fk(chain.mid()), chain.mid())
+    with native_output(solver, "warm-up"):
+        for target in chain.fk_batch(chain.random(rng, WARM_UP_SOLVES)):
+            solver.solve(target, chain.mid())
+        solver.solve(chain.fk(chain.mid()), chain.mid())
 
 
 @dataclass
@@ -178,19 +239,20 @@ def time_solves(solver: Solver, poses: Array, seeds: Array, progress: Callable[[
     results = []
     prepare, call, answer = solver.prepare, solver.call, solver.answer
     perf_counter, process_time = time.perf_counter, time.process_time
-    for i in range(N):
-        prepared = prepare(poses[i], seeds[i])
-        # The wall clock is read innermost: a process_time() read costs ~1 µs on the development VM
-        # (a system call), which would be timed in every row, a quarter of EAIK's solve.
-        c0 = process_time()
-        w0 = perf_counter()
-        raw = call(prepared)
-        w1 = perf_counter()
-        c1 = process_time()
-        wall[i], cpu[i] = w1 - w0, c1 - c0
-        results.append(answer(raw))
-        if progress:
-            progress(1)
+    with native_output(solver, "timed"):  # once around the block, not per call: never timed
+        for i in range(N):
+            prepared = prepare(poses[i], seeds[i])
+            # The wall clock is read innermost: a process_time() read costs ~1 µs on the development VM
+            # (a system call), which would be timed in every row, a quarter of EAIK's solve.
+            c0 = process_time()
+            w0 = perf_counter()
+            raw = call(prepared)
+            w1 = perf_counter()
+            c1 = process_time()
+            wall[i], cpu[i] = w1 - w0, c1 - c0
+            results.append(answer(raw))
+            if progress:
+                progress(1)
     return Timed(results, wall, cpu)
 
 
@@ -198,11 +260,13 @@ def time_batch(solver: Solver, poses: Array, seeds: Array) -> Timed:
     """One call_batch() over every target; each answer is charged an equal share of it."""
     N = poses.shape[0]
     prepared = solver.prepare_batch(poses, seeds)
-    c0 = time.process_time()
-    w0 = time.perf_counter()
-    raw = solver.call_batch(prepared)
-    w1 = time.perf_counter()
-    total_wall, total_cpu = w1 - w0, time.process_time() - c0
+    with native_output(solver, "timed"):  # entered and left outside the clock readings
+        c0 = time.process_time()
+        w0 = time.perf_counter()
+        raw = solver.call_batch(prepared)
+        w1 = time.perf_counter()
+        c1 = time.process_time()
+    total_wall, total_cpu = w1 - w0, c1 - c0
     return Timed(solver.answer_batch(raw), np.full(N, total_wall / N), np.full(N, total_cpu / N), batch=True)
 
 
@@ -257,7 +321,8 @@ def solver_report(chain: Chain, solver: Solver, targets: Targets, config: BenchC
     if config.repeat > 0 and not batch:
         m = min(config.repeat, N)
         prepare, call, answer = solver.prepare, solver.call, solver.answer
-        again = [answer(call(prepare(targets.poses[i], targets.seeds[i]))) for i in range(m)]
+        with native_output(solver, "repeat"):
+            again = [answer(call(prepare(targets.poses[i], targets.seeds[i]))) for i in range(m)]
         judged2 = solver.judge_batch(again, targets.poses[:m], tolerance=tol, position_only=position_only)
         Q2 = np.array([r.q for r in judged2])
         ok2 = np.array([r.success for r in judged2], dtype=bool)

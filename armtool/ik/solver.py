@@ -152,6 +152,12 @@ class Solver:
     returns_all_solutions: ClassVar[bool] = False
     # How this solver solves this chain, for the benchmark's row (a closed form's family); "" if nothing to say.
     method: str = ""
+    # True for a solver whose native code writes on file descriptor 2 itself, past sys.stderr (IK-Geo:
+    # Rust's message for every panic): the benchmark points fd 2 at a file around each block of its
+    # calls, outside the timing (armtool.ik.bench.native_output), and keeps what it caught here.
+    prints_natively: ClassVar[bool] = False
+    # What it wrote there, block by block: (phase, text), phase "warm-up", "timed" or "repeat".
+    native_stderr: tuple[tuple[str, str], ...] = ()
 
     def __init__(
         self, chain: Chain, timeout: float = 0.005, tolerance: float = 1e-5, seed: int | None = 0, **options: Any

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
@@ -369,3 +372,119 @@ def test_two_approximations_of_one_solution_are_not_missing_from_each_other() ->
     reports = run_bench(chain, [Entry(exact), Entry(near)], targets, config)
     assert [r.success_rate for r in reports] == [1.0, 1.0]
     assert [r.missing_solutions for r in reports] == [0, 0] and [r.distinct_solutions for r in reports] == [1.0, 1.0]
+
+
+# ---------------------------------------------------------------- native stderr
+
+PANIC = b"thread '<unnamed>' panicked at src/fake.rs:154:54:\ncalled `Option::unwrap()` on a `None` value\n"
+
+
+class Panicky(Solver):
+    """Stands in for IK-Geo's Rust: panics on every third call, its panic hook writing on fd 2
+    itself (os.write, past sys.stderr), and the adapter turns the panic into a failed answer."""
+
+    name = "panicky"
+    summary = "test double"
+    prints_natively = True
+
+    def __init__(self, chain: Any) -> None:
+        Solver.__init__(self, chain)
+        self.calls = 0
+
+    def call(self, prepared):  # type: ignore[no-untyped-def]
+        self.calls += 1
+        if self.calls % 3 == 0:
+            os.write(2, PANIC)
+            return Answer(prepared[1], False, 0, "panicky failed inside its solver (PanicException)")
+        return Answer(prepared[1], False, 0, "no solution")
+
+
+def _planar() -> Any:
+    from lxml import etree
+
+    from armtool.model.chain import chain_from_xml
+    from tests.ik.robots import PLANAR_2R
+
+    return chain_from_xml(etree.fromstring(PLANAR_2R))
+
+
+def test_native_stderr_is_held_back_and_summed_up_once(capfd: pytest.CaptureFixture[str]) -> None:
+    """The panic text a solver's native code writes on fd 2 during the benchmark does not reach
+    stderr; the note counts its lines and panics, by phase, and quotes the first line."""
+    from armtool.ik.bench import Entry, native_stderr_note, run_bench
+
+    chain = _planar()
+    config = BenchConfig(samples=12, repeat=6)
+    solver = Panicky(chain)
+    reports = run_bench(chain, [Entry(solver)], make_targets(chain, config), config, block=5)
+    err = capfd.readouterr().err
+    assert "panicked" not in err and "unwrap" not in err, err
+    # 9 warm-up solves (calls 1-9), 12 timed (10-21), 6 repeat (22-27): panics at every third call
+    assert solver.calls == 9 + 12 + 6
+    assert [phase for phase, _ in solver.native_stderr] == ["warm-up", "timed", "timed", "timed", "repeat"]
+    assert reports[0].failure_reasons["panicky failed inside its solver (PanicException)"] == 4
+    note = native_stderr_note(solver)
+    assert note == (
+        "panicky printed 18 lines on stderr during its solves (not shown; 9 Rust panics: 4 on timed targets,"
+        " among its row's failures, 5 in untimed warm-up or repeat solves);"
+        " the first: thread '<unnamed>' panicked at src/fake.rs:154:54:"
+    )
+
+
+def test_a_quiet_native_solver_has_no_note() -> None:
+    from armtool.ik.bench import native_stderr_note
+
+    chain = _planar()
+    assert native_stderr_note(Panicky(chain)) == ""
+
+
+def test_fd_2_moves_once_per_block_outside_the_clock_readings(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The capture is entered around each block of calls (the warm-up, each block of timed solves,
+    the repeat, the batch call), never per call, and fd 2 moves only outside the clock readings
+    that bound each timed call; a solver that does not print natively is never captured."""
+    import time
+
+    from armtool.ik import bench
+    from armtool.ik.bench import Entry, run_bench
+
+    events: list[str] = []
+    real = bench.native_stderr_captured
+
+    @contextmanager
+    def logged() -> Iterator[Any]:
+        events.append("[")
+        with real() as captured:
+            yield captured
+        events.append("]")
+
+    clock = time.perf_counter
+
+    def perf_counter() -> float:
+        events.append("t")
+        return clock()
+
+    class Logged(Panicky):
+        def call(self, prepared):  # type: ignore[no-untyped-def]
+            events.append("c")
+            return super().call(prepared)
+
+    class Quiet(Liar):
+        def call(self, prepared):  # type: ignore[no-untyped-def]
+            events.append("q")
+            return super().call(prepared)
+
+    monkeypatch.setattr(bench, "native_stderr_captured", logged)
+    monkeypatch.setattr(time, "perf_counter", perf_counter)
+    chain = _planar()
+    config = BenchConfig(samples=12, repeat=6)
+    targets = make_targets(chain, config)
+    run_bench(chain, [Entry(Logged(chain)), Entry(Quiet(chain))], targets, config, block=5)
+    text = "".join(events)
+    blocks = [b.split("]")[0] for b in text.split("[")[1:]]
+    assert text.count("[") == text.count("]") == 5
+    assert blocks == ["c" * 9, "tct" * 5, "tct" * 5, "tct" * 2, "c" * 6]  # warm-up, 3 timed blocks, repeat
+    assert all("q" not in b for b in blocks) and text.count("q") == 9 + 12 + 6
+
+    events.clear()
+    bench.time_batch(Logged(chain), targets.poses, targets.seeds)
+    assert "".join(events) == "[t" + "c" * 12 + "t]"

@@ -165,3 +165,70 @@ def test_peer_rejects_a_chain_it_reads_differently() -> None:
     origin.set("xyz", "0 -0.2 0.425")  # what the peer reads (from the URDF) is no longer our chain
     with pytest.raises(ArmtoolError, match="reads world → tool0 differently"):
         make_peer("pytracik", chain, shifted, timeout=0.005, tolerance=1e-5)
+
+
+# ---------------------------------------------------------------- native stderr
+
+
+def test_native_stderr_is_captured_and_fd_2_restored(capfd: pytest.CaptureFixture[str]) -> None:
+    """What native code writes on fd 2 inside the block lands in the capture, not on stderr; fd 2
+    is stderr again after the block."""
+    import os
+
+    from armtool.ik.peers import native_stderr_captured
+
+    with native_stderr_captured() as captured:
+        os.write(2, b"thread '<unnamed>' panicked at src/lib.rs:1:2:\n")
+        assert captured.text == ""  # filled in when the block ends
+    os.write(2, b"after\n")
+    assert captured.text == "thread '<unnamed>' panicked at src/lib.rs:1:2:\n"
+    assert capfd.readouterr().err == "after\n"
+
+
+def test_python_stderr_on_fd_2_keeps_writing_to_stderr(
+    capfd: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A sys.stderr that writes on fd 2 (the rich console's, in a real run) is not captured: it is
+    swapped for a stream on the original stderr for the block, and put back after."""
+    import os
+    import sys
+
+    from armtool.ik.peers import native_stderr_captured
+
+    on_fd_2 = open(2, "w", encoding="utf-8", closefd=False)  # closed below
+    monkeypatch.setattr(sys, "stderr", on_fd_2)
+    try:
+        with native_stderr_captured() as captured:
+            assert sys.stderr is not on_fd_2
+            print("progress frame", file=sys.stderr)
+            os.write(2, b"native\n")
+        assert sys.stderr is on_fd_2
+    finally:
+        on_fd_2.close()
+    assert captured.text == "native\n"
+    assert capfd.readouterr().err == "progress frame\n"
+
+
+def test_without_fd_2_the_block_runs_as_it_is() -> None:
+    import os
+
+    from armtool.ik.peers import native_stderr_captured
+
+    saved = os.dup(2)
+    os.close(2)
+    try:
+        ran = False
+        with native_stderr_captured() as captured:
+            ran = True
+        with pytest.raises(OSError):
+            os.fstat(2)  # still closed: nothing was put in its place
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+    assert ran and captured.text == ""
+
+
+def test_ik_geo_says_it_prints_natively() -> None:
+    from armtool.ik.peers.ik_geo_peer import IkGeo
+
+    assert IkGeo.prints_natively and not Solver.prints_natively

@@ -14,9 +14,11 @@ import importlib
 import importlib.util
 import os
 import sys
+import tempfile
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import Any
+from dataclasses import dataclass
+from typing import IO, Any
 
 import numpy as np
 from lxml import etree
@@ -162,6 +164,98 @@ def native_stdout_to_stderr() -> Iterator[None]:
             _flush_c_stdio()
             os.dup2(saved, 1)
             os.close(saved)
+
+
+@dataclass
+class Captured:
+    """What native code wrote on file descriptor 2 inside a native_stderr_captured block (filled in
+    when the block ends)."""
+
+    text: str = ""
+
+
+@contextmanager
+def native_stderr_captured() -> Iterator[Captured]:
+    """File descriptor 2 points at a temporary file while the block runs; what was written there
+    is the yielded Captured's text once the block ends.
+
+    For native code that writes on fd 2 itself, past sys.stderr: Rust's panic hook prints
+    "thread '<unnamed>' panicked at ..." (and, with RUST_BACKTRACE set, a backtrace) on fd 2 before
+    pyo3 turns the panic into an exception, in the middle of ik-bench's progress bar.
+
+    Python's own stderr is not captured: when sys.stderr writes on fd 2, it is swapped for a stream
+    on a duplicate of the original fd 2 for the duration and put back after. The rich console (and
+    its progress bar) looks sys.stderr up at every write, so its refreshes stay on the terminal and
+    out of what is captured; letting them go to the file too would lose the frames and fill the
+    capture with them. (A logging handler made before the block keeps the stream it was given: its
+    lines inside the block are captured. A sys.stderr on another descriptor, as under a test runner,
+    is left as it is: fd 2 is not where it writes.) C stdio buffers are flushed before fd 2 is
+    restored. Without a usable fd 2
+    (closed) or a temporary file, the block runs as it is and nothing is captured. A process that
+    dies inside the block (a native abort) takes what was captured with it.
+    """
+    captured = Captured()
+    try:
+        saved = os.dup(2)
+    except OSError:
+        saved = -1
+    sink: IO[bytes] | None = None
+    if saved >= 0:
+        try:
+            sink = tempfile.TemporaryFile()
+        except OSError:
+            os.close(saved)
+            saved = -1
+    if sink is None:
+        yield captured
+        return
+    python_stderr = sys.stderr
+    ours = _stream_on(saved, python_stderr)
+    if ours is not None:
+        sys.stderr = ours
+    try:
+        python_stderr.flush()  # what Python had buffered for fd 2 goes out before fd 2 moves
+    except (OSError, ValueError, AttributeError):
+        pass
+    try:
+        os.dup2(sink.fileno(), 2)
+        moved = True
+    except OSError:
+        moved = False
+    try:
+        yield captured
+    finally:
+        if moved:
+            _flush_c_stdio()
+            os.dup2(saved, 2)
+        if ours is not None:
+            try:
+                ours.flush()
+            except (OSError, ValueError):
+                pass
+            sys.stderr = python_stderr
+            ours.close()  # closefd=False: the duplicate itself is closed next
+        os.close(saved)
+        sink.seek(0)
+        captured.text = sink.read().decode("utf-8", "replace")
+        sink.close()
+
+
+def _stream_on(fd: int, stream: IO[str] | None) -> IO[str] | None:
+    """A text stream on fd (a duplicate of fd 2) like `stream`, if `stream` writes on fd 2; else None."""
+    try:
+        if stream is None or stream.fileno() != 2:
+            return None
+    except (OSError, ValueError, AttributeError):  # no descriptor (a StringIO), or closed
+        return None
+    return open(  # closed by native_stderr_captured
+        fd,
+        "w",
+        buffering=1,
+        encoding=getattr(stream, "encoding", None) or "utf-8",
+        errors=getattr(stream, "errors", None) or "backslashreplace",
+        closefd=False,
+    )
 
 
 def _flush_c_stdio() -> None:

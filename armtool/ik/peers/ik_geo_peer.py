@@ -35,7 +35,11 @@ offsets between them zero), the form IK-Geo's solvers assume.
   locked chain's axes; Panda locked at panda_joint7 is its two_intersecting 1-D search, which found
   no solution for any of 200 targets, measured by one `ik-bench --lock panda_joint7=0.3` run).
   On xArm6 (two_parallel) they find none, and 2 of 10 targets end in a Rust panic (an unwrap of
-  None in its search, printed by Rust on stderr), which the answer reports as its reason.
+  None in its search), which `call` catches and the answer reports as its reason. Rust's panic
+  hook prints each panic on file descriptor 2 first (two lines, a third the first time; a
+  backtrace with RUST_BACKTRACE set); `prints_natively` has ik-bench capture that around each
+  block of solves, outside the timing, and say once after the run how many lines and panics it
+  held back, and the first line (armtool.ik.bench.native_output, native_stderr_note).
 - Arms that fit a family only within the tolerances (URDFs with rpy rounded to 1.5708: Lite6)
   get the family's model, whose FK differs from the chain's slightly: the row's method says by
   how much, and armtool's check of every answer decides.
@@ -149,6 +153,7 @@ class IkGeo(Solver):
     name = "ik-geo"
     summary = "IK-Geo (Rust, pip ik-geo): subproblem decomposition chosen from the axes, closed form or 1-D/2-D search"
     returns_all_solutions = True
+    prints_natively = True  # Rust's panic hook writes on fd 2 (module doc)
 
     def __init__(self, chain: Chain, root: etree._Element, *, timeout: float, tolerance: float) -> None:
         Solver.__init__(self, chain, timeout=timeout, tolerance=tolerance)
