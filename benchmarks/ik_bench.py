@@ -192,7 +192,16 @@ def interleaved_round(
 def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row], dict[str, str]] | None:
     """(title, rows by label, {solver: why it cannot take the arm}) for one arm; None when its files are absent."""
     from armtool.errors import ArmtoolError
-    from armtool.ik.bench import BenchConfig, Entry, compare_solutions, first, make_targets, solver_report, warm_up
+    from armtool.ik.bench import (
+        BenchConfig,
+        Entry,
+        compare_solutions,
+        first,
+        make_targets,
+        native_stderr_note,
+        solver_report,
+        warm_up,
+    )
     from armtool.ik.peers import make_peer
     from armtool.ik.registry import make_solver, solver_names
 
@@ -252,6 +261,10 @@ def bench_robot(name: str, args: argparse.Namespace) -> tuple[str, dict[str, Row
         for entry, report in zip(entries, made):
             reports[entry.label].append(report)
     rows = {e.label: summarize(e.label, e.batch, reports[e.label], args.timeout) for e in entries}
+    for solver in {id(e.solver): e.solver for e in entries}.values():  # what native code printed, held back
+        note = native_stderr_note(solver)
+        if note:
+            log(f"  {name}: note: {note}")
     return f"{name} ({chain.base} → {chain.tip}, {chain.n} joints)", rows, not_applicable
 
 

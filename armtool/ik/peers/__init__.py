@@ -190,8 +190,8 @@ def native_stderr_captured() -> Iterator[Captured]:
     capture with them. (A logging handler made before the block keeps the stream it was given: its
     lines inside the block are captured. A sys.stderr on another descriptor, as under a test runner,
     is left as it is: fd 2 is not where it writes.) C stdio buffers are flushed before fd 2 is
-    restored. Without a usable fd 2
-    (closed) or a temporary file, the block runs as it is and nothing is captured. A process that
+    restored. Without a usable fd 2 (closed) or a temporary file, the block runs as it is and
+    nothing is captured. A process that
     dies inside the block (a native abort) takes what was captured with it.
     """
     captured = Captured()
