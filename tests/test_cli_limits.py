@@ -183,6 +183,9 @@ def test_signal_during_auto_leaves_every_servo_torque_off(tmp_path: Path, signum
             stderr=subprocess.PIPE,
             stdin=subprocess.DEVNULL,
             text=True,
+            # Ctrl-C reaches it as at a terminal, even when the test run itself was started in the
+            # background (`cmd &` in a script starts it with SIGINT ignored, and a child inherits that)
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
         )
         try:
             deadline = time.monotonic() + 20

@@ -338,6 +338,9 @@ def test_ctrl_c_leaves_torque_off_and_keeps_the_readings(tmp_path: Path) -> None
             stderr=subprocess.PIPE,
             text=True,
             env={**os.environ, "NO_COLOR": "1"},
+            # Ctrl-C reaches it as at a terminal, even when the test run itself was started in the
+            # background (`cmd &` in a script starts it with SIGINT ignored, and a child inherits that)
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
         )
         deadline = time.monotonic() + 30
         while live.peek(1, "torque_enable") == 0 and time.monotonic() < deadline:
