@@ -227,6 +227,7 @@ def fr3(data: Path, tmp: Path, folds: int, splits: int) -> None:
         "camera in flange: " + ", ".join(f"{v * 1e3:.2f}" for v in camera["xyz"]) + " mm, yaw "
         f"{math.degrees(camera['rpy'][2]):.2f}° (mount drawing: 94.5, -9, 40.55 mm, 90°)"
     )
+    print(flange_gauge_line(document))
     flat = " ".join(wrong.stderr.split())
     print(
         f"the file read inverted (pose: target_in_sensor): check exits {wrong.returncode}: "
@@ -267,6 +268,65 @@ def tool0_deviation(calibrated: Path, Q: np.ndarray) -> tuple[float, float, floa
         np.linalg.norm(se3.log3_batch(np.swapaxes(nominal[:, :3, :3], -1, -2) @ fitted[:, :3, :3]), axis=-1)
     )
     return float(distance.max()), float(distance.mean()), float(angle.max()), float(angle.mean())
+
+
+def flange_gauge_line(document: dict[str, Any]) -> str:
+    """calibration.yaml's flange gauge: the flange against the nominal arm's before and after."""
+    g = document["identifiability"]["flange_gauge"]
+    before, after = g["before"], g["after"]
+    return (
+        f"flange gauge ({g['free_combinations']} free combinations, chi2 {g['chi2_change']:+.3f}): the flange "
+        f"{before['mean_mm']:.2f} mm / {before['mean_deg']:.3f}° from the nominal arm's on average before, "
+        f"{after['mean_mm']:.2f} mm / {after['mean_deg']:.3f}° after (at most {after['max_mm']:.2f} mm / {after['max_deg']:.3f}°)"
+    )
+
+
+def unseen_points(data_rows: list[dict[str, str]], tmp: Path) -> str:
+    """The default fit on 800 grid poses (seed 1), scored on the other 200: calibrated.urdf read as it
+    is, calibrated_with_terms.urdf read as it is (a tool that knows no terms), and with its terms
+    applied by `calibrate apply`; each with its own frames from calibration.yaml."""
+    from scipy.spatial.transform import Rotation
+
+    from armtool.calib.model import se3
+    from armtool.model.chain import load_chain
+
+    order = np.random.default_rng(1).permutation(len(data_rows))
+    unseen = [data_rows[int(i)] for i in sorted(order[:200])]
+    train = [data_rows[int(i)] for i in sorted(order[200:])]
+    out = tmp / "ur5-800-out"
+    _summary, document, _w, _c = fit(write_ur5_dataset(tmp / "ur5-800", train), out)
+    readings = write_ur5_dataset(tmp / "ur5-200", unseen) / "data.csv"
+    Q = np.radians([[float(r[f"joint_{k}"]) for k in range(1, 7)] for r in unseen])
+    measured = np.array([[float(r[f"{a}_t"]) + float(r[f"{a}_dif"]) for a in "xyz"] for r in unseen]) * 1e-3
+
+    def error(T: np.ndarray, frames: dict[str, Any]) -> str:  # type: ignore[type-arg]
+        tracker = se3.inv(se3.xyz_rpy(frames["tracker_in_base"]["xyz"], frames["tracker_in_base"]["rpy"]))
+        in_base = T[:, :3, :3] @ np.array(frames["point_in_flange"]["xyz"]) + T[:, :3, 3]
+        e = np.linalg.norm(in_base @ tracker[:3, :3].T + tracker[:3, 3] - measured, axis=1) * 1e3
+        return f"{np.mean(e):.4f} / {np.max(e):.3f}"
+
+    parts = [
+        f"calibrated.urdf {error(load_chain(out / 'calibrated.urdf', 'base_link', 'tool0').fk_batch(Q), document['frames'])}"
+    ]
+    terms = document.get("joint_terms")
+    if terms:
+        as_read = load_chain(out / "calibrated_with_terms.urdf", "base_link", "tool0").fk_batch(Q)
+        applied = out / "applied.csv"
+        result, _wall, _cpu = armtool(
+            "calibrate", "apply", str(out / "calibration.yaml"), str(readings), "-o", str(applied)
+        )
+        if result.returncode != 0:
+            sys.exit(result.stderr)
+        with applied.open(newline="") as f:
+            table = list(csv.DictReader(f))
+        T = np.tile(np.eye(4), (len(table), 1, 1))
+        T[:, :3, 3] = [[float(r[f"flange_{a}"]) for a in "xyz"] for r in table]
+        T[:, :3, :3] = Rotation.from_quat([[float(r[f"flange_q{a}"]) for a in "xyzw"] for r in table]).as_matrix()
+        parts += [
+            f"calibrated_with_terms.urdf read as it is {error(as_read, terms['frames'])}",
+            f"with its terms applied {error(T, terms['frames'])}",
+        ]
+    return "200 unseen grid poses, the default fit on the other 800 (mean / max mm): " + "; ".join(parts)
 
 
 def applied_tool0_deviation(out: Path, readings: Path, Q: np.ndarray) -> tuple[float, float, float, float]:  # type: ignore[type-arg]
@@ -367,6 +427,8 @@ def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
             f"  the chosen set with its terms: {len(sigmas)} combinations held"
             + (f", σ {min(sigmas):.3g} to {max(sigmas):.3g} × the precision" if sigmas else "")
         )
+    print(flange_gauge_line(geometry_doc) + " (--params origins,offsets)")
+    print(unseen_points(grid, tmp))
     print(f"time: check {check_wall:.1f} s wall, fit {fit_wall:.1f} s wall ({fit_cpu:.1f} s CPU)")
     if not subsets:
         return
