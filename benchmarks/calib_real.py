@@ -258,15 +258,19 @@ def fr3(data: Path, tmp: Path, folds: int, splits: int) -> None:
 
 def tool0_deviation(calibrated: Path, Q: np.ndarray) -> tuple[float, float, float, float]:  # type: ignore[type-arg]
     """tool0 of the calibrated URDF against the nominal arm's over the poses Q: max and mean mm, max and mean °."""
+    from armtool.model.chain import load_chain
+
+    return flange_deviation(load_chain(calibrated, "base_link", "tool0").fk_batch(Q), Q)
+
+
+def flange_deviation(F: np.ndarray, Q: np.ndarray) -> tuple[float, float, float, float]:  # type: ignore[type-arg]
+    """The flange poses F against the nominal arm's tool0 at the readings Q, as `tool0_deviation`."""
     from armtool.calib.model import se3
     from armtool.model.chain import load_chain
 
     nominal = load_chain(ur5_urdf(), "base_link", "tool0").fk_batch(Q)
-    fitted = load_chain(calibrated, "base_link", "tool0").fk_batch(Q)
-    distance = np.linalg.norm(fitted[:, :3, 3] - nominal[:, :3, 3], axis=1) * 1e3
-    angle = np.degrees(
-        np.linalg.norm(se3.log3_batch(np.swapaxes(nominal[:, :3, :3], -1, -2) @ fitted[:, :3, :3]), axis=-1)
-    )
+    distance = np.linalg.norm(F[:, :3, 3] - nominal[:, :3, 3], axis=1) * 1e3
+    angle = np.degrees(np.linalg.norm(se3.log3_batch(np.swapaxes(nominal[:, :3, :3], -1, -2) @ F[:, :3, :3]), axis=-1))
     return float(distance.max()), float(distance.mean()), float(angle.max()), float(angle.mean())
 
 
@@ -285,8 +289,6 @@ def unseen_points(data_rows: list[dict[str, str]], tmp: Path) -> str:
     """The default fit on 800 grid poses (seed 1), scored on the other 200: calibrated.urdf read as it
     is, calibrated_with_terms.urdf read as it is (a tool that knows no terms), and with its terms
     applied by `calibrate apply`; each with its own frames from calibration.yaml."""
-    from scipy.spatial.transform import Rotation
-
     from armtool.calib.model import se3
     from armtool.model.chain import load_chain
 
@@ -311,17 +313,7 @@ def unseen_points(data_rows: list[dict[str, str]], tmp: Path) -> str:
     terms = document.get("joint_terms")
     if terms:
         as_read = load_chain(out / "calibrated_with_terms.urdf", "base_link", "tool0").fk_batch(Q)
-        applied = out / "applied.csv"
-        result, _wall, _cpu = armtool(
-            "calibrate", "apply", str(out / "calibration.yaml"), str(readings), "-o", str(applied)
-        )
-        if result.returncode != 0:
-            sys.exit(result.stderr)
-        with applied.open(newline="") as f:
-            table = list(csv.DictReader(f))
-        T = np.tile(np.eye(4), (len(table), 1, 1))
-        T[:, :3, 3] = [[float(r[f"flange_{a}"]) for a in "xyz"] for r in table]
-        T[:, :3, :3] = Rotation.from_quat([[float(r[f"flange_q{a}"]) for a in "xyzw"] for r in table]).as_matrix()
+        T = applied_flanges(out, readings)
         parts += [
             f"calibrated_with_terms.urdf read as it is {error(as_read, terms['frames'])}",
             f"with its terms applied {error(T, terms['frames'])}",
@@ -329,13 +321,10 @@ def unseen_points(data_rows: list[dict[str, str]], tmp: Path) -> str:
     return "200 unseen grid poses, the default fit on the other 800 (mean / max mm): " + "; ".join(parts)
 
 
-def applied_tool0_deviation(out: Path, readings: Path, Q: np.ndarray) -> tuple[float, float, float, float]:  # type: ignore[type-arg]
-    """tool0 of calibrated_with_terms.urdf at the joint values `calibrate apply` gives for the
-    readings (what the terms are for) against the nominal arm's at the readings Q, as `tool0_deviation`."""
+def applied_flanges(out: Path, readings: Path) -> np.ndarray:  # type: ignore[type-arg]
+    """calibrated_with_terms.urdf's flange poses (N, 4, 4) at the joint values `calibrate apply`
+    gives for the readings: what its terms are for."""
     from scipy.spatial.transform import Rotation
-
-    from armtool.calib.model import se3
-    from armtool.model.chain import load_chain
 
     applied = out / "applied.csv"
     result, _wall, _cpu = armtool(
@@ -345,12 +334,10 @@ def applied_tool0_deviation(out: Path, readings: Path, Q: np.ndarray) -> tuple[f
         sys.exit(result.stderr)
     with applied.open(newline="") as f:
         table = list(csv.DictReader(f))
-    position = np.array([[float(r[f"flange_{a}"]) for a in "xyz"] for r in table])
-    rotation = Rotation.from_quat([[float(r[f"flange_q{a}"]) for a in "xyzw"] for r in table]).as_matrix()
-    nominal = load_chain(ur5_urdf(), "base_link", "tool0").fk_batch(Q)
-    distance = np.linalg.norm(position - nominal[:, :3, 3], axis=1) * 1e3
-    angle = np.degrees(np.linalg.norm(se3.log3_batch(np.swapaxes(nominal[:, :3, :3], -1, -2) @ rotation), axis=-1))
-    return float(distance.max()), float(distance.mean()), float(angle.max()), float(angle.mean())
+    T = np.tile(np.eye(4), (len(table), 1, 1))
+    T[:, :3, 3] = [[float(r[f"flange_{a}"]) for a in "xyz"] for r in table]
+    T[:, :3, :3] = Rotation.from_quat([[float(r[f"flange_q{a}"]) for a in "xyzw"] for r in table]).as_matrix()
+    return T
 
 
 def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
@@ -387,7 +374,7 @@ def ur5(data: Path, tmp: Path, folds: int, subsets: int) -> None:
         + " |"
     )
     if terms:
-        with_terms = applied_tool0_deviation(tmp / "ur5-out", dataset / "data.csv", Q)
+        with_terms = flange_deviation(applied_flanges(tmp / "ur5-out", dataset / "data.csv"), Q)
         print(
             f"| default options, calibrated_with_terms.urdf with its joint terms ({terms['fitted']}) | "
             f"{terms['nested_heldout_mean_mm']:.4f} / {terms['nested_heldout_rms_mm']:.4f} / "
